@@ -1,0 +1,72 @@
+// HDF5 track files, schema v1 (DESIGN §3). Readable with h5py without knowing C++.
+//
+//   /                      attrs format="trackassoc", schema_version=1, created_by, scenario (JSON text)
+//   /sensors/              id, position (S×3), sigma_range, sigma_bearing, sigma_elevation, period,
+//                          offset, p_detect, reliability
+//   /truth/                target, t, state (N×D)                         optional
+//   /measurements/         sensor, t, range, bearing, elevation, target   optional
+//   /tracks/               sensor, track, t, state (N×D), cov (N×D(D+1)/2), truth; attr state_layout
+//   /associations/<name>/  tuples (K×S int32), cost (K); attrs solver, options, objective,
+//                          lower_bound, gap, runtime_s, seed; optional energy (R×T float32)
+//   /metrics/<name>/       attrs correct_rate, false_rate, missed_rate; small tables as datasets
+//
+// Only /sensors and /tracks are required. The reader validates format, version, shapes, dtypes,
+// finiteness and positive-definite covariances, and throws InputError naming file, dataset and row.
+// The writer is atomic: it writes PATH.tmp beside PATH, then renames.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kernels/types.hpp"
+
+namespace trackassoc {
+
+struct AssociationRecord {
+  std::string name;                 // group name under /associations
+  int32_t num_sensors = 0;          // S, the number of tuple columns
+  std::vector<int32_t> tuples;      // K×S row-major; column s = local track number of sensor s, -1 = none
+  std::vector<double> cost;         // K, cost of each tuple
+  std::string solver;
+  std::string options_json = "{}";
+  double objective = 0.0;
+  double lower_bound = std::numeric_limits<double>::quiet_NaN();
+  double gap = std::numeric_limits<double>::quiet_NaN();
+  double runtime_s = 0.0;
+  uint64_t seed = 0;
+  std::string termination;
+  // Optional energy trace, R restarts × T sweeps, row-major; empty when not recorded.
+  int32_t energy_rows = 0, energy_cols = 0;
+  std::vector<float> energy;
+  std::size_t num_tuples() const { return num_sensors ? tuples.size() / num_sensors : 0; }
+};
+
+struct MetricsRecord {
+  std::string name;
+  double correct_rate = 0.0, false_rate = 0.0, missed_rate = 0.0;
+  std::map<std::string, std::vector<double>> tables;  // small 1-D tables, one dataset each
+};
+
+struct TrackFile {
+  std::string created_by = "trackassoc 0.1.0";
+  std::string scenario_json;  // empty when the file is a recorded track set
+  std::vector<Sensor> sensors;
+  std::optional<TruthTable> truth;
+  std::optional<Measurements> measurements;
+  TrackTable tracks;
+  std::vector<AssociationRecord> associations;
+  std::vector<MetricsRecord> metrics;
+};
+
+// Reads and validates a schema v1 file. Throws InputError on anything malformed.
+TrackFile read_track_file(const std::string& path);
+
+// Writes `file` to `path` atomically (PATH.tmp then rename). Throws InputError if the folder is
+// not writable; never leaves a partial file at `path`.
+void write_track_file(const std::string& path, const TrackFile& file);
+
+}  // namespace trackassoc

@@ -1,0 +1,69 @@
+// A simulation scenario (DESIGN §3): targets with motion segments, sensors, duration and seed.
+// It is read from and written to JSON by io/scenario_json.hpp; the embedded defaults live in
+// data/scenarios/. This header is plain data; the simulation is engine/simulation.hpp.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "kernels/types.hpp"
+
+namespace trackassoc {
+
+enum class MotionModel {
+  kConstantVelocity,      // x' = v
+  kConstantAcceleration,  // v' = acceleration
+  kCoordinatedTurn,       // velocity rotates at turn_rate [rad/s] in the x-y plane
+  kAccelerationStep,      // constant acceleration switched on at the segment start (seed 002)
+  kRandomManoeuvre,       // new random heading/speed change every manoeuvre_period (seed 003)
+};
+
+struct MotionSegment {
+  MotionModel model = MotionModel::kConstantVelocity;
+  double duration = 0.0;                       // [s]
+  std::array<double, 3> acceleration{0, 0, 0};  // [m/s²], CA and acceleration step
+  double turn_rate = 0.0;                       // [rad/s], coordinated turn
+  double manoeuvre_period = 1.0;                // [s], random manoeuvre
+  double max_turn_rate = 0.0;                   // [rad/s], random manoeuvre heading change bound
+  double max_speed_change = 0.0;                // [m/s per manoeuvre], random manoeuvre
+  double speed_min = 0.0, speed_max = 1e9;      // [m/s], random manoeuvre speed limits
+};
+
+// One scripted target. Initial state is (x, y, z, vx, vy, vz); z and vz are ignored in 2-D.
+struct TargetSpec {
+  int32_t id = 0;
+  std::array<double, 6> initial_state{0, 0, 0, 0, 0, 0};
+  std::vector<MotionSegment> segments;  // played in order; the last one lasts to the end
+};
+
+// Targets drawn at random per Monte Carlo run (seed 000 §4: uniform initial position in a
+// rectangle, uniform speed and heading), moving with white-noise acceleration.
+struct RandomTargetSpec {
+  int32_t count = 0;
+  std::array<double, 3> area_min{0, 0, 0}, area_max{0, 0, 0};  // [m]
+  double speed_min = 0.0, speed_max = 0.0;                      // [m/s]
+  double heading_min = 0.0, heading_max = 6.283185307179586;    // [rad]
+  double process_noise = 0.0;  // σ of the white-noise acceleration [m/s²]
+};
+
+// The local tracker each sensor runs to turn its measurements into local tracks.
+struct LocalTrackerSpec {
+  std::string filter = "cv";    // cv | ca | ab | cs | cs-nn | imm (DESIGN §4.2)
+  double process_noise = 1.0;  // σ of the white-noise acceleration [m/s²]
+};
+
+struct Scenario {
+  std::string name = "unnamed";
+  StateLayout layout = StateLayout::kXY_VXVY;  // 2-D or 3-D
+  double duration = 100.0;                     // [s]
+  double truth_step = 1.0;                     // truth sampling step [s]
+  uint64_t seed = 1;
+  std::vector<TargetSpec> targets;
+  RandomTargetSpec random_targets;
+  std::vector<Sensor> sensors;
+  LocalTrackerSpec tracker;
+};
+
+}  // namespace trackassoc
