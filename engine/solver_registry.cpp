@@ -1,0 +1,52 @@
+#include "engine/solver_registry.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "kernels/error.hpp"
+#include "kernels/heuristic_solvers.hpp"
+
+namespace trackassoc {
+namespace {
+
+std::vector<SolverEntry> make_registry() {
+  std::vector<SolverEntry> r;
+  r.push_back({"greedy", "cheapest free tuple first (baseline)", 1 << 30,
+               [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
+                 reject_unknown_keys(o, {}, "greedy");
+                 return solve_greedy3(b, GreedyOptions{});
+               }});
+  r.push_back({"pairwise", "sequential pairwise LAP: 1-2, then the pairs against 3", 1 << 30,
+               [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
+                 reject_unknown_keys(o, {}, "pairwise");
+                 return solve_pairwise3(b, PairwiseOptions{});
+               }});
+  // Further solvers (lr, lr+ls, exact, hopfield, chnn, ...) register here.
+  return r;
+}
+
+}  // namespace
+
+const std::vector<SolverEntry>& solver_registry() {
+  static const std::vector<SolverEntry> registry = make_registry();
+  return registry;
+}
+
+const SolverEntry& find_solver(const std::string& name) {
+  for (const auto& e : solver_registry())
+    if (e.name == name) return e;
+  std::string known;
+  for (const auto& e : solver_registry()) known += (known.empty() ? "" : ", ") + e.name;
+  throw InputError("--solver: unknown solver '" + name + "'; known solvers: " + known);
+}
+
+void reject_unknown_keys(const nlohmann::json& options, const std::vector<std::string>& known,
+                         const std::string& solver) {
+  if (options.is_null()) return;
+  if (!options.is_object()) throw InputError("solver '" + solver + "' options: expected a JSON object");
+  for (auto it = options.begin(); it != options.end(); ++it)
+    if (std::find(known.begin(), known.end(), it.key()) == known.end())
+      throw InputError("solver '" + solver + "' options: unknown key '" + it.key() + "'");
+}
+
+}  // namespace trackassoc
