@@ -39,3 +39,66 @@ class ThreadScope {
 // Each command file engine/cli/cmd_*.cpp defines one of these; main.cpp calls them all.
 
 }  // namespace trackassoc::cli
+
+#include "engine/pipeline.hpp"
+#include "kernels/error.hpp"
+
+namespace trackassoc::cli {
+
+// Options of the association pipeline, shared by `associate` and `run`.
+struct PipelineFlags {
+  PipelineOptions options;
+  std::string cost_form = "chain";
+  double correlated = -1.0;  // < 0: independent errors
+  std::string solver_options = "{}";
+};
+
+inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
+  cmd->add_option("--sensors", f.options.sensors, "The three /sensors ids to associate (default: the first three)")
+      ->expected(3);
+  cmd->add_option("--gate", f.options.statistic.gate_probability,
+                  "Chi-square gate probability of the sequential statistic (1 disables gating)")
+      ->capture_default_str();
+  cmd->add_option("--cost-form", f.cost_form, "Cost tensor: chain (b=λij+λjk, seed 000 Eq. 3) or all-pairs")
+      ->check(CLI::IsMember({"chain", "all-pairs"}))
+      ->capture_default_str();
+  cmd->add_option("--correlated", f.correlated,
+                  "Use the correlated-error statistic (Bar-Shalom–Campo) with cross-correlation RHO in [0,1)");
+  cmd->add_option("--common-period", f.options.common_period,
+                  "Step of the common time grid [s] (0 = the largest scan period)")
+      ->capture_default_str();
+  cmd->add_option("--process-noise", f.options.alignment.process_noise,
+                  "White-noise acceleration σ [m/s²] used to predict tracks to common times")
+      ->capture_default_str();
+  cmd->add_option("--options", f.solver_options, "Solver options as a JSON object, e.g. '{\"restarts\": 8}'")
+      ->capture_default_str();
+}
+
+// Resolves the string flags into PipelineOptions; throws InputError on bad values.
+inline PipelineOptions resolve(PipelineFlags& f) {
+  PipelineOptions o = f.options;
+  o.cost.form = f.cost_form == "all-pairs" ? CostForm::kAllPairs : CostForm::kChain;
+  if (f.correlated >= 0.0) {
+    o.statistic.correlated = true;
+    o.statistic.cross_correlation = f.correlated;
+  }
+  o.validate();
+  return o;
+}
+
+inline nlohmann::json parse_solver_options(const std::string& text) {
+  try {
+    auto j = nlohmann::json::parse(text);
+    if (!j.is_object()) throw InputError("--options: expected a JSON object, got '" + text + "'");
+    return j;
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError("--options: not valid JSON: " + std::string(e.what()));
+  }
+}
+
+void register_simulate(CLI::App& app);
+void register_associate(CLI::App& app);
+void register_evaluate(CLI::App& app);
+void register_run(CLI::App& app);
+
+}  // namespace trackassoc::cli

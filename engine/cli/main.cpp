@@ -12,6 +12,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "trackassoc 0.1.0");
   // One line per command file (engine/cli/cmd_*.cpp).
+  trackassoc::cli::register_run(app);
+  trackassoc::cli::register_simulate(app);
+  trackassoc::cli::register_associate(app);
+  trackassoc::cli::register_evaluate(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

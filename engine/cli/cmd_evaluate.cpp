@@ -1,0 +1,44 @@
+// trackassoc evaluate --input G.h5 [--output H.h5]: correct / false / missed association rates of
+// every association in the file, written to /metrics/<name>/ (in place, atomically, by default).
+#include <iostream>
+
+#include "engine/cli/common.hpp"
+#include "engine/cli/table.hpp"
+#include "engine/metrics.hpp"
+
+namespace trackassoc::cli {
+
+void register_evaluate(CLI::App& app) {
+  struct Args {
+    CommonOptions common;
+    std::string input, output;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("evaluate", "Score the associations of a file against its ground truth");
+  cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks/truth and /associations")->required();
+  cmd->add_option("--output,-o", args->output, "Where to write the file with /metrics (default: replace the input)");
+  add_common_options(cmd, args->common);
+  cmd->callback([args] {
+    ThreadScope threads(args->common.threads);
+    TrackFile file = read_track_file(args->input);
+    if (file.associations.empty())
+      throw InputError(args->input + ": /associations is empty; run `trackassoc associate` first");
+    TextTable table({"association", "targets", "correct", "false", "missed"});
+    bool any_truth = false;
+    for (const auto& rec : file.associations) {
+      const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
+      if (!m.has_truth) continue;
+      any_truth = true;
+      std::erase_if(file.metrics, [&](const MetricsRecord& r) { return r.name == rec.name; });
+      file.metrics.push_back(to_metrics_record(rec.name, m));
+      table.add({rec.name, std::to_string(m.targets), percent(m.correct_rate), percent(m.false_rate),
+                 percent(m.missed_rate)});
+    }
+    if (!any_truth)
+      throw InputError(args->input + ": /tracks/truth holds no target ids (-1 everywhere); nothing to evaluate");
+    table.print(std::cout);
+    write_track_file(args->output.empty() ? args->input : args->output, file);
+  });
+}
+
+}  // namespace trackassoc::cli

@@ -1,0 +1,210 @@
+#include "engine/pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "engine/solver_registry.hpp"
+#include "kernels/error.hpp"
+
+namespace trackassoc {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+const char* cost_form_name(CostForm f) { return f == CostForm::kChain ? "chain" : "all-pairs"; }
+
+}  // namespace
+
+void PipelineOptions::validate() const {
+  require(sensors.empty() || sensors.size() == 3, "PipelineOptions.sensors",
+          "expected 0 or 3 sensor ids, got " + std::to_string(sensors.size()));
+  if (sensors.size() == 3)
+    require(sensors[0] != sensors[1] && sensors[1] != sensors[2] && sensors[0] != sensors[2],
+            "PipelineOptions.sensors", "the three sensor ids must differ");
+  require(std::isfinite(common_period) && common_period >= 0.0, "PipelineOptions.common_period",
+          "must be finite and >= 0, got " + std::to_string(common_period));
+  alignment.validate();
+  statistic.validate();
+  cost.validate();
+}
+
+nlohmann::json PipelineOptions::to_json() const {
+  return {{"sensors", sensors},
+          {"common_period", common_period},
+          {"process_noise", alignment.process_noise},
+          {"max_extrapolation", alignment.max_extrapolation},
+          {"correlated", statistic.correlated},
+          {"cross_correlation", statistic.cross_correlation},
+          {"gate_probability", statistic.gate_probability},
+          {"cost_form", cost_form_name(cost.form)},
+          {"gated_pair_cost", cost.gated_pair_cost}};
+}
+
+std::vector<double> common_time_grid(const TrackTable& tracks, const std::array<int32_t, 3>& sensor_ids,
+                                     double period) {
+  std::array<double, 3> first, last;
+  first.fill(std::numeric_limits<double>::infinity());
+  last.fill(-std::numeric_limits<double>::infinity());
+  for (std::size_t r = 0; r < tracks.size(); ++r)
+    for (int d = 0; d < 3; ++d)
+      if (tracks.sensor[r] == sensor_ids[d]) {
+        first[d] = std::min(first[d], tracks.t[r]);
+        last[d] = std::max(last[d], tracks.t[r]);
+      }
+  for (int d = 0; d < 3; ++d)
+    if (!std::isfinite(first[d]))
+      throw InputError("/tracks: sensor " + std::to_string(sensor_ids[d]) + " has no local tracks");
+  const double start = *std::max_element(first.begin(), first.end()) + period;
+  const double end = *std::min_element(last.begin(), last.end());
+  std::vector<double> grid;
+  const double eps = 1e-9 * std::max(1.0, std::fabs(end));
+  for (int64_t k = 0;; ++k) {
+    const double t = start + static_cast<double>(k) * period;
+    if (t > end + eps) break;
+    grid.push_back(t);
+  }
+  if (grid.empty())
+    throw InputError("/tracks: sensors " + std::to_string(sensor_ids[0]) + ", " + std::to_string(sensor_ids[1]) +
+                     ", " + std::to_string(sensor_ids[2]) + " never report at a common time (common interval [" +
+                     std::to_string(start) + ", " + std::to_string(end) + "] s with period " +
+                     std::to_string(period) + " s)");
+  return grid;
+}
+
+AssociationProblem build_association_problem(const TrackFile& file, const PipelineOptions& options) {
+  options.validate();
+  AssociationProblem p;
+  p.num_sensors = static_cast<int32_t>(file.sensors.size());
+  if (p.num_sensors < 3)
+    throw InputError("/sensors: three-sensor association needs at least 3 sensors, the file has " +
+                     std::to_string(p.num_sensors));
+  std::map<int32_t, int32_t> column;
+  for (int32_t s = 0; s < p.num_sensors; ++s) column[file.sensors[s].id] = s;
+  double period = options.common_period;
+  for (int d = 0; d < 3; ++d) {
+    p.sensor_ids[d] = options.sensors.empty() ? file.sensors[d].id : options.sensors[d];
+    auto it = column.find(p.sensor_ids[d]);
+    if (it == column.end())
+      throw InputError("--sensors: sensor id " + std::to_string(p.sensor_ids[d]) + " is not in /sensors/id");
+    p.sensor_columns[d] = it->second;
+    if (options.common_period == 0.0) period = std::max(period, file.sensors[it->second].period);
+  }
+  require(period > 0.0, "PipelineOptions.common_period", "the sensors' periods are not positive");
+
+  const auto t0 = std::chrono::steady_clock::now();
+  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period);
+  for (int d = 0; d < 3; ++d)
+    p.aligned[d] = align_tracks(file.tracks, p.sensor_ids[d], p.common_times, options.alignment);
+  p.s12 = independent_sequential_statistic(p.aligned[0], p.aligned[1], options.statistic);
+  p.s23 = independent_sequential_statistic(p.aligned[1], p.aligned[2], options.statistic);
+  p.s13 = independent_sequential_statistic(p.aligned[0], p.aligned[2], options.statistic);
+  p.statistics_time_s = seconds_since(t0);
+
+  const auto t1 = std::chrono::steady_clock::now();
+  p.tensor = build_cost_tensor(p.s12, p.s23, options.cost.form == CostForm::kAllPairs ? &p.s13 : nullptr,
+                               options.cost);
+  p.tensor_time_s = seconds_since(t1);
+  return p;
+}
+
+namespace {
+
+// Splits a solver tuple into gated-in parts (see the header comment) and appends the resulting
+// output rows (local track numbers in /sensors columns) with their costs.
+void decode_tuple(const AssociationProblem& p, const Tuple3& t, bool all_pairs, std::vector<int32_t>& rows,
+                  std::vector<double>& costs) {
+  const int32_t S = p.num_sensors;
+  auto emit = [&](std::array<bool, 3> members, double cost) {
+    std::vector<int32_t> row(S, kNoTrack);
+    bool any = false;
+    for (int d = 0; d < 3; ++d)
+      if (members[d] && t[d] >= 0) {
+        row[p.sensor_columns[d]] = p.aligned[d].track[t[d]];
+        any = true;
+      }
+    if (!any) return;
+    rows.insert(rows.end(), row.begin(), row.end());
+    costs.push_back(cost);
+  };
+  const bool has0 = t[0] >= 0, has1 = t[1] >= 0, has2 = t[2] >= 0;
+  const auto gate12 = [&] { return has0 && has1 && p.s12.in_gate[t[0] * p.s12.n_b + t[1]]; };
+  const auto gate23 = [&] { return has1 && has2 && p.s23.in_gate[t[1] * p.s23.n_b + t[2]]; };
+  const auto gate13 = [&] { return has0 && has2 && p.s13.in_gate[t[0] * p.s13.n_b + t[2]]; };
+  if (has0 && has1 && has2 && gate12() && gate23() && (!all_pairs || gate13())) {
+    emit({true, true, true}, p.tensor.at(t[0], t[1], t[2]));
+    return;
+  }
+  // Best gated-in pair by λ; the remaining index stays alone.
+  struct Pair {
+    int a, b;
+    double lambda;
+  };
+  std::vector<Pair> pairs;
+  if (gate12()) pairs.push_back({0, 1, p.s12.lambda[t[0] * p.s12.n_b + t[1]]});
+  if (gate23()) pairs.push_back({1, 2, p.s23.lambda[t[1] * p.s23.n_b + t[2]]});
+  if (gate13()) pairs.push_back({0, 2, p.s13.lambda[t[0] * p.s13.n_b + t[2]]});
+  std::array<bool, 3> used{false, false, false};
+  if (!pairs.empty()) {
+    const auto best = *std::min_element(pairs.begin(), pairs.end(),
+                                        [](const Pair& x, const Pair& y) { return x.lambda < y.lambda; });
+    std::array<bool, 3> m{false, false, false};
+    m[best.a] = m[best.b] = true;
+    emit(m, best.lambda);
+    used = m;
+  }
+  for (int d = 0; d < 3; ++d)
+    if (!used[d]) {
+      std::array<bool, 3> m{false, false, false};
+      m[d] = true;
+      emit(m, 0.0);
+    }
+}
+
+}  // namespace
+
+AssociationRecord solve_association(const AssociationProblem& p, const std::string& solver,
+                                    const nlohmann::json& solver_options, uint64_t seed,
+                                    const PipelineOptions& options) {
+  const SolverEntry& entry = find_solver(solver);
+  const auto t0 = std::chrono::steady_clock::now();
+  Solution3 solution = entry.solve(p.tensor, solver_options, seed);
+  const double solve_time = seconds_since(t0);
+
+  AssociationRecord rec;
+  rec.name = solver;
+  rec.num_sensors = p.num_sensors;
+  rec.solver = solver;
+  rec.seed = seed;
+  nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
+                         {"pipeline", options.to_json()}};
+  rec.options_json = opts.dump();
+  rec.objective = solution.summary.objective;
+  rec.lower_bound = solution.summary.lower_bound;
+  rec.gap = solution.summary.gap;
+  rec.termination = termination_name(solution.summary.termination);
+  rec.runtime_s = solve_time;
+
+  std::array<std::vector<char>, 3> seen;
+  for (int d = 0; d < 3; ++d) seen[d].assign(p.aligned[d].n_tracks(), 0);
+  const bool all_pairs = options.cost.form == CostForm::kAllPairs;
+  for (const Tuple3& t : solution.tuples) {
+    for (int d = 0; d < 3; ++d)
+      if (t[d] >= 0) seen[d][t[d]] = 1;
+    decode_tuple(p, t, all_pairs, rec.tuples, rec.cost);
+  }
+  for (int d = 0; d < 3; ++d)
+    for (int32_t i = 0; i < p.aligned[d].n_tracks(); ++i)
+      if (!seen[d][i]) {
+        Tuple3 t{kNoTrack, kNoTrack, kNoTrack};
+        t[d] = i;
+        decode_tuple(p, t, all_pairs, rec.tuples, rec.cost);
+      }
+  return rec;
+}
+
+}  // namespace trackassoc

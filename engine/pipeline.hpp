@@ -1,0 +1,66 @@
+// The association pipeline for three sensors (DESIGN §4.3):
+//   local tracks → common times → alignment → pairwise statistics λ → cost tensor → 3-D solver
+//   → tuples of local track numbers (/associations/<name>/).
+//
+// Common times (asynchronous sensors): a uniform grid with step `common_period` (default: the
+// largest scan period of the three sensors) over the interval where all three sensors report,
+// starting one period after the latest first report so that every local track has been updated
+// at least once. Each track's latest estimate at or before a grid time is predicted to it by a
+// CV model (kernels/association_statistic.hpp). This is the simplest choice that treats the
+// sensors symmetrically; seed 003 notes that alignment amplifies errors.
+//
+// Decoding: every local track of the three sensors appears in exactly one output tuple. A solver
+// tuple whose chained pairs are not all inside the gate is split into its gated-in parts; tracks a
+// solver left unassigned (unequal counts) become tuples of one track.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "io/track_file.hpp"
+#include "kernels/association_statistic.hpp"
+#include "kernels/cost_tensor.hpp"
+
+namespace trackassoc {
+
+struct PipelineOptions {
+  // The three sensors to associate, as /sensors ids; empty = the first three in /sensors order.
+  std::vector<int32_t> sensors;
+  double common_period = 0.0;  // [s]; 0 = the largest scan period of the three sensors
+  AlignmentOptions alignment;
+  StatisticOptions statistic;
+  CostTensorOptions cost;
+  void validate() const;
+  nlohmann::json to_json() const;
+};
+
+// Everything the solver stage needs, kept so that several solvers can share one tensor.
+struct AssociationProblem {
+  std::array<int32_t, 3> sensor_ids{};
+  std::array<int32_t, 3> sensor_columns{};  // column of each sensor in /sensors order
+  int32_t num_sensors = 0;                  // S of the output tuples
+  std::vector<double> common_times;
+  std::array<AlignedTracks, 3> aligned;
+  PairStatistic s12, s23, s13;
+  CostTensor3 tensor;
+  double statistics_time_s = 0.0, tensor_time_s = 0.0;
+};
+
+// Builds the problem from a validated track file. Throws InputError when fewer than three sensors
+// exist, a chosen sensor is unknown, or the sensors never report at common times.
+AssociationProblem build_association_problem(const TrackFile& file, const PipelineOptions& options);
+
+// Runs solver `solver` (engine/solver_registry.hpp) with `solver_options`, decodes the tuples and
+// returns the record for /associations/<name>/.
+AssociationRecord solve_association(const AssociationProblem& problem, const std::string& solver,
+                                    const nlohmann::json& solver_options, uint64_t seed,
+                                    const PipelineOptions& options);
+
+// Common time grid (exposed for tests): see the header comment.
+std::vector<double> common_time_grid(const TrackTable& tracks, const std::array<int32_t, 3>& sensor_ids,
+                                     double period);
+
+}  // namespace trackassoc
