@@ -283,6 +283,25 @@ inline void put_string_attribute(hid_t f, const std::string& object, const std::
   H5Tclose(type);
 }
 
+// A variable-length UTF-8 string attribute, as h5py writes a Python str.
+inline void put_vlen_string_attribute(hid_t f, const std::string& object, const std::string& name,
+                                      const std::string& value) {
+  if (H5Aexists_by_name(f, object.c_str(), name.c_str(), H5P_DEFAULT) > 0)
+    H5Adelete_by_name(f, object.c_str(), name.c_str(), H5P_DEFAULT);
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, H5T_VARIABLE);
+  H5Tset_cset(type, H5T_CSET_UTF8);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attr = H5Acreate_by_name(f, object.c_str(), name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT,
+                                       H5P_DEFAULT);
+  ASSERT_GE(attr, 0);
+  const char* p = value.c_str();
+  H5Awrite(attr, type, &p);
+  H5Aclose(attr);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
 inline void put_int_attribute(hid_t f, const std::string& object, const std::string& name, int64_t value) {
   if (H5Aexists_by_name(f, object.c_str(), name.c_str(), H5P_DEFAULT) > 0)
     H5Adelete_by_name(f, object.c_str(), name.c_str(), H5P_DEFAULT);

@@ -189,6 +189,18 @@ TEST_F(BadTrackFile, OtherIntegerAndFloatWidthsAreConverted) {
   EXPECT_EQ(back.tracks.t, original.tracks.t);
 }
 
+// Strings as other writers store them: variable-length (h5py's str) and fixed-length ASCII.
+TEST_F(BadTrackFile, VariableAndFixedLengthStringAttributesFromOtherWritersAreRead) {
+  test::damage_file(path_, [](hid_t f) {
+    test::put_vlen_string_attribute(f, "/", "created_by", "h5py 3.7 \u00e9");
+    test::put_vlen_string_attribute(f, "/tracks", "state_layout", "x,y,vx,vy");
+    test::put_string_attribute(f, "/", "format", "trackassoc");
+  });
+  const TrackFile back = read_track_file(path_);
+  EXPECT_EQ(back.created_by, "h5py 3.7 \u00e9");
+  EXPECT_EQ(back.tracks.layout, StateLayout::kXY_VXVY);
+}
+
 TEST_F(BadTrackFile, IntegerTooWideForInt32) {
   const hsize_t n = rows_;
   expect_error(
