@@ -1,7 +1,11 @@
 // Bad input to the HDF5 reader (DESIGN §7): each case gives an InputError whose message names
 // the file, the dataset (and row) and what is wrong. Files are damaged with the raw HDF5 C API
 // after a valid write, so they are files our writer would never produce.
+#include <chrono>
 #include <random>
+#include <thread>
+
+#include "io/isolated_run.hpp"
 
 #include "io_test_files.hpp"
 
@@ -312,6 +316,54 @@ TEST_F(BadTrackFile, SensorWithZeroTracksAndNoTruthColumnAreValid) {
   EXPECT_EQ(f.tracks.truth, std::vector<int32_t>(f.tracks.size(), -1));
   EXPECT_FALSE(f.truth.has_value());
   EXPECT_EQ(f.sensors[2].sigma_elevation, Sensor{}.sigma_elevation);
+}
+
+}  // namespace
+}  // namespace trackassoc
+
+namespace trackassoc {
+namespace {
+
+// io/isolated_run.hpp: a crash, a hang or an InputError in the child becomes an InputError here.
+TEST(IsolatedRun, CrashHangAndErrorInTheChildBecomeInputErrors) {
+  EXPECT_NO_THROW(run_isolated("f.h5", [] {}, 10.0));
+  try {
+    run_isolated("f.h5", [] { throw InputError("f.h5: /tracks/t: row 3: bad"); }, 10.0);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "f.h5: /tracks/t: row 3: bad");
+  }
+  try {
+    run_isolated("f.h5", [] { std::abort(); }, 10.0);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("f.h5: the file is corrupt"), std::string::npos) << e.what();
+  }
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    run_isolated("f.h5", [] { std::this_thread::sleep_for(std::chrono::seconds(30)); }, 0.5);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("f.h5: reading did not finish within"), std::string::npos) << e.what();
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+}
+
+// Files found by libFuzzer (tests/fuzz/fuzz_track_file) on which libhdf5 1.10.8 itself hangs
+// (global heap), overlaps a memcpy (global heap) or overruns a buffer (attribute message). Read
+// through the guard, each is an InputError naming the file; nothing crashes or hangs.
+TEST(IsolatedRun, FilesThatBreakLibhdf5AreInputErrors) {
+  const std::string dir = std::string(TRACKASSOC_SOURCE_DIR) + "/tests/fuzz/regressions/";
+  for (const char* name : {"hdf5_hang_global_heap.h5", "hdf5_overlap_global_heap.h5",
+                           "hdf5_overflow_attribute_header.h5"}) {
+    const std::string path = dir + name;
+    try {
+      read_track_file(path, 3.0);
+      ADD_FAILURE() << name << " was read without error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+    }
+  }
 }
 
 }  // namespace
