@@ -26,6 +26,8 @@
 //
 // * C is factorised by Cholesky (LLᵀ) per pair per time; d ᵀC⁻¹d = |L⁻¹d|². A C that is not
 //   positive definite means a bad input covariance and raises InputError naming the tracks.
+#include "kernels/association_statistic.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -33,7 +35,6 @@
 #include <numeric>
 #include <string>
 
-#include "kernels/association_statistic.hpp"
 #include "kernels/error.hpp"
 #include "kernels/parallel.hpp"
 
@@ -48,7 +49,8 @@ void AlignmentOptions::validate() const {
 
 void StatisticOptions::validate() const {
   require(std::isfinite(cross_correlation) && cross_correlation >= 0.0 && cross_correlation < 1.0,
-          "StatisticOptions.cross_correlation", "must be in [0, 1), got " + std::to_string(cross_correlation));
+          "StatisticOptions.cross_correlation",
+          "must be in [0, 1), got " + std::to_string(cross_correlation));
   require(gate_probability > 0.0 && gate_probability <= 1.0, "StatisticOptions.gate_probability",
           "must be in (0, 1] (1 disables gating), got " + std::to_string(gate_probability));
 }
@@ -62,10 +64,13 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
   const int32_t K = static_cast<int32_t>(common_times.size());
   const bool has_truth = tracks.truth.size() == tracks.size();
   require(tracks.sensor.size() == tracks.size() && tracks.track.size() == tracks.size() &&
-              tracks.state.size() == static_cast<std::size_t>(D) && tracks.cov.size() == static_cast<std::size_t>(P),
+              tracks.state.size() == static_cast<std::size_t>(D) &&
+              tracks.cov.size() == static_cast<std::size_t>(P),
           "align_tracks", "the track table's columns are inconsistent");
-  for (const auto& col : tracks.state) require(col.size() == tracks.size(), "align_tracks", "a state column has the wrong length");
-  for (const auto& col : tracks.cov) require(col.size() == tracks.size(), "align_tracks", "a covariance column has the wrong length");
+  for (const auto& col : tracks.state)
+    require(col.size() == tracks.size(), "align_tracks", "a state column has the wrong length");
+  for (const auto& col : tracks.cov)
+    require(col.size() == tracks.size(), "align_tracks", "a covariance column has the wrong length");
   for (int32_t k = 0; k < K; ++k) {
     require(std::isfinite(common_times[k]), "align_tracks.common_times",
             "time " + std::to_string(k) + " is not finite");
@@ -77,7 +82,8 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
   std::vector<std::size_t> rows;
   for (std::size_t r = 0; r < tracks.size(); ++r)
     if (tracks.sensor[r] == sensor) {
-      require(std::isfinite(tracks.t[r]), "/tracks/t", "row " + std::to_string(r) + " is not finite");
+      if (!std::isfinite(tracks.t[r]))
+        throw InputError("/tracks/t: row " + std::to_string(r) + " is not finite");
       rows.push_back(r);
     }
   std::stable_sort(rows.begin(), rows.end(), [&](std::size_t x, std::size_t y) {
@@ -163,10 +169,11 @@ std::vector<double> covariance_square_roots(const AlignedTracks& x) {
     for (std::size_t cell = lo; cell < hi; ++cell) {
       if (!x.valid[cell]) continue;
       Eigen::SelfAdjointEigenSolver<Mat<D>> es(unpack<D>(&x.cov[cell * P], d));
-      require(es.info() == Eigen::Success && es.eigenvalues().minCoeff() >= 0.0, "independent_sequential_statistic",
-              "covariance of sensor " + std::to_string(x.sensor) + " track " +
-                  std::to_string(x.track[cell / x.n_times]) + " at common time " +
-                  std::to_string(cell % x.n_times) + " is not positive semi-definite");
+      if (es.info() != Eigen::Success || es.eigenvalues().minCoeff() < 0.0)
+        throw InputError("independent_sequential_statistic: covariance of sensor " +
+                         std::to_string(x.sensor) + " track " + std::to_string(x.track[cell / x.n_times]) +
+                         " at common time " + std::to_string(cell % x.n_times) +
+                         " is not positive semi-definite");
       const Mat<D> S = es.operatorSqrt();
       for (int i = 0, p = 0; i < d; ++i)
         for (int j = i; j < d; ++j, ++p) out[cell * P + p] = S(i, j);
@@ -176,7 +183,8 @@ std::vector<double> covariance_square_roots(const AlignedTracks& x) {
 }
 
 template <int D>
-PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& b, const StatisticOptions& opt) {
+PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
+                                   const StatisticOptions& opt) {
   const int d = a.dim, P = packed_size(d);
   const int32_t K = a.n_times, na = a.n_tracks(), nb = b.n_tracks();
   PairStatistic s;
@@ -219,10 +227,12 @@ PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& 
             C.noalias() -= rho * (SaSb + SaSb.transpose());
           }
           Eigen::LLT<Mat<D>> llt(C);
-          require(llt.info() == Eigen::Success, "independent_sequential_statistic",
-                  "C = P_a + P_b is not positive definite for sensor " + std::to_string(a.sensor) + " track " +
-                      std::to_string(a.track[i]) + " vs sensor " + std::to_string(b.sensor) + " track " +
-                      std::to_string(b.track[j]) + " at common time " + std::to_string(k));
+          if (llt.info() != Eigen::Success)  // build the message only on failure: this is the hot loop
+            throw InputError(
+                "independent_sequential_statistic: C = P_a + P_b is not positive definite for sensor " +
+                std::to_string(a.sensor) + " track " + std::to_string(a.track[i]) + " vs sensor " +
+                std::to_string(b.sensor) + " track " + std::to_string(b.track[j]) + " at common time " +
+                std::to_string(k));
           const Vec<D> w = llt.matrixL().solve(diff);
           lambda += w.squaredNorm();  // seed 000 Eq. 1: λ(k) = λ(k−1) + dᵀC⁻¹d
           ++times;
@@ -243,8 +253,9 @@ PairStatistic independent_sequential_statistic(const AlignedTracks& a, const Ali
   options.validate();
   require(a.dim == b.dim, "independent_sequential_statistic",
           "state dimensions differ: " + std::to_string(a.dim) + " vs " + std::to_string(b.dim));
-  require(a.n_times == b.n_times, "independent_sequential_statistic",
-          "numbers of common times differ: " + std::to_string(a.n_times) + " vs " + std::to_string(b.n_times));
+  require(
+      a.n_times == b.n_times, "independent_sequential_statistic",
+      "numbers of common times differ: " + std::to_string(a.n_times) + " vs " + std::to_string(b.n_times));
   for (const AlignedTracks* x : {&a, &b}) {
     const std::size_t cells = static_cast<std::size_t>(x->n_tracks()) * x->n_times;
     require(x->dim > 0 && x->valid.size() == cells && x->state.size() == cells * x->dim &&
@@ -253,9 +264,12 @@ PairStatistic independent_sequential_statistic(const AlignedTracks& a, const Ali
             "aligned tracks of sensor " + std::to_string(x->sensor) + " have inconsistent array sizes");
   }
   switch (a.dim) {
-    case 4: return sequential_statistic<4>(a, b, options);
-    case 6: return sequential_statistic<6>(a, b, options);
-    default: return sequential_statistic<Eigen::Dynamic>(a, b, options);
+    case 4:
+      return sequential_statistic<4>(a, b, options);
+    case 6:
+      return sequential_statistic<6>(a, b, options);
+    default:
+      return sequential_statistic<Eigen::Dynamic>(a, b, options);
   }
 }
 

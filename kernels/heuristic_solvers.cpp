@@ -26,9 +26,9 @@ namespace trackassoc {
 namespace {
 
 void check_tensor(const CostTensor3& b, const char* solver) {
-  require(b.n1 >= 0 && b.n2 >= 0 && b.n3 >= 0 &&
-              b.cost.size() == static_cast<std::size_t>(b.n1) * b.n2 * b.n3,
-          solver, "cost tensor size does not match n1*n2*n3");
+  require(
+      b.n1 >= 0 && b.n2 >= 0 && b.n3 >= 0 && b.cost.size() == static_cast<std::size_t>(b.n1) * b.n2 * b.n3,
+      solver, "cost tensor size does not match n1*n2*n3");
   require(!std::isnan(b.miss_cost) && b.miss_cost >= 0.f, std::string(solver) + ".miss_cost",
           "must be >= 0 or +inf, got " + std::to_string(b.miss_cost));
   for (std::size_t p = 0; p < b.cost.size(); ++p)
@@ -76,21 +76,25 @@ Solution3 solve_greedy3(const CostTensor3& b, const GreedyOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   options.validate();
   check_tensor(b, "solve_greedy3");
-  require(b.size() < (std::size_t{1} << 32), "solve_greedy3",
-          "tensor of " + std::to_string(b.size()) + " entries is too large for the dense greedy (limit 2^32)");
+  require(
+      b.size() < (std::size_t{1} << 32), "solve_greedy3",
+      "tensor of " + std::to_string(b.size()) + " entries is too large for the dense greedy (limit 2^32)");
   Solution3 sol;
   const int32_t m = std::min({b.n1, b.n2, b.n3});
   // With a finite miss cost, a tuple is only worth taking below the cost of its three misses.
-  const double take_below = std::isfinite(b.miss_cost) ? 3.0 * b.miss_cost : std::numeric_limits<double>::infinity();
+  const double take_below =
+      std::isfinite(b.miss_cost) ? 3.0 * b.miss_cost : std::numeric_limits<double>::infinity();
   std::vector<Candidate> live;
   live.reserve(b.size());
   for (std::size_t p = 0; p < b.size(); ++p)
-    if (std::isfinite(b.cost[p]) && b.cost[p] < take_below) live.push_back({b.cost[p], static_cast<uint32_t>(p)});
+    if (std::isfinite(b.cost[p]) && b.cost[p] < take_below)
+      live.push_back({b.cost[p], static_cast<uint32_t>(p)});
 
   std::vector<char> used1(b.n1, 0), used2(b.n2, 0), used3(b.n3, 0);
   const std::size_t n23 = static_cast<std::size_t>(b.n2) * b.n3;
   auto decode = [&](uint32_t p) {
-    return Tuple3{static_cast<int32_t>(p / n23), static_cast<int32_t>(p % n23 / b.n3), static_cast<int32_t>(p % b.n3)};
+    return Tuple3{static_cast<int32_t>(p / n23), static_cast<int32_t>(p % n23 / b.n3),
+                  static_cast<int32_t>(p % b.n3)};
   };
   auto is_free = [&](const Tuple3& t) { return !used1[t[0]] && !used2[t[1]] && !used3[t[2]]; };
   int64_t rounds = 0;
@@ -138,13 +142,15 @@ Solution3 solve_pairwise3(const CostTensor3& b, const PairwiseOptions& options) 
     const LapResult first = solve_lap(c12, n1, n2, lap);
     std::vector<std::pair<int32_t, int32_t>> pairs;
     for (int32_t i = 0; i < n1; ++i)
-      if (first.row_to_col[i] >= 0 && std::isfinite(c12[static_cast<std::size_t>(i) * n2 + first.row_to_col[i]]))
+      if (first.row_to_col[i] >= 0 &&
+          std::isfinite(c12[static_cast<std::size_t>(i) * n2 + first.row_to_col[i]]))
         pairs.emplace_back(i, first.row_to_col[i]);
     // Stage 2: the merged pairs against sensor 3.
     const int32_t np = static_cast<int32_t>(pairs.size());
     std::vector<double> c3(static_cast<std::size_t>(np) * n3);
     for (int32_t p = 0; p < np; ++p)
-      for (int32_t k = 0; k < n3; ++k) c3[static_cast<std::size_t>(p) * n3 + k] = b.at(pairs[p].first, pairs[p].second, k);
+      for (int32_t k = 0; k < n3; ++k)
+        c3[static_cast<std::size_t>(p) * n3 + k] = b.at(pairs[p].first, pairs[p].second, k);
     if (np > 0) {
       const LapResult second = solve_lap(c3, np, n3, lap);
       for (int32_t p = 0; p < np; ++p) {

@@ -19,7 +19,8 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 CostTensor3 random_tensor(int32_t n1, int32_t n2, int32_t n3, uint64_t stream, bool integer_costs = false) {
   CostTensor3 b(n1, n2, n3);
   CounterRng rng(99, stream);
-  for (auto& c : b.cost) c = integer_costs ? static_cast<float>(rng.uniform_int(20)) : static_cast<float>(rng.uniform(0, 100));
+  for (auto& c : b.cost)
+    c = integer_costs ? static_cast<float>(rng.uniform_int(20)) : static_cast<float>(rng.uniform(0, 100));
   return b;
 }
 
@@ -49,7 +50,8 @@ void expect_valid_heuristic(const CostTensor3& b, const Solution3& s) {
 }
 
 TEST(Greedy, ValidAndObjectiveRecomputedOnUnequalSizes) {
-  for (auto [n1, n2, n3] : {std::array{4, 6, 5}, std::array{7, 3, 9}, std::array{8, 8, 2}, std::array{1, 1, 1}}) {
+  for (auto [n1, n2, n3] :
+       {std::array{4, 6, 5}, std::array{7, 3, 9}, std::array{8, 8, 2}, std::array{1, 1, 1}}) {
     const CostTensor3 b = random_tensor(n1, n2, n3, n1 * 100 + n2 * 10 + n3);
     const Solution3 s = solve_greedy3(b);
     expect_valid_heuristic(b, s);
@@ -86,7 +88,8 @@ TEST(Greedy, EqualsBruteForceOnPlantedInstances) {
 std::vector<Tuple3> naive_greedy(const CostTensor3& b) {
   std::vector<std::size_t> order(b.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return b.cost[x] < b.cost[y]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return b.cost[x] < b.cost[y]; });
   std::vector<char> u1(b.n1), u2(b.n2), u3(b.n3);
   std::vector<Tuple3> out;
   for (std::size_t p : order) {
@@ -140,7 +143,8 @@ TEST(Pairwise, HandExampleFindsOptimum) {
 }
 
 TEST(Pairwise, ValidAndObjectiveRecomputedOnUnequalSizes) {
-  for (auto [n1, n2, n3] : {std::array{4, 6, 5}, std::array{6, 3, 5}, std::array{5, 5, 2}, std::array{1, 1, 1}}) {
+  for (auto [n1, n2, n3] :
+       {std::array{4, 6, 5}, std::array{6, 3, 5}, std::array{5, 5, 2}, std::array{1, 1, 1}}) {
     const CostTensor3 b = random_tensor(n1, n2, n3, 1000 + n1 * 100 + n2 * 10 + n3);
     const Solution3 s = solve_pairwise3(b);
     expect_valid_heuristic(b, s);
