@@ -12,8 +12,8 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 
@@ -34,22 +34,8 @@ namespace {
 // "forbidden" to the solvers, which an ungated but far-apart pair is not).
 constexpr double kMaxPairCost = 1e30;
 
-void check_statistic(const PairStatistic& s, const char* name) {
-  const std::size_t n = static_cast<std::size_t>(s.n_a) * s.n_b;
-  require(s.n_a >= 0 && s.n_b >= 0 && s.lambda.size() == n && s.in_gate.size() == n,
-          std::string("build_cost_tensor.") + name,
-          "pair statistic arrays do not match its size " + std::to_string(s.n_a) + "x" + std::to_string(s.n_b));
-  // Branch-free scan (the gate flags are data-dependent); locate the culprit only on failure.
-  bool bad = false;
-  const double* l = s.lambda.data();
-  const uint8_t* g = s.in_gate.data();
-  for (std::size_t p = 0; p < n; ++p) bad |= (g[p] != 0) & (l[p] != l[p]);  // NaN test, vectorisable
-  if (!bad) return;
-  for (std::size_t p = 0; p < n; ++p)
-    if (s.in_gate[p] && std::isnan(s.lambda[p]))
-      throw InputError(std::string("build_cost_tensor.") + name + ": lambda of pair " + std::to_string(p / s.n_b) +
-                       "," + std::to_string(p % s.n_b) + " is NaN");
-}
+// Grain for the O(n²) passes over a pair matrix: rows of at least ~8 K entries per task.
+std::size_t row_grain(int32_t n_b) { return std::max<std::size_t>(1, 8192 / std::max<int32_t>(n_b, 1)); }
 
 // λ where the pair is in the gate, `otherwise` elsewhere, selected with a bit mask: the gate flags
 // are data-dependent, and a branch here mispredicts about half the time on real gates.
@@ -59,22 +45,51 @@ inline double gate_select(uint8_t in_gate, double lambda, double otherwise) {
                                (std::bit_cast<uint64_t>(otherwise) & ~mask));
 }
 
-double max_in_gate(const PairStatistic& s) {
+// Checks the sizes and that no in-gate λ is NaN; returns the largest finite in-gate λ (0 if none).
+// Rows are scanned in parallel; the per-row maxima are reduced serially (max is exact, so the
+// result does not depend on the split).
+double check_statistic(const PairStatistic& s, const char* name) {
+  const std::size_t n = static_cast<std::size_t>(s.n_a) * s.n_b;
+  require(
+      s.n_a >= 0 && s.n_b >= 0 && s.lambda.size() == n && s.in_gate.size() == n,
+      std::string("build_cost_tensor.") + name,
+      "pair statistic arrays do not match its size " + std::to_string(s.n_a) + "x" + std::to_string(s.n_b));
+  std::vector<double> row_max(s.n_a, 0.0);
+  std::vector<uint8_t> row_nan(s.n_a, 0);
+  parallel_for_range(s.n_a, row_grain(s.n_b), [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t a = lo; a < hi; ++a) {
+      const double* l = s.lambda.data() + a * s.n_b;
+      const uint8_t* g = s.in_gate.data() + a * s.n_b;
+      double m = 0.0;
+      bool nan = false;
+      for (int32_t b = 0; b < s.n_b; ++b) {
+        const double v = gate_select(g[b], l[b], 0.0);
+        nan |= v != v;
+        m = std::max(m, std::fabs(v) < std::numeric_limits<double>::infinity() ? v : 0.0);
+      }
+      row_max[a] = m;
+      row_nan[a] = nan;
+    }
+  });
   double m = 0.0;
-  const double* l = s.lambda.data();
-  const uint8_t* g = s.in_gate.data();
-  for (std::size_t p = 0; p < s.lambda.size(); ++p) {
-    const double v = gate_select(g[p], l[p], 0.0);
-    m = std::max(m, std::fabs(v) < std::numeric_limits<double>::infinity() ? v : 0.0);
+  for (int32_t a = 0; a < s.n_a; ++a) {
+    if (row_nan[a])
+      for (int32_t b = 0; b < s.n_b; ++b)
+        if (s.in_gate[static_cast<std::size_t>(a) * s.n_b + b] &&
+            std::isnan(s.lambda[static_cast<std::size_t>(a) * s.n_b + b]))
+          throw InputError(std::string("build_cost_tensor.") + name + ": lambda of pair " +
+                           std::to_string(a) + "," + std::to_string(b) + " is in the gate but NaN");
+    m = std::max(m, row_max[a]);
   }
   return m;
 }
 
 std::vector<float> effective_pair_costs(const PairStatistic& s, double gated) {
   std::vector<float> e(s.lambda.size());
-  const double* l = s.lambda.data();
-  const uint8_t* g = s.in_gate.data();
-  for (std::size_t p = 0; p < e.size(); ++p) e[p] = static_cast<float>(std::min(gate_select(g[p], l[p], gated), kMaxPairCost));
+  parallel_for_range(s.n_a, row_grain(s.n_b), [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t p = lo * s.n_b; p < hi * s.n_b; ++p)
+      e[p] = static_cast<float>(std::min(gate_select(s.in_gate[p], s.lambda[p], gated), kMaxPairCost));
+  });
   return e;
 }
 
@@ -86,13 +101,12 @@ void build_cost_tensor_into(const PairStatistic& s12, const PairStatistic& s23, 
   const bool all_pairs = options.form == CostForm::kAllPairs;
   require(!all_pairs || s13 != nullptr, "build_cost_tensor",
           "the all-pairs form needs the sensor 1-3 statistic");
-  check_statistic(s12, "s12");
-  check_statistic(s23, "s23");
+  double max_lambda = std::max(check_statistic(s12, "s12"), check_statistic(s23, "s23"));
   const int32_t n1 = s12.n_a, n2 = s12.n_b, n3 = s23.n_b;
   require(s23.n_a == n2, "build_cost_tensor",
           "s12 has " + std::to_string(n2) + " sensor-2 tracks but s23 has " + std::to_string(s23.n_a));
   if (all_pairs) {
-    check_statistic(*s13, "s13");
+    max_lambda = std::max(max_lambda, check_statistic(*s13, "s13"));
     require(s13->n_a == n1 && s13->n_b == n3, "build_cost_tensor",
             "s13 is " + std::to_string(s13->n_a) + "x" + std::to_string(s13->n_b) + ", expected " +
                 std::to_string(n1) + "x" + std::to_string(n3));
@@ -111,11 +125,7 @@ void build_cost_tensor_into(const PairStatistic& s12, const PairStatistic& s23, 
                      "tuples only, DESIGN §4.3) for track sets this large, or raise the budget");
 
   double gated = options.gated_pair_cost;
-  if (gated == 0.0) {
-    double m = std::max(max_in_gate(s12), max_in_gate(s23));
-    if (all_pairs) m = std::max(m, max_in_gate(*s13));
-    gated = std::max(10.0 * m, 1e3);
-  }
+  if (gated == 0.0) gated = std::max(10.0 * max_lambda, 1e3);
   gated = std::min(gated, kMaxPairCost);
   const std::vector<float> e12 = effective_pair_costs(s12, gated);
   const std::vector<float> e23 = effective_pair_costs(s23, gated);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <oneapi/tbb/global_control.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -121,6 +122,12 @@ TEST(CostTensor, BadInputRaisesInputError) {
   EXPECT_THROW(build_cost_tensor(s12, ok23, nullptr, all), InputError);  // s13 missing
   const PairStatistic bad13 = random_statistic(3, 3, 13, 0.5);
   EXPECT_THROW(build_cost_tensor(s12, ok23, &bad13, all), InputError);  // 3x3 ≠ 3x2
+  PairStatistic nan12 = s12;
+  nan12.lambda[5] = std::nan("");
+  nan12.in_gate[5] = 0;
+  EXPECT_NO_THROW(build_cost_tensor(nan12, ok23, nullptr, CostTensorOptions{}));  // gated out: unused
+  nan12.in_gate[5] = 1;
+  EXPECT_THROW(build_cost_tensor(nan12, ok23, nullptr, CostTensorOptions{}), InputError);
   CostTensorOptions neg;
   neg.gated_pair_cost = -1.0;
   EXPECT_THROW(neg.validate(), InputError);
