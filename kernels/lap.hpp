@@ -7,6 +7,8 @@
 //
 // Rectangular matrices assign min(rows, cols) pairs. With allow_unassigned, a row or column may
 // also stay unassigned at `unassigned_cost` each (solved by padding with dummy rows/columns).
+// Infeasible (some row of the shorter side cannot be matched through finite entries): feasible =
+// false, cost = +inf, and the returned partial matching leaves those rows unassigned.
 #pragma once
 
 #include <cstdint>
