@@ -99,7 +99,8 @@ int32_t shortest_augmenting_path(const double* cost, int32_t nc, int32_t source,
 
 // Core solver for nr ≤ nc on a row-major nr×nc matrix without NaN. Fills col4row (−1 for rows
 // that could not be assigned at finite cost) and returns false if any row could not be assigned.
-bool solve_rectangular(const double* cost, int32_t nr, int32_t nc, std::vector<int32_t>& col4row_out) {
+bool solve_rectangular(const double* cost, int32_t nr, int32_t nc, std::vector<int32_t>& col4row_out,
+                       std::vector<double>& u_out, std::vector<double>& v_out) {
   LapWorkspace w(nr, nc);
   bool feasible = true;
   for (int32_t cur = 0; cur < nr; ++cur) {
@@ -128,6 +129,8 @@ bool solve_rectangular(const double* cost, int32_t nr, int32_t nc, std::vector<i
     }
   }
   col4row_out = std::move(w.col4row);
+  u_out = std::move(w.u);
+  v_out = std::move(w.v);
   return feasible;
 }
 
@@ -174,7 +177,15 @@ LapResult solve_lap(std::span<const double> cost, int32_t rows, int32_t cols, co
   }
 
   std::vector<int32_t> col4row;
-  if (nr > 0) result.feasible = solve_rectangular(matrix, nr, nc, col4row);
+  std::vector<double> u, v;
+  if (nr > 0) result.feasible = solve_rectangular(matrix, nr, nc, col4row, u, v);
+  if (result.feasible && !options.allow_unassigned) {
+    // Free columns keep v = 0 and v only decreases (Crouse Eq. 15), so v ≤ 0 on the longer side.
+    u.resize(nr, 0.0);
+    v.resize(nc, 0.0);
+    result.row_dual = transpose ? std::move(v) : std::move(u);
+    result.col_dual = transpose ? std::move(u) : std::move(v);
+  }
 
   for (int32_t r = 0; r < nr; ++r) {
     const int32_t c = col4row[r];
