@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <numbers>
+#include <type_traits>
 
 #include "kernels/kalman_bank.hpp"
 
@@ -46,24 +47,27 @@ struct LaneModel {
   double Q1[d][packed(n)][W];
 };
 
-// x ← F x, P ← F P Fᵀ + Q on one block (seed-independent textbook Kalman prediction,
-// Bar-Shalom, Li, Kirubarajan 2001, Eq. 5.2.3-5 / 5.2.3-9).
+// x ← F x on one block, F = F1 ⊗ I_d.
 template <int d, int n>
-inline void predict(double* __restrict blk, const LaneModel<d, n>& m) {
-  using S = Shape<d, n>;
-  constexpr int D = S::D;
+inline void predict_state(double* __restrict blk, const double (&F1)[n][n][W]) {
+  constexpr int D = d * n;
   double* __restrict x = blk;
-  double* __restrict p = blk + D * W;
-  // x' = F x
   double xn[D][W];
   for (int r = 0; r < D; ++r) {
     const int ax = r % d, orr = r / d;
     for (int l = 0; l < W; ++l) xn[r][l] = 0.0;
     for (int ok = orr; ok < n; ++ok)
-      for (int l = 0; l < W; ++l) xn[r][l] += m.F1[orr][ok][l] * x[(ok * d + ax) * W + l];
+      for (int l = 0; l < W; ++l) xn[r][l] += F1[orr][ok][l] * x[(ok * d + ax) * W + l];
   }
   for (int r = 0; r < D; ++r)
     for (int l = 0; l < W; ++l) x[r * W + l] = xn[r][l];
+}
+
+// P ← F P Fᵀ + Q on one block (Bar-Shalom, Li, Kirubarajan 2001, Eq. 5.2.3-9), upper triangle.
+template <int d, int n>
+inline void predict_covariance(double* __restrict blk, const double (&F1)[n][n][W], const double (&Q1)[d][packed(n)][W]) {
+  constexpr int D = d * n;
+  double* __restrict p = blk + D * W;
   // FP[r][c] = Σ_k F[r][k] P[k][c], F[r][k] = F1[or][ok] when axis(r) = axis(k) and ok ≥ or.
   double fp[D][D][W];
   for (int r = 0; r < D; ++r) {
@@ -73,11 +77,11 @@ inline void predict(double* __restrict blk, const LaneModel<d, n>& m) {
       for (int ok = orr; ok < n; ++ok) {
         const int k = ok * d + ax;
         const double* pk = p + pidx(D, k, c) * W;
-        for (int l = 0; l < W; ++l) fp[r][c][l] += m.F1[orr][ok][l] * pk[l];
+        for (int l = 0; l < W; ++l) fp[r][c][l] += F1[orr][ok][l] * pk[l];
       }
     }
   }
-  // P'[r][c] = Σ_k FP[r][k] F[c][k] + Q[r][c], upper triangle only.
+  // P'[r][c] = Σ_k FP[r][k] F[c][k] + Q[r][c].
   for (int r = 0; r < D; ++r) {
     for (int c = r; c < D; ++c) {
       const int ax = c % d, oc = c / d;
@@ -85,16 +89,23 @@ inline void predict(double* __restrict blk, const LaneModel<d, n>& m) {
       for (int l = 0; l < W; ++l) acc[l] = 0.0;
       for (int ok = oc; ok < n; ++ok) {
         const int k = ok * d + ax;
-        for (int l = 0; l < W; ++l) acc[l] += fp[r][k][l] * m.F1[oc][ok][l];
+        for (int l = 0; l < W; ++l) acc[l] += fp[r][k][l] * F1[oc][ok][l];
       }
       if (r % d == ax) {
         const int q = pidx(n, r / d, oc);
-        for (int l = 0; l < W; ++l) acc[l] += m.Q1[ax][q][l];
+        for (int l = 0; l < W; ++l) acc[l] += Q1[ax][q][l];
       }
       double* pd = p + pidx(D, r, c) * W;
       for (int l = 0; l < W; ++l) pd[l] = acc[l];
     }
   }
+}
+
+// x ← F x, P ← F P Fᵀ + Q (Bar-Shalom et al. 2001, Eq. 5.2.3-5 and 5.2.3-9).
+template <int d, int n>
+inline void predict(double* __restrict blk, const LaneModel<d, n>& m) {
+  predict_state<d, n>(blk, m.F1);
+  predict_covariance<d, n>(blk, m.F1, m.Q1);
 }
 
 // Measurement of one block: Cartesian position z (d components) with covariance R (packed d×d),
@@ -241,6 +252,18 @@ inline void store_innovation(const InnovationOutput& out, std::size_t b, std::si
     if (!out.nis.empty()) out.nis[first + l] = v.nis[l];
     if (!out.log_likelihood.empty()) out.log_likelihood[first + l] = v.log_likelihood[l];
   }
+}
+
+// Calls f(std::integral_constant<int, d>, std::integral_constant<int, n>) for runtime d ∈ {2, 3},
+// n ∈ {2, 3}, so that every kernel is compiled for the four fixed shapes.
+template <class F>
+inline void dispatch(int d, int n, F&& f) {
+  using I2 = std::integral_constant<int, 2>;
+  using I3 = std::integral_constant<int, 3>;
+  if (d == 2 && n == 2) f(I2{}, I2{});
+  else if (d == 2) f(I2{}, I3{});
+  else if (n == 2) f(I3{}, I2{});
+  else f(I3{}, I3{});
 }
 
 // Checks the spans of a scan against the bank size and dimension (throws InputError).
