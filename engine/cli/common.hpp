@@ -100,5 +100,6 @@ void register_simulate(CLI::App& app);
 void register_associate(CLI::App& app);
 void register_evaluate(CLI::App& app);
 void register_run(CLI::App& app);
+void register_solve3d(CLI::App& app);
 
 }  // namespace trackassoc::cli
