@@ -171,7 +171,7 @@ void Group::write_numeric(const std::string& name, hid_t file_type, hid_t mem_ty
                           std::vector<hsize_t> dims, std::size_t count) const {
   hsize_t expected = 1;
   for (hsize_t d : dims) expected *= d;
-  if (dims.empty() || dims.size() > 2 || expected != count)
+  if (dims.empty() || dims.size() > 32 || expected != count)
     fail(name, "internal: " + std::to_string(count) + " values do not fill shape " + shape_text(dims));
   Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
   Handle dcpl = creation_properties(H5P_DATASET_CREATE, file_path_ + ": " + child_path(name));

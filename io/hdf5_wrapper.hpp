@@ -66,7 +66,7 @@ class Group {
   void write_attribute(const std::string& name, double value) const;
   void write_attribute(const std::string& name, int32_t value) const;
   void write_attribute(const std::string& name, uint64_t value) const;
-  // 1-D when dims has one entry, 2-D with two (row-major). dims may contain 0.
+  // Row-major, of rank dims.size() (1-D and 2-D in schema v1; any rank works). dims may contain 0.
   void write_dataset(const std::string& name, std::span<const int32_t> data, std::vector<hsize_t> dims) const;
   void write_dataset(const std::string& name, std::span<const double> data, std::vector<hsize_t> dims) const;
   void write_dataset(const std::string& name, std::span<const float> data, std::vector<hsize_t> dims) const;
