@@ -132,18 +132,20 @@ Group Group::create_group(const std::string& name, bool track_order) const {
   return Group(file_path_, std::move(g), child_path(name));
 }
 
-// Strings are written fixed-length (UTF-8, NUL-terminated), not variable-length: variable-length
-// data lives in the global heap, which has no checksum, and libhdf5 1.10 hangs or overruns buffers
-// on a corrupted global heap (found by tests/fuzz/fuzz_track_file). h5py reads both kinds.
+// Strings are written variable-length UTF-8, which h5py returns as `str` (fixed-length strings
+// come back as `bytes`, a papercut for every Python user). Variable-length data lives in the
+// global heap, which has no checksum, and libhdf5 1.10 hangs or overruns buffers on a corrupted
+// global heap (found by tests/fuzz/fuzz_track_file): read_track_file therefore reads untrusted
+// files in a forked child first (io/isolated_run.hpp), so such a file is an InputError, not a crash.
 void Group::write_attribute(const std::string& name, const std::string& value) const {
   const std::string where = path_ + " attribute " + name;
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  if (!type.valid() || H5Tset_size(type.get(), value.size() + 1) < 0 ||
-      H5Tset_strpad(type.get(), H5T_STR_NULLTERM) < 0 || H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0)
+  if (!type.valid() || H5Tset_size(type.get(), H5T_VARIABLE) < 0 || H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0)
     throw InputError(file_path_ + ": " + where + ": cannot create HDF5 string type");
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   Handle attr(H5Acreate2(id(), name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  if (!space.valid() || !attr.valid() || H5Awrite(attr.get(), type.get(), value.c_str()) < 0)
+  const char* text = value.c_str();
+  if (!space.valid() || !attr.valid() || H5Awrite(attr.get(), type.get(), &text) < 0)
     throw InputError(file_path_ + ": " + where + ": cannot write string attribute");
 }
 
