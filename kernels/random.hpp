@@ -15,6 +15,9 @@
 
 namespace trackassoc {
 
+// GCC/Clang 128-bit integer for Lemire's multiply; __extension__ keeps -Wpedantic quiet.
+__extension__ using uint128 = unsigned __int128;
+
 inline constexpr uint64_t splitmix64_mix(uint64_t z) {
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
   z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
@@ -42,12 +45,12 @@ class CounterRng {
   // Uniform integer on [0, n), unbiased (Lemire 2019, multiply-and-reject).
   uint64_t uniform_int(uint64_t n) {
     if (n <= 1) return 0;
-    unsigned __int128 m = static_cast<unsigned __int128>(next_u64()) * n;
+    unsigned __int128 m = static_cast<uint128>(next_u64()) * n;
     uint64_t low = static_cast<uint64_t>(m);
     if (low < n) {
       const uint64_t threshold = (0 - n) % n;
       while (low < threshold) {
-        m = static_cast<unsigned __int128>(next_u64()) * n;
+        m = static_cast<uint128>(next_u64()) * n;
         low = static_cast<uint64_t>(m);
       }
     }
