@@ -45,7 +45,7 @@ class CounterRng {
   // Uniform integer on [0, n), unbiased (Lemire 2019, multiply-and-reject).
   uint64_t uniform_int(uint64_t n) {
     if (n <= 1) return 0;
-    unsigned __int128 m = static_cast<uint128>(next_u64()) * n;
+    uint128 m = static_cast<uint128>(next_u64()) * n;
     uint64_t low = static_cast<uint64_t>(m);
     if (low < n) {
       const uint64_t threshold = (0 - n) % n;
