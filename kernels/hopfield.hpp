@@ -1,0 +1,96 @@
+// Hopfield solvers for the 3-D assignment with restarts (seed 000 §3, seed 004; DESIGN §4.4).
+//
+// One restart: normalise the cost (ĉ ∈ [0, 1]), set the initial state, run sweeps of the chosen
+// schedule (kernels/hopfield_discrete.hpp, kernels/hopfield_continuous.hpp) until no neuron
+// changes (discrete), max |ΔV| < tolerance (continuous), a 2-cycle (sync), or max_sweeps; then
+// decode and repair (kernels/hopfield_decode.hpp). R restarts run in parallel over TBB, each
+// with its own stream CounterRng(seed, 0, restart), so results are bit-identical for any thread
+// count. The best repaired objective wins (ties: the lowest restart).
+//
+// Why the defaults (measured: see the report of experiment `schedules`): with E·ĉ_max below
+// (A+B+C+D)/2 every valid assignment is a fixed point of the full-plane network, so the energy
+// alone cannot improve a valid state. The default therefore
+//   - starts from the cost-ordered greedy state (restart 0 exact, later restarts with the cost
+//     order perturbed by `greedy_noise`), which beats a random start by a wide margin;
+//   - anneals the cost weight E from `anneal_E_factor` × the fixed-point bound down to just below
+//     it over `anneal_sweeps` asynchronous sweeps in a fresh random order: at a high E the most
+//     expensive tuples switch off, and cheaper recombinations of their freed indices switch on
+//     (ΔE_on = −(A+B+C)/2 + E·ĉ < 0 in free planes); at the final E every free triple can switch
+//     on, so the network ends in a valid assignment.
+// Complexity: O(R · sweeps · n1n2n3); memory O(n1n2n3) per concurrent restart.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "kernels/assignment_types.hpp"
+#include "kernels/hopfield_decode.hpp"
+#include "kernels/hopfield_energy.hpp"
+
+namespace trackassoc {
+
+enum class HopfieldSchedule { kSync, kAsync, kDiagonal, kContinuous };
+enum class HopfieldInit { kZero, kRandom, kGreedy };
+enum class HopfieldOrder { kRandom, kCost };
+
+const char* hopfield_schedule_name(HopfieldSchedule s);
+HopfieldSchedule parse_hopfield_schedule(const std::string& s);  // InputError naming the value
+const char* hopfield_init_name(HopfieldInit s);
+HopfieldInit parse_hopfield_init(const std::string& s);
+const char* hopfield_order_name(HopfieldOrder s);
+HopfieldOrder parse_hopfield_order(const std::string& s);
+
+struct HopfieldOptions {
+  HopfieldEnergy energy = HopfieldEnergy::kFullPlane;
+  HopfieldSchedule schedule = HopfieldSchedule::kAsync;
+  // true: A = B = C = 1, D = 0 and E just below the fixed-point bound (A+B+C+D)/2 on the
+  // normalised cost; false: `weights` as given (N is always set to min(n1, n2, n3)).
+  bool auto_weights = true;
+  HopfieldWeights weights;
+  int32_t restarts = 8;
+  int32_t max_sweeps = 500;  // discrete sweeps, or continuous Euler steps
+  HopfieldInit init = HopfieldInit::kGreedy;
+  double init_density = 1.0;  // random init: each neuron on with probability density·N/(n1n2n3)
+  double greedy_noise = 0.2;  // restarts ≥ 1: cost order of ĉ + noise·U(0,1)
+  HopfieldOrder order = HopfieldOrder::kRandom;  // async order within a sweep
+  // E annealing (discrete): E_s = E_final·factor^(1 − s/anneal_sweeps) for s < anneal_sweeps.
+  double anneal_E_factor = 4.0;
+  int32_t anneal_sweeps = 20;
+  // Glauber temperature (async only): T_s = T0·(1 − s/anneal_sweeps) for s < anneal_sweeps, then 0.
+  double temperature = 0.0;
+  double damping = 1.0;  // sync: share of neurons updated per sweep, (0, 1]
+  // continuous (CHNN)
+  bool continuous_async = false;
+  double dt = 0.05, tau = 0.0;
+  double u0_start = 0.5, u0_end = 0.02;  // gain 1/u₀ annealed geometrically over anneal_sweeps
+  double noise = 0.01;                   // initial u noise, in units of u0_start
+  double tolerance = 1e-4;               // continuous: stop when max |ΔV| < tolerance
+  HopfieldRepair repair = HopfieldRepair::kGreedy;
+  bool trace = false;  // record the energy after every sweep, per restart
+  void validate() const;
+};
+
+struct HopfieldRestart {
+  double energy = 0.0;     // final network energy (final weights)
+  double objective = 0.0;  // cost of the repaired assignment
+  bool raw_feasible = false;
+  int64_t sweeps = 0;
+  Termination termination = Termination::kIterationLimit;
+  std::vector<float> energy_trace;  // per sweep, when options.trace
+};
+
+struct HopfieldResult {
+  Solution3 solution;  // the best restart, repaired; summary.sweeps = its sweeps
+  std::vector<HopfieldRestart> restarts;
+  double raw_validity_rate = 0.0;  // share of restarts whose network state was a valid assignment
+  int32_t best_restart = -1;
+  HopfieldWeights weights;  // the final weights used (normalised-cost units)
+};
+
+// The weights the solver uses for a normalised cost (auto or as given, N filled in).
+HopfieldWeights hopfield_weights(const HopfieldOptions& options, const NormalisedCost& c);
+
+HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& options, uint64_t seed);
+
+}  // namespace trackassoc
