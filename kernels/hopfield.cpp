@@ -37,11 +37,27 @@ HopfieldInit parse_hopfield_init(const std::string& s) {
     if (s == hopfield_init_name(v)) return v;
   throw InputError("init: expected zero, random or greedy, found '" + s + "'");
 }
-const char* hopfield_order_name(HopfieldOrder s) { return s == HopfieldOrder::kRandom ? "random" : "cost"; }
+const char* hopfield_order_name(HopfieldOrder s) {
+  return s == HopfieldOrder::kRandom ? "random" : (s == HopfieldOrder::kSliceRandom ? "slice_random" : "cost");
+}
 HopfieldOrder parse_hopfield_order(const std::string& s) {
-  for (auto v : {HopfieldOrder::kRandom, HopfieldOrder::kCost})
+  for (auto v : {HopfieldOrder::kRandom, HopfieldOrder::kSliceRandom, HopfieldOrder::kCost})
     if (s == hopfield_order_name(v)) return v;
-  throw InputError("order: expected random or cost, found '" + s + "'");
+  throw InputError("order: expected random, slice_random or cost, found '" + s + "'");
+}
+
+void SliceRandomOrder::draw(int32_t n1, int32_t n2, int32_t n3, CounterRng& rng) {
+  if (slices.size() != static_cast<std::size_t>(n1)) {
+    slices.resize(n1);
+    std::iota(slices.begin(), slices.end(), 0u);
+    packed_jk.clear();
+    for (int32_t j = 0; j < n2; ++j)
+      for (int32_t k = 0; k < n3; ++k) packed_jk.push_back(static_cast<uint32_t>(j) << 16 | static_cast<uint32_t>(k));
+    rotation.assign(n1, 0);
+  }
+  rng.shuffle(std::span<uint32_t>(slices));
+  rng.shuffle(std::span<uint32_t>(packed_jk));
+  for (auto& r : rotation) r = static_cast<uint32_t>(rng.uniform_int(packed_jk.size()));
 }
 
 void HopfieldOptions::validate() const {
@@ -156,6 +172,7 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
   const bool diag = o.schedule == HopfieldSchedule::kDiagonal;
   std::unique_ptr<DiagonalNetwork> dnet;
   std::vector<uint32_t> order;
+  SliceRandomOrder slice_order;
   if (diag) {
     dnet = std::make_unique<DiagonalNetwork>(w, c);
     dnet->set_state(V0);
@@ -164,7 +181,7 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
   } else if (o.schedule == HopfieldSchedule::kAsync) {
     if (o.order == HopfieldOrder::kCost)
       order = cost_order;
-    else {
+    else if (o.order == HopfieldOrder::kRandom || o.temperature > 0) {
       order.resize(c.size());
       std::iota(order.begin(), order.end(), 0u);
     }
@@ -180,9 +197,16 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
       flips = dnet->sweep(order);
     } else if (o.schedule == HopfieldSchedule::kAsync) {
       net.w.E = E;
-      if (o.order == HopfieldOrder::kRandom) rng.shuffle(std::span<uint32_t>(order));
+      if (o.order == HopfieldOrder::kRandom)
+        rng.shuffle(std::span<uint32_t>(order));
       const double T = s < o.anneal_sweeps ? o.temperature * (1.0 - static_cast<double>(s) / o.anneal_sweeps) : 0.0;
-      flips = async_sweep(net, order, T, &rng);
+      if (o.order == HopfieldOrder::kSliceRandom && T == 0.0) {
+        slice_order.draw(c.n1, c.n2, c.n3, rng);
+        flips = async_sweep_slices(net, slice_order.slices, slice_order.packed_jk, slice_order.rotation);
+      } else {
+        if (o.order == HopfieldOrder::kSliceRandom) rng.shuffle(std::span<uint32_t>(order));
+        flips = async_sweep(net, order, T, &rng);
+      }
     } else {
       net.w.E = E;
       flips = sync_sweep(net, o.damping, stream_key(seed, restart, s)).flips;

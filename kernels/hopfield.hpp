@@ -21,18 +21,25 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "kernels/assignment_types.hpp"
 #include "kernels/hopfield_decode.hpp"
 #include "kernels/hopfield_energy.hpp"
+#include "kernels/random.hpp"
 
 namespace trackassoc {
 
 enum class HopfieldSchedule { kSync, kAsync, kDiagonal, kContinuous };
 enum class HopfieldInit { kZero, kRandom, kGreedy };
-enum class HopfieldOrder { kRandom, kCost };
+// Async visiting order: kRandom = a uniform random permutation of all neurons per sweep;
+// kSliceRandom = the i-slices in random order, within each slice a random permutation of the
+// (j, k) pairs entered at a random rotation (cache friendly: a slice is n2·n3 neurons; see
+// SliceRandomOrder); kCost = ascending normalised cost, fixed. With a Glauber temperature,
+// kSliceRandom falls back to kRandom.
+enum class HopfieldOrder { kRandom, kSliceRandom, kCost };
 
 const char* hopfield_schedule_name(HopfieldSchedule s);
 HopfieldSchedule parse_hopfield_schedule(const std::string& s);  // InputError naming the value
@@ -40,6 +47,13 @@ const char* hopfield_init_name(HopfieldInit s);
 HopfieldInit parse_hopfield_init(const std::string& s);
 const char* hopfield_order_name(HopfieldOrder s);
 HopfieldOrder parse_hopfield_order(const std::string& s);
+// The kSliceRandom order of one sweep (for async_sweep_slices): the slices in random order, one
+// random permutation of the (j, k) pairs per sweep, entered at a random rotation in every slice.
+// n2 + n1 + n2·n3 random draws per sweep instead of n1·n2·n3.
+struct SliceRandomOrder {
+  std::vector<uint32_t> slices, packed_jk, rotation;
+  void draw(int32_t n1, int32_t n2, int32_t n3, CounterRng& rng);
+};
 
 struct HopfieldOptions {
   HopfieldEnergy energy = HopfieldEnergy::kFullPlane;
@@ -53,7 +67,7 @@ struct HopfieldOptions {
   HopfieldInit init = HopfieldInit::kGreedy;
   double init_density = 1.0;  // random init: each neuron on with probability density·N/(n1n2n3)
   double greedy_noise = 0.2;  // restarts ≥ 1: cost order of ĉ + noise·U(0,1)
-  HopfieldOrder order = HopfieldOrder::kRandom;  // async order within a sweep
+  HopfieldOrder order = HopfieldOrder::kSliceRandom;  // async order within a sweep
   // E annealing (discrete): E_s = E_final·factor^(1 − s/anneal_sweeps) for s < anneal_sweeps.
   double anneal_E_factor = 4.0;
   int32_t anneal_sweeps = 20;

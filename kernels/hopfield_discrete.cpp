@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 
 #include "kernels/error.hpp"
 #include "kernels/parallel.hpp"
@@ -100,6 +101,61 @@ int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, doubl
   return flips;
 }
 
+int64_t async_sweep_slices(DiscreteNetwork& net, std::span<const uint32_t> slice_order,
+                           std::span<const uint32_t> packed_jk, std::span<const uint32_t> rotation) {
+  const NormalisedCost& c = *net.c;
+  const HopfieldWeights& w = net.w;
+  const bool printed = net.form == HopfieldEnergy::kPrinted;
+  HopfieldMarginals& m = net.m;
+  const std::size_t n2 = c.n2, n3 = c.n3, slice = n2 * n3;
+  int32_t* __restrict S = m.S.data();
+  int32_t* __restrict T = m.T.data();
+  const float* __restrict cc = c.c.data();
+  int64_t flips = 0;
+  int64_t M = m.M;
+  uint64_t hash = net.hash;
+  for (uint32_t i : slice_order) {
+    int32_t Ri = m.R[i];
+    const std::size_t base = i * slice;
+    uint8_t* __restrict V = net.V.data() + base;
+    const std::size_t rot = rotation[i] % slice;
+    for (std::size_t p = 0; p < slice; ++p) {
+      std::size_t q = p + rot;
+      if (q >= slice) q -= slice;
+      const uint32_t jk = packed_jk[q];
+      const std::size_t j = jk >> 16, k = jk & 0xffffu;
+      const std::size_t off = j * n3 + k;
+      const int32_t v = V[off];
+      double dE;
+      if (!printed) {
+        dE = full_plane_delta_on(w, Ri - v, S[j] - v, T[k] - v, M - v, cc[base + off]);
+      } else {
+        dE = printed_delta_on(w, Ri - v, S[j] - v, T[k] - v, m.Lij[i * n2 + j] - v, m.Lik[i * n3 + k] - v,
+                              m.Ljk[off] - v, M - v, cc[base + off]);
+      }
+      const int32_t nv = dE < 0 ? 1 : (dE > 0 ? 0 : v);  // seed 000 Eq. 10
+      if (nv == v) continue;
+      const int32_t d = nv - v;
+      V[off] = static_cast<uint8_t>(nv);
+      Ri += d;
+      S[j] += d;
+      T[k] += d;
+      M += d;
+      if (printed) {
+        m.Lij[i * n2 + j] += d;
+        m.Lik[i * n3 + k] += d;
+        m.Ljk[off] += d;
+      }
+      hash ^= zobrist_key(base + off);
+      ++flips;
+    }
+    m.R[i] = Ri;
+  }
+  m.M = M;
+  net.hash = hash;
+  return flips;
+}
+
 // ---------------------------------------------------------------------------------------------
 // sync: Jacobi over i-slices.
 
@@ -142,62 +198,86 @@ SyncSweepResult sync_sweep(DiscreteNetwork& net, double fraction, uint64_t sweep
   std::atomic<int64_t> M_acc{0};
 
   parallel_for_range(static_cast<std::size_t>(n1), 1, [&](std::size_t ib, std::size_t ie) {
-    std::vector<int32_t> S_part(n2, 0), T_part(n3, 0), Ljk_part(printed ? static_cast<std::size_t>(n2) * n3 : 0, 0);
-    std::vector<float> lik(printed ? n3 : 0);
-    std::vector<uint8_t> nv(n3);
+    // Locals, not closure references: the uint8 stores below may alias anything reached through
+    // a pointer, which would stop the vectoriser.
+    const int32_t N2 = n2, N3 = n3;
+    const float A = w.A, B = w.B, C2 = 2.f * w.C, Ef = E, self_c = self, Dt = Dterm;
+    std::vector<int32_t> S_part(N2, 0), T_part(N3, 0), Ljk_part(printed ? static_cast<std::size_t>(N2) * N3 : 0, 0);
+    std::vector<float> lik(printed ? N3 : 0);
+    std::vector<uint8_t> nvbuf(N3);
     int64_t flips = 0, M_local = 0;
     uint64_t h = 0;
     for (std::size_t i = ib; i < ie; ++i) {
       if (printed)
-        for (int32_t k = 0; k < n3; ++k) lik[k] = static_cast<float>(old.Lik[i * n3 + k]);
+        for (int32_t k = 0; k < N3; ++k) lik[k] = static_cast<float>(old.Lik[i * N3 + k]);
       int32_t R_new = 0;
-      for (int32_t j = 0; j < n2; ++j) {
-        const std::size_t row = (i * n2 + j) * static_cast<std::size_t>(n3);
+      const float Ri = static_cast<float>(old.R[i]);
+      for (int32_t j = 0; j < N2; ++j) {
+        const std::size_t row = (i * N2 + j) * static_cast<std::size_t>(N3);
         uint8_t* __restrict V = net.V.data() + row;
+        uint8_t* __restrict nv = nvbuf.data();
         const float* __restrict cc = c.c.data() + row;
         const float* __restrict t = tk.data();
-        float base;
+        int32_t* __restrict Tp = T_part.data();
+        int32_t changed = 0, Lij_new = 0;
         if (!printed) {
-          base = w.A * (static_cast<float>(old.R[i]) - 0.5f) + w.B * (static_cast<float>(old.S[j]) - 0.5f) + Dterm;
-          for (int32_t k = 0; k < n3; ++k) {
-            const float dE = base + t[k] + E * cc[k] + self * static_cast<float>(V[k]);
-            nv[k] = dE < 0.f ? 1 : (dE > 0.f ? 0 : V[k]);
+          const float base = A * (Ri - 0.5f) + B * (static_cast<float>(old.S[j]) - 0.5f) + Dt;
+          for (int32_t k = 0; k < N3; ++k) {
+            const uint8_t v = V[k];
+            const float dE = base + t[k] + Ef * cc[k] + self_c * static_cast<float>(v);
+            nv[k] = dE < 0.f ? 1 : (dE > 0.f ? 0 : v);
+          }
+          // Separate integer pass: one element type per loop lets GCC vectorise both.
+          for (int32_t k = 0; k < N3; ++k) {
+            changed += nv[k] ^ V[k];
+            Lij_new += nv[k];
+            Tp[k] += nv[k];
           }
         } else {
-          const float Lij = static_cast<float>(old.Lij[i * n2 + j]);
-          base = 2.f * w.A * (static_cast<float>(old.R[i]) - Lij) + 2.f * w.B * (static_cast<float>(old.S[j]) - Lij) + Dterm;
-          const int32_t* ljk = old.Ljk.data() + static_cast<std::size_t>(j) * n3;
-          const float* l = lik.data();
-          for (int32_t k = 0; k < n3; ++k) {
+          const float Lij = static_cast<float>(old.Lij[i * N2 + j]);
+          const float base = 2.f * A * (Ri - Lij) + 2.f * B * (static_cast<float>(old.S[j]) - Lij) + Dt;
+          const int32_t* __restrict ljk = old.Ljk.data() + static_cast<std::size_t>(j) * N3;
+          const float* __restrict l = lik.data();
+          for (int32_t k = 0; k < N3; ++k) {
+            const uint8_t v = V[k];
             const float Ljk = static_cast<float>(ljk[k]);
-            const float dE = base - 2.f * w.A * l[k] - 2.f * w.B * Ljk + t[k] - 2.f * w.C * (l[k] + Ljk) +
-                             E * cc[k] + self * static_cast<float>(V[k]);
-            nv[k] = dE < 0.f ? 1 : (dE > 0.f ? 0 : V[k]);
+            const float dE = base - 2.f * A * l[k] - 2.f * B * Ljk + t[k] - C2 * (l[k] + Ljk) + Ef * cc[k] +
+                             self_c * static_cast<float>(v);
+            const uint8_t x = dE < 0.f ? 1 : (dE > 0.f ? 0 : v);
+            nv[k] = x;
+          }
+          if (damped)
+            for (int32_t k = 0; k < N3; ++k)
+              if (splitmix64_mix(sweep_key ^ zobrist_key(row + k)) >= threshold) nv[k] = V[k];
+          for (int32_t k = 0; k < N3; ++k) {
+            changed += nv[k] ^ V[k];
+            Lij_new += nv[k];
+            Tp[k] += nv[k];
           }
         }
-        if (damped) {
-          for (int32_t k = 0; k < n3; ++k)
+        if (damped && !printed) {
+          // Undo the updates of the neurons this sweep leaves alone, then recount.
+          changed = 0;
+          Lij_new = 0;
+          for (int32_t k = 0; k < N3; ++k) {
+            Tp[k] -= nv[k];
             if (splitmix64_mix(sweep_key ^ zobrist_key(row + k)) >= threshold) nv[k] = V[k];
-        }
-        int32_t changed = 0, Lij_new = 0;
-        for (int32_t k = 0; k < n3; ++k) {
-          changed += nv[k] != V[k];
-          Lij_new += nv[k];
+            changed += nv[k] ^ V[k];
+            Lij_new += nv[k];
+            Tp[k] += nv[k];
+          }
         }
         if (changed) {
-          for (int32_t k = 0; k < n3; ++k)
+          for (int32_t k = 0; k < N3; ++k)
             if (nv[k] != V[k]) h ^= zobrist_key(row + k);
           flips += changed;
-        }
-        for (int32_t k = 0; k < n3; ++k) {
-          V[k] = nv[k];
-          T_part[k] += nv[k];
+          std::memcpy(V, nv, N3);
         }
         if (printed) {
-          nw.Lij[i * n2 + j] = Lij_new;
-          int32_t* ljk_new = Ljk_part.data() + static_cast<std::size_t>(j) * n3;
-          int32_t* lik_new = nw.Lik.data() + i * n3;
-          for (int32_t k = 0; k < n3; ++k) {
+          nw.Lij[i * N2 + j] = Lij_new;
+          int32_t* ljk_new = Ljk_part.data() + static_cast<std::size_t>(j) * N3;
+          int32_t* lik_new = nw.Lik.data() + i * N3;
+          for (int32_t k = 0; k < N3; ++k) {
             ljk_new[k] += nv[k];
             lik_new[k] += nv[k];
           }
@@ -208,8 +288,8 @@ SyncSweepResult sync_sweep(DiscreteNetwork& net, double fraction, uint64_t sweep
       nw.R[i] = R_new;
       M_local += R_new;
     }
-    for (int32_t j = 0; j < n2; ++j) atomic_add(nw.S[j], S_part[j]);
-    for (int32_t k = 0; k < n3; ++k) atomic_add(nw.T[k], T_part[k]);
+    for (int32_t j = 0; j < N2; ++j) atomic_add(nw.S[j], S_part[j]);
+    for (int32_t k = 0; k < N3; ++k) atomic_add(nw.T[k], T_part[k]);
     if (printed)
       for (std::size_t a = 0; a < Ljk_part.size(); ++a) atomic_add(nw.Ljk[a], Ljk_part[a]);
     flips_total.fetch_add(flips, std::memory_order_relaxed);

@@ -52,6 +52,13 @@ struct DiscreteNetwork {
 int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, double temperature = 0.0,
                     CounterRng* rng = nullptr);
 
+// One asynchronous sweep slice by slice: the i-slices in `slice_order`; within slice i, neuron
+// (j, k) = packed_jk[(p + rotation[i]) mod n2n3] for p = 0, 1, ... (packed as j << 16 | k). The
+// same Gauss–Seidel rule as async_sweep, without index divisions and with the slice (n2·n3
+// neurons) resident in cache. Needs n2, n3 < 65536.
+int64_t async_sweep_slices(DiscreteNetwork& net, std::span<const uint32_t> slice_order,
+                           std::span<const uint32_t> packed_jk, std::span<const uint32_t> rotation);
+
 struct SyncSweepResult {
   int64_t flips = 0;
 };
