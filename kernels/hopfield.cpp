@@ -30,12 +30,18 @@ HopfieldSchedule parse_hopfield_schedule(const std::string& s) {
   throw InputError("schedule: expected sync, async, diagonal or continuous, found '" + s + "'");
 }
 const char* hopfield_init_name(HopfieldInit s) {
-  return s == HopfieldInit::kZero ? "zero" : (s == HopfieldInit::kRandom ? "random" : "greedy");
+  switch (s) {
+    case HopfieldInit::kZero: return "zero";
+    case HopfieldInit::kRandom: return "random";
+    case HopfieldInit::kGreedy: return "greedy";
+    case HopfieldInit::kMeanField: return "mean_field";
+  }
+  return "?";
 }
 HopfieldInit parse_hopfield_init(const std::string& s) {
-  for (auto v : {HopfieldInit::kZero, HopfieldInit::kRandom, HopfieldInit::kGreedy})
+  for (auto v : {HopfieldInit::kZero, HopfieldInit::kRandom, HopfieldInit::kGreedy, HopfieldInit::kMeanField})
     if (s == hopfield_init_name(v)) return v;
-  throw InputError("init: expected zero, random or greedy, found '" + s + "'");
+  throw InputError("init: expected zero, random, greedy or mean_field, found '" + s + "'");
 }
 const char* hopfield_order_name(HopfieldOrder s) {
   return s == HopfieldOrder::kRandom ? "random" : (s == HopfieldOrder::kSliceRandom ? "slice_random" : "cost");
@@ -74,7 +80,10 @@ void HopfieldOptions::validate() const {
   require(u0_start > 0 && u0_end > 0 && std::isfinite(u0_start) && std::isfinite(u0_end), "u0_start/u0_end",
           "expected > 0");
   require(noise >= 0 && std::isfinite(noise), "noise", "expected >= 0");
+  require(self_excitation >= 0 && self_excitation <= 1, "self_excitation", "expected in [0, 1]");
   require(tolerance > 0, "tolerance", "expected > 0");
+  require(mean_field_steps >= 1, "mean_field_steps", "expected >= 1");
+  require(gain_anneal_steps >= 0, "gain_anneal_steps", "expected >= 0");
   if (!auto_weights) {
     for (float x : {weights.A, weights.B, weights.C, weights.D, weights.E})
       require(x >= 0 && std::isfinite(x), "weights", "A, B, C, D, E must be finite and >= 0");
@@ -134,8 +143,11 @@ std::vector<uint8_t> greedy_state(const NormalisedCost& c, double noise, Counter
   return V;
 }
 
-std::vector<uint8_t> initial_state(const HopfieldOptions& o, const NormalisedCost& c, int32_t restart,
-                                   CounterRng& rng) {
+ContinuousNetwork anneal_continuous(const NormalisedCost& c, const HopfieldOptions& o, const HopfieldWeights& w,
+                                    CounterRng& rng, HopfieldRestart& rec);
+
+std::vector<uint8_t> initial_state(const HopfieldOptions& o, const NormalisedCost& c, const HopfieldWeights& w,
+                                   int32_t restart, CounterRng& rng, HopfieldRestart& rec) {
   const std::size_t K = c.size();
   switch (o.init) {
     case HopfieldInit::kZero: return std::vector<uint8_t>(K, 0);
@@ -146,6 +158,18 @@ std::vector<uint8_t> initial_state(const HopfieldOptions& o, const NormalisedCos
       return V;
     }
     case HopfieldInit::kGreedy: return greedy_state(c, restart == 0 ? 0.0 : o.greedy_noise, rng);
+    case HopfieldInit::kMeanField: {
+      HopfieldRestart mf;  // the mean-field phase: its steps are counted in rec.sweeps below
+      HopfieldOptions co = o;
+      co.max_sweeps = o.mean_field_steps;
+      co.trace = false;
+      HopfieldWeights cw = w;
+      const ContinuousNetwork net = anneal_continuous(c, co, cw, rng, mf);
+      rec.mean_field_steps = mf.sweeps;
+      std::vector<uint8_t> V(K);
+      for (std::size_t a = 0; a < K; ++a) V[a] = net.V[a] > 0.5f;
+      return V;
+    }
   }
   return {};
 }
@@ -166,7 +190,7 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
   CounterRng rng(seed, 0, static_cast<uint64_t>(restart));
   RestartOutput out;
   HopfieldRestart& rec = out.record;
-  const std::vector<uint8_t> V0 = initial_state(o, c, restart, rng);
+  const std::vector<uint8_t> V0 = initial_state(o, c, w, restart, rng, rec);
   DiscreteNetwork net(o.energy, w, c);
   net.set_state(V0);
   const bool diag = o.schedule == HopfieldSchedule::kDiagonal;
@@ -240,11 +264,10 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
   return out;
 }
 
-RestartOutput run_continuous(const CostTensor3& cost, const NormalisedCost& c, const HopfieldOptions& o,
-                             const HopfieldWeights& w, uint64_t seed, int32_t restart) {
-  CounterRng rng(seed, 0, static_cast<uint64_t>(restart));
-  RestartOutput out;
-  HopfieldRestart& rec = out.record;
+// Anneals the continuous network of one restart (mean-field annealing of the gain); fills the
+// sweeps, termination and trace of `rec`.
+ContinuousNetwork anneal_continuous(const NormalisedCost& c, const HopfieldOptions& o, const HopfieldWeights& w,
+                                    CounterRng& rng, HopfieldRestart& rec) {
   const double K = static_cast<double>(c.size());
   const double v_init = std::clamp(w.N / K, 1e-6, 0.5);
   ContinuousNetwork net(c);
@@ -254,6 +277,7 @@ RestartOutput run_continuous(const CostTensor3& cost, const NormalisedCost& c, c
   p.w = w;
   p.dt = static_cast<float>(o.dt);
   p.tau = static_cast<float>(o.tau);
+  p.self_excitation = static_cast<float>(o.self_excitation);
   std::vector<uint32_t> order;
   if (o.continuous_async) {
     order.resize(c.size());
@@ -261,7 +285,7 @@ RestartOutput run_continuous(const CostTensor3& cost, const NormalisedCost& c, c
   }
   rec.termination = Termination::kIterationLimit;
   for (int64_t s = 0; s < o.max_sweeps; ++s) {
-    const double f = o.anneal_sweeps > 0 ? std::min(1.0, static_cast<double>(s) / o.anneal_sweeps) : 1.0;
+    const double f = o.gain_anneal_steps > 0 ? std::min(1.0, static_cast<double>(s) / o.gain_anneal_steps) : 1.0;
     p.u0 = static_cast<float>(o.u0_start * std::pow(o.u0_end / o.u0_start, f));
     float dmax;
     if (o.continuous_async) {
@@ -272,11 +296,20 @@ RestartOutput run_continuous(const CostTensor3& cost, const NormalisedCost& c, c
     }
     rec.sweeps = s + 1;
     if (o.trace) rec.energy_trace.push_back(static_cast<float>(net.energy(w)));
-    if (s + 1 >= o.anneal_sweeps && dmax < o.tolerance) {
+    if (s + 1 >= o.gain_anneal_steps && dmax < o.tolerance) {
       rec.termination = Termination::kConverged;
       break;
     }
   }
+  return net;
+}
+
+RestartOutput run_continuous(const CostTensor3& cost, const NormalisedCost& c, const HopfieldOptions& o,
+                             const HopfieldWeights& w, uint64_t seed, int32_t restart) {
+  CounterRng rng(seed, 0, static_cast<uint64_t>(restart));
+  RestartOutput out;
+  HopfieldRestart& rec = out.record;
+  const ContinuousNetwork net = anneal_continuous(c, o, w, rng, rec);
   rec.energy = net.energy(w);
   std::vector<uint8_t> binary(c.size());
   for (std::size_t a = 0; a < binary.size(); ++a) binary[a] = net.V[a] > 0.5f;

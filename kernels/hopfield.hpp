@@ -7,16 +7,20 @@
 // with its own stream CounterRng(seed, 0, restart), so results are bit-identical for any thread
 // count. The best repaired objective wins (ties: the lowest restart).
 //
-// Why the defaults (measured: see the report of experiment `schedules`): with E·ĉ_max below
-// (A+B+C+D)/2 every valid assignment is a fixed point of the full-plane network, so the energy
-// alone cannot improve a valid state. The default therefore
-//   - starts from the cost-ordered greedy state (restart 0 exact, later restarts with the cost
-//     order perturbed by `greedy_noise`), which beats a random start by a wide margin;
-//   - anneals the cost weight E from `anneal_E_factor` × the fixed-point bound down to just below
-//     it over `anneal_sweeps` asynchronous sweeps in a fresh random order: at a high E the most
-//     expensive tuples switch off, and cheaper recombinations of their freed indices switch on
-//     (ΔE_on = −(A+B+C)/2 + E·ĉ < 0 in free planes); at the final E every free triple can switch
-//     on, so the network ends in a valid assignment.
+// Why the defaults (measured; see the report of experiment `schedules` and notes/hopfield.md):
+// with E·ĉ_max below (A+B+C+D)/2 every valid assignment is a fixed point of the full-plane
+// network, so the discrete dynamics cannot improve a valid state, and from a random or empty
+// start they stop at whatever assignment they first complete (30–700 % above the best known on
+// geometric instances, worse than greedy). The quality must come from the start. The default
+// start is mean-field annealing: the continuous network of the same energy (CHNN) with its gain
+// annealed from u0_start to u0_end over gain_anneal_steps, with a small self-excitation
+// (λ = 0.1) that drives it to 0/1 states; its V > ½ state seeds the discrete network, which
+// then resolves the remaining conflicts and fills the free planes by exact energy descent in
+// ascending cost order (every free triple switches on since E < (A+B+C)/2 on ĉ ≤ 1). Measured
+// on geometric 3-sensor instances (noise/spacing 0.5): greedy 70–130 % above the best known;
+// this default 0.4–1.7 % with 8 restarts. Also available: E annealing (anneal_E_factor > 1:
+// expensive tuples dissolve and their indices recombine) and Glauber temperature; both measured
+// worse than the mean-field start (27–57 % above the best known).
 // Complexity: O(R · sweeps · n1n2n3); memory O(n1n2n3) per concurrent restart.
 #pragma once
 
@@ -33,7 +37,10 @@
 namespace trackassoc {
 
 enum class HopfieldSchedule { kSync, kAsync, kDiagonal, kContinuous };
-enum class HopfieldInit { kZero, kRandom, kGreedy };
+// Initial state of the discrete network: all off; random with density init_density·N/K; the
+// cost-ordered greedy assignment; or the mean-field state (the continuous network of this restart
+// annealed with the continuous options, thresholded at V > ½).
+enum class HopfieldInit { kZero, kRandom, kGreedy, kMeanField };
 // Async visiting order: kRandom = a uniform random permutation of all neurons per sweep;
 // kSliceRandom = the i-slices in random order, within each slice a random permutation of the
 // (j, k) pairs entered at a random rotation (cache friendly: a slice is n2·n3 neurons; see
@@ -63,13 +70,13 @@ struct HopfieldOptions {
   bool auto_weights = true;
   HopfieldWeights weights;
   int32_t restarts = 8;
-  int32_t max_sweeps = 500;  // discrete sweeps, or continuous Euler steps
-  HopfieldInit init = HopfieldInit::kGreedy;
+  int32_t max_sweeps = 300;  // discrete sweeps, or continuous Euler steps
+  HopfieldInit init = HopfieldInit::kMeanField;
   double init_density = 1.0;  // random init: each neuron on with probability density·N/(n1n2n3)
   double greedy_noise = 0.2;  // restarts ≥ 1: cost order of ĉ + noise·U(0,1)
-  HopfieldOrder order = HopfieldOrder::kSliceRandom;  // async order within a sweep
+  HopfieldOrder order = HopfieldOrder::kCost;  // async order within a sweep
   // E annealing (discrete): E_s = E_final·factor^(1 − s/anneal_sweeps) for s < anneal_sweeps.
-  double anneal_E_factor = 4.0;
+  double anneal_E_factor = 1.0;
   int32_t anneal_sweeps = 20;
   // Glauber temperature (async only): T_s = T0·(1 − s/anneal_sweeps) for s < anneal_sweeps, then 0.
   double temperature = 0.0;
@@ -77,9 +84,12 @@ struct HopfieldOptions {
   // continuous (CHNN)
   bool continuous_async = false;
   double dt = 0.05, tau = 0.0;
-  double u0_start = 0.5, u0_end = 0.02;  // gain 1/u₀ annealed geometrically over anneal_sweeps
+  double u0_start = 0.5, u0_end = 0.02;  // gain 1/u₀ annealed geometrically over gain_anneal_steps
+  int32_t gain_anneal_steps = 100;
   double noise = 0.01;                   // initial u noise, in units of u0_start
+  double self_excitation = 0.1;          // λ of ContinuousParams (1 = multilinear energy)
   double tolerance = 1e-4;               // continuous: stop when max |ΔV| < tolerance
+  int32_t mean_field_steps = 300;        // init mean_field: Euler steps (max) of the continuous phase
   HopfieldRepair repair = HopfieldRepair::kGreedy;
   bool trace = false;  // record the energy after every sweep, per restart
   void validate() const;
@@ -90,6 +100,7 @@ struct HopfieldRestart {
   double objective = 0.0;  // cost of the repaired assignment
   bool raw_feasible = false;
   int64_t sweeps = 0;
+  int64_t mean_field_steps = 0;  // init mean_field: continuous steps before the discrete sweeps
   Termination termination = Termination::kIterationLimit;
   std::vector<float> energy_trace;  // per sweep, when options.trace
 };

@@ -35,11 +35,11 @@ __attribute__((always_inline, optimize("fast-math"))) inline float half_one_plus
 // still does not depend on the thread count.
 __attribute__((optimize("fast-math"))) float euler_row(int32_t n3, float base, const float* __restrict t,
                                                        const float* __restrict cc, float E, float dt, float decay,
-                                                       float gain, float* __restrict u, float* __restrict V,
-                                                       float* __restrict lik, float& dmax) {
+                                                       float gain, float self, float* __restrict u,
+                                                       float* __restrict V, float* __restrict lik, float& dmax) {
   float lij = 0.f, m = dmax;
   for (int32_t k = 0; k < n3; ++k) {
-    const float h = -(base + t[k] + E * cc[k]);
+    const float h = -(base + t[k] + E * cc[k]) + self * (V[k] - 0.5f);
     const float uk = decay * u[k] + dt * h;
     u[k] = uk;
     const float nv = half_one_plus_tanh(uk * gain);
@@ -109,6 +109,7 @@ float continuous_sync_step(ContinuousNetwork& net, const ContinuousParams& p) {
   parallel_for_range(static_cast<std::size_t>(n1), 1, [&](std::size_t ib, std::size_t ie) {
     const int32_t N2 = n2, N3 = n3;
     const float E = w.E, dt = p.dt, dec = decay, g = inv_u0;
+    const float self = p.self_excitation * (w.A + w.B + w.C + w.D);
     for (std::size_t i = ib; i < ie; ++i) {
       float dmax = 0.f;
       float* __restrict lik = Lik.data() + i * N3;
@@ -116,7 +117,7 @@ float continuous_sync_step(ContinuousNetwork& net, const ContinuousParams& p) {
       for (int32_t j = 0; j < N2; ++j) {
         const std::size_t row = (i * N2 + j) * static_cast<std::size_t>(N3);
         const float base = Ri + static_cast<float>(w.B * (net.S[j] - 1.0)) + Dterm;
-        Lij[i * N2 + j] = euler_row(N3, base, tk.data(), c.c.data() + row, E, dt, dec, g, net.u.data() + row,
+        Lij[i * N2 + j] = euler_row(N3, base, tk.data(), c.c.data() + row, E, dt, dec, g, self, net.u.data() + row,
                                     net.V.data() + row, lik, dmax);
       }
       slice_max[i] = dmax;
@@ -150,7 +151,8 @@ float continuous_async_step(ContinuousNetwork& net, const ContinuousParams& p, s
     const int32_t j = static_cast<int32_t>((a / n3) % n2);
     const int32_t i = static_cast<int32_t>(a / (static_cast<uint32_t>(n3) * n2));
     const double h = -(w.A * (net.R[i] - 1.0) + w.B * (net.S[j] - 1.0) + w.C * (net.T[k] - 1.0) +
-                       w.D * (net.M - w.N) + static_cast<double>(w.E) * c.c[a]);
+                       w.D * (net.M - w.N) + static_cast<double>(w.E) * c.c[a]) +
+                     p.self_excitation * (w.A + w.B + w.C + w.D) * (net.V[a] - 0.5);
     net.u[a] = decay * net.u[a] + p.dt * static_cast<float>(h);
     const float nv = half_one_plus_tanh(net.u[a] * inv_u0);
     const double d = static_cast<double>(nv) - net.V[a];

@@ -7,7 +7,7 @@
 //   E(V) = A/2·Σ_i(R_i−1)² + B/2·Σ_j(S_j−1)² + C/2·Σ_k(T_k−1)² + D/2·(M−N)² + E·Σ ĉ V,
 // the net input h = −∂E/∂V_ijk = −[A(R_i−1) + B(S_j−1) + C(T_k−1) + D(M−N) + E·ĉ_ijk], and
 //   du/dt = −u/τ + h,   V = ½(1 + tanh(u/u₀)),
-// integrated by explicit Euler steps of size dt. The gain 1/u₀ may be annealed geometrically
+// integrated by explicit Euler steps of size dt (optionally with self-excitation, see below). The gain 1/u₀ may be annealed geometrically
 // from u0_start to u0_end over `anneal_steps` steps (mean-field annealing). A step is O(n1n2n3).
 //
 //   sync   Jacobi: every h from the previous V; parallel over i-slices. The plane sums are
@@ -30,6 +30,11 @@ struct ContinuousParams {
   float dt = 0.05f;
   float tau = 1.f;  // 0 = no decay term
   float u0 = 0.02f;
+  // λ ∈ [0, 1]: h += λ·(A+B+C+D)·(V − ½). λ = 1 makes h = −ΔE_on of the discrete network (primes
+  // exclude the neuron), i.e. the gradient of the multilinear extension of the 0/1 energy, which
+  // is linear in each V and so has its minima at vertices: the network then ends in 0/1 states
+  // instead of split planes (two neurons at ½ satisfy (R−1)² = 0). λ = 0 is plain Hopfield–Tank.
+  float self_excitation = 0.f;
 };
 
 struct ContinuousNetwork {
