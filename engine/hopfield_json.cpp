@@ -98,10 +98,11 @@ HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohma
       else if (k == "mean_field_steps") o.mean_field_steps = get_number<int32_t>(v, k, name);
       else if (k == "repair") {
         const std::string r = get_string(v, k, name);
-        if (r != "greedy") throw InputError("repair: expected greedy, found '" + r + "'");
-        o.repair = HopfieldRepair::kGreedy;
+        if (r == "greedy") o.repair = HopfieldRepair::kGreedy;
+        else if (r == "lap") o.repair = HopfieldRepair::kLap;
+        else throw InputError("repair: expected greedy or lap, found '" + r + "'");
       } else if (k == "trace") o.trace = get_bool(v, k, name);
-      else if (k == "polish") polish = get_bool(v, k, name);
+      else if (k == "polish") o.polish = polish = get_bool(v, k, name);
       else if (k == "A" || k == "B" || k == "C" || k == "D" || k == "E") {
         const float x = get_number<float>(v, k, name);
         weights_given = true;
@@ -131,8 +132,6 @@ Solution3 solve_hopfield_json(const std::string& name, const CostTensor3& cost, 
                               uint64_t seed) {
   bool polish = false;
   const HopfieldOptions o = hopfield_options_from_json(name, options, polish);
-  if (polish)
-    throw InputError("solver '" + name + "' options: 'polish' needs the local search of the solvers branch, not merged yet");
   HopfieldResult r = solve_hopfield(cost, o, seed);
   Solution3 s = std::move(r.solution);
   if (o.trace && !r.restarts.empty()) {

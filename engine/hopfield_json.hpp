@@ -6,7 +6,8 @@
 // "continuous"), restarts, max_sweeps, init ("zero" | "random" | "greedy" | "mean_field"),
 // init_density, greedy_noise, order ("random" | "slice_random" | "cost"), anneal_E_factor,
 // anneal_sweeps, temperature, damping, continuous_async, dt, tau, u0_start, u0_end, noise,
-// tolerance, repair ("greedy"), trace (bool), polish (bool), and A, B, C, D, E (giving any of them
+// tolerance, mean_field_steps, gain_anneal_steps, self_excitation, repair ("greedy" | "lap"),
+// trace (bool), polish (bool: LAP local search on every restart), and A, B, C, D, E (giving any of them
 // switches off the automatic weights; the others keep the preset's values).
 #pragma once
 
@@ -23,7 +24,7 @@ namespace trackassoc {
 // (continuous network, seed 004). Throws InputError for another name.
 HopfieldOptions hopfield_preset(const std::string& name);
 
-// The preset overridden by `options`; sets `polish` from the "polish" key.
+// The preset overridden by `options`; `polish` mirrors the "polish" key.
 HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohmann::json& options, bool& polish);
 
 // Runs the solver: Solution3 with the energy trace (restarts × sweeps) when "trace" is set; the

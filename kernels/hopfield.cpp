@@ -9,6 +9,7 @@
 #include "kernels/error.hpp"
 #include "kernels/hopfield_continuous.hpp"
 #include "kernels/hopfield_discrete.hpp"
+#include "kernels/local_search.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/random.hpp"
 
@@ -184,6 +185,14 @@ struct RestartOutput {
   std::vector<Tuple3> tuples;
 };
 
+void finish_restart(const CostTensor3& cost, const HopfieldOptions& o, std::span<const uint32_t> priority,
+                    RestartOutput& out) {
+  out.tuples = repair_assignment(cost, priority, o.repair);
+  out.record.repaired_objective = assignment_cost(cost, out.tuples);
+  if (o.polish) out.tuples = solve_local_search3(cost, out.tuples).tuples;
+  out.record.objective = assignment_cost(cost, out.tuples);
+}
+
 RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, const HopfieldOptions& o,
                            const HopfieldWeights& w, const std::vector<uint32_t>& cost_order, uint64_t seed,
                            int32_t restart) {
@@ -258,9 +267,7 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
   net.w.E = w.E;
   rec.energy = hopfield_energy(o.energy, w, c, net.V);
   rec.raw_feasible = is_valid_state(net.V, c.n1, c.n2, c.n3);
-  const std::vector<uint32_t> active = active_by_cost(net.V, cost);
-  out.tuples = repair_assignment(cost, active, o.repair);
-  rec.objective = assignment_cost(cost, out.tuples);
+  finish_restart(cost, o, active_by_cost(net.V, cost), out);
   return out;
 }
 
@@ -314,9 +321,7 @@ RestartOutput run_continuous(const CostTensor3& cost, const NormalisedCost& c, c
   std::vector<uint8_t> binary(c.size());
   for (std::size_t a = 0; a < binary.size(); ++a) binary[a] = net.V[a] > 0.5f;
   rec.raw_feasible = is_valid_state(binary, c.n1, c.n2, c.n3);
-  const std::vector<uint32_t> active = active_by_output(net.V, 0.5f);
-  out.tuples = repair_assignment(cost, active, o.repair);
-  rec.objective = assignment_cost(cost, out.tuples);
+  finish_restart(cost, o, active_by_output(net.V, 0.5f), out);
   return out;
 }
 

@@ -91,13 +91,17 @@ struct HopfieldOptions {
   double tolerance = 1e-4;               // continuous: stop when max |ΔV| < tolerance
   int32_t mean_field_steps = 300;        // init mean_field: Euler steps (max) of the continuous phase
   HopfieldRepair repair = HopfieldRepair::kGreedy;
+  // Polish every restart's repaired assignment by the dimension-wise LAP local search
+  // (kernels/local_search.hpp, DESIGN §4.5) before choosing the best.
+  bool polish = false;
   bool trace = false;  // record the energy after every sweep, per restart
   void validate() const;
 };
 
 struct HopfieldRestart {
   double energy = 0.0;     // final network energy (final weights)
-  double objective = 0.0;  // cost of the repaired assignment
+  double objective = 0.0;  // cost of the repaired (and, with polish, polished) assignment
+  double repaired_objective = 0.0;  // before polish
   bool raw_feasible = false;
   int64_t sweeps = 0;
   int64_t mean_field_steps = 0;  // init mean_field: continuous steps before the discrete sweeps

@@ -1,7 +1,10 @@
 #include "kernels/hopfield_decode.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
+
+#include "kernels/lap.hpp"
 
 namespace trackassoc {
 
@@ -63,7 +66,6 @@ std::vector<Tuple3> repair_assignment(const CostTensor3& cost, std::span<const u
     take(i, j, k);
   }
   if (static_cast<int32_t>(tuples.size()) == m) return tuples;
-  // Complete on the free sub-tensor: cheapest free tuple first.
   std::vector<int32_t> fi, fj, fk;
   for (int32_t i = 0; i < n1; ++i)
     if (!used.ui[i]) fi.push_back(i);
@@ -71,6 +73,42 @@ std::vector<Tuple3> repair_assignment(const CostTensor3& cost, std::span<const u
     if (!used.uj[j]) fj.push_back(j);
   for (int32_t k = 0; k < n3; ++k)
     if (!used.uk[k]) fk.push_back(k);
+  if (method == HopfieldRepair::kLap) {
+    // Sequential pairwise LAPs on the free sub-tensor: (i, j) by c12 = min_k b_ijk, then the
+    // pairs against the free k.
+    const int32_t a = static_cast<int32_t>(fi.size()), b = static_cast<int32_t>(fj.size()),
+                  c = static_cast<int32_t>(fk.size());
+    std::vector<double> c12(static_cast<std::size_t>(a) * b);
+    for (int32_t x = 0; x < a; ++x)
+      for (int32_t y = 0; y < b; ++y) {
+        float best = std::numeric_limits<float>::infinity();
+        for (int32_t z = 0; z < c; ++z) best = std::min(best, cost.at(fi[x], fj[y], fk[z]));
+        c12[static_cast<std::size_t>(x) * b + y] = best;
+      }
+    const LapResult first = solve_lap(c12, a, b);
+    std::vector<std::pair<int32_t, int32_t>> pairs;
+    for (int32_t x = 0; x < a; ++x)
+      if (first.row_to_col[x] >= 0) pairs.push_back({fi[x], fj[first.row_to_col[x]]});
+    const int32_t p = static_cast<int32_t>(pairs.size());
+    std::vector<double> c3(static_cast<std::size_t>(p) * c);
+    for (int32_t x = 0; x < p; ++x)
+      for (int32_t z = 0; z < c; ++z) c3[static_cast<std::size_t>(x) * c + z] = cost.at(pairs[x].first, pairs[x].second, fk[z]);
+    const LapResult second = solve_lap(c3, p, c);
+    for (int32_t x = 0; x < p; ++x)
+      if (second.row_to_col[x] >= 0) take(pairs[x].first, pairs[x].second, fk[second.row_to_col[x]]);
+    if (static_cast<int32_t>(tuples.size()) == m) return tuples;
+    // (only with +inf costs can the LAPs leave indices; the greedy pass below completes them)
+    fi.clear();
+    fj.clear();
+    fk.clear();
+    for (int32_t i = 0; i < n1; ++i)
+      if (!used.ui[i]) fi.push_back(i);
+    for (int32_t j = 0; j < n2; ++j)
+      if (!used.uj[j]) fj.push_back(j);
+    for (int32_t k = 0; k < n3; ++k)
+      if (!used.uk[k]) fk.push_back(k);
+  }
+  // Complete on the free sub-tensor: cheapest free tuple first.
   std::vector<uint32_t> free_tuples;
   free_tuples.reserve(fi.size() * fj.size() * fk.size());
   for (int32_t i : fi)
@@ -86,7 +124,6 @@ std::vector<Tuple3> repair_assignment(const CostTensor3& cost, std::span<const u
     take(i, j, k);
     if (static_cast<int32_t>(tuples.size()) == m) break;
   }
-  (void)method;
   return tuples;
 }
 

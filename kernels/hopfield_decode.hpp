@@ -19,7 +19,7 @@
 
 namespace trackassoc {
 
-enum class HopfieldRepair { kGreedy };
+enum class HopfieldRepair { kGreedy, kLap };
 
 // True when the 0/1 state (standard layout) is a valid assignment.
 bool is_valid_state(std::span<const uint8_t> V, int32_t n1, int32_t n2, int32_t n3);

@@ -190,6 +190,45 @@ TEST(HopfieldDiscrete, MarginalSweepsEqualNaiveReference) {
       }
 }
 
+// The slice-ordered async kernel equals the naive network visiting the same neurons in the same
+// order (the order spelled out explicitly).
+TEST(HopfieldDiscrete, SliceAsyncEqualsNaiveInTheSameOrder) {
+  CounterRng rng(13, 2);
+  for (const auto& d : kDims)
+    for (HopfieldEnergy form : kForms) {
+      const NormalisedCost c = normalise_cost(random_tensor(d.n1, d.n2, d.n3, 600));
+      const HopfieldWeights w = some_weights(rng, std::min({d.n1, d.n2, d.n3}));
+      const NaiveHopfieldNetwork naive(form, w, c);
+      std::vector<uint8_t> ref = random_state(c.size(), 0.3, rng);
+      DiscreteNetwork net(form, w, c);
+      net.set_state(ref);
+      std::vector<uint32_t> slices(d.n1), packed, rotation(d.n1);
+      std::iota(slices.begin(), slices.end(), 0u);
+      for (int32_t j = 0; j < d.n2; ++j)
+        for (int32_t k = 0; k < d.n3; ++k) packed.push_back(static_cast<uint32_t>(j) << 16 | k);
+      const std::size_t slice = packed.size();
+      for (int s = 0; s < 4; ++s) {
+        rng.shuffle(std::span<uint32_t>(slices));
+        rng.shuffle(std::span<uint32_t>(packed));
+        for (auto& r : rotation) r = static_cast<uint32_t>(rng.uniform_int(slice));
+        std::vector<uint32_t> order;
+        for (uint32_t i : slices)
+          for (std::size_t p = 0; p < slice; ++p) {
+            const uint32_t jk = packed[(p + rotation[i]) % slice];
+            order.push_back(static_cast<uint32_t>((i * d.n2 + (jk >> 16)) * d.n3 + (jk & 0xffff)));
+          }
+        naive.async_sweep(ref, order);
+        async_sweep_slices(net, slices, packed, rotation);
+        ASSERT_EQ(net.V, ref) << hopfield_energy_name(form) << " sweep " << s;
+      }
+      const HopfieldMarginals m = compute_marginals(net.V, d.n1, d.n2, d.n3, form == HopfieldEnergy::kPrinted);
+      EXPECT_EQ(m.R, net.m.R);
+      EXPECT_EQ(m.S, net.m.S);
+      EXPECT_EQ(m.Lij, net.m.Lij);
+      EXPECT_EQ(m.M, net.m.M);
+    }
+}
+
 std::vector<uint8_t> permutation_state(int32_t n, CounterRng& rng) {
   std::vector<int32_t> pj(n), pk(n);
   std::iota(pj.begin(), pj.end(), 0);

@@ -160,14 +160,18 @@ TEST(HopfieldSolver, DefaultFindsBruteForceOptimumOnSmallInstances) {
   EXPECT_GE(optimal, total - 1) << "default hopfield optimal on " << optimal << "/" << total;
 }
 
-TEST(HopfieldSolver, EasyInstanceRecoversTheTruth) {
+// On an easy instance (noise 0.1 of the target spacing) the true association is (near) optimal:
+// the solvers must find an assignment at least as cheap, and agree with the truth on almost all
+// tuples.
+TEST(HopfieldSolver, EasyInstanceMatchesTheTruth) {
   const GeometricInstance g = instance(30, 0.1, 7);
+  const double truth_cost = assignment_cost(g.cost, g.truth);
   for (const char* name : {"hopfield", "chnn"}) {
     const Solution3 s = solve_hopfield_json(name, g.cost, nlohmann::json::object(), 3);
-    std::vector<Tuple3> got = s.tuples, want = g.truth;
-    std::sort(got.begin(), got.end());
-    std::sort(want.begin(), want.end());
-    EXPECT_EQ(got, want) << name;
+    EXPECT_LE(s.summary.objective, truth_cost + 1e-3) << name;
+    int same = 0;
+    for (const auto& t : s.tuples) same += std::find(g.truth.begin(), g.truth.end(), t) != g.truth.end();
+    EXPECT_GE(same, 27) << name;
   }
 }
 
