@@ -100,11 +100,12 @@ void HopfieldOptions::validate() const {
 HopfieldWeights hopfield_weights(const HopfieldOptions& o, const NormalisedCost& c) {
   HopfieldWeights w = o.weights;
   if (o.auto_weights) {
-    // ĉ ∈ [0, 1]: E just below the bound (A+B+C+D)/2 keeps every valid assignment a fixed point
-    // and lets every triple of free planes switch on.
+    // ĉ ∈ [0, 1]: E just below the fixed-point bound keeps every valid assignment a fixed point
+    // and (full plane) lets every triple of free planes switch on. The printed energy needs its
+    // D term (see fixed_point_E_bound).
     w.A = w.B = w.C = 1.f;
-    w.D = 0.f;
-    w.E = static_cast<float>(0.999 * fixed_point_E_bound(w));
+    w.D = o.energy == HopfieldEnergy::kFullPlane ? 0.f : 1.f;
+    w.E = static_cast<float>(0.999 * fixed_point_E_bound(o.energy, w));
   }
   w.N = std::min({c.n1, c.n2, c.n3});
   return w;
@@ -164,7 +165,10 @@ std::vector<uint8_t> initial_state(const HopfieldOptions& o, const NormalisedCos
       HopfieldOptions co = o;
       co.max_sweeps = o.mean_field_steps;
       co.trace = false;
-      HopfieldWeights cw = w;
+      // The mean-field phase always uses the automatic full-plane weights (whatever the discrete
+      // energy): it is a start heuristic, measured with these weights.
+      HopfieldOptions fo;
+      const HopfieldWeights cw = hopfield_weights(fo, c);
       const ContinuousNetwork net = anneal_continuous(c, co, cw, rng, mf);
       rec.mean_field_steps = mf.sweeps;
       std::vector<uint8_t> V(K);

@@ -65,8 +65,9 @@ struct SliceRandomOrder {
 struct HopfieldOptions {
   HopfieldEnergy energy = HopfieldEnergy::kFullPlane;
   HopfieldSchedule schedule = HopfieldSchedule::kAsync;
-  // true: A = B = C = 1, D = 0 and E just below the fixed-point bound (A+B+C+D)/2 on the
-  // normalised cost; false: `weights` as given (N is always set to min(n1, n2, n3)).
+  // true: A = B = C = 1, D = 0 (printed energy: D = 1) and E just below the fixed-point bound
+  // (fixed_point_E_bound) on the normalised cost; false: `weights` as given (N is always set to
+  // min(n1, n2, n3)).
   bool auto_weights = true;
   HopfieldWeights weights;
   int32_t restarts = 8;

@@ -87,9 +87,14 @@ inline double printed_delta_on(const HopfieldWeights& w, int64_t Ri, int64_t Sj,
 double delta_on(HopfieldEnergy form, const HopfieldWeights& w, const NormalisedCost& c,
                 const HopfieldMarginals& m, std::span<const uint8_t> V, int32_t i, int32_t j, int32_t k);
 
-// Largest E for which every valid assignment is a fixed point of the full-plane network:
-// E·ĉ_max < (A+B+C+D)/2 (DESIGN §4.4). ĉ_max = 1 after normalisation.
+// Largest E for which every valid assignment is a fixed point (ĉ_max = 1 after normalisation):
+//   full plane: E·ĉ_max < (A+B+C+D)/2 (DESIGN §4.4);
+//   printed:    E·ĉ_max < D/2 (an active neuron of a valid state has no plane or line partner, so
+//               only the D term keeps it on; without D every neuron switches off).
 inline double fixed_point_E_bound(const HopfieldWeights& w) { return 0.5 * (w.A + w.B + w.C + w.D); }
+inline double fixed_point_E_bound(HopfieldEnergy form, const HopfieldWeights& w) {
+  return form == HopfieldEnergy::kFullPlane ? fixed_point_E_bound(w) : 0.5 * w.D;
+}
 
 // Naive reference: the explicit weights W (K×K, K = n1n2n3, zero diagonal) and thresholds θ of
 // E = −½ Σ_ab V_a W_ab V_b + Σ_a θ_a V_a + const. O(K²) memory: tests and one benchmark only.
