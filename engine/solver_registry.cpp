@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "engine/relaxation_solvers.hpp"
 #include "kernels/error.hpp"
 #include "engine/hopfield_json.hpp"
 #include "kernels/heuristic_solvers.hpp"
@@ -22,6 +23,7 @@ std::vector<SolverEntry> make_registry() {
                  reject_unknown_keys(o, {}, "pairwise");
                  return solve_pairwise3(b, PairwiseOptions{});
                }});
+  register_relaxation_solvers(r);  // lr, lr+ls, exact
   // Hopfield solvers (kernels/hopfield.hpp; options: engine/hopfield_json.hpp).
   for (const char* name : {"hopfield", "hopfield-paper", "chnn"}) {
     const std::string n = name;
@@ -32,7 +34,8 @@ std::vector<SolverEntry> make_registry() {
                    return solve_hopfield_json(n, b, o, seed);
                  }});
   }
-  // Further solvers (lr, lr+ls, exact, ...) register here.
+  // Further solvers register here.
+  register_local_search_variants(r);  // "X+ls" for every solver above: keep this last
   return r;
 }
 
