@@ -188,6 +188,9 @@ AssociationRecord solve_association(const AssociationProblem& p, const std::stri
   rec.gap = solution.summary.gap;
   rec.termination = termination_name(solution.summary.termination);
   rec.runtime_s = solve_time;
+  rec.energy_rows = solution.energy_rows;
+  rec.energy_cols = solution.energy_cols;
+  rec.energy = std::move(solution.energy_trace);
 
   std::array<std::vector<char>, 3> seen;
   for (int d = 0; d < 3; ++d) seen[d].assign(p.aligned[d].n_tracks(), 0);

@@ -5,6 +5,7 @@
 
 #include "engine/relaxation_solvers.hpp"
 #include "kernels/error.hpp"
+#include "engine/hopfield_json.hpp"
 #include "kernels/heuristic_solvers.hpp"
 
 namespace trackassoc {
@@ -23,7 +24,17 @@ std::vector<SolverEntry> make_registry() {
                  return solve_pairwise3(b, PairwiseOptions{});
                }});
   register_relaxation_solvers(r);  // lr, lr+ls, exact
-  // Further solvers (hopfield, chnn, ...) register here.
+  // Hopfield solvers (kernels/hopfield.hpp; options: engine/hopfield_json.hpp).
+  for (const char* name : {"hopfield", "hopfield-paper", "chnn"}) {
+    const std::string n = name;
+    const std::string desc = n == "hopfield"         ? "discrete 3-D Hopfield network, full-plane energy, mean-field start (seed 000)"
+                             : n == "hopfield-paper" ? "discrete 3-D Hopfield network as printed (seed 000 Eq. 11, A=B=C=300, D=200, E=1100)"
+                                                     : "continuous Hopfield network with gain annealing (CHNN, seed 004)";
+    r.push_back({n, desc, 200, [n](const CostTensor3& b, const nlohmann::json& o, uint64_t seed) {
+                   return solve_hopfield_json(n, b, o, seed);
+                 }});
+  }
+  // Further solvers register here.
   register_local_search_variants(r);  // "X+ls" for every solver above: keep this last
   return r;
 }

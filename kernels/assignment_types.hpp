@@ -84,6 +84,10 @@ struct SolverSummary {
 struct Solution3 {
   std::vector<Tuple3> tuples;
   SolverSummary summary;
+  // Optional energy trace of iterative solvers (Hopfield: restarts × sweeps, row-major, NaN-padded),
+  // written to /associations/<name>/energy; empty when not recorded.
+  int32_t energy_rows = 0, energy_cols = 0;
+  std::vector<float> energy_trace;
 };
 
 // Σ over tuples of b_ijk, with miss_cost per kNoTrack index. Double accumulation.

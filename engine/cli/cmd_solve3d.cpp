@@ -1,4 +1,5 @@
 // trackassoc solve3d --instance FILE --solver NAME [--json] [--time-limit S] [--options JSON]
+//                   [--schedule S --restarts R --polish]   (Hopfield solvers)
 // Solves one 3-D assignment instance: the text format of benchmarks/3dap (DESIGN §3) or an HDF5
 // cost tensor (io/cost_tensor_file.hpp), and prints the objective, bound, gap and assignment.
 #include <chrono>
@@ -33,6 +34,10 @@ void register_solve3d(CLI::App& app) {
     std::string instance, solver = "lr+ls", options = "{}";
     bool json = false;
     double time_limit = 0.0;
+    // Hopfield solvers only (merged into --options): schedule, restarts, polish.
+    std::string schedule;
+    int restarts = 0;
+    bool polish = false;
   };
   auto args = std::make_shared<Args>();
   std::string solver_help = "Solver:";
@@ -51,11 +56,23 @@ void register_solve3d(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--options", args->options, "Solver options as a JSON object, e.g. '{\"step_rule\": \"deflected\"}'")
       ->capture_default_str();
+  cmd->add_option("--schedule", args->schedule, "Hopfield solvers: sync, async, diagonal or continuous");
+  cmd->add_option("--restarts", args->restarts, "Hopfield solvers: number of restarts")->check(CLI::PositiveNumber);
+  cmd->add_flag("--polish", args->polish, "Hopfield solvers: polish every restart by the LAP local search");
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     const SolverEntry& solver = find_solver(args->solver);
     nlohmann::json options = parse_solver_options(args->options);
+    if (!args->schedule.empty() || args->restarts > 0 || args->polish) {
+      if (solver.name != "hopfield" && solver.name != "hopfield-paper" && solver.name != "chnn")
+        throw InputError("--schedule/--restarts/--polish: only for hopfield, hopfield-paper and chnn, not '" +
+                         solver.name + "'");
+      if (options.is_null()) options = nlohmann::json::object();
+      if (!args->schedule.empty()) options["schedule"] = args->schedule;
+      if (args->restarts > 0) options["restarts"] = args->restarts;
+      if (args->polish) options["polish"] = true;
+    }
     if (args->time_limit > 0.0) {
       if (solver.name != "lr" && solver.name != "lr+ls" && solver.name != "exact")
         throw InputError("--time-limit: solver '" + solver.name + "' is one-pass and takes no time limit");

@@ -1,0 +1,35 @@
+// The Hopfield solvers of the registry ("hopfield", "hopfield-paper", "chnn"): presets and the
+// JSON options they accept (engine/solver_registry.hpp). Unknown keys and bad values are
+// InputErrors naming the key.
+//
+// Keys (all optional): energy ("full_plane" | "printed"), schedule ("sync" | "async" | "diagonal" |
+// "continuous"), restarts, max_sweeps, init ("zero" | "random" | "greedy" | "mean_field"),
+// init_density, greedy_noise, order ("random" | "slice_random" | "cost"), anneal_E_factor,
+// anneal_sweeps, temperature, damping, continuous_async, dt, tau, u0_start, u0_end, noise,
+// tolerance, mean_field_steps, gain_anneal_steps, self_excitation, repair ("greedy" | "lap"),
+// trace (bool), polish (bool: LAP local search on every restart), and A, B, C, D, E (giving any of them
+// switches off the automatic weights; the others keep the preset's values).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "kernels/assignment_types.hpp"
+#include "kernels/hopfield.hpp"
+
+namespace trackassoc {
+
+// The preset of a registry name: "hopfield" (the measured defaults), "hopfield-paper" (seed 000
+// as printed: Eq. 11, A=B=C=300, D=200, E=1100, async from the empty state, one run) or "chnn"
+// (continuous network, seed 004). Throws InputError for another name.
+HopfieldOptions hopfield_preset(const std::string& name);
+
+// The preset overridden by `options`; `polish` mirrors the "polish" key.
+HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohmann::json& options, bool& polish);
+
+// Runs the solver: Solution3 with the energy trace (restarts × sweeps) when "trace" is set; the
+// summary message carries the raw validity rate.
+Solution3 solve_hopfield_json(const std::string& name, const CostTensor3& cost, const nlohmann::json& options,
+                              uint64_t seed);
+
+}  // namespace trackassoc

@@ -1,0 +1,126 @@
+// Hopfield solvers for the 3-D assignment with restarts (seed 000 §3, seed 004; DESIGN §4.4).
+//
+// One restart: normalise the cost (ĉ ∈ [0, 1]), set the initial state, run sweeps of the chosen
+// schedule (kernels/hopfield_discrete.hpp, kernels/hopfield_continuous.hpp) until no neuron
+// changes (discrete), max |ΔV| < tolerance (continuous), a 2-cycle (sync), or max_sweeps; then
+// decode and repair (kernels/hopfield_decode.hpp). R restarts run in parallel over TBB, each
+// with its own stream CounterRng(seed, 0, restart), so results are bit-identical for any thread
+// count. The best repaired objective wins (ties: the lowest restart).
+//
+// Why the defaults (measured; see the report of experiment `schedules` and notes/hopfield.md):
+// with E·ĉ_max below (A+B+C+D)/2 every valid assignment is a fixed point of the full-plane
+// network, so the discrete dynamics cannot improve a valid state, and from a random or empty
+// start they stop at whatever assignment they first complete (30–700 % above the best known on
+// geometric instances, worse than greedy). The quality must come from the start. The default
+// start is mean-field annealing: the continuous network of the same energy (CHNN) with its gain
+// annealed from u0_start to u0_end over gain_anneal_steps, with a small self-excitation
+// (λ = 0.1) that drives it to 0/1 states; its V > ½ state seeds the discrete network, which
+// then resolves the remaining conflicts and fills the free planes by exact energy descent in
+// ascending cost order (every free triple switches on since E < (A+B+C)/2 on ĉ ≤ 1). Measured
+// on geometric 3-sensor instances (noise/spacing 0.5): greedy 70–130 % above the best known;
+// this default 0.4–1.7 % with 8 restarts. Also available: E annealing (anneal_E_factor > 1:
+// expensive tuples dissolve and their indices recombine) and Glauber temperature; both measured
+// worse than the mean-field start (27–57 % above the best known).
+// Complexity: O(R · sweeps · n1n2n3); memory O(n1n2n3) per concurrent restart.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "kernels/assignment_types.hpp"
+#include "kernels/hopfield_decode.hpp"
+#include "kernels/hopfield_energy.hpp"
+#include "kernels/random.hpp"
+
+namespace trackassoc {
+
+enum class HopfieldSchedule { kSync, kAsync, kDiagonal, kContinuous };
+// Initial state of the discrete network: all off; random with density init_density·N/K; the
+// cost-ordered greedy assignment; or the mean-field state (the continuous network of this restart
+// annealed with the continuous options, thresholded at V > ½).
+enum class HopfieldInit { kZero, kRandom, kGreedy, kMeanField };
+// Async visiting order: kRandom = a uniform random permutation of all neurons per sweep;
+// kSliceRandom = the i-slices in random order, within each slice a random permutation of the
+// (j, k) pairs entered at a random rotation (cache friendly: a slice is n2·n3 neurons; see
+// SliceRandomOrder); kCost = ascending normalised cost, fixed. With a Glauber temperature,
+// kSliceRandom falls back to kRandom.
+enum class HopfieldOrder { kRandom, kSliceRandom, kCost };
+
+const char* hopfield_schedule_name(HopfieldSchedule s);
+HopfieldSchedule parse_hopfield_schedule(const std::string& s);  // InputError naming the value
+const char* hopfield_init_name(HopfieldInit s);
+HopfieldInit parse_hopfield_init(const std::string& s);
+const char* hopfield_order_name(HopfieldOrder s);
+HopfieldOrder parse_hopfield_order(const std::string& s);
+// The kSliceRandom order of one sweep (for async_sweep_slices): the slices in random order, one
+// random permutation of the (j, k) pairs per sweep, entered at a random rotation in every slice.
+// n2 + n1 + n2·n3 random draws per sweep instead of n1·n2·n3.
+struct SliceRandomOrder {
+  std::vector<uint32_t> slices, packed_jk, rotation;
+  void draw(int32_t n1, int32_t n2, int32_t n3, CounterRng& rng);
+};
+
+struct HopfieldOptions {
+  HopfieldEnergy energy = HopfieldEnergy::kFullPlane;
+  HopfieldSchedule schedule = HopfieldSchedule::kAsync;
+  // true: A = B = C = 1, D = 0 (printed energy: D = 1) and E just below the fixed-point bound
+  // (fixed_point_E_bound) on the normalised cost; false: `weights` as given (N is always set to
+  // min(n1, n2, n3)).
+  bool auto_weights = true;
+  HopfieldWeights weights;
+  int32_t restarts = 8;
+  int32_t max_sweeps = 300;  // discrete sweeps, or continuous Euler steps
+  HopfieldInit init = HopfieldInit::kMeanField;
+  double init_density = 1.0;  // random init: each neuron on with probability density·N/(n1n2n3)
+  double greedy_noise = 0.2;  // restarts ≥ 1: cost order of ĉ + noise·U(0,1)
+  HopfieldOrder order = HopfieldOrder::kCost;  // async order within a sweep
+  // E annealing (discrete): E_s = E_final·factor^(1 − s/anneal_sweeps) for s < anneal_sweeps.
+  double anneal_E_factor = 1.0;
+  int32_t anneal_sweeps = 20;
+  // Glauber temperature (async only): T_s = T0·(1 − s/anneal_sweeps) for s < anneal_sweeps, then 0.
+  double temperature = 0.0;
+  double damping = 1.0;  // sync: share of neurons updated per sweep, (0, 1]
+  // continuous (CHNN)
+  bool continuous_async = false;
+  double dt = 0.05, tau = 0.0;
+  double u0_start = 0.5, u0_end = 0.02;  // gain 1/u₀ annealed geometrically over gain_anneal_steps
+  int32_t gain_anneal_steps = 100;
+  double noise = 0.01;                   // initial u noise, in units of u0_start
+  double self_excitation = 0.1;          // λ of ContinuousParams (1 = multilinear energy)
+  double tolerance = 1e-4;               // continuous: stop when max |ΔV| < tolerance
+  int32_t mean_field_steps = 300;        // init mean_field: Euler steps (max) of the continuous phase
+  HopfieldRepair repair = HopfieldRepair::kGreedy;
+  // Polish every restart's repaired assignment by the dimension-wise LAP local search
+  // (kernels/local_search.hpp, DESIGN §4.5) before choosing the best.
+  bool polish = false;
+  bool trace = false;  // record the energy after every sweep, per restart
+  void validate() const;
+};
+
+struct HopfieldRestart {
+  double energy = 0.0;     // final network energy (final weights)
+  double objective = 0.0;  // cost of the repaired (and, with polish, polished) assignment
+  double repaired_objective = 0.0;  // before polish
+  bool raw_feasible = false;
+  int64_t sweeps = 0;
+  int64_t mean_field_steps = 0;  // init mean_field: continuous steps before the discrete sweeps
+  Termination termination = Termination::kIterationLimit;
+  std::vector<float> energy_trace;  // per sweep, when options.trace
+};
+
+struct HopfieldResult {
+  Solution3 solution;  // the best restart, repaired; summary.sweeps = its sweeps
+  std::vector<HopfieldRestart> restarts;
+  double raw_validity_rate = 0.0;  // share of restarts whose network state was a valid assignment
+  int32_t best_restart = -1;
+  HopfieldWeights weights;  // the final weights used (normalised-cost units)
+};
+
+// The weights the solver uses for a normalised cost (auto or as given, N filled in).
+HopfieldWeights hopfield_weights(const HopfieldOptions& options, const NormalisedCost& c);
+
+HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& options, uint64_t seed);
+
+}  // namespace trackassoc

@@ -1,0 +1,93 @@
+// The discrete 3-D Hopfield network and its sweep schedules (seed 000 Eq. 9–10 and §3.2;
+// DESIGN §4.4).
+//
+// Update rule (seed 000 Eq. 10 with 0/1 states): V ← 1 when net = −ΔE_on > 0, V ← 0 when
+// net < 0, unchanged at net = 0. ΔE_on is the exact energy change of turning the neuron on,
+// read from O(1) marginal sums (kernels/hopfield_energy.hpp), so an asynchronous flip never
+// raises the energy (the convergence argument of seed 000 Eq. 14).
+//
+// Schedules (one "sweep" visits every neuron once):
+//   async     Gauss–Seidel in a given order (a fresh random permutation per sweep, or the fixed
+//             cost order), marginals updated on every flip. Serial; O(n1n2n3) per sweep.
+//             With temperature T > 0 the rule is Glauber's: V ← 1 with probability
+//             1/(1+exp(ΔE_on/T)) (a Boltzmann machine; annealing T → 0 recovers Eq. 10).
+//   sync      Jacobi: every net input from the previous state, all neurons at once; parallel over
+//             i-slices (TBB); new marginals are reduced with integer atomics, so the result is
+//             independent of the thread count. A fraction < 1 updates only a pseudo-random subset
+//             (damping). 2-cycles are detected with a Zobrist hash of the state.
+//   diagonal  Blocks {(i, (i+a) mod n2, (i+b) mod n3) : i < n1} share no plane, so for the
+//             full-plane energy without the D term their updates are independent and a block
+//             update is exactly n1 asynchronous updates. The state and cost are kept in a
+//             block-major layout so a block is contiguous and vectorises. Needs n1 ≤ n2, n3.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "kernels/hopfield_energy.hpp"
+#include "kernels/random.hpp"
+
+namespace trackassoc {
+
+// Zobrist key of neuron a (for 2-cycle detection of the sync schedule).
+inline uint64_t zobrist_key(std::size_t a) { return splitmix64_mix(a * 0x9e3779b97f4a7c15ULL + 0x5851f42d4c957f2dULL); }
+
+struct DiscreteNetwork {
+  HopfieldEnergy form = HopfieldEnergy::kFullPlane;
+  HopfieldWeights w;
+  const NormalisedCost* c = nullptr;
+  std::vector<uint8_t> V;
+  HopfieldMarginals m;
+  uint64_t hash = 0;  // Zobrist hash of V
+
+  DiscreteNetwork(HopfieldEnergy form, const HopfieldWeights& w, const NormalisedCost& c);
+  // Sets the state and recomputes marginals and hash.
+  void set_state(std::span<const uint8_t> state);
+  double energy() const { return hopfield_energy(form, w, *c, V); }
+  double delta_on(std::size_t a) const;
+};
+
+// One asynchronous sweep in `order` (indices into V). Returns the number of flips.
+int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, double temperature = 0.0,
+                    CounterRng* rng = nullptr);
+
+// One asynchronous sweep slice by slice: the i-slices in `slice_order`; within slice i, neuron
+// (j, k) = packed_jk[(p + rotation[i]) mod n2n3] for p = 0, 1, ... (packed as j << 16 | k). The
+// same Gauss–Seidel rule as async_sweep, without index divisions and with the slice (n2·n3
+// neurons) resident in cache. Needs n2, n3 < 65536.
+int64_t async_sweep_slices(DiscreteNetwork& net, std::span<const uint32_t> slice_order,
+                           std::span<const uint32_t> packed_jk, std::span<const uint32_t> rotation);
+
+struct SyncSweepResult {
+  int64_t flips = 0;
+};
+// One synchronous sweep. `fraction` in (0, 1]: the share of neurons updated (damping), chosen by a
+// counter-based hash of (sweep_key, neuron), so it is deterministic for any thread count.
+SyncSweepResult sync_sweep(DiscreteNetwork& net, double fraction = 1.0, uint64_t sweep_key = 0);
+
+// The diagonal schedule's block-major network (full-plane energy, D = 0).
+class DiagonalNetwork {
+ public:
+  // Throws InputError unless n1 ≤ n2, n1 ≤ n3 and w.D == 0.
+  DiagonalNetwork(const HopfieldWeights& w, const NormalisedCost& c);
+  void set_state(std::span<const uint8_t> V);  // V in the standard (i, j, k) layout
+  void get_state(std::span<uint8_t> V) const;  // back to the standard layout
+  std::size_t num_blocks() const { return static_cast<std::size_t>(n2_) * n3_; }
+  // One sweep over the blocks in `block_order` (block = a·n3 + b). Returns the number of flips.
+  int64_t sweep(std::span<const uint32_t> block_order);
+  // Standard-layout index of element i of block (a, b).
+  std::size_t standard_index(int32_t a, int32_t b, int32_t i) const;
+  void set_E(float E) { w_.E = E; }
+  const HopfieldWeights& weights() const { return w_; }
+
+ private:
+  int64_t update_block(int32_t a, int32_t b);
+  HopfieldWeights w_;
+  int32_t n1_, n2_, n3_;
+  std::vector<float> c_;   // ĉ in block-major layout [(a·n3 + b)·n1 + i]
+  std::vector<uint8_t> V_; // state in block-major layout
+  std::vector<float> R_, S_, T_;  // plane sums as exact small integers
+};
+
+}  // namespace trackassoc

@@ -1,0 +1,221 @@
+// The Hopfield solvers end to end (kernels/hopfield.hpp, engine/hopfield_json.hpp): valid output
+// whose objective is its recomputed cost, determinism across thread counts, optimality on small
+// instances solved by brute force, and option errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <oneapi/tbb/global_control.h>
+
+#include "engine/hopfield_json.hpp"
+#include "engine/solver_registry.hpp"
+#include "kernels/error.hpp"
+#include "kernels/hopfield.hpp"
+#include "kernels/hopfield_discrete.hpp"
+#include "kernels/hopfield_instances.hpp"
+
+namespace trackassoc {
+namespace {
+
+GeometricInstance instance(int32_t n, double noise, uint64_t k) {
+  GeometricInstanceOptions o;
+  o.n = n;
+  o.noise_to_spacing = noise;
+  return make_geometric_instance(o, 2024, k);
+}
+
+// Optimum of an n×n×n instance by enumerating both permutations (n ≤ 7).
+double brute_force_optimum(const CostTensor3& b) {
+  const int32_t n = b.n1;
+  std::vector<int32_t> pj(n), pk(n);
+  std::iota(pj.begin(), pj.end(), 0);
+  double best = INFINITY;
+  do {
+    std::iota(pk.begin(), pk.end(), 0);
+    do {
+      double s = 0;
+      for (int32_t i = 0; i < n; ++i) s += b.at(i, pj[i], pk[i]);
+      best = std::min(best, s);
+    } while (std::next_permutation(pk.begin(), pk.end()));
+  } while (std::next_permutation(pj.begin(), pj.end()));
+  return best;
+}
+
+struct Config {
+  const char* name;
+  HopfieldOptions o;
+};
+
+std::vector<Config> all_configs() {
+  std::vector<Config> v;
+  for (HopfieldSchedule s : {HopfieldSchedule::kSync, HopfieldSchedule::kAsync, HopfieldSchedule::kDiagonal,
+                             HopfieldSchedule::kContinuous})
+    for (HopfieldEnergy e : {HopfieldEnergy::kFullPlane, HopfieldEnergy::kPrinted}) {
+      if (e == HopfieldEnergy::kPrinted && (s == HopfieldSchedule::kDiagonal || s == HopfieldSchedule::kContinuous))
+        continue;
+      HopfieldOptions o;
+      o.schedule = s;
+      o.energy = e;
+      o.restarts = 3;
+      v.push_back({hopfield_schedule_name(s), o});
+    }
+  for (HopfieldInit init : {HopfieldInit::kZero, HopfieldInit::kRandom, HopfieldInit::kGreedy}) {
+    HopfieldOptions o;
+    o.init = init;
+    o.order = HopfieldOrder::kRandom;
+    o.anneal_E_factor = 3.0;
+    o.restarts = 2;
+    v.push_back({hopfield_init_name(init), o});
+  }
+  HopfieldOptions g;
+  g.temperature = 0.2;
+  g.restarts = 2;
+  v.push_back({"glauber", g});
+  HopfieldOptions d;
+  d.schedule = HopfieldSchedule::kSync;
+  d.damping = 0.3;
+  d.init = HopfieldInit::kRandom;
+  v.push_back({"sync-damped", d});
+  v.push_back({"paper", hopfield_preset("hopfield-paper")});
+  HopfieldOptions ca;
+  ca.schedule = HopfieldSchedule::kContinuous;
+  ca.continuous_async = true;
+  ca.restarts = 2;
+  v.push_back({"continuous-async", ca});
+  return v;
+}
+
+TEST(HopfieldSolver, ReturnsValidAssignmentsWithRecomputedObjective) {
+  std::vector<CostTensor3> tensors = {instance(8, 0.5, 1).cost, instance(5, 1.0, 2).cost};
+  CostTensor3 rect(4, 5, 6);
+  CounterRng rng(3);
+  for (auto& b : rect.cost) b = static_cast<float>(rng.uniform(0, 10));
+  tensors.push_back(rect);
+  for (const auto& cfg : all_configs())
+    for (const auto& t : tensors) {
+      const HopfieldResult r = solve_hopfield(t, cfg.o, 11);
+      EXPECT_TRUE(is_valid_assignment(t, r.solution.tuples)) << cfg.name;
+      EXPECT_TRUE(r.solution.summary.feasible) << cfg.name;
+      EXPECT_EQ(r.solution.summary.objective, assignment_cost(t, r.solution.tuples)) << cfg.name;
+      ASSERT_EQ(static_cast<int32_t>(r.restarts.size()), cfg.o.restarts);
+      double best = INFINITY;
+      for (const auto& rr : r.restarts) best = std::min(best, rr.objective);
+      EXPECT_EQ(best, r.solution.summary.objective) << cfg.name;
+      EXPECT_GE(r.raw_validity_rate, 0.0);
+      EXPECT_LE(r.raw_validity_rate, 1.0);
+    }
+}
+
+TEST(HopfieldSolver, RawValidityMatchesTheNetworkState) {
+  // With every valid assignment a fixed point, a greedy start stays put: raw valid, zero flips.
+  const GeometricInstance g = instance(10, 0.5, 3);
+  HopfieldOptions o;
+  o.init = HopfieldInit::kGreedy;
+  o.restarts = 1;
+  const HopfieldResult r = solve_hopfield(g.cost, o, 1);
+  EXPECT_EQ(r.raw_validity_rate, 1.0);
+  EXPECT_EQ(r.restarts[0].sweeps, 1);
+  EXPECT_EQ(r.restarts[0].termination, Termination::kConverged);
+  // From the empty state the paper's network (printed energy) ends invalid on this instance or
+  // valid; either way the reported rate is the share of valid raw states.
+  const HopfieldResult p = solve_hopfield(g.cost, hopfield_preset("hopfield-paper"), 1);
+  EXPECT_TRUE(p.raw_validity_rate == 0.0 || p.raw_validity_rate == 1.0);
+}
+
+TEST(HopfieldSolver, IdenticalForOneAndTwoThreads) {
+  const GeometricInstance g = instance(12, 0.6, 4);
+  for (auto cfg : all_configs()) {
+    cfg.o.restarts = 4;
+    cfg.o.trace = true;
+    HopfieldResult r1, r2;
+    {
+      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+      r1 = solve_hopfield(g.cost, cfg.o, 99);
+    }
+    {
+      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+      r2 = solve_hopfield(g.cost, cfg.o, 99);
+    }
+    EXPECT_EQ(r1.solution.tuples, r2.solution.tuples) << cfg.name;
+    ASSERT_EQ(r1.restarts.size(), r2.restarts.size());
+    for (std::size_t i = 0; i < r1.restarts.size(); ++i) {
+      EXPECT_EQ(r1.restarts[i].energy, r2.restarts[i].energy) << cfg.name;
+      EXPECT_EQ(r1.restarts[i].sweeps, r2.restarts[i].sweeps) << cfg.name;
+      EXPECT_EQ(r1.restarts[i].energy_trace, r2.restarts[i].energy_trace) << cfg.name;
+    }
+  }
+}
+
+TEST(HopfieldSolver, DefaultFindsBruteForceOptimumOnSmallInstances) {
+  int optimal = 0, total = 0;
+  for (uint64_t k = 0; k < 12; ++k) {
+    const GeometricInstance g = instance(6, 0.4, 100 + k);
+    const double opt = brute_force_optimum(g.cost);
+    const HopfieldResult r = solve_hopfield(g.cost, HopfieldOptions{}, 5);
+    EXPECT_GE(r.solution.summary.objective, opt - 1e-3);
+    optimal += r.solution.summary.objective <= opt + 1e-3;
+    ++total;
+  }
+  EXPECT_GE(optimal, total - 1) << "default hopfield optimal on " << optimal << "/" << total;
+}
+
+// On an easy instance (noise 0.1 of the target spacing) the true association is (near) optimal:
+// the solvers must find an assignment at least as cheap, and agree with the truth on almost all
+// tuples.
+TEST(HopfieldSolver, EasyInstanceMatchesTheTruth) {
+  const GeometricInstance g = instance(30, 0.1, 7);
+  const double truth_cost = assignment_cost(g.cost, g.truth);
+  for (const char* name : {"hopfield", "chnn"}) {
+    const Solution3 s = solve_hopfield_json(name, g.cost, nlohmann::json::object(), 3);
+    EXPECT_LE(s.summary.objective, truth_cost + 1e-3) << name;
+    int same = 0;
+    for (const auto& t : s.tuples) same += std::find(g.truth.begin(), g.truth.end(), t) != g.truth.end();
+    EXPECT_GE(same, 27) << name;
+  }
+}
+
+TEST(HopfieldSolver, EmptyAndTinyInstances) {
+  EXPECT_TRUE(solve_hopfield(CostTensor3(0, 3, 3), HopfieldOptions{}, 1).solution.tuples.empty());
+  CostTensor3 one(1, 1, 1, 5.f);
+  const HopfieldResult r = solve_hopfield(one, HopfieldOptions{}, 1);
+  ASSERT_EQ(r.solution.tuples.size(), 1u);
+  EXPECT_EQ(r.solution.summary.objective, 5.0);
+  CostTensor3 bad(2, 2, 2, 1.f);
+  bad.cost[3] = NAN;
+  EXPECT_THROW(solve_hopfield(bad, HopfieldOptions{}, 1), InputError);
+}
+
+TEST(HopfieldSolver, RegistryEntriesAndOptionErrors) {
+  const GeometricInstance g = instance(8, 0.5, 9);
+  for (const char* name : {"hopfield", "hopfield-paper", "chnn"}) {
+    const SolverEntry& e = find_solver(name);
+    const Solution3 s = e.solve(g.cost, nlohmann::json{{"restarts", 2}, {"trace", true}}, 1);
+    EXPECT_TRUE(is_valid_assignment(g.cost, s.tuples)) << name;
+    EXPECT_EQ(s.energy_rows, 2) << name;
+    EXPECT_GT(s.energy_cols, 0) << name;
+    EXPECT_EQ(s.energy_trace.size(), static_cast<std::size_t>(s.energy_rows) * s.energy_cols);
+  }
+  const SolverEntry& h = find_solver("hopfield");
+  EXPECT_NO_THROW(h.solve(g.cost, nlohmann::json{{"schedule", "diagonal"}, {"init", "greedy"}}, 1));
+  EXPECT_NO_THROW(h.solve(g.cost, nlohmann::json{{"A", 2.0}, {"E", 1.0}, {"energy", "printed"}}, 1));
+  auto expect_error = [&](const nlohmann::json& o, const std::string& needle) {
+    try {
+      h.solve(g.cost, o, 1);
+      ADD_FAILURE() << "no error for " << o.dump();
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect_error({{"restarts", 0}}, "restarts");
+  expect_error({{"restarts", "many"}}, "restarts");
+  expect_error({{"schedule", "chaotic"}}, "schedule");
+  expect_error({{"bogus", 1}}, "bogus");
+  expect_error({{"damping", 1.5}}, "damping");
+  expect_error({{"schedule", "diagonal"}, {"D", 1.0}}, "D = 0");
+  expect_error({{"schedule", "continuous"}, {"energy", "printed"}}, "full-plane");
+  expect_error(nlohmann::json::array(), "JSON object");
+}
+
+}  // namespace
+}  // namespace trackassoc
