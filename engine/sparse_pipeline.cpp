@@ -273,8 +273,20 @@ struct ComponentResult {
 AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, const std::string& solver,
                                            const nlohmann::json& solver_options, uint64_t seed,
                                            const SparsePipelineOptions& options, std::vector<StageReport>* stages) {
-  options.validate();
   const SolverEntry& entry = find_solver(solver);
+  AssociationRecord rec = solve_sparse_association(
+      p, [&](const CostTensor3& b, uint64_t s) { return entry.solve(b, solver_options, s); }, solver, seed, options,
+      stages);
+  nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
+                         {"pipeline", options.to_json()}};
+  rec.options_json = opts.dump();
+  return rec;
+}
+
+AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, const ComponentSolver& solve,
+                                           const std::string& solver, uint64_t seed,
+                                           const SparsePipelineOptions& options, std::vector<StageReport>* stages) {
+  options.validate();
   const auto t0 = std::chrono::steady_clock::now();
   const bool all_pairs = options.pipeline.cost.form == CostForm::kAllPairs;
   const int32_t C = p.components.count;
@@ -297,7 +309,7 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
   tbb::parallel_for(std::size_t{0}, work.size(), [&](std::size_t w) {
     const int32_t c = work[w];
     ComponentProblem cp = component_problem(p, c, options);
-    const Solution3 sol = entry.solve(cp.tensor, solver_options, stream_key(seed, static_cast<uint64_t>(c)));
+    const Solution3 sol = solve(cp.tensor, stream_key(seed, static_cast<uint64_t>(c)));
     ComponentResult& r = results[c];
     r.summary = sol.summary;
     std::array<std::vector<char>, 3> seen;
@@ -326,9 +338,7 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
   rec.num_sensors = p.num_sensors;
   rec.solver = solver;
   rec.seed = seed;
-  nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
-                         {"pipeline", options.to_json()}};
-  rec.options_json = opts.dump();
+  rec.options_json = nlohmann::json({{"pipeline", options.to_json()}}).dump();
   double objective = 0.0, bound = 0.0;
   bool bound_known = true;
   std::map<std::string, int64_t> terminations;

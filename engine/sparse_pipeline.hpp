@@ -30,6 +30,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -80,6 +81,14 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
 // `stages` when given.
 AssociationRecord solve_sparse_association(const SparseAssociationProblem& problem, const std::string& solver,
                                            const nlohmann::json& solver_options, uint64_t seed,
+                                           const SparsePipelineOptions& options,
+                                           std::vector<StageReport>* stages = nullptr);
+
+// The same with any solver callable (a custom or test solver): `solve(tensor, seed)`. `name` goes
+// to the record's solver attribute.
+using ComponentSolver = std::function<Solution3(const CostTensor3&, uint64_t seed)>;
+AssociationRecord solve_sparse_association(const SparseAssociationProblem& problem, const ComponentSolver& solve,
+                                           const std::string& name, uint64_t seed,
                                            const SparsePipelineOptions& options,
                                            std::vector<StageReport>* stages = nullptr);
 

@@ -27,6 +27,7 @@ struct SyntheticSpec {
   double sigma_pos = 50.0;    // position error σ [m]
   double sigma_vel = 5.0;     // velocity error σ [m/s]
   double p_seen = 1.0;
+  bool formation = false;     // all targets share one velocity (dense crossing-free clusters)
   std::vector<double> periods{1.0, 2.0, 1.5, 2.5};
   std::vector<double> offsets{0.0, 0.3, 0.7, 0.2};
   uint64_t seed = 1;
@@ -39,11 +40,13 @@ inline TrackFile synthetic_track_file(const SyntheticSpec& spec) {
   file.tracks.reset(layout);
   std::vector<Eigen::VectorXd> x0(spec.targets, Eigen::VectorXd(D));
   CounterRng trng(spec.seed, 0, 1000);
+  Eigen::VectorXd v(m);
   for (auto& x : x0) {
     for (int c = 0; c < m; ++c) x[c] = trng.uniform(0.0, spec.box);
-    Eigen::VectorXd v(m);
-    for (int c = 0; c < m; ++c) v[c] = trng.normal();
-    v *= spec.speed / v.norm();
+    if (!spec.formation || &x == &x0.front()) {
+      for (int c = 0; c < m; ++c) v[c] = trng.normal();
+      v *= spec.speed / v.norm();
+    }
     x.tail(m) = v;
   }
   for (int32_t s = 0; s < spec.sensors; ++s) {
