@@ -117,8 +117,9 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
     double max_lambda = 0.0;
     const int used = po.cost.form == CostForm::kAllPairs ? 3 : 2;
     for (int q = 0; q < used; ++q)
-      for (double l : out[q]->lambda) max_lambda = std::max(max_lambda, l);
-    p.gated_pair_cost = std::max(10.0 * max_lambda, 1e3);
+      for (double l : out[q]->lambda)
+        if (std::isfinite(l)) max_lambda = std::max(max_lambda, l);
+    p.gated_pair_cost = std::min(std::max(10.0 * max_lambda, 1e3), 1e30);
   }
   stage("statistics", t0, bytes);
 
@@ -160,6 +161,9 @@ struct ComponentProblem {
   CostTensor3 tensor;
 };
 
+// A pair's cost in the tensor: float, clamped so that a sum of three stays finite (cost_tensor.cpp).
+float pair_cost(double lambda) { return static_cast<float>(std::min(lambda, 1e30)); }
+
 // Gated-in λ of the pair (ia, ib) or NaN.
 double gated_lambda(const SparsePairStatistic& s, int32_t ia, int32_t ib) {
   const int64_t q = s.find(ia, ib);
@@ -186,26 +190,28 @@ ComponentProblem component_problem(const SparseAssociationProblem& p, int32_t c,
                      std::to_string(o.max_component_entries) +
                      "; tighten the gate (--gate) or raise the limit (no sparse-capable solver is registered)");
   const double G = p.gated_pair_cost;
+  // Pair costs as the dense tensor has them (kernels/cost_tensor.cpp): float(λ) in the gate,
+  // float(G) otherwise, then summed in float in the same order, so that the costs are bit-identical.
   auto pair_matrix = [&](const SparsePairStatistic& s, int da, int db) {
-    std::vector<double> m(static_cast<std::size_t>(n[da]) * n[db], G);
+    std::vector<float> m(static_cast<std::size_t>(n[da]) * n[db], pair_cost(G));
     for (std::size_t x = 0; x < cp.rows[da].size(); ++x)
       for (std::size_t y = 0; y < cp.rows[db].size(); ++y) {
         const double l = gated_lambda(s, cp.rows[da][x], cp.rows[db][y]);
-        if (!std::isnan(l)) m[x * n[db] + y] = l;
+        if (!std::isnan(l)) m[x * n[db] + y] = pair_cost(l);
       }
     return m;
   };
-  const std::vector<double> c12 = pair_matrix(p.s12, 0, 1), c23 = pair_matrix(p.s23, 1, 2);
+  const std::vector<float> c12 = pair_matrix(p.s12, 0, 1), c23 = pair_matrix(p.s23, 1, 2);
   const bool all_pairs = o.pipeline.cost.form == CostForm::kAllPairs;
-  const std::vector<double> c13 = all_pairs ? pair_matrix(p.s13, 0, 2) : std::vector<double>{};
+  const std::vector<float> c13 = all_pairs ? pair_matrix(p.s13, 0, 2) : std::vector<float>{};
   cp.tensor = CostTensor3(n[0], n[1], n[2]);
   cp.tensor.miss_cost = o.miss_cost;
   for (int32_t i = 0; i < n[0]; ++i)
     for (int32_t j = 0; j < n[1]; ++j)
       for (int32_t k = 0; k < n[2]; ++k) {
-        double b = c12[static_cast<std::size_t>(i) * n[1] + j] + c23[static_cast<std::size_t>(j) * n[2] + k];  // seed 000 Eq. 3
-        if (all_pairs) b += c13[static_cast<std::size_t>(i) * n[2] + k];
-        cp.tensor.at(i, j, k) = static_cast<float>(b);
+        const float a = c12[static_cast<std::size_t>(i) * n[1] + j], c = c23[static_cast<std::size_t>(j) * n[2] + k];
+        cp.tensor.at(i, j, k) = all_pairs ? a + c + c13[static_cast<std::size_t>(i) * n[2] + k]
+                                          : a + c;  // seed 000 Eq. 3: λ_ij + λ_jk
       }
   return cp;
 }
@@ -234,7 +240,8 @@ void decode_rows(const SparseAssociationProblem& p, const std::array<int32_t, 3>
   const double l13 = has0 && has2 ? gated_lambda(p.s13, t[0], t[2]) : NAN;
   if (!std::isnan(l12) && !std::isnan(l23) && (!all_pairs || !std::isnan(l13))) {
     // The cost the dense tensor holds for this tuple (float).
-    emit({true, true, true}, static_cast<float>(l12 + l23 + (all_pairs ? l13 : 0.0)));
+    emit({true, true, true}, all_pairs ? pair_cost(l12) + pair_cost(l23) + pair_cost(l13)
+                                       : pair_cost(l12) + pair_cost(l23));
     return;
   }
   struct Pair {

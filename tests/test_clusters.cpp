@@ -112,7 +112,7 @@ TEST(Clusters, UnionOfComponentSolutionsEqualsGlobalSolution) {
   for (uint64_t seed = 1; seed <= 12; ++seed) {
     testing::SyntheticSpec spec;
     spec.targets = 6;
-    spec.box = 300.0;  // a close formation: components of several targets
+    spec.box = spec.box_z = 300.0;  // a close formation: components of several targets
     spec.formation = true;
     spec.sigma_pos = 40.0;
     spec.seed = seed;
@@ -156,7 +156,7 @@ TEST(Clusters, UnionOfComponentSolutionsEqualsGlobalSolution) {
 TEST(Clusters, SparseSolveIsIdenticalForOneAndTwoThreads) {
   testing::SyntheticSpec spec;
   spec.targets = 400;
-  spec.box = 8000.0;
+  spec.box = spec.box_z = 8000.0;
   const TrackFile f = testing::synthetic_track_file(spec);
   SparsePipelineOptions o;
   auto greedy_by_enumeration = [](const CostTensor3& b, uint64_t seed) {

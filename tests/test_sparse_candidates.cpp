@@ -36,7 +36,7 @@ TEST_P(SparseCandidates, GridEqualsScanAndLosesNoGatedPair) {
   spec.three_d = std::get<0>(GetParam());
   spec.seed = std::get<1>(GetParam());
   spec.targets = 120;
-  spec.box = 4000.0;  // dense: many near neighbours, many candidates per track
+  spec.box = spec.box_z = 4000.0;  // dense: many near neighbours, many candidates per track
   spec.p_seen = 0.9;
   const TrackFile f = testing::synthetic_track_file(spec);
   const auto al = aligned_three(f);
