@@ -53,7 +53,7 @@ struct ScaleExperimentOptions {
   int32_t dense_max = 300;          // also run the dense path up to this n
   std::string solver = "pairwise";  // engine/solver_registry.hpp, for both paths
   nlohmann::json solver_options = nlohmann::json::object();
-  double density = 4.0;             // targets per 100 km² of ground: box = √(n / density)·10 km
+  double density = 100.0;           // targets per 100 km² of ground (seed 003: 10⁴ in 100×100 km): box = √(n / density)·10 km
   SyntheticTrackSpec tracks;        // everything but targets, box and seed
   double gate_probability = 0.999;
   uint64_t seed = 1;

@@ -29,8 +29,26 @@ TrackIndexKeys track_index_keys(const AlignedTracks& x) {
   keys.mean_position.assign(static_cast<std::size_t>(n) * m, 0.0);
   keys.max_position_variance.assign(n, 0.0);
   keys.valid_times.assign(n, 0);
+  // Largest eigenvalue of the m×m position block: closed form for m ≤ 3 (Eigen computeDirect).
+  auto max_eigenvalue = [&](const double* packed) {
+    if (m == 1) return packed[0];
+    if (m == 2) {
+      Eigen::Matrix2d A;
+      A << packed[packed_index(D, 0, 0)], packed[packed_index(D, 0, 1)], packed[packed_index(D, 0, 1)],
+          packed[packed_index(D, 1, 1)];
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es;
+      es.computeDirect(A, Eigen::EigenvaluesOnly);
+      return es.eigenvalues().maxCoeff();
+    }
+    Eigen::Matrix3d A;
+    for (int r = 0; r < 3; ++r)
+      for (int c = r; c < 3; ++c) A(r, c) = A(c, r) = packed[packed_index(D, r, c)];
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(A, Eigen::EigenvaluesOnly);
+    return es.eigenvalues().maxCoeff();
+  };
+  require(m >= 1 && m <= 3, "track_index_keys", "spatial dimension must be 1, 2 or 3, got " + std::to_string(m));
   parallel_for_range(n, 64, [&](std::size_t lo, std::size_t hi) {
-    Eigen::MatrixXd Ppp(m, m);
     for (std::size_t i = lo; i < hi; ++i) {
       double* mean = &keys.mean_position[i * m];
       double var = 0.0;
@@ -40,10 +58,7 @@ TrackIndexKeys track_index_keys(const AlignedTracks& x) {
         if (!x.valid[cell]) continue;
         ++count;
         for (int c = 0; c < m; ++c) mean[c] += x.state[cell * D + c];
-        for (int r = 0; r < m; ++r)
-          for (int c = r; c < m; ++c) Ppp(r, c) = Ppp(c, r) = x.cov[cell * P + packed_index(D, r, c)];
-        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Ppp, Eigen::EigenvaluesOnly);
-        var = std::max(var, es.eigenvalues().maxCoeff());
+        var = std::max(var, max_eigenvalue(&x.cov[cell * P]));
       }
       if (count > 0)
         for (int c = 0; c < m; ++c) mean[c] /= count;
