@@ -331,6 +331,35 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
       return rows;
     };
     for (const Tuple3& t : sol.tuples) decode_rows(p, to_rows(t), all_pairs, r.rows, r.costs);
+    // Tracks the solver left unassigned (finite miss cost: the solvers return complete tuples
+    // only) are paired greedily by ascending gated-in λ, so that a target seen by two of the three
+    // sensors is still grouped; the rest stay alone. With phantom padding nothing is left over.
+    struct Leftover {
+      double lambda;
+      int da, db;
+      std::size_t xa, xb;
+    };
+    std::vector<Leftover> pairs;
+    const std::array<std::pair<int, int>, 3> sensor_pairs{{{0, 1}, {1, 2}, {0, 2}}};
+    const std::array<const SparsePairStatistic*, 3> stats{&p.s12, &p.s23, &p.s13};
+    for (int q = 0; q < 3; ++q) {
+      const auto [da, db] = sensor_pairs[q];
+      for (std::size_t xa = 0; xa < cp.rows[da].size(); ++xa)
+        for (std::size_t xb = 0; xb < cp.rows[db].size() && !seen[da][xa]; ++xb)
+          if (!seen[db][xb]) {
+            const double l = gated_lambda(*stats[q], cp.rows[da][xa], cp.rows[db][xb]);
+            if (!std::isnan(l)) pairs.push_back({l, da, db, xa, xb});
+          }
+    }
+    std::stable_sort(pairs.begin(), pairs.end(), [](const Leftover& x, const Leftover& y) { return x.lambda < y.lambda; });
+    for (const Leftover& l : pairs) {
+      if (seen[l.da][l.xa] || seen[l.db][l.xb]) continue;
+      seen[l.da][l.xa] = seen[l.db][l.xb] = 1;
+      std::array<int32_t, 3> rows{kNoTrack, kNoTrack, kNoTrack};
+      rows[l.da] = cp.rows[l.da][l.xa];
+      rows[l.db] = cp.rows[l.db][l.xb];
+      decode_rows(p, rows, all_pairs, r.rows, r.costs);
+    }
     for (int d = 0; d < 3; ++d)
       for (std::size_t x = 0; x < cp.rows[d].size(); ++x)
         if (!seen[d][x]) {

@@ -19,7 +19,9 @@
 //    tensor; a phantom is decoded as "no track". So every real track is assigned, and the solver
 //    sees the same costs as the dense one inside the component.
 //  * finite miss_cost: no padding; the sub-tensor carries the miss cost and the solver uses the
-//    dummy index (kNoTrack) of kernels/assignment_types.hpp.
+//    dummy index (kNoTrack) of kernels/assignment_types.hpp. The solvers return complete tuples
+//    only, so the tracks they leave unassigned are then paired greedily by ascending gated-in λ
+//    (a target seen by two of the three sensors is still grouped).
 // G: options.pipeline.cost.gated_pair_cost, or when 0 the dense rule (10 × the largest in-gate λ of
 // the matrices the cost form uses, at least 1e3), computed over the whole problem, not per component.
 //

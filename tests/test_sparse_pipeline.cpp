@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <limits>
 #include <set>
 
 #include "engine/metrics.hpp"
@@ -94,7 +95,10 @@ INSTANTIATE_TEST_SUITE_P(Solvers, SparseEqualsDense,
 
 // Unequal counts: every track is still output once, and a target whose tracks are all in the gate
 // is grouped (the metrics count a target seen by 2 of 3 sensors as correct when its 2 tracks are).
-TEST(SparsePipeline, UnequalCountsKeepEveryTrack) {
+// Both unequal-count modes: phantom padding (miss_cost = +inf) and the dummy index (finite miss cost).
+class UnequalCounts : public ::testing::TestWithParam<float> {};
+
+TEST_P(UnequalCounts, KeepEveryTrackAndGroupTargets) {
   testing::SyntheticSpec spec;
   spec.targets = 200;
   spec.p_seen = 0.8;
@@ -102,6 +106,7 @@ TEST(SparsePipeline, UnequalCountsKeepEveryTrack) {
   const TrackFile f = testing::synthetic_track_file(spec);
   SparsePipelineOptions so;
   so.pipeline.statistic.gate_probability = 0.999;
+  so.miss_cost = GetParam();
   const AssociationRecord r = associate_sparse(f, "pairwise", nlohmann::json::object(), 1, so);
   std::set<std::pair<int, int32_t>> seen;
   for (std::size_t q = 0; q < r.num_tuples(); ++q)
@@ -116,6 +121,9 @@ TEST(SparsePipeline, UnequalCountsKeepEveryTrack) {
   EXPECT_GT(m.targets, 150);
   EXPECT_GT(m.correct_rate, 0.97);  // separated targets; losses only from the 0.1 % gate
 }
+
+INSTANTIATE_TEST_SUITE_P(MissCost, UnequalCounts,
+                         ::testing::Values(std::numeric_limits<float>::infinity(), 100.f));
 
 TEST(SparsePipeline, ClearErrors) {
   testing::SyntheticSpec spec;
