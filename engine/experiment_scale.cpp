@@ -31,6 +31,8 @@ void SyntheticTrackSpec::validate() const {
   require(duration > 0 && std::isfinite(duration), "SyntheticTrackSpec.duration", "must be positive");
   require(sigma_pos > 0 && sigma_vel > 0, "SyntheticTrackSpec.sigma_pos", "error sigmas must be positive");
   require(p_seen >= 0 && p_seen <= 1, "SyntheticTrackSpec.p_seen", "must be in [0, 1]");
+  require(min_lifetime_fraction > 0 && min_lifetime_fraction <= 1, "SyntheticTrackSpec.min_lifetime_fraction",
+          "must be in (0, 1]");
   require(!periods.empty() && !offsets.empty(), "SyntheticTrackSpec.periods", "need at least one period and offset");
   for (double p : periods) require(p > 0 && std::isfinite(p), "SyntheticTrackSpec.periods", "must be positive");
 }
@@ -90,9 +92,16 @@ TrackFile synthetic_recorded_tracks(const SyntheticTrackSpec& spec) {
         P(m + c, m + c) = scale * spec.sigma_vel * spec.sigma_vel;
       }
       const Eigen::VectorXd sd = P.diagonal().cwiseSqrt();  // diagonal: L = diag(σ)
+      double t_begin = 0.0, t_end = spec.duration;
+      if (spec.min_lifetime_fraction < 1.0) {
+        const double life = spec.duration * e.uniform(spec.min_lifetime_fraction, 1.0);
+        t_begin = e.uniform(0.0, spec.duration - life);
+        t_end = t_begin + life;
+      }
       const int64_t scans = static_cast<int64_t>(std::floor((spec.duration - sensor.offset) / sensor.period + 1e-9));
       for (int64_t k = 0; k <= scans; ++k) {
         const double t = sensor.offset + static_cast<double>(k) * sensor.period;
+        if (t < t_begin || t > t_end) continue;
         x = x0[g];
         x.head(m) += t * x0[g].tail(m);
         for (int c = 0; c < D; ++c) z[c] = e.normal();

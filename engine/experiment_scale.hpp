@@ -40,6 +40,9 @@ struct SyntheticTrackSpec {
   double duration = 30.0;                  // [s]
   double sigma_pos = 150.0, sigma_vel = 10.0;  // [m], [m/s]
   double p_seen = 1.0;
+  // Each local track covers a random sub-interval of at least this fraction of the duration
+  // (births and deaths at different times per sensor); 1 = every track covers the whole duration.
+  double min_lifetime_fraction = 1.0;
   std::vector<double> periods{1.0, 2.0, 1.5, 2.5, 3.0};
   std::vector<double> offsets{0.0, 0.3, 0.7, 0.2, 0.5};
   uint64_t seed = 1;

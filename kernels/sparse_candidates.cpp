@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
+#include <utility>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -29,6 +30,7 @@ TrackIndexKeys track_index_keys(const AlignedTracks& x) {
   keys.mean_position.assign(static_cast<std::size_t>(n) * m, 0.0);
   keys.max_position_variance.assign(n, 0.0);
   keys.valid_times.assign(n, 0);
+  keys.trajectory_radius.assign(n, 0.0);
   // Largest eigenvalue of the m×m position block: closed form for m ≤ 3 (Eigen computeDirect).
   auto max_eigenvalue = [&](const double* packed) {
     if (m == 1) return packed[0];
@@ -62,6 +64,15 @@ TrackIndexKeys track_index_keys(const AlignedTracks& x) {
       }
       if (count > 0)
         for (int c = 0; c < m; ++c) mean[c] /= count;
+      double r2 = 0.0;  // largest distance of a valid position from the mean
+      for (int32_t k = 0; k < K; ++k) {
+        const std::size_t cell = i * K + k;
+        if (!x.valid[cell]) continue;
+        double d2 = 0.0;
+        for (int c = 0; c < m; ++c) d2 += (x.state[cell * D + c] - mean[c]) * (x.state[cell * D + c] - mean[c]);
+        r2 = std::max(r2, d2);
+      }
+      keys.trajectory_radius[i] = std::sqrt(r2);
       keys.valid_times[i] = count;
       keys.max_position_variance[i] = var;
     }
@@ -78,17 +89,23 @@ std::vector<double> radius_factors(int D, int32_t K, const CandidateOptions& o) 
   return f;
 }
 
+// The bound of the header: full pairs (both tracks valid at all K common times) use
+// d² ≤ (σ²_a + σ²_b)·ρ(K); any other pair the conservative d ≤ √((σ²_a + σ²_b)·ρ(1)) + s·(r_a + r_b).
 bool within_bound(const TrackIndexKeys& ka, std::size_t i, const TrackIndexKeys& kb, std::size_t j,
-                  const std::vector<double>& factor) {
-  const int32_t kv = std::min(ka.valid_times[i], kb.valid_times[j]);
-  if (kv == 0) return false;
+                  const std::vector<double>& factor, double scale) {
+  const int32_t va = ka.valid_times[i], vb = kb.valid_times[j];
+  if (va == 0 || vb == 0) return false;
   const int m = ka.spatial_dim;
   double d2 = 0.0;
   for (int c = 0; c < m; ++c) {
     const double d = ka.mean_position[i * m + c] - kb.mean_position[j * m + c];
     d2 += d * d;
   }
-  return d2 <= (ka.max_position_variance[i] + kb.max_position_variance[j]) * factor[kv];
+  const double var = ka.max_position_variance[i] + kb.max_position_variance[j];
+  const int32_t K = static_cast<int32_t>(factor.size()) - 1;
+  if (va == K && vb == K) return d2 <= var * factor[K];
+  const double r = std::sqrt(var * factor[1]) + scale * (ka.trajectory_radius[i] + kb.trajectory_radius[j]);
+  return d2 <= r * r;
 }
 
 void check_pair_inputs(const AlignedTracks& a, const AlignedTracks& b) {
@@ -113,6 +130,41 @@ Cell cell_of(const double* p, int m, double h) {
 
 }  // namespace
 
+namespace {
+
+// For every i in a_set, appends to rows[i] the j in b_set within the bound, found through a
+// uniform grid of cell size h over b_set's mean positions (h ≥ every radius these pairs can have,
+// so the 3^m neighbouring cells hold all of them).
+void grid_pass(const TrackIndexKeys& ka, const std::vector<int32_t>& a_set, const TrackIndexKeys& kb,
+               const std::vector<int32_t>& b_set, double h, const std::vector<double>& factor, double scale,
+               std::vector<std::vector<int32_t>>& rows) {
+  if (a_set.empty() || b_set.empty()) return;
+  if (!(h > 0.0) || !std::isfinite(h)) h = 1e-9;  // zero covariances: only coincident means match
+  const int m = ka.spatial_dim;
+  std::vector<std::pair<Cell, int32_t>> cells(b_set.size());
+  for (std::size_t q = 0; q < b_set.size(); ++q)
+    cells[q] = {cell_of(&kb.mean_position[static_cast<std::size_t>(b_set[q]) * m], m, h), b_set[q]};
+  std::sort(cells.begin(), cells.end());  // by cell, then track: deterministic
+  const int span_y = m >= 2 ? 1 : 0, span_z = m == 3 ? 1 : 0;
+  parallel_for_range(a_set.size(), 256, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t q = lo; q < hi; ++q) {
+      const int32_t i = a_set[q];
+      const Cell c = cell_of(&ka.mean_position[static_cast<std::size_t>(i) * m], m, h);
+      std::vector<int32_t>& row = rows[i];
+      for (int64_t dx = -1; dx <= 1; ++dx)
+        for (int64_t dy = -span_y; dy <= span_y; ++dy)
+          for (int64_t dz = -span_z; dz <= span_z; ++dz) {
+            const Cell key{c[0] + dx, c[1] + dy, c[2] + dz};
+            auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, std::numeric_limits<int32_t>::min()));
+            for (; it != cells.end() && it->first == key; ++it)
+              if (within_bound(ka, i, kb, it->second, factor, scale)) row.push_back(it->second);
+          }
+    }
+  });
+}
+
+}  // namespace
+
 CandidatePairs gated_candidate_pairs(const AlignedTracks& a, const AlignedTracks& b, const CandidateOptions& options) {
   options.validate();
   check_pair_inputs(a, b);
@@ -121,61 +173,41 @@ CandidatePairs gated_candidate_pairs(const AlignedTracks& a, const AlignedTracks
   out.n_b = b.n_tracks();
   if (out.n_a == 0 || out.n_b == 0) return out;
   const TrackIndexKeys ka = track_index_keys(a), kb = track_index_keys(b);
-  const int m = ka.spatial_dim;
   const std::vector<double> factor = radius_factors(a.dim, a.n_times, options);
+  const int32_t K = a.n_times;
 
-  // Cell size: the largest radius any pair can have (smallest valid count → largest factor).
-  auto min_valid = [](const TrackIndexKeys& k) {
-    int32_t v = std::numeric_limits<int32_t>::max();
-    for (int32_t c : k.valid_times)
-      if (c > 0) v = std::min(v, c);
-    return v;
+  // Full tracks (valid at every common time) and partial ones, with their largest σ² and radius.
+  struct Split {
+    std::vector<int32_t> full, partial, all;
+    double var_full = 0.0, var_all = 0.0, radius_all = 0.0;
   };
-  const int32_t va = min_valid(ka), vb = min_valid(kb);
-  if (va == std::numeric_limits<int32_t>::max() || vb == std::numeric_limits<int32_t>::max()) return out;
-  const double var_a = *std::max_element(ka.max_position_variance.begin(), ka.max_position_variance.end());
-  const double var_b = *std::max_element(kb.max_position_variance.begin(), kb.max_position_variance.end());
-  double h = std::sqrt((var_a + var_b) * factor[std::min(va, vb)]);
-  if (!(h > 0.0) || !std::isfinite(h)) h = 1e-9;  // zero covariances: only coincident means match
-
-  // Tracks of b sorted by cell (then index: deterministic).
-  std::vector<Cell> cell_b(out.n_b);
-  std::vector<int32_t> order;
-  order.reserve(out.n_b);
-  for (int32_t j = 0; j < out.n_b; ++j)
-    if (kb.valid_times[j] > 0) {
-      cell_b[j] = cell_of(&kb.mean_position[static_cast<std::size_t>(j) * m], m, h);
-      order.push_back(j);
+  auto split = [&](const TrackIndexKeys& k, int32_t n) {
+    Split s;
+    for (int32_t i = 0; i < n; ++i) {
+      if (k.valid_times[i] == 0) continue;
+      (k.valid_times[i] == K ? s.full : s.partial).push_back(i);
+      s.all.push_back(i);
+      s.var_all = std::max(s.var_all, k.max_position_variance[i]);
+      s.radius_all = std::max(s.radius_all, k.trajectory_radius[i]);
+      if (k.valid_times[i] == K) s.var_full = std::max(s.var_full, k.max_position_variance[i]);
     }
-  std::sort(order.begin(), order.end(), [&](int32_t x, int32_t y) {
-    return cell_b[x] != cell_b[y] ? cell_b[x] < cell_b[y] : x < y;
-  });
-  std::vector<Cell> sorted_cells(order.size());
-  for (std::size_t q = 0; q < order.size(); ++q) sorted_cells[q] = cell_b[order[q]];
-
-  // Per row of a: its candidates, gathered in parallel, then concatenated in row order.
+    return s;
+  };
+  const Split sa = split(ka, out.n_a), sb = split(kb, out.n_b);
   std::vector<std::vector<int32_t>> rows(out.n_a);
-  parallel_for_range(out.n_a, 256, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) {
-      if (ka.valid_times[i] == 0) continue;
-      const Cell c = cell_of(&ka.mean_position[i * m], m, h);
-      std::vector<int32_t>& row = rows[i];
-      const int span_z = m == 3 ? 1 : 0;
-      for (int64_t dx = -1; dx <= 1; ++dx)
-        for (int64_t dy = -1; dy <= 1; ++dy)
-          for (int64_t dz = -span_z; dz <= span_z; ++dz) {
-            const Cell q{c[0] + dx, c[1] + dy, c[2] + dz};
-            auto range = std::equal_range(sorted_cells.begin(), sorted_cells.end(), q);
-            for (auto it = range.first; it != range.second; ++it) {
-              const int32_t j = order[it - sorted_cells.begin()];
-              if (within_bound(ka, i, kb, j, factor)) row.push_back(j);
-            }
-          }
-      std::sort(row.begin(), row.end());
-    }
-  });
+  // Full × full: the tight radius. Pairs with a partial track: the conservative radius.
+  grid_pass(ka, sa.full, kb, sb.full, std::sqrt((sa.var_full + sb.var_full) * factor[K]), factor,
+            options.radius_scale, rows);
+  const double h_partial = std::sqrt((sa.var_all + sb.var_all) * factor[1]) +
+                           options.radius_scale * (sa.radius_all + sb.radius_all);
+  grid_pass(ka, sa.partial, kb, sb.all, h_partial, factor, options.radius_scale, rows);
+  grid_pass(ka, sa.full, kb, sb.partial, h_partial, factor, options.radius_scale, rows);
+
   std::size_t total = 0;
-  for (const auto& r : rows) total += r.size();
+  for (auto& r : rows) {
+    std::sort(r.begin(), r.end());  // the three passes hold disjoint pairs
+    total += r.size();
+  }
   out.a.reserve(total);
   out.b.reserve(total);
   for (int32_t i = 0; i < out.n_a; ++i) {
@@ -197,7 +229,7 @@ CandidatePairs gated_candidate_pairs_all_pairs(const AlignedTracks& a, const Ali
   const std::vector<double> factor = radius_factors(a.dim, a.n_times, options);
   for (int32_t i = 0; i < out.n_a; ++i)
     for (int32_t j = 0; j < out.n_b; ++j)
-      if (within_bound(ka, i, kb, j, factor)) {
+      if (within_bound(ka, i, kb, j, factor, options.radius_scale)) {
         out.a.push_back(i);
         out.b.push_back(j);
       }

@@ -40,6 +40,9 @@ void register_experiment_scale(CLI::App& experiment) {
   cmd->add_option("--sigma-pos", o.tracks.sigma_pos, "Local track position error sigma [m]")->capture_default_str();
   cmd->add_option("--p-seen", o.tracks.p_seen, "Probability that a sensor holds a track of a target")
       ->capture_default_str();
+  cmd->add_option("--min-lifetime", o.tracks.min_lifetime_fraction,
+                  "Each local track covers a random part of the duration, at least this fraction (1 = all)")
+      ->capture_default_str();
   cmd->add_flag_function("--two-d", [args](int64_t) { args->options.tracks.three_d = false; }, "2-D targets (default 3-D)");
   cmd->add_flag("--no-isolate", args->no_isolate, "Run every size in this process (peak memory is then cumulative)");
   cmd->add_flag("--no-plot", args->no_plot, "Do not call scripts/plot_scale.py");
@@ -71,7 +74,7 @@ void register_experiment_scale(CLI::App& experiment) {
                          {{"sizes", o.sizes}, {"dense_max", o.dense_max}, {"solver", o.solver},
                           {"solver_options", o.solver_options}, {"density_per_100km2", o.density},
                           {"gate_probability", o.gate_probability}, {"duration", o.tracks.duration},
-                          {"sigma_pos", o.tracks.sigma_pos}, {"p_seen", o.tracks.p_seen},
+                          {"sigma_pos", o.tracks.sigma_pos}, {"p_seen", o.tracks.p_seen}, {"min_lifetime_fraction", o.tracks.min_lifetime_fraction},
                           {"three_d", o.tracks.three_d}, {"seed", o.seed}, {"threads", o.threads}}},
                         {"loglog_slope_n_ge_1000", slope},
                         {"rows", nlohmann::json::array()}};
