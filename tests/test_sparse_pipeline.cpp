@@ -3,7 +3,14 @@
 // what the sparse form refuses.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <limits>
 #include <set>
 
@@ -150,6 +157,41 @@ TEST(SparsePipeline, ClearErrors) {
   TrackFile two = f;
   two.sensors.resize(2);
   EXPECT_THROW(build_sparse_association_problem(two, SparsePipelineOptions{}), InputError);
+}
+
+}  // namespace
+}  // namespace trackassoc
+
+namespace trackassoc {
+namespace {
+
+// `trackassoc experiment scale` end to end at a tiny size: table, CSV with the dense comparison,
+// and exit status 2 with one line on bad input.
+TEST(ExperimentScaleCli, WritesTableAndCsvAndRejectsBadSizes) {
+  const std::string dir = ::testing::TempDir() + "/trackassoc_scale_cli";
+  const std::string cmd = std::string(TRACKASSOC_CLI) + " experiment scale --sizes 60 --dense-max 60 --no-plot --threads 1 --out " +
+                          dir + " > " + dir + ".out 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream csv(dir + "/scale.csv");
+  std::string header, row;
+  ASSERT_TRUE(std::getline(csv, header));
+  ASSERT_TRUE(std::getline(csv, row));
+  EXPECT_EQ(row.rfind("60,", 0), 0u) << row;
+  EXPECT_NE(header.find("dense_identical"), std::string::npos);
+  // n = 60 fits the dense path: the sparse and dense associations must be identical (column 1).
+  std::vector<std::string> cells;
+  std::stringstream ss(row);
+  for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+  std::vector<std::string> names;
+  std::stringstream hs(header);
+  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
+  const auto col = std::find(names.begin(), names.end(), "dense_identical") - names.begin();
+  ASSERT_LT(static_cast<std::size_t>(col), cells.size());
+  EXPECT_EQ(cells[col], "1");
+  const std::string bad = std::string(TRACKASSOC_CLI) + " experiment scale --sizes 0 --no-plot --out " + dir +
+                          " > /dev/null 2>&1";
+  const int status = std::system(bad.c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 2);
 }
 
 }  // namespace
