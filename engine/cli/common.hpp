@@ -100,6 +100,7 @@ void register_simulate(CLI::App& app);
 void register_associate(CLI::App& app);
 void register_evaluate(CLI::App& app);
 void register_run(CLI::App& app);
+void register_solve3d(CLI::App& app);
 void register_experiment(CLI::App& app);
 // Sub-subcommands of `experiment` (engine/cli/cmd_experiment_*.cpp).
 void register_experiment_scale(CLI::App& experiment);
