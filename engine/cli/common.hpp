@@ -103,7 +103,8 @@ void register_run(CLI::App& app);
 void register_solve3d(CLI::App& app);
 void register_experiment(CLI::App& app);
 // Sub-subcommands of `experiment` (engine/cli/cmd_experiment.cpp calls them).
-void register_experiment_schedules(CLI::App& experiment);
 void register_experiment_seed000(CLI::App& experiment);
+void register_experiment_schedules(CLI::App& experiment);
+void register_experiment_scale(CLI::App& experiment);
 
 }  // namespace trackassoc::cli

@@ -1,0 +1,153 @@
+// The sparse association path (issue 6) at n = 10², 10³, 10⁴ targets per sensor, 1 and 2 threads:
+//   candidates  — grid index (ours) vs the all-pairs scan of the same bound (naive peer);
+//   statistic   — λ on candidate pairs (ours) vs the dense all-pairs statistic (peer, n ≤ 10³);
+//   problem     — alignment + candidates + λ + components, end to end;
+//   solve       — components solved in parallel with the registry's "pairwise" solver.
+// Track sets: engine/experiment_scale.hpp's synthetic_recorded_tracks at the experiment's default
+// density (4 targets per 100 km², 3-D). Args: {n, threads}.
+#include <benchmark/benchmark.h>
+#include <oneapi/tbb/global_control.h>
+
+#include <map>
+#include <memory>
+
+#include "engine/experiment_scale.hpp"
+#include "engine/pipeline.hpp"
+#include "engine/sparse_pipeline.hpp"
+#include "kernels/sparse_candidates.hpp"
+
+namespace trackassoc {
+namespace {
+
+struct Fixture {
+  TrackFile file;
+  std::array<AlignedTracks, 3> aligned;
+  CandidatePairs c12;
+  std::unique_ptr<SparseAssociationProblem> problem;
+};
+
+SparsePipelineOptions pipeline_options() {
+  SparsePipelineOptions o;
+  o.pipeline.statistic.gate_probability = 0.999;
+  return o;
+}
+
+const Fixture& fixture(int32_t n) {
+  static std::map<int32_t, std::unique_ptr<Fixture>> cache;
+  auto& f = cache[n];
+  if (!f) {
+    f = std::make_unique<Fixture>();
+    ScaleExperimentOptions defaults;
+    SyntheticTrackSpec spec = defaults.tracks;
+    spec.targets = n;
+    spec.box = std::sqrt(n / defaults.density) * 10000.0;
+    spec.seed = 42;
+    f->file = synthetic_recorded_tracks(spec);
+    const auto o = pipeline_options();
+    f->problem = std::make_unique<SparseAssociationProblem>(build_sparse_association_problem(f->file, o));
+    f->aligned = f->problem->aligned;
+    f->c12 = gated_candidate_pairs(f->aligned[0], f->aligned[1], CandidateOptions{0.999, 1.0});
+  }
+  return *f;
+}
+
+void set_threads(benchmark::State& state, std::unique_ptr<tbb::global_control>& gc) {
+  gc = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                             static_cast<std::size_t>(state.range(1)));
+}
+
+void BM_SparseCandidates(benchmark::State& state) {
+  const Fixture& f = fixture(static_cast<int32_t>(state.range(0)));
+  std::unique_ptr<tbb::global_control> gc;
+  set_threads(state, gc);
+  std::size_t pairs = 0;
+  for (auto _ : state) {
+    const CandidatePairs c = gated_candidate_pairs(f.aligned[0], f.aligned[1], CandidateOptions{0.999, 1.0});
+    pairs = c.size();
+    benchmark::DoNotOptimize(c.a.data());
+  }
+  state.counters["candidates"] = static_cast<double>(pairs);
+  state.counters["tracks_per_s"] = benchmark::Counter(2.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_AllPairsCandidates(benchmark::State& state) {
+  const Fixture& f = fixture(static_cast<int32_t>(state.range(0)));
+  std::unique_ptr<tbb::global_control> gc;
+  set_threads(state, gc);
+  for (auto _ : state) {
+    const CandidatePairs c = gated_candidate_pairs_all_pairs(f.aligned[0], f.aligned[1], CandidateOptions{0.999, 1.0});
+    benchmark::DoNotOptimize(c.a.data());
+  }
+  state.counters["tracks_per_s"] = benchmark::Counter(2.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_SparseStatistic(benchmark::State& state) {
+  const Fixture& f = fixture(static_cast<int32_t>(state.range(0)));
+  std::unique_ptr<tbb::global_control> gc;
+  set_threads(state, gc);
+  StatisticOptions so;
+  so.gate_probability = 0.999;
+  for (auto _ : state) {
+    const SparsePairStatistic s = sparse_sequential_statistic(f.aligned[0], f.aligned[1], f.c12, so);
+    benchmark::DoNotOptimize(s.lambda.data());
+  }
+  state.counters["pairs_per_s"] =
+      benchmark::Counter(static_cast<double>(f.c12.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_DenseStatistic(benchmark::State& state) {
+  const Fixture& f = fixture(static_cast<int32_t>(state.range(0)));
+  std::unique_ptr<tbb::global_control> gc;
+  set_threads(state, gc);
+  StatisticOptions so;
+  so.gate_probability = 0.999;
+  for (auto _ : state) {
+    const PairStatistic s = independent_sequential_statistic(f.aligned[0], f.aligned[1], so);
+    benchmark::DoNotOptimize(s.lambda.data());
+  }
+  state.counters["pairs_per_s"] = benchmark::Counter(static_cast<double>(state.range(0)) * state.range(0),
+                                                     benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_SparseProblem(benchmark::State& state) {
+  const Fixture& f = fixture(static_cast<int32_t>(state.range(0)));
+  std::unique_ptr<tbb::global_control> gc;
+  set_threads(state, gc);
+  const auto o = pipeline_options();
+  for (auto _ : state) {
+    const SparseAssociationProblem p = build_sparse_association_problem(f.file, o);
+    benchmark::DoNotOptimize(p.components.count);
+  }
+  state.counters["tracks_per_s"] = benchmark::Counter(3.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_SparseSolve(benchmark::State& state) {
+  const Fixture& f = fixture(static_cast<int32_t>(state.range(0)));
+  std::unique_ptr<tbb::global_control> gc;
+  set_threads(state, gc);
+  const auto o = pipeline_options();
+  for (auto _ : state) {
+    const AssociationRecord r = solve_sparse_association(*f.problem, "pairwise", nlohmann::json::object(), 1, o);
+    benchmark::DoNotOptimize(r.tuples.data());
+  }
+  state.counters["components"] = static_cast<double>(f.problem->components.count);
+}
+
+void sizes(benchmark::internal::Benchmark* b, int64_t max_n) {
+  for (int64_t n : {100, 1000, 10000})
+    if (n <= max_n)
+      for (int64_t t : {1, 2}) b->Args({n, t});
+  b->ArgNames({"n", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+BENCHMARK(BM_SparseCandidates)->Apply([](auto* b) { sizes(b, 10000); });
+BENCHMARK(BM_AllPairsCandidates)->Apply([](auto* b) { sizes(b, 10000); });
+BENCHMARK(BM_SparseStatistic)->Apply([](auto* b) { sizes(b, 10000); });
+BENCHMARK(BM_DenseStatistic)->Apply([](auto* b) { sizes(b, 1000); });
+BENCHMARK(BM_SparseProblem)->Apply([](auto* b) { sizes(b, 10000); });
+BENCHMARK(BM_SparseSolve)->Apply([](auto* b) { sizes(b, 10000); });
+
+}  // namespace
+}  // namespace trackassoc
+
+BENCHMARK_MAIN();
