@@ -100,5 +100,7 @@ void register_simulate(CLI::App& app);
 void register_associate(CLI::App& app);
 void register_evaluate(CLI::App& app);
 void register_run(CLI::App& app);
+void register_filter(CLI::App& app);      // engine/cli/cmd_filter.cpp
+void register_experiment(CLI::App& app);  // engine/cli/cmd_experiment.cpp
 
 }  // namespace trackassoc::cli
