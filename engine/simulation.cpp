@@ -67,13 +67,10 @@ double wrap_angle(double a) {
   return a <= -std::numbers::pi ? a + 2.0 * std::numbers::pi : a;
 }
 
-struct SensorMeasurements {
-  Measurements m;
-  std::vector<double> scans;
-};
+}  // namespace
 
-SensorMeasurements measure(const Scenario& sc, std::size_t s, const std::vector<TargetTrajectory>& targets,
-                           uint64_t seed, int run) {
+SensorMeasurements simulate_sensor(const Scenario& sc, std::size_t s, const std::vector<TargetTrajectory>& targets,
+                                   uint64_t seed, int run) {
   const Sensor& sensor = sc.sensors[s];
   const int d = spatial_dim(sc.layout);
   SensorMeasurements out;
@@ -127,8 +124,6 @@ SensorMeasurements measure(const Scenario& sc, std::size_t s, const std::vector<
   return out;
 }
 
-}  // namespace
-
 std::vector<TargetTrajectory> simulate_trajectories(const Scenario& sc, uint64_t seed, int run) {
   validate_scenario(sc);
   const int d = spatial_dim(sc.layout);
@@ -165,7 +160,7 @@ SimulationResult simulate(const Scenario& sc, uint64_t seed, int run) {
     }
   std::vector<SensorMeasurements> per_sensor(sc.sensors.size());
   parallel_for_range(sc.sensors.size(), 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t s = b; s < e; ++s) per_sensor[s] = measure(sc, s, targets, seed, run);
+    for (std::size_t s = b; s < e; ++s) per_sensor[s] = simulate_sensor(sc, s, targets, seed, run);
   });
   Measurements& all = result.measurements;
   std::vector<std::vector<double>> scans;

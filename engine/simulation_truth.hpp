@@ -26,6 +26,7 @@
 
 #include "kernels/random.hpp"
 #include "kernels/scenario.hpp"
+#include "kernels/types.hpp"
 
 namespace trackassoc {
 
@@ -60,5 +61,14 @@ TargetTrajectory random_trajectory(const RandomTargetSpec& spec, int32_t id, dou
 // The trajectories of all targets of Monte Carlo run `run` (scripted first, then the random
 // targets with ids after the largest scripted id), as used by simulate(). Validates the scenario.
 std::vector<TargetTrajectory> simulate_trajectories(const Scenario& scenario, uint64_t seed, int run);
+
+// The measurements of sensor `sensor_index` for one run (the measurement model of
+// engine/simulation.cpp) and its scan times. Used by simulate() and the seed 002 experiment.
+struct SensorMeasurements {
+  Measurements m;
+  std::vector<double> scans;
+};
+SensorMeasurements simulate_sensor(const Scenario& scenario, std::size_t sensor_index,
+                                   const std::vector<TargetTrajectory>& targets, uint64_t seed, int run);
 
 }  // namespace trackassoc

@@ -2,6 +2,7 @@
 // experiment is a sub-subcommand registered by one line below; it writes its results (HDF5 or
 // CSV/JSON), prints a table beside the paper's numbers and saves a plot.
 #include "engine/cli/common.hpp"
+#include "engine/experiments.hpp"
 
 namespace trackassoc::cli {
 
@@ -9,6 +10,7 @@ void register_experiment(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("experiment", "Reproduce a paper's study or run an engine study (DESIGN §5)");
   cmd->require_subcommand(1);
   register_experiment_seed000(*cmd);
+  add_experiment_seed002(cmd);
   register_experiment_schedules(*cmd);
   register_experiment_scale(*cmd);
 }

@@ -101,6 +101,7 @@ void register_associate(CLI::App& app);
 void register_evaluate(CLI::App& app);
 void register_run(CLI::App& app);
 void register_solve3d(CLI::App& app);
+void register_filter(CLI::App& app);
 void register_experiment(CLI::App& app);
 // Sub-subcommands of `experiment` (engine/cli/cmd_experiment.cpp calls them).
 void register_experiment_seed000(CLI::App& experiment);

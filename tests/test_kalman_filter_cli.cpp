@@ -1,0 +1,107 @@
+// `trackassoc filter` end to end: every filter turns /measurements into readable /tracks, the IMM
+// adds /tracks/model_prob, bad options are rejected with one clear line and no output file.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "engine/simulation.hpp"
+#include "engine/workflow.hpp"
+#include "io/hdf5_wrapper.hpp"
+#include "io/track_file.hpp"
+
+namespace fs = std::filesystem;
+
+namespace trackassoc {
+namespace {
+
+class FilterCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("trackassoc_filter_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    Scenario sc;
+    sc.duration = 30;
+    sc.random_targets.count = 5;
+    sc.random_targets.area_max = {20e3, 20e3, 0};
+    sc.random_targets.speed_min = 100, sc.random_targets.speed_max = 200;
+    sc.random_targets.process_noise = 2.0;
+    for (int s = 0; s < 2; ++s) {
+      Sensor x;
+      x.id = s;
+      x.position = {-30e3 + 60e3 * s, 0, 0};
+      x.p_detect = 0.9;
+      x.clutter_rate = 1.0;
+      sc.sensors.push_back(x);
+    }
+    input_ = (dir_ / "in.h5").string();
+    write_track_file(input_, simulation_to_track_file(sc, simulate(sc, 3, 0)));
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  int run(const std::string& args, std::string* err = nullptr) {
+    const std::string e = (dir_ / "err.txt").string();
+    const int raw = std::system((std::string(TRACKASSOC_CLI) + " " + args + " >/dev/null 2>" + e).c_str());
+    if (err) {
+      std::ifstream f(e);
+      std::stringstream s;
+      s << f.rdbuf();
+      *err = s.str();
+    }
+    return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  }
+  std::string path(const std::string& n) const { return (dir_ / n).string(); }
+  fs::path dir_;
+  std::string input_;
+};
+
+TEST_F(FilterCli, EveryFilterWritesReadableTracks) {
+  for (const std::string f : {"cv", "ca", "cs", "cs-nn", "imm"}) {
+    const std::string out = path("out_" + f + ".h5");
+    std::string err;
+    ASSERT_EQ(run("filter --input " + input_ + " --filter " + f + " --output " + out, &err), 0) << f << ": " << err;
+    const TrackFile file = read_track_file(out);
+    EXPECT_GT(file.tracks.size(), 100u) << f;
+    EXPECT_TRUE(file.associations.empty());
+    for (int32_t t : file.tracks.truth) ASSERT_GE(t, 0);
+    h5::File h = h5::File::open_read_only(out);
+    const bool has_prob = h.root().open_group("tracks").has("model_prob");
+    EXPECT_EQ(has_prob, f == "imm") << f;
+    if (has_prob) {
+      std::vector<hsize_t> dims;
+      const auto mu = h.root().open_group("tracks").read_doubles("model_prob", 2, dims);
+      ASSERT_EQ(dims.size(), 2u);
+      EXPECT_EQ(dims[0], file.tracks.size());
+      EXPECT_EQ(dims[1], 2u);
+      for (std::size_t i = 0; i < dims[0]; ++i) EXPECT_NEAR(mu[2 * i] + mu[2 * i + 1], 1.0, 1e-12);
+    }
+  }
+}
+
+TEST_F(FilterCli, SameTracksForOneAndTwoThreads) {
+  ASSERT_EQ(run("filter --threads 1 --input " + input_ + " --filter imm --output " + path("a.h5")), 0);
+  ASSERT_EQ(run("filter --threads 2 --input " + input_ + " --filter imm --output " + path("b.h5")), 0);
+  const TrackFile a = read_track_file(path("a.h5")), b = read_track_file(path("b.h5"));
+  EXPECT_EQ(a.tracks.state, b.tracks.state);
+  EXPECT_EQ(a.tracks.cov, b.tracks.cov);
+}
+
+TEST_F(FilterCli, BadOptionsAreRejectedWithoutOutput) {
+  std::string err;
+  EXPECT_EQ(run("filter --input " + input_ + " --filter kalman --output " + path("x.h5"), &err), 2);
+  EXPECT_NE(err.find("--filter"), std::string::npos) << err;
+  EXPECT_EQ(run("filter --input " + input_ + " --filter ab --output " + path("x.h5"), &err), 2);
+  EXPECT_NE(err.find("ab"), std::string::npos) << err;
+  EXPECT_EQ(run("filter --input " + input_ + " --filter cv --process-noise -3 --output " + path("x.h5"), &err), 2);
+  EXPECT_NE(err.find("--process-noise"), std::string::npos) << err;
+  EXPECT_EQ(run("filter --input " + path("missing.h5") + " --filter cv --output " + path("x.h5"), &err), 2);
+  EXPECT_FALSE(fs::exists(path("x.h5")));
+}
+
+}  // namespace
+}  // namespace trackassoc
