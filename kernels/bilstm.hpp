@@ -23,6 +23,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/StdVector>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +33,11 @@ template <class S>
 using MatrixX = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
 template <class S>
 using VectorX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+// Parameter and gradient buffers. Eigen vectorises with peeling that depends on the runtime
+// alignment of a Map's address, and the peeled and vectorised paths may round differently; with
+// every buffer aligned to Eigen's boundary, every run takes the same path (bit-identical results).
+template <class S>
+using AlignedVector = std::vector<S, Eigen::aligned_allocator<S>>;
 
 // A batch of B sequences of F features, padded to the longest length T. steps[t] is F×B;
 // mask(t, b) = 1 where step t of sequence b is valid, 0 where it is padding. Valid steps of every

@@ -74,7 +74,7 @@ template <class S>
 struct SiameseModel {
   SiameseShape shape;
   TrackNormalisation normalisation;
-  std::vector<S> params;  // shape.parameter_count()
+  AlignedVector<S> params;  // shape.parameter_count()
   const S* branch() const { return params.data(); }
   const S* head() const { return params.data() + shape.branch_parameter_count(); }
 };
