@@ -100,5 +100,7 @@ void register_simulate(CLI::App& app);
 void register_associate(CLI::App& app);
 void register_evaluate(CLI::App& app);
 void register_run(CLI::App& app);
+void register_dataset(CLI::App& app);        // cmd_siamese.cpp
+void register_train_siamese(CLI::App& app);  // cmd_siamese.cpp
 
 }  // namespace trackassoc::cli
