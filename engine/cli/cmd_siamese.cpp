@@ -73,6 +73,7 @@ void register_train_siamese(CLI::App& app) {
     SiameseTrainingOptions training;
     double validation_fraction = 0.1;
     int64_t max_train_pairs = 0;
+    TrackNormalisation normalisation;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("train-siamese", "Train the Siamese BiLSTM pair classifier (seed 003) on a data set");
@@ -93,6 +94,9 @@ void register_train_siamese(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-train-pairs", args->max_train_pairs, "Use only the first N training pairs (0 = all)")
       ->capture_default_str();
+  cmd->add_option("--position-scale", args->normalisation.position_scale,
+                  "Input normalisation: metres per unit of x and y (centre 50 km, 50 km)")
+      ->capture_default_str();
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
@@ -112,6 +116,8 @@ void register_train_siamese(CLI::App& app) {
     }
     SiameseModel<float> model;
     model.shape = args->shape;
+    model.normalisation = args->normalisation;
+    model.normalisation.validate();
     model.shape.validate();
     SiameseTrainingOptions o = args->training;
     o.seed = args->common.seed;
@@ -138,6 +144,7 @@ void register_train_siamese(CLI::App& app) {
     nlohmann::json j = {{"data", args->data},
                         {"hidden", model.shape.hidden},
                         {"fc", model.shape.fc},
+                        {"position_scale", model.normalisation.position_scale},
                         {"epochs_limit", o.epochs},
                         {"batch", o.batch_size},
                         {"learning_rate", o.adam.learning_rate},
