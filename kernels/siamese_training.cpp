@@ -87,6 +87,41 @@ PairEvaluation evaluate_pairs(const SiameseModel<S>& model, const TrackSequences
 }
 
 template <class S>
+double siamese_minibatch_step(SiameseModel<S>& model, const TrackSequences& left, const TrackSequences& right,
+                              std::span<const int32_t> l, std::span<const int32_t> r, std::span<const uint8_t> y,
+                              int chunk_pairs, AdamState<S>& adam, const AdamOptions& adam_options,
+                              SiameseStepWorkspace<S>& ws) {
+  const std::size_t P = model.params.size();
+  const std::size_t m = y.size();
+  const std::size_t cp = static_cast<std::size_t>(std::max(1, chunk_pairs));
+  const std::size_t chunks = (m + cp - 1) / cp;
+  if (ws.chunk_grad.size() < chunks) ws.chunk_grad.resize(chunks);
+  ws.chunk_loss.resize(std::max(ws.chunk_loss.size(), chunks));
+  for (std::size_t c = 0; c < chunks; ++c) ws.chunk_grad[c].resize(P);
+  ws.grad.resize(P);
+  parallel_for_range(chunks, 1, [&](std::size_t cb, std::size_t ce) {
+    for (std::size_t c = cb; c < ce; ++c) {
+      const std::size_t s = c * cp, e = std::min(m, s + cp);
+      std::fill(ws.chunk_grad[c].begin(), ws.chunk_grad[c].end(), S(0));
+      const auto batch = make_pair_batch<S>(left, l.subspan(s, e - s), right, r.subspan(s, e - s), model.normalisation);
+      ws.chunk_loss[c] = siamese_loss_and_gradient(model, batch, y.subspan(s, e - s), ws.chunk_grad[c].data(), nullptr);
+    }
+  });
+  // Sum the chunks in order (deterministic for any thread count), as the gradient of the MEAN loss.
+  std::fill(ws.grad.begin(), ws.grad.end(), S(0));
+  double loss = 0;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    loss += ws.chunk_loss[c];
+    const S* g = ws.chunk_grad[c].data();
+    for (std::size_t k = 0; k < P; ++k) ws.grad[k] += g[k];
+  }
+  const S inv_m = S(1) / static_cast<S>(m);
+  for (auto& g : ws.grad) g *= inv_m;
+  adam_step<S>(model.params, ws.grad, adam, adam_options);
+  return loss;
+}
+
+template <class S>
 SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequences& left,
                                      const TrackSequences& right, const PairSet& train, const PairSet& validation,
                                      const SiameseTrainingOptions& options,
@@ -106,13 +141,8 @@ SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequence
               std::to_string(model.shape.parameter_count()));
 
   const auto start = clock::now();
-  const std::size_t P = model.params.size();
   const std::size_t n = train.size();
-  const std::size_t max_chunks = (static_cast<std::size_t>(options.batch_size) + options.chunk_pairs - 1) /
-                                 static_cast<std::size_t>(options.chunk_pairs);
-  std::vector<AlignedVector<S>> chunk_grad(max_chunks, AlignedVector<S>(P));
-  std::vector<double> chunk_loss(max_chunks);
-  AlignedVector<S> grad(P);
+  SiameseStepWorkspace<S> workspace;
   std::vector<uint32_t> order(n);
   std::vector<int32_t> bl, br;
   std::vector<uint8_t> by;
@@ -137,29 +167,8 @@ SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequence
         br.push_back(train.right[order[k]]);
         by.push_back(train.label[order[k]]);
       }
-      const std::size_t m = b1 - b0;
-      const std::size_t chunks = (m + options.chunk_pairs - 1) / static_cast<std::size_t>(options.chunk_pairs);
-      parallel_for_range(chunks, 1, [&](std::size_t cb, std::size_t ce) {
-        for (std::size_t c = cb; c < ce; ++c) {
-          const std::size_t s = c * options.chunk_pairs, e = std::min(m, s + options.chunk_pairs);
-          std::fill(chunk_grad[c].begin(), chunk_grad[c].end(), S(0));
-          const auto batch = make_pair_batch<S>(left, std::span<const int32_t>(bl.data() + s, e - s), right,
-                                                std::span<const int32_t>(br.data() + s, e - s), model.normalisation);
-          chunk_loss[c] = siamese_loss_and_gradient(model, batch, std::span<const uint8_t>(by.data() + s, e - s),
-                                                    chunk_grad[c].data(), nullptr);
-        }
-      });
-      // Sum the chunks in order (deterministic), as the gradient of the MEAN loss.
-      const S inv_m = S(1) / static_cast<S>(m);
-      std::fill(grad.begin(), grad.end(), S(0));
-      double batch_loss = 0;
-      for (std::size_t c = 0; c < chunks; ++c) {
-        batch_loss += chunk_loss[c];
-        for (std::size_t k = 0; k < P; ++k) grad[k] += chunk_grad[c][k];
-      }
-      for (auto& g : grad) g *= inv_m;
-      epoch_loss += batch_loss;
-      adam_step<S>(model.params, grad, adam, adam_options);
+      epoch_loss += siamese_minibatch_step<S>(model, left, right, bl, br, by, options.chunk_pairs, adam, adam_options,
+                                              workspace);
     }
     SiameseEpochReport report;
     report.epoch = epoch;
@@ -200,6 +209,10 @@ SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequence
 #define TRACKASSOC_INSTANTIATE_TRAINING(S)                                                                     \
   template PairEvaluation evaluate_pairs<S>(const SiameseModel<S>&, const TrackSequences&, const TrackSequences&, \
                                             const PairSet&, double, std::vector<double>*);                      \
+  template double siamese_minibatch_step<S>(SiameseModel<S>&, const TrackSequences&, const TrackSequences&,       \
+                                            std::span<const int32_t>, std::span<const int32_t>,                  \
+                                            std::span<const uint8_t>, int, AdamState<S>&, const AdamOptions&,    \
+                                            SiameseStepWorkspace<S>&);                                           \
   template SiameseTrainingSummary train_siamese<S>(SiameseModel<S>&, const TrackSequences&, const TrackSequences&, \
                                                    const PairSet&, const PairSet&, const SiameseTrainingOptions&, \
                                                    const std::function<void(const SiameseEpochReport&)>&);

@@ -67,6 +67,23 @@ struct SiameseTrainingSummary {
   std::vector<SiameseEpochReport> history;
 };
 
+// Scratch buffers of siamese_minibatch_step, reused across steps.
+template <class S>
+struct SiameseStepWorkspace {
+  std::vector<AlignedVector<S>> chunk_grad;
+  std::vector<double> chunk_loss;
+  AlignedVector<S> grad;
+};
+
+// One Adam step on the mini-batch of pairs (l[k], r[k]) with labels y[k]: chunks of `chunk_pairs`
+// pairs across TBB, gradients summed in chunk order, averaged, then adam_step. Returns the summed
+// BCE of the mini-batch (before the step).
+template <class S>
+double siamese_minibatch_step(SiameseModel<S>& model, const TrackSequences& left, const TrackSequences& right,
+                              std::span<const int32_t> l, std::span<const int32_t> r, std::span<const uint8_t> y,
+                              int chunk_pairs, AdamState<S>& adam, const AdamOptions& adam_options,
+                              SiameseStepWorkspace<S>& workspace);
+
 // Probabilities (or nothing) and the confusion counts at `threshold` for a pair set.
 template <class S>
 PairEvaluation evaluate_pairs(const SiameseModel<S>& model, const TrackSequences& left, const TrackSequences& right,
