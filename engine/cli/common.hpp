@@ -102,5 +102,6 @@ void register_evaluate(CLI::App& app);
 void register_run(CLI::App& app);
 void register_dataset(CLI::App& app);        // cmd_siamese.cpp
 void register_train_siamese(CLI::App& app);  // cmd_siamese.cpp
+void register_siamese_experiment(CLI::App& app);  // cmd_siamese_experiment.cpp
 
 }  // namespace trackassoc::cli

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   trackassoc::cli::register_evaluate(app);
   trackassoc::cli::register_dataset(app);
   trackassoc::cli::register_train_siamese(app);
+  trackassoc::cli::register_siamese_experiment(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
