@@ -41,7 +41,8 @@ void score(const std::vector<int32_t>& l2r, const Seed003Scene& sc, double& acc,
 
 }  // namespace
 
-Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model, const Seed003ExperimentOptions& o) {
+Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model, const Seed003ExperimentOptions& o,
+                                               const std::vector<NamedPairModel>& extra) {
   using clock = std::chrono::steady_clock;
   o.validate();
   const auto start = clock::now();
@@ -50,8 +51,9 @@ Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
   const ClassicalBaselineOptions base = baseline_options_for(scenario);
   Seed003ExperimentResult r;
   r.densities = o.densities;
-  const char* names[3] = {"ttcsn", "weighted", "nn"};
-  for (const char* n : names) {
+  std::vector<std::string> names{"ttcsn", "weighted", "nn"};
+  for (const auto& e : extra) names.push_back(e.name);
+  for (const auto& n : names) {
     Seed003MethodCurve c;
     c.method = n;
     const std::size_t D = o.densities.size(), R = static_cast<std::size_t>(o.runs);
@@ -65,12 +67,13 @@ Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
     for (int run = 0; run < o.runs; ++run) {
       // Scene streams: a distinct run number per (density, run).
       const Seed003Scene sc = simulate_seed003_scene(scenario, o.densities[d], static_cast<uint64_t>(d) * 100000 + run);
-      for (int m = 0; m < 3; ++m) {
+      for (int m = 0; m < static_cast<int>(names.size()); ++m) {
         const auto t0 = clock::now();
         std::vector<int32_t> l2r;
         if (m == 0) l2r = associate_siamese(model, sc.radar1, sc.radar2, so).left_to_right;
         else if (m == 1) l2r = associate_weighted_test(sc.radar1, sc.radar2, base);
-        else l2r = associate_nearest_neighbour(sc.radar1, sc.radar2, base);
+        else if (m == 2) l2r = associate_nearest_neighbour(sc.radar1, sc.radar2, base);
+        else l2r = associate_siamese(*extra[m - 3].model, sc.radar1, sc.radar2, so).left_to_right;
         Seed003MethodCurve& c = r.methods[m];
         c.seconds[d][run] = std::chrono::duration<double>(clock::now() - t0).count();
         score(l2r, sc, c.accuracy[d][run], c.recall[d][run], c.precision[d][run]);

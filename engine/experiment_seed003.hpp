@@ -4,8 +4,9 @@
 // decision recall and precision, and the wall time.
 //
 // Methods: "ttcsn" (Siamese BiLSTM, embed once + thresholded LAP), "weighted" (weighted statistical
-// test + gated LAP) and "nn" (nearest neighbour), engine/seed003_baselines.hpp. The LSTM and BiLSTM
-// on concatenated pairs of the paper are NOT implemented yet.
+// test + gated LAP) and "nn" (nearest neighbour), engine/seed003_baselines.hpp, plus any extra pair
+// models given (the LSTM and BiLSTM on concatenated pairs, trained with train-siamese
+// --architecture lstm|bilstm), scored pair by pair and assigned by the same thresholded LAP.
 // Decision metrics per scene: TP = assigned pairs of the same target, FP = other assigned pairs,
 // FN = same-target pairs left unassigned; recall = TP/(TP+FN), precision = TP/(TP+FP).
 #pragma once
@@ -42,6 +43,12 @@ struct Seed003ExperimentResult {
 
 ClassicalBaselineOptions baseline_options_for(const Seed003Options& scenario);
 
-Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model, const Seed003ExperimentOptions& options);
+struct NamedPairModel {
+  std::string name;
+  const SiameseModel<float>* model;
+};
+
+Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model, const Seed003ExperimentOptions& options,
+                                               const std::vector<NamedPairModel>& extra_models = {});
 
 }  // namespace trackassoc

@@ -20,6 +20,8 @@ void SiameseAssociationOptions::validate() const {
 }
 
 MatrixX<float> embed_tracks(const SiameseModel<float>& model, const TrackSequences& tracks, int batch_tracks) {
+  require(model.shape.architecture == PairArchitecture::kSiamese, "model",
+          "only a Siamese model embeds single tracks; this one is " + std::string(to_string(model.shape.architecture)));
   const std::size_t n = static_cast<std::size_t>(tracks.size());
   MatrixX<float> e(model.shape.embedding(), static_cast<Eigen::Index>(n));
   const std::size_t b = static_cast<std::size_t>(std::max(1, batch_tracks));
@@ -75,11 +77,16 @@ SiameseAssociationResult associate_siamese(const SiameseModel<float>& model, con
   const auto t0 = clock::now();
   SiameseAssociationResult r;
   const int32_t n1 = radar1.size(), n2 = radar2.size();
-  const MatrixX<float> e1 = embed_tracks(model, radar1, options.batch_tracks);
-  const MatrixX<float> e2 = embed_tracks(model, radar2, options.batch_tracks);
-  const auto t1 = clock::now();
   r.probability.resize(static_cast<std::size_t>(n1) * n2);
-  siamese_score_all_pairs<float>(model, e1, e2, r.probability);
+  auto t1 = t0;
+  if (model.shape.architecture == PairArchitecture::kSiamese) {
+    const MatrixX<float> e1 = embed_tracks(model, radar1, options.batch_tracks);
+    const MatrixX<float> e2 = embed_tracks(model, radar2, options.batch_tracks);
+    t1 = clock::now();
+    siamese_score_all_pairs<float>(model, e1, e2, r.probability);
+  } else {  // the concatenated-pair baselines see both tracks at once: one pass per pair
+    score_pairs_recomputing(model, radar1, radar2, r.probability);
+  }
   r.pairs_scored = int64_t{n1} * n2;
   const auto t2 = clock::now();
   r.left_to_right = assign_by_probability(r.probability, n1, n2, options.probability_threshold);
@@ -99,7 +106,7 @@ void score_pairs_recomputing(const SiameseModel<float>& model, const TrackSequen
     for (std::size_t i = b; i < e; ++i)
       for (int32_t j = 0; j < n2; ++j) {
         const int32_t l[1] = {static_cast<int32_t>(i)}, rr[1] = {j};
-        siamese_pair_logits(model, make_pair_batch<float>(radar1, l, radar2, rr, model.normalisation), z);
+        siamese_pair_logits(model, make_model_pair_batch<float>(model, radar1, l, radar2, rr), z);
         prob[i * n2 + j] = 1.0f / (1.0f + std::exp(-z[0]));
       }
   });

@@ -42,6 +42,8 @@ MatrixX<float> embed_tracks(const SiameseModel<float>& model, const TrackSequenc
 SiameseAssociationResult associate_siamese(const SiameseModel<float>& model, const TrackSequences& radar1,
                                            const TrackSequences& radar2, const SiameseAssociationOptions& options);
 
+// A model of a concatenated-pair architecture (the LSTM / BiLSTM baselines) is scored this way
+// in associate_siamese, since it has no per-track embedding.
 // The paper's way: every pair through both branches again. prob is N1×N2, row-major.
 void score_pairs_recomputing(const SiameseModel<float>& model, const TrackSequences& radar1,
                              const TrackSequences& radar2, std::span<float> prob);

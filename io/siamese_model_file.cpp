@@ -23,7 +23,7 @@ std::vector<Block> blocks(const SiameseShape& s) {
   const int64_t H = s.hidden, F = s.input, per_dir = s.lstm().parameter_count();
   std::vector<Block> out;
   const char* dirs[2] = {"/branch/forward/", "/branch/backward/"};
-  for (int d = 0; d < 2; ++d) {
+  for (int d = 0; d < s.directions(); ++d) {
     const int64_t o = d * per_dir;
     out.push_back({std::string(dirs[d]) + "Wx", o, 4 * H, F});
     out.push_back({std::string(dirs[d]) + "Wh", o + 4 * H * F, 4 * H, H});
@@ -51,6 +51,7 @@ void write_siamese_model(const std::string& path, const SiameseModel<float>& mod
     f.write_attribute("/", "input", int64_t{model.shape.input});
     f.write_attribute("/", "hidden", int64_t{model.shape.hidden});
     f.write_attribute("/", "fc", int64_t{model.shape.fc});
+    f.write_attribute("/", "architecture", std::string(to_string(model.shape.architecture)));
     const TrackNormalisation& n = model.normalisation;
     f.write_attribute("/", "x0", n.x0);
     f.write_attribute("/", "y0", n.y0);
@@ -93,6 +94,11 @@ LoadedSiameseModel read_siamese_model(const std::string& path) {
   m.shape.input = dim("input");
   m.shape.hidden = dim("hidden");
   m.shape.fc = dim("fc");
+  try {
+    m.shape.architecture = parse_pair_architecture(f.read_string_attribute("/", "architecture"));
+  } catch (const InputError& e) {
+    throw InputError(path + ": attribute /@" + e.what());
+  }
   try {
     m.shape.validate();
   } catch (const InputError& e) {

@@ -11,6 +11,22 @@
 
 namespace trackassoc {
 
+const char* to_string(PairArchitecture a) {
+  switch (a) {
+    case PairArchitecture::kSiamese: return "siamese";
+    case PairArchitecture::kConcatLstm: return "lstm";
+    case PairArchitecture::kConcatBiLstm: return "bilstm";
+  }
+  return "unknown";
+}
+
+PairArchitecture parse_pair_architecture(const std::string& name) {
+  if (name == "siamese") return PairArchitecture::kSiamese;
+  if (name == "lstm") return PairArchitecture::kConcatLstm;
+  if (name == "bilstm") return PairArchitecture::kConcatBiLstm;
+  throw InputError("architecture: expected siamese, lstm or bilstm, got '" + name + "'");
+}
+
 void SiameseShape::validate() const {
   require(input == 3, "SiameseShape.input", "must be 3 (x, y, t), got " + std::to_string(input));
   require(hidden >= 1 && hidden <= 4096, "SiameseShape.hidden", "must be in [1, 4096], got " + std::to_string(hidden));
@@ -46,7 +62,7 @@ void siamese_initialise(SiameseModel<S>& model, uint64_t seed) {
   const int H = sh.hidden;
   const double lstm_bound = 1.0 / std::sqrt(static_cast<double>(H));
   const int64_t per_dir = sh.lstm().parameter_count();
-  for (int dir = 0; dir < 2; ++dir) {
+  for (int dir = 0; dir < sh.directions(); ++dir) {
     S* p = model.params.data() + dir * per_dir;
     for (int64_t k = 0; k < per_dir; ++k) p[k] = static_cast<S>(rng.uniform(-lstm_bound, lstm_bound));
     S* b = p + 4LL * H * sh.input + 4LL * H * H;
@@ -106,7 +122,53 @@ SequenceBatch<S> make_pair_batch(const TrackSequences& left_tracks, std::span<co
   return make_batch_impl<S>(sets, which, 2, norm);
 }
 
+template <class S>
+SequenceBatch<S> make_model_pair_batch(const SiameseModel<S>& model, const TrackSequences& lt,
+                                       std::span<const int32_t> l, const TrackSequences& rt,
+                                       std::span<const int32_t> r) {
+  if (model.shape.architecture == PairArchitecture::kSiamese) return make_pair_batch<S>(lt, l, rt, r, model.normalisation);
+  // One sequence per pair: the points of the left track, then those of the right track.
+  const TrackNormalisation& norm = model.normalisation;
+  const int B = static_cast<int>(l.size());
+  int T = 0;
+  for (int b = 0; b < B; ++b) T = std::max(T, lt.length(l[b]) + rt.length(r[b]));
+  SequenceBatch<S> batch;
+  batch.steps.assign(T, MatrixX<S>::Zero(3, B));
+  batch.mask = MatrixX<S>::Zero(T, B);
+  const double inv_l = 1.0 / norm.position_scale, inv_t = 1.0 / norm.time_scale;
+  for (int b = 0; b < B; ++b) {
+    int step = 0;
+    for (const auto& [tr, k] : {std::pair<const TrackSequences*, int32_t>{&lt, l[b]}, {&rt, r[b]}}) {
+      for (int64_t i = tr->offset[k]; i < tr->offset[k + 1]; ++i, ++step) {
+        batch.steps[step](0, b) = static_cast<S>((tr->x[i] - norm.x0) * inv_l);
+        batch.steps[step](1, b) = static_cast<S>((tr->y[i] - norm.y0) * inv_l);
+        batch.steps[step](2, b) = static_cast<S>((tr->t[i] - norm.t0) * inv_t);
+        batch.mask(step, b) = S(1);
+      }
+    }
+  }
+  return batch;
+}
+
 namespace {
+
+// The recurrent branch: BiLSTM, or one forward LSTM for the concatenated-LSTM baseline.
+template <class S>
+void branch_forward(const SiameseModel<S>& m, const SequenceBatch<S>& x, MatrixX<S>& out, BiLstmCache<S>* cache) {
+  if (m.shape.directions() == 2)
+    bilstm_forward(m.branch(), m.shape.lstm(), x, out, cache);
+  else
+    lstm_forward(m.branch(), m.shape.lstm(), x, false, out, cache ? &cache->forward : nullptr);
+}
+
+template <class S>
+void branch_backward(const SiameseModel<S>& m, const SequenceBatch<S>& x, const BiLstmCache<S>& cache,
+                     const MatrixX<S>& d_out, S* grad) {
+  if (m.shape.directions() == 2)
+    bilstm_backward(m.branch(), m.shape.lstm(), x, cache, d_out, grad);
+  else
+    lstm_backward(m.branch(), m.shape.lstm(), x, false, cache.forward, d_out, grad);
+}
 
 template <class S>
 struct HeadViews {
@@ -124,7 +186,7 @@ struct HeadViews {
 
 template <class S>
 void siamese_embed(const SiameseModel<S>& model, const SequenceBatch<S>& tracks, MatrixX<S>& embedding) {
-  bilstm_forward(model.branch(), model.shape.lstm(), tracks, embedding, static_cast<BiLstmCache<S>*>(nullptr));
+  branch_forward(model, tracks, embedding, static_cast<BiLstmCache<S>*>(nullptr));
 }
 
 template <class S>
@@ -157,7 +219,11 @@ void siamese_score_all_pairs(const SiameseModel<S>& model, const MatrixX<S>& e1,
 template <class S>
 void siamese_pair_logits(const SiameseModel<S>& model, const SequenceBatch<S>& pairs, VectorX<S>& logits) {
   MatrixX<S> e;
-  siamese_embed(model, pairs, e);
+  branch_forward(model, pairs, e, static_cast<BiLstmCache<S>*>(nullptr));
+  if (model.shape.architecture != PairArchitecture::kSiamese) {
+    siamese_head_logits(model, e, logits);
+    return;
+  }
   const Eigen::Index b = e.cols() / 2;
   const MatrixX<S> d = (e.leftCols(b) - e.rightCols(b)).cwiseAbs();
   siamese_head_logits(model, d, logits);
@@ -172,12 +238,14 @@ template <class S>
 double siamese_loss_and_gradient(const SiameseModel<S>& model, const SequenceBatch<S>& pairs,
                                  std::span<const uint8_t> labels, S* grad, std::type_identity_t<VectorX<S>>* logits_out) {
   const SiameseShape& sh = model.shape;
-  const int B = pairs.batch() / 2;
+  const bool siamese = sh.architecture == PairArchitecture::kSiamese;
+  const int B = siamese ? pairs.batch() / 2 : pairs.batch();
   BiLstmCache<S> cache;
   MatrixX<S> e;
-  bilstm_forward(model.branch(), sh.lstm(), pairs, e, &cache);
-  const MatrixX<S> diff = e.leftCols(B) - e.rightCols(B);
-  const MatrixX<S> d = diff.cwiseAbs();
+  branch_forward(model, pairs, e, &cache);
+  // Head input: D = |e1 − e2| (Siamese) or the branch output itself (concatenated pair).
+  const MatrixX<S> diff = siamese ? MatrixX<S>(e.leftCols(B) - e.rightCols(B)) : MatrixX<S>();
+  const MatrixX<S> d = siamese ? MatrixX<S>(diff.cwiseAbs()) : e;
   const HeadViews<S> h(model);
   MatrixX<S> z1 = h.w1 * d;  // pre-activation, fc×B
   z1.colwise() += h.b1;
@@ -204,12 +272,16 @@ double siamese_loss_and_gradient(const SiameseModel<S>& model, const SequenceBat
   gw1.noalias() += dz1 * d.transpose();
   gb1.noalias() += dz1.rowwise().sum();
   const MatrixX<S> dd = h.w1.transpose() * dz1;  // 2H×B
+  if (!siamese) {
+    branch_backward(model, pairs, cache, dd, grad);
+    return loss;
+  }
   // d|u|/du = sign(u); the left branch gets +sign·dD, the right branch −sign·dD.
   MatrixX<S> de(sh.embedding(), 2 * B);
   const MatrixX<S> sgn = diff.unaryExpr([](S u) { return u > S(0) ? S(1) : (u < S(0) ? S(-1) : S(0)); });
   de.leftCols(B) = dd.cwiseProduct(sgn);
   de.rightCols(B) = -de.leftCols(B);
-  bilstm_backward(model.branch(), sh.lstm(), pairs, cache, de, grad);
+  branch_backward(model, pairs, cache, de, grad);
   return loss;
 }
 
@@ -220,6 +292,9 @@ double siamese_loss_and_gradient(const SiameseModel<S>& model, const SequenceBat
   template SequenceBatch<S> make_pair_batch<S>(const TrackSequences&, std::span<const int32_t>,                 \
                                                const TrackSequences&, std::span<const int32_t>,                 \
                                                const TrackNormalisation&);                                      \
+  template SequenceBatch<S> make_model_pair_batch<S>(const SiameseModel<S>&, const TrackSequences&,             \
+                                                     std::span<const int32_t>, const TrackSequences&,           \
+                                                     std::span<const int32_t>);                                 \
   template void siamese_embed<S>(const SiameseModel<S>&, const SequenceBatch<S>&, MatrixX<S>&);                 \
   template void siamese_head_logits<S>(const SiameseModel<S>&, const MatrixX<S>&, VectorX<S>&);                 \
   template void siamese_score_all_pairs<S>(const SiameseModel<S>&, const MatrixX<S>&, const MatrixX<S>&,        \

@@ -25,6 +25,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -32,13 +33,24 @@
 
 namespace trackassoc {
 
+// The pair classifiers of seed 003 §3: the Siamese network (TTCSN), and the two baselines that feed
+// the concatenated pair to one recurrent network (§2.3: "h(x1 x2) ≠ h(x2 x1)"). For those, the pair is
+// one sequence, the points of track 1 followed by the points of track 2 (time restarts where track 2
+// begins), and the head reads the final state (LSTM: H; BiLSTM: [h_fwd(end); h_bwd(start)], 2H)
+// instead of |e1 − e2|.
+enum class PairArchitecture { kSiamese = 0, kConcatLstm = 1, kConcatBiLstm = 2 };
+const char* to_string(PairArchitecture a);
+PairArchitecture parse_pair_architecture(const std::string& name);  // siamese | lstm | bilstm
+
 struct SiameseShape {
   int input = 3;    // features per point: x, y, t
   int hidden = 64;  // H per direction (seed 003: 64, embedding 128)
   int fc = 512;     // FC1 width (seed 003: 512)
+  PairArchitecture architecture = PairArchitecture::kSiamese;
   LstmShape lstm() const { return {input, hidden}; }
-  int embedding() const { return 2 * hidden; }
-  int64_t branch_parameter_count() const { return 2 * lstm().parameter_count(); }
+  int directions() const { return architecture == PairArchitecture::kConcatLstm ? 1 : 2; }
+  int embedding() const { return directions() * hidden; }  // branch output = head input size
+  int64_t branch_parameter_count() const { return directions() * lstm().parameter_count(); }
   int64_t head_parameter_count() const { return int64_t{fc} * embedding() + 2LL * fc + 1; }
   int64_t parameter_count() const { return branch_parameter_count() + head_parameter_count(); }
   void validate() const;  // throws InputError naming the field
@@ -95,7 +107,14 @@ SequenceBatch<S> make_pair_batch(const TrackSequences& left_tracks, std::span<co
                                  const TrackSequences& right_tracks, std::span<const int32_t> right,
                                  const TrackNormalisation& norm);
 
-// Embeddings of a batch of tracks: 2H×B.
+// The batch a model's loss and logits expect for pairs (l[k], r[k]): make_pair_batch for the
+// Siamese network, one concatenated sequence per pair otherwise.
+template <class S>
+SequenceBatch<S> make_model_pair_batch(const SiameseModel<S>& model, const TrackSequences& left_tracks,
+                                       std::span<const int32_t> left, const TrackSequences& right_tracks,
+                                       std::span<const int32_t> right);
+
+// Embeddings of a batch of tracks: 2H×B (Siamese only).
 template <class S>
 void siamese_embed(const SiameseModel<S>& model, const SequenceBatch<S>& tracks, MatrixX<S>& embedding);
 
@@ -109,11 +128,11 @@ template <class S>
 void siamese_score_all_pairs(const SiameseModel<S>& model, const MatrixX<S>& e1, const MatrixX<S>& e2,
                              std::span<S> prob);
 
-// Logits of the B pairs of a pair batch (2B columns, see make_pair_batch).
+// Logits of the B pairs of a model pair batch (make_model_pair_batch).
 template <class S>
 void siamese_pair_logits(const SiameseModel<S>& model, const SequenceBatch<S>& pairs, VectorX<S>& logits);
 
-// Summed binary cross-entropy of the B pairs of a pair batch, and its gradient ADDED into `grad`
+// Summed binary cross-entropy of the B pairs of a model pair batch, and its gradient ADDED into `grad`
 // (parameter_count() scalars). Writes the logits when `logits` is not null.
 template <class S>
 double siamese_loss_and_gradient(const SiameseModel<S>& model, const SequenceBatch<S>& pairs,

@@ -65,7 +65,7 @@ PairEvaluation evaluate_pairs(const SiameseModel<S>& model, const TrackSequences
     for (std::size_t c = cb; c < ce; ++c) {
       const std::size_t b = c * kChunk, e = std::min(n, b + kChunk);
       const std::span<const int32_t> l(pairs.left.data() + b, e - b), r(pairs.right.data() + b, e - b);
-      siamese_pair_logits(model, make_pair_batch<S>(left, l, right, r, model.normalisation), z);
+      siamese_pair_logits(model, make_model_pair_batch<S>(model, left, l, right, r), z);
       for (std::size_t k = b; k < e; ++k) logits[k] = static_cast<double>(z[static_cast<Eigen::Index>(k - b)]);
     }
   });
@@ -103,7 +103,7 @@ double siamese_minibatch_step(SiameseModel<S>& model, const TrackSequences& left
     for (std::size_t c = cb; c < ce; ++c) {
       const std::size_t s = c * cp, e = std::min(m, s + cp);
       std::fill(ws.chunk_grad[c].begin(), ws.chunk_grad[c].end(), S(0));
-      const auto batch = make_pair_batch<S>(left, l.subspan(s, e - s), right, r.subspan(s, e - s), model.normalisation);
+      const auto batch = make_model_pair_batch<S>(model, left, l.subspan(s, e - s), right, r.subspan(s, e - s));
       ws.chunk_loss[c] = siamese_loss_and_gradient(model, batch, y.subspan(s, e - s), ws.chunk_grad[c].data(), nullptr);
     }
   });

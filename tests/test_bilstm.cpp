@@ -31,8 +31,9 @@ TrackSequences random_tracks(int n, uint64_t seed, int min_len = 2, int max_len 
   return tr;
 }
 
-SiameseModel<double> small_model(uint64_t seed) {
+SiameseModel<double> small_model(uint64_t seed, PairArchitecture arch = PairArchitecture::kSiamese) {
   SiameseModel<double> m;
+  m.shape.architecture = arch;
   m.shape.hidden = 4;
   m.shape.fc = 6;
   siamese_initialise(m, seed);
@@ -42,7 +43,10 @@ SiameseModel<double> small_model(uint64_t seed) {
   return m;
 }
 
-double relative_error(double a, double b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-8}); }
+// |a − b| / max(|a|, |b|), with the denominator floored at 1e-6 so that components that are exactly 0
+// (a ReLU unit inactive on every pair) compare against the difference quotient's rounding (≈ 1e-12)
+// without a spurious large ratio.
+double relative_error(double a, double b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-6}); }
 
 }  // namespace
 
@@ -82,31 +86,65 @@ TEST(BiLstm, GradientMatchesCentralDifferences) {
   EXPECT_LT(worst, 1e-5);
 }
 
-TEST(Siamese, LossGradientMatchesCentralDifferences) {
-  const SiameseModel<double> model = small_model(21);
+class PairModelGradient : public ::testing::TestWithParam<PairArchitecture> {};
+
+TEST_P(PairModelGradient, LossGradientMatchesCentralDifferences) {
+  const SiameseModel<double> model = small_model(21, GetParam());
   const TrackSequences left = random_tracks(4, 22), right = random_tracks(4, 23);
   const std::vector<int32_t> li{0, 1, 2, 3}, ri{2, 0, 3, 1};
   const std::vector<uint8_t> labels{1, 0, 1, 0};
-  const auto batch = make_pair_batch<double>(left, li, right, ri, model.normalisation);
+  const auto batch = make_model_pair_batch<double>(model, left, li, right, ri);
   std::vector<double> grad(model.params.size(), 0.0);
   siamese_loss_and_gradient(model, batch, labels, grad.data(), nullptr);
   std::vector<double> scratch(model.params.size());
-  double worst = 0;
+  double worst = 0, worst_a = 0, worst_n = 0;
+  std::size_t worst_k = 0;
   int checked = 0;
-  const double h = 1e-6;
+  // Fourth-order central difference, (−f(+2h) + 8f(+h) − 8f(−h) + f(−2h)) / 12h: truncation O(h⁴), so
+  // h can be large enough that rounding (≈ 1e-16·|L|/h) stays far below 1e-5 of even the small
+  // components of the gradient.
+  const double h = 1e-4;
   auto m = model;
   for (std::size_t k = 0; k < model.params.size(); ++k) {
-    m.params[k] = model.params[k] + h;
-    const double up = siamese_loss_and_gradient(m, batch, labels, scratch.data(), nullptr);
-    m.params[k] = model.params[k] - h;
-    const double down = siamese_loss_and_gradient(m, batch, labels, scratch.data(), nullptr);
+    auto at = [&](double delta) {
+      m.params[k] = model.params[k] + delta;
+      return siamese_loss_and_gradient(m, batch, labels, scratch.data(), nullptr);
+    };
+    const double f2 = at(2 * h), f1 = at(h), b1 = at(-h), b2 = at(-2 * h);
     m.params[k] = model.params[k];
-    const double numeric = (up - down) / (2 * h);
-    worst = std::max(worst, relative_error(grad[k], numeric));
+    const double numeric = (-f2 + 8 * f1 - 8 * b1 + b2) / (12 * h);
+    if (relative_error(grad[k], numeric) > worst) {
+      worst = relative_error(grad[k], numeric);
+      worst_k = k, worst_a = grad[k], worst_n = numeric;
+    }
     ++checked;
   }
   EXPECT_EQ(checked, model.shape.parameter_count());
-  EXPECT_LT(worst, 1e-5);
+  EXPECT_LT(worst, 1e-5) << "parameter " << worst_k << ": analytic " << worst_a << ", numeric " << worst_n;
+}
+
+INSTANTIATE_TEST_SUITE_P(Architectures, PairModelGradient,
+                         ::testing::Values(PairArchitecture::kSiamese, PairArchitecture::kConcatLstm,
+                                           PairArchitecture::kConcatBiLstm),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+TEST(Siamese, ConcatenatedPairBaselinesDependOnTheOrder) {
+  // seed 003 §2.3: h(x1 x2) ≠ h(x2 x1) for the concatenated pair; the Siamese score is symmetric.
+  for (auto arch : {PairArchitecture::kConcatLstm, PairArchitecture::kConcatBiLstm}) {
+    const SiameseModel<double> model = small_model(61, arch);
+    const TrackSequences a = random_tracks(3, 62), b = random_tracks(3, 63);
+    const std::vector<int32_t> idx{0, 1, 2};
+    VectorX<double> ab, ba;
+    siamese_pair_logits(model, make_model_pair_batch<double>(model, a, idx, b, idx), ab);
+    siamese_pair_logits(model, make_model_pair_batch<double>(model, b, idx, a, idx), ba);
+    for (int i = 0; i < 3; ++i) EXPECT_GT(std::abs(ab[i] - ba[i]), 1e-9) << to_string(arch) << " " << i;
+    // The concatenated sequence is as long as both tracks.
+    const auto batch = make_model_pair_batch<double>(model, a, idx, b, idx);
+    EXPECT_EQ(batch.batch(), 3);
+    EXPECT_EQ(batch.mask.col(0).sum(), a.length(0) + b.length(0));
+  }
+  EXPECT_EQ(small_model(1, PairArchitecture::kConcatLstm).shape.parameter_count(),
+            4 * 4 * (3 + 4 + 1) + 6 * 4 + 6 + 6 + 1);
 }
 
 TEST(Siamese, BinaryCrossEntropyByHand) {

@@ -63,6 +63,21 @@ TEST(SiameseModelFile, RoundTripIsBitIdentical) {
   EXPECT_FALSE(fs::exists(path + ".tmp"));
 }
 
+TEST(SiameseModelFile, ConcatenatedLstmBaselineRoundTrips) {
+  SiameseModel<float> m;
+  m.shape.architecture = PairArchitecture::kConcatLstm;
+  m.shape.hidden = 3;
+  m.shape.fc = 4;
+  siamese_initialise(m, 7);
+  const std::string path = (temp_dir() / "lstm.h5").string();
+  write_siamese_model(path, m);
+  const LoadedSiameseModel back = read_siamese_model(path);
+  EXPECT_EQ(back.model.shape.architecture, PairArchitecture::kConcatLstm);
+  ASSERT_EQ(back.model.params.size(), m.params.size());
+  for (std::size_t k = 0; k < m.params.size(); ++k) ASSERT_EQ(back.model.params[k], m.params[k]);
+  EXPECT_FALSE(h5::File::open_read(path).exists("/branch/backward/Wx"));
+}
+
 TEST(SiameseModelFile, WeightsAreStoredRowMajorInPyTorchOrientation) {
   // Element (r, c) of Wx is params[c·4H + r] in memory; the file holds it at [r][c].
   const SiameseModel<float> m = model_for_test();
@@ -108,6 +123,7 @@ TEST(SiameseModelFile, MissingDatasetWrongShapeNaNAndWrongFormat) {
     f.write_attribute("/", "input", int64_t{3});
     f.write_attribute("/", "hidden", int64_t{5});
     f.write_attribute("/", "fc", int64_t{7});
+    f.write_attribute("/", "architecture", std::string("siamese"));
     for (const char* a : {"x0", "y0", "position_scale", "t0", "time_scale"}) f.write_attribute("/", a, 1.0);
     f.write_attribute("/", "training", std::string("{}"));
     std::vector<float> zeros(1000, 0.0f);

@@ -74,12 +74,17 @@ void register_train_siamese(CLI::App& app) {
     double validation_fraction = 0.1;
     int64_t max_train_pairs = 0;
     TrackNormalisation normalisation;
+    std::string architecture = "siamese";
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("train-siamese", "Train the Siamese BiLSTM pair classifier (seed 003) on a data set");
   cmd->add_option("--data", args->data, "Data set from `trackassoc dataset seed003`")->required();
   cmd->add_option("--out,-o", args->output, "Output model file (HDF5)")->required();
   cmd->add_option("--epochs", args->training.epochs, "Epoch limit")->capture_default_str();
+  cmd->add_option("--architecture", args->architecture,
+                  "siamese (TTCSN), or the baselines on concatenated pairs: lstm, bilstm")
+      ->check(CLI::IsMember({"siamese", "lstm", "bilstm"}))
+      ->capture_default_str();
   cmd->add_option("--hidden", args->shape.hidden, "BiLSTM hidden units per direction")->capture_default_str();
   cmd->add_option("--fc", args->shape.fc, "Width of the first dense layer")->capture_default_str();
   cmd->add_option("--batch", args->training.batch_size, "Pairs per Adam step")->capture_default_str();
@@ -116,13 +121,14 @@ void register_train_siamese(CLI::App& app) {
     }
     SiameseModel<float> model;
     model.shape = args->shape;
+    model.shape.architecture = parse_pair_architecture(args->architecture);
     model.normalisation = args->normalisation;
     model.normalisation.validate();
     model.shape.validate();
     SiameseTrainingOptions o = args->training;
     o.seed = args->common.seed;
     const bool tty = isatty(fileno(stderr));
-    std::cerr << "training on " << train.size() << " pairs, validating on " << validation.size() << ", H = "
+    std::cerr << "training " << args->architecture << " on " << train.size() << " pairs, validating on " << validation.size() << ", H = "
               << model.shape.hidden << ", fc = " << model.shape.fc << ", " << model.shape.parameter_count()
               << " parameters\n";
     const auto summary = train_siamese(model, d.radar1, d.radar2, train, validation, o, [&](const SiameseEpochReport& r) {
@@ -142,6 +148,7 @@ void register_train_siamese(CLI::App& app) {
       }
     const PairEvaluation close_ev = evaluate_pairs(model, d.radar1, d.radar2, close);
     nlohmann::json j = {{"data", args->data},
+                        {"architecture", args->architecture},
                         {"hidden", model.shape.hidden},
                         {"fc", model.shape.fc},
                         {"position_scale", model.normalisation.position_scale},
