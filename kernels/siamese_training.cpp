@@ -24,6 +24,8 @@ void SiameseTrainingOptions::validate() const {
   require(patience >= 1, "SiameseTrainingOptions.patience", "must be >= 1, got " + std::to_string(patience));
   require(min_improvement >= 0 && std::isfinite(min_improvement), "SiameseTrainingOptions.min_improvement",
           "must be finite and >= 0");
+  require(augment_shift >= 0 && std::isfinite(augment_shift), "SiameseTrainingOptions.augment_shift",
+          "must be finite and >= 0");
   require(max_seconds >= 0 && std::isfinite(max_seconds), "SiameseTrainingOptions.max_seconds",
           "must be finite and >= 0");
 }
@@ -87,10 +89,26 @@ PairEvaluation evaluate_pairs(const SiameseModel<S>& model, const TrackSequences
 }
 
 template <class S>
+void translate_pair(const SiameseModel<S>& model, SequenceBatch<S>& batch, int pair, double dx, double dy) {
+  const S sx = static_cast<S>(dx / model.normalisation.position_scale);
+  const S sy = static_cast<S>(dy / model.normalisation.position_scale);
+  const bool siamese = model.shape.architecture == PairArchitecture::kSiamese;
+  const int B = siamese ? batch.batch() / 2 : batch.batch();
+  for (int col : {pair, siamese ? pair + B : -1}) {
+    if (col < 0) continue;
+    for (int t = 0; t < batch.length(); ++t)
+      if (batch.mask(t, col) != S(0)) {
+        batch.steps[t](0, col) += sx;
+        batch.steps[t](1, col) += sy;
+      }
+  }
+}
+
+template <class S>
 double siamese_minibatch_step(SiameseModel<S>& model, const TrackSequences& left, const TrackSequences& right,
                               std::span<const int32_t> l, std::span<const int32_t> r, std::span<const uint8_t> y,
                               int chunk_pairs, AdamState<S>& adam, const AdamOptions& adam_options,
-                              SiameseStepWorkspace<S>& ws) {
+                              SiameseStepWorkspace<S>& ws, double augment_shift, uint64_t augment_key) {
   const std::size_t P = model.params.size();
   const std::size_t m = y.size();
   const std::size_t cp = static_cast<std::size_t>(std::max(1, chunk_pairs));
@@ -103,7 +121,13 @@ double siamese_minibatch_step(SiameseModel<S>& model, const TrackSequences& left
     for (std::size_t c = cb; c < ce; ++c) {
       const std::size_t s = c * cp, e = std::min(m, s + cp);
       std::fill(ws.chunk_grad[c].begin(), ws.chunk_grad[c].end(), S(0));
-      const auto batch = make_model_pair_batch<S>(model, left, l.subspan(s, e - s), right, r.subspan(s, e - s));
+      auto batch = make_model_pair_batch<S>(model, left, l.subspan(s, e - s), right, r.subspan(s, e - s));
+      if (augment_shift > 0) {
+        CounterRng rng(augment_key, c, 6);
+        for (std::size_t k = 0; k < e - s; ++k)
+          translate_pair(model, batch, static_cast<int>(k), rng.uniform(-augment_shift, augment_shift),
+                         rng.uniform(-augment_shift, augment_shift));
+      }
       ws.chunk_loss[c] = siamese_loss_and_gradient(model, batch, y.subspan(s, e - s), ws.chunk_grad[c].data(), nullptr);
     }
   });
@@ -168,7 +192,8 @@ SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequence
         by.push_back(train.label[order[k]]);
       }
       epoch_loss += siamese_minibatch_step<S>(model, left, right, bl, br, by, options.chunk_pairs, adam, adam_options,
-                                              workspace);
+                                              workspace, options.augment_shift,
+                                              stream_key(options.seed, static_cast<uint64_t>(epoch), b0, 7));
     }
     SiameseEpochReport report;
     report.epoch = epoch;
@@ -212,7 +237,8 @@ SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequence
   template double siamese_minibatch_step<S>(SiameseModel<S>&, const TrackSequences&, const TrackSequences&,       \
                                             std::span<const int32_t>, std::span<const int32_t>,                  \
                                             std::span<const uint8_t>, int, AdamState<S>&, const AdamOptions&,    \
-                                            SiameseStepWorkspace<S>&);                                           \
+                                            SiameseStepWorkspace<S>&, double, uint64_t);                         \
+  template void translate_pair<S>(const SiameseModel<S>&, SequenceBatch<S>&, int, double, double);             \
   template SiameseTrainingSummary train_siamese<S>(SiameseModel<S>&, const TrackSequences&, const TrackSequences&, \
                                                    const PairSet&, const PairSet&, const SiameseTrainingOptions&, \
                                                    const std::function<void(const SiameseEpochReport&)>&);

@@ -31,6 +31,10 @@ struct SiameseTrainingOptions {
   double min_improvement = 1e-3;    // relative improvement that counts
   double max_seconds = 0.0;         // wall-time budget; 0 = none
   uint64_t seed = 1;                // initialisation (if the model is empty) and shuffling
+  // Data augmentation against over-fitting: each training pair is translated as a whole (both
+  // tracks by the same vector, so its label is unchanged) by U(−a, a)² metres, drawn afresh every
+  // epoch from CounterRng(seed, epoch, chunk). 0 = off (the paper's fixed data set).
+  double augment_shift = 0.0;       // a [m]
   void validate() const;
 };
 
@@ -77,12 +81,18 @@ struct SiameseStepWorkspace {
 
 // One Adam step on the mini-batch of pairs (l[k], r[k]) with labels y[k]: chunks of `chunk_pairs`
 // pairs across TBB, gradients summed in chunk order, averaged, then adam_step. Returns the summed
-// BCE of the mini-batch (before the step).
+// BCE of the mini-batch (before the step). With augment_shift > 0, every pair of chunk c is translated
+// by a vector drawn from CounterRng(augment_key, c) (see SiameseTrainingOptions::augment_shift).
 template <class S>
 double siamese_minibatch_step(SiameseModel<S>& model, const TrackSequences& left, const TrackSequences& right,
                               std::span<const int32_t> l, std::span<const int32_t> r, std::span<const uint8_t> y,
                               int chunk_pairs, AdamState<S>& adam, const AdamOptions& adam_options,
-                              SiameseStepWorkspace<S>& workspace);
+                              SiameseStepWorkspace<S>& workspace, double augment_shift = 0.0,
+                              uint64_t augment_key = 0);
+
+// Adds the translation (dx, dy) [m] of pair b to the valid steps of its column(s) of a model pair batch.
+template <class S>
+void translate_pair(const SiameseModel<S>& model, SequenceBatch<S>& batch, int pair, double dx, double dy);
 
 // Probabilities (or nothing) and the confusion counts at `threshold` for a pair set.
 template <class S>

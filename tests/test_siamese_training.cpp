@@ -119,21 +119,43 @@ TEST(SiameseTraining, TinySeparableSetReachesHundredPercent) {
 
 TEST(SiameseTraining, BitIdenticalForOneAndTwoThreads) {
   const TinySet s = tiny_separable_set(12, 4);
-  auto run = [&](int threads) {
+  auto run = [&](int threads, double shift) {
     tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
     SiameseModel<float> model;
     model.shape.hidden = 6;
     model.shape.fc = 10;
     SiameseTrainingOptions o;
+    o.augment_shift = shift;
     o.epochs = 3;
     o.batch_size = 12;
     o.chunk_pairs = 3;
     train_siamese(model, s.left, s.right, s.pairs, s.pairs, o);
     return model.params;
   };
-  const auto one = run(1), two = run(2);
-  ASSERT_EQ(one.size(), two.size());
-  for (std::size_t k = 0; k < one.size(); ++k) ASSERT_EQ(one[k], two[k]) << k;
+  for (double shift : {0.0, 5000.0}) {
+    const auto one = run(1, shift), two = run(2, shift);
+    ASSERT_EQ(one.size(), two.size());
+    for (std::size_t k = 0; k < one.size(); ++k) ASSERT_EQ(one[k], two[k]) << k << " shift " << shift;
+  }
+  // Augmentation changes the training (the test above is not comparing two identical no-ops).
+  EXPECT_NE(run(1, 0.0), run(1, 5000.0));
+}
+
+TEST(SiameseTraining, TranslatePairMovesBothTracksOfAPairOnly) {
+  const TinySet s = tiny_separable_set(4, 6);
+  SiameseModel<float> model;
+  model.normalisation.position_scale = 1000.0;
+  const std::vector<int32_t> l{0, 1}, r{1, 2};
+  auto batch = make_model_pair_batch<float>(model, s.left, l, s.right, r);
+  const auto before = batch;
+  translate_pair(model, batch, 1, 2000.0, -500.0);  // pair 1: columns 1 (left) and 3 (right)
+  for (int t = 0; t < batch.length(); ++t)
+    for (int c = 0; c < 4; ++c) {
+      const bool moved = (c == 1 || c == 3) && before.mask(t, c) != 0.0f;
+      EXPECT_FLOAT_EQ(batch.steps[t](0, c), before.steps[t](0, c) + (moved ? 2.0f : 0.0f));
+      EXPECT_FLOAT_EQ(batch.steps[t](1, c), before.steps[t](1, c) + (moved ? -0.5f : 0.0f));
+      EXPECT_EQ(batch.steps[t](2, c), before.steps[t](2, c));
+    }
 }
 
 TEST(SiameseTraining, RejectsPairsOutOfRange) {

@@ -93,6 +93,9 @@ void register_train_siamese(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--patience", args->training.patience, "Epochs without validation improvement before stopping")
       ->capture_default_str();
+  cmd->add_option("--augment-shift", args->training.augment_shift,
+                  "Augmentation: translate each training pair by U(-a, a)^2 metres per epoch (0 = off)")
+      ->capture_default_str();
   cmd->add_option("--max-seconds", args->training.max_seconds, "Wall-time budget [s] (0 = none)")->capture_default_str();
   cmd->add_option("--validation-fraction", args->validation_fraction,
                   "Share of the training pairs held out for early stopping")
@@ -154,6 +157,7 @@ void register_train_siamese(CLI::App& app) {
                         {"position_scale", model.normalisation.position_scale},
                         {"epochs_limit", o.epochs},
                         {"batch", o.batch_size},
+                        {"augment_shift_m", o.augment_shift},
                         {"learning_rate", o.adam.learning_rate},
                         {"learning_rate_decay", o.learning_rate_decay},
                         {"seed", o.seed},
