@@ -12,7 +12,7 @@ namespace {
 constexpr const char* kFormat = "trackassoc-seed003-dataset";
 constexpr int64_t kSchemaVersion = 1;
 
-void write_tracks(h5::File& f, const std::string& g, const TrackSequences& tr, const std::vector<int32_t>& target) {
+void write_tracks(siamese_h5::File& f, const std::string& g, const TrackSequences& tr, const std::vector<int32_t>& target) {
   f.write(g + "/x", tr.x.data(), tr.x.size());
   f.write(g + "/y", tr.y.data(), tr.y.size());
   f.write(g + "/t", tr.t.data(), tr.t.size());
@@ -20,14 +20,14 @@ void write_tracks(h5::File& f, const std::string& g, const TrackSequences& tr, c
   f.write(g + "/target", target.data(), target.size());
 }
 
-void write_pairs(h5::File& f, const std::string& g, const PairSet& p, const std::vector<uint8_t>& kind) {
+void write_pairs(siamese_h5::File& f, const std::string& g, const PairSet& p, const std::vector<uint8_t>& kind) {
   f.write(g + "/left", p.left.data(), p.left.size());
   f.write(g + "/right", p.right.data(), p.right.size());
   f.write(g + "/label", p.label.data(), p.label.size());
   f.write(g + "/kind", kind.data(), kind.size());
 }
 
-void read_tracks(const h5::File& f, const std::string& g, TrackSequences& tr, std::vector<int32_t>& target) {
+void read_tracks(const siamese_h5::File& f, const std::string& g, TrackSequences& tr, std::vector<int32_t>& target) {
   tr.x = f.read_double(g + "/x");
   const std::vector<hsize_t> n{static_cast<hsize_t>(tr.x.size())};
   tr.y = f.read_double(g + "/y", n);
@@ -45,7 +45,7 @@ void read_tracks(const h5::File& f, const std::string& g, TrackSequences& tr, st
   }
 }
 
-void read_pairs(const h5::File& f, const std::string& g, PairSet& p, std::vector<uint8_t>& kind) {
+void read_pairs(const siamese_h5::File& f, const std::string& g, PairSet& p, std::vector<uint8_t>& kind) {
   p.left = f.read_int32(g + "/left");
   const std::vector<hsize_t> n{static_cast<hsize_t>(p.left.size())};
   p.right = f.read_int32(g + "/right", n);
@@ -57,7 +57,7 @@ void read_pairs(const h5::File& f, const std::string& g, PairSet& p, std::vector
 
 void write_seed003_dataset(const std::string& path, const Seed003Dataset& d) {
   write_atomically(path, [&](const std::string& tmp) {
-    h5::File f = h5::File::create(tmp);
+    siamese_h5::File f = siamese_h5::File::create(tmp);
     f.write_attribute("/", "format", std::string(kFormat));
     f.write_attribute("/", "schema_version", kSchemaVersion);
     f.write_attribute("/", "generator", d.generator_json);
@@ -70,7 +70,7 @@ void write_seed003_dataset(const std::string& path, const Seed003Dataset& d) {
 }
 
 Seed003Dataset read_seed003_dataset(const std::string& path) {
-  const h5::File f = h5::File::open_read(path);
+  const siamese_h5::File f = siamese_h5::File::open_read(path);
   const std::string format = f.read_string_attribute("/", "format");
   if (format != kFormat)
     throw InputError(path + ": attribute /@format is '" + format + "', expected '" + kFormat + "'");

@@ -5,7 +5,7 @@
 
 #include "kernels/error.hpp"
 
-namespace trackassoc::h5 {
+namespace trackassoc::siamese_h5 {
 namespace {
 
 void silence_hdf5() {
@@ -249,4 +249,4 @@ std::vector<uint8_t> File::read_uint8(const std::string& n, const std::vector<hs
   return read_vector<uint8_t>(n, H5T_NATIVE_UINT8, false, s);
 }
 
-}  // namespace trackassoc::h5
+}  // namespace trackassoc::siamese_h5

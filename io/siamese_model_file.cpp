@@ -45,7 +45,7 @@ void write_siamese_model(const std::string& path, const SiameseModel<float>& mod
   require(static_cast<int64_t>(model.params.size()) == model.shape.parameter_count(), "model",
           "parameter vector size does not match its shape");
   write_atomically(path, [&](const std::string& tmp) {
-    h5::File f = h5::File::create(tmp);
+    siamese_h5::File f = siamese_h5::File::create(tmp);
     f.write_attribute("/", "format", std::string(kFormat));
     f.write_attribute("/", "schema_version", kSchemaVersion);
     f.write_attribute("/", "input", int64_t{model.shape.input});
@@ -76,7 +76,7 @@ void write_siamese_model(const std::string& path, const SiameseModel<float>& mod
 }
 
 LoadedSiameseModel read_siamese_model(const std::string& path) {
-  h5::File f = h5::File::open_read(path);
+  siamese_h5::File f = siamese_h5::File::open_read(path);
   const std::string format = f.read_string_attribute("/", "format");
   if (format != kFormat)
     throw InputError(path + ": attribute /@format is '" + format + "', expected '" + kFormat + "'");

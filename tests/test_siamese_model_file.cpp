@@ -75,14 +75,14 @@ TEST(SiameseModelFile, ConcatenatedLstmBaselineRoundTrips) {
   EXPECT_EQ(back.model.shape.architecture, PairArchitecture::kConcatLstm);
   ASSERT_EQ(back.model.params.size(), m.params.size());
   for (std::size_t k = 0; k < m.params.size(); ++k) ASSERT_EQ(back.model.params[k], m.params[k]);
-  EXPECT_FALSE(h5::File::open_read(path).exists("/branch/backward/Wx"));
+  EXPECT_FALSE(siamese_h5::File::open_read(path).exists("/branch/backward/Wx"));
 }
 
 TEST(SiameseModelFile, WeightsAreStoredRowMajorInPyTorchOrientation) {
   // Element (r, c) of Wx is params[c·4H + r] in memory; the file holds it at [r][c].
   const SiameseModel<float> m = model_for_test();
   const std::string path = write_valid("layout.h5");
-  const h5::File f = h5::File::open_read(path);
+  const siamese_h5::File f = siamese_h5::File::open_read(path);
   const auto wx = f.read_float("/branch/forward/Wx", {20, 3});
   EXPECT_EQ(wx[2 * 3 + 1], m.params[1 * 20 + 2]);
   const auto b2 = f.read_float("/head/b2", {1});
@@ -117,7 +117,7 @@ TEST(SiameseModelFile, MissingDatasetWrongShapeNaNAndWrongFormat) {
   const SiameseModel<float> m = model_for_test();
   auto make = [&](const std::string& name, auto&& tweak) {
     const std::string path = (temp_dir() / name).string();
-    h5::File f = h5::File::create(path);
+    siamese_h5::File f = siamese_h5::File::create(path);
     f.write_attribute("/", "format", std::string("trackassoc-siamese-model"));
     f.write_attribute("/", "schema_version", int64_t{1});
     f.write_attribute("/", "input", int64_t{3});
@@ -140,22 +140,22 @@ TEST(SiameseModelFile, MissingDatasetWrongShapeNaNAndWrongFormat) {
     return path;
   };
   // Valid as built plus b2: loads.
-  EXPECT_EQ(error_of(make("ok.h5", [](h5::File& f, std::vector<float>& z) { f.write("/head/b2", z.data(), 1); })), "");
+  EXPECT_EQ(error_of(make("ok.h5", [](siamese_h5::File& f, std::vector<float>& z) { f.write("/head/b2", z.data(), 1); })), "");
   // Missing /head/b2.
-  const std::string e1 = error_of(make("missing.h5", [](h5::File&, std::vector<float>&) {}));
+  const std::string e1 = error_of(make("missing.h5", [](siamese_h5::File&, std::vector<float>&) {}));
   EXPECT_NE(e1.find("/head/b2"), std::string::npos) << e1;
   EXPECT_NE(e1.find("missing"), std::string::npos) << e1;
   // Wrong shape.
-  const std::string e2 = error_of(make("shape.h5", [](h5::File& f, std::vector<float>& z) { f.write("/head/b2", z.data(), 2); }));
+  const std::string e2 = error_of(make("shape.h5", [](siamese_h5::File& f, std::vector<float>& z) { f.write("/head/b2", z.data(), 2); }));
   EXPECT_NE(e2.find("/head/b2 has shape (2), expected (1)"), std::string::npos) << e2;
   // NaN.
-  const std::string e3 = error_of(make("nan.h5", [](h5::File& f, std::vector<float>& z) {
+  const std::string e3 = error_of(make("nan.h5", [](siamese_h5::File& f, std::vector<float>& z) {
     z[0] = std::numeric_limits<float>::quiet_NaN();
     f.write("/head/b2", z.data(), 1);
   }));
   EXPECT_NE(e3.find("/head/b2 has a non-finite value"), std::string::npos) << e3;
   // Wrong dtype (integers where floats belong).
-  const std::string e4 = error_of(make("dtype.h5", [](h5::File& f, std::vector<float>&) {
+  const std::string e4 = error_of(make("dtype.h5", [](siamese_h5::File& f, std::vector<float>&) {
     const int32_t one = 1;
     f.write("/head/b2", &one, 1);
   }));
@@ -163,7 +163,7 @@ TEST(SiameseModelFile, MissingDatasetWrongShapeNaNAndWrongFormat) {
   // A different kind of HDF5 file.
   const std::string path = (temp_dir() / "other.h5").string();
   {
-    h5::File f = h5::File::create(path);
+    siamese_h5::File f = siamese_h5::File::create(path);
     f.write_attribute("/", "format", std::string("trackassoc"));
     f.close();
   }

@@ -130,7 +130,7 @@ void register_siamese_experiment(CLI::App& app) {
                  "low density and falling; NN close to TTCSN at low density, falling fast; LSTM/BiLSTM\n"
                  "robust to density, their time approaching TTCSN's at n = 80.\n";
     write_atomically(args->output, [&](const std::string& tmp) {
-      h5::File f = h5::File::create(tmp);
+      siamese_h5::File f = siamese_h5::File::create(tmp);
       f.write_attribute("/", "format", std::string("trackassoc"));
       f.write_attribute("/", "schema_version", int64_t{1});
       f.create_group("/experiment/seed003");
