@@ -40,7 +40,8 @@ Trajectory fly(const Seed003Options& o, uint64_t run, int target) {
   for (int n = 0; n <= seconds; ++n) {
     if (n > 0) {  // the random manoeuvre at every whole second
       heading += rng.uniform(-o.max_heading_change, o.max_heading_change);
-      speed = std::clamp(speed + rng.uniform(-o.max_speed_change, o.max_speed_change), o.speed_min, o.speed_max);
+      speed =
+          std::clamp(speed + rng.uniform(-o.max_speed_change, o.max_speed_change), o.speed_min, o.speed_max);
     }
     tr.x.push_back(x);
     tr.y.push_back(y);
@@ -113,23 +114,27 @@ SceneWithTruth simulate(const Seed003Options& o, int count, uint64_t run) {
 }  // namespace
 
 void Seed003Options::validate() const {
-  require(targets >= 2 && targets <= 10000000, "Seed003Options.targets", "must be in [2, 1e7], got " + std::to_string(targets));
+  require(targets >= 2 && targets <= 10000000, "Seed003Options.targets",
+          "must be in [2, 1e7], got " + std::to_string(targets));
   require(area > 0 && std::isfinite(area), "Seed003Options.area", "must be finite and > 0");
-  require(speed_min > 0 && speed_max >= speed_min && std::isfinite(speed_max), "Seed003Options.speed_min/speed_max",
-          "need 0 < speed_min <= speed_max");
+  require(speed_min > 0 && speed_max >= speed_min && std::isfinite(speed_max),
+          "Seed003Options.speed_min/speed_max", "need 0 < speed_min <= speed_max");
   require(duration >= 1 && duration <= 3600, "Seed003Options.duration", "must be in [1, 3600] s");
-  require(max_heading_change >= 0 && max_heading_change <= std::numbers::pi, "Seed003Options.max_heading_change",
-          "must be in [0, π]");
-  require(max_speed_change >= 0 && std::isfinite(max_speed_change), "Seed003Options.max_speed_change", "must be >= 0");
+  require(max_heading_change >= 0 && max_heading_change <= std::numbers::pi,
+          "Seed003Options.max_heading_change", "must be in [0, π]");
+  require(max_speed_change >= 0 && std::isfinite(max_speed_change), "Seed003Options.max_speed_change",
+          "must be >= 0");
   require(sigma_range >= 0 && std::isfinite(sigma_range), "Seed003Options.sigma_range", "must be >= 0");
-  require(sigma_bearing_deg >= 0 && sigma_bearing_deg < 90, "Seed003Options.sigma_bearing_deg", "must be in [0, 90)");
+  require(sigma_bearing_deg >= 0 && sigma_bearing_deg < 90, "Seed003Options.sigma_bearing_deg",
+          "must be in [0, 90)");
   require(period1 > 0 && period1 <= duration, "Seed003Options.period1", "must be in (0, duration]");
   require(period2 > 0 && period2 <= duration, "Seed003Options.period2", "must be in (0, duration]");
   require(positives >= 0 && positives <= targets, "Seed003Options.positives", "must be in [0, targets]");
   require(random_negatives >= 0, "Seed003Options.random_negatives", "must be >= 0");
   require(close_negatives >= 0 && close_negatives <= targets, "Seed003Options.close_negatives",
           "must be in [0, targets]");
-  require(close_distance > 0 && std::isfinite(close_distance), "Seed003Options.close_distance", "must be > 0");
+  require(close_distance > 0 && std::isfinite(close_distance), "Seed003Options.close_distance",
+          "must be > 0");
   require(train_fraction > 0 && train_fraction < 1, "Seed003Options.train_fraction", "must be in (0, 1)");
 }
 
@@ -235,7 +240,9 @@ Seed003Dataset generate_seed003_dataset(const Seed003Options& o) {
   nlohmann::json j = nlohmann::json::parse(o.to_json());
   j["close_negatives_found"] = found;
   j["pairs_total"] = pairs.size();
-  j["note"] = "tracks are sequences of converted plots (x, y, t) per radar per target; see engine/dataset_seed003.hpp";
+  j["note"] =
+      "tracks are sequences of converted plots (x, y, t) per radar per target; see "
+      "engine/dataset_seed003.hpp";
   d.generator_json = j.dump();
   return d;
 }

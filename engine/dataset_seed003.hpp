@@ -36,19 +36,19 @@ namespace trackassoc {
 
 struct Seed003Options {
   int targets = 10000;
-  double area = 100000.0;                  // side of the square area [m]
-  double speed_min = 300.0, speed_max = 600.0;  // [m/s]
-  double duration = 50.0;                  // [s]
-  double max_heading_change = 0.1;         // Δψ per second [rad]
-  double max_speed_change = 20.0;          // Δv per second [m/s]
+  double area = 100000.0;                                                      // side of the square area [m]
+  double speed_min = 300.0, speed_max = 600.0;                                 // [m/s]
+  double duration = 50.0;                                                      // [s]
+  double max_heading_change = 0.1;                                             // Δψ per second [rad]
+  double max_speed_change = 20.0;                                              // Δv per second [m/s]
   double radar1_x = 0.0, radar1_y = 0.0, radar2_x = 100000.0, radar2_y = 0.0;  // [m]
-  double sigma_range = 100.0;              // [m]
-  double sigma_bearing_deg = 1.0;          // [deg]
-  double period1 = 4.0, period2 = 6.0;     // scan periods [s]
-  int positives = 10000;                   // ≤ targets
+  double sigma_range = 100.0;                                                  // [m]
+  double sigma_bearing_deg = 1.0;                                              // [deg]
+  double period1 = 4.0, period2 = 6.0;                                         // scan periods [s]
+  int positives = 10000;                                                       // ≤ targets
   int random_negatives = 10000;
   int close_negatives = 6695;
-  double close_distance = 3000.0;          // [m], mean true distance of a close negative
+  double close_distance = 3000.0;  // [m], mean true distance of a close negative
   double train_fraction = 0.7;
   uint64_t seed = 3;
   void validate() const;  // throws InputError naming the field

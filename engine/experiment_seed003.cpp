@@ -12,10 +12,11 @@ namespace trackassoc {
 
 void Seed003ExperimentOptions::validate() const {
   require(!densities.empty(), "Seed003ExperimentOptions.densities", "must not be empty");
-  for (int d : densities) require(d >= 1 && d <= 100000, "Seed003ExperimentOptions.densities", "each must be in [1, 1e5]");
+  for (int d : densities)
+    require(d >= 1 && d <= 100000, "Seed003ExperimentOptions.densities", "each must be in [1, 1e5]");
   require(runs >= 1, "Seed003ExperimentOptions.runs", "must be >= 1");
-  require(probability_threshold > 0 && probability_threshold < 1, "Seed003ExperimentOptions.probability_threshold",
-          "must be in (0, 1)");
+  require(probability_threshold > 0 && probability_threshold < 1,
+          "Seed003ExperimentOptions.probability_threshold", "must be in (0, 1)");
   scenario.validate();
 }
 
@@ -29,7 +30,8 @@ ClassicalBaselineOptions baseline_options_for(const Seed003Options& s) {
 
 namespace {
 
-void score(const std::vector<int32_t>& l2r, const Seed003Scene& sc, double& acc, double& recall, double& precision) {
+void score(const std::vector<int32_t>& l2r, const Seed003Scene& sc, double& acc, double& recall,
+           double& precision) {
   acc = correct_association_rate(l2r, sc.target1, sc.target2);
   int64_t tp = 0, fp = 0;
   for (std::size_t i = 0; i < l2r.size(); ++i)
@@ -41,7 +43,8 @@ void score(const std::vector<int32_t>& l2r, const Seed003Scene& sc, double& acc,
 
 }  // namespace
 
-Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model, const Seed003ExperimentOptions& o,
+Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
+                                               const Seed003ExperimentOptions& o,
                                                const std::vector<NamedPairModel>& extra) {
   using clock = std::chrono::steady_clock;
   o.validate();
@@ -66,14 +69,19 @@ Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
   for (std::size_t d = 0; d < o.densities.size(); ++d)
     for (int run = 0; run < o.runs; ++run) {
       // Scene streams: a distinct run number per (density, run).
-      const Seed003Scene sc = simulate_seed003_scene(scenario, o.densities[d], static_cast<uint64_t>(d) * 100000 + run);
+      const Seed003Scene sc =
+          simulate_seed003_scene(scenario, o.densities[d], static_cast<uint64_t>(d) * 100000 + run);
       for (int m = 0; m < static_cast<int>(names.size()); ++m) {
         const auto t0 = clock::now();
         std::vector<int32_t> l2r;
-        if (m == 0) l2r = associate_siamese(model, sc.radar1, sc.radar2, so).left_to_right;
-        else if (m == 1) l2r = associate_weighted_test(sc.radar1, sc.radar2, base);
-        else if (m == 2) l2r = associate_nearest_neighbour(sc.radar1, sc.radar2, base);
-        else l2r = associate_siamese(*extra[m - 3].model, sc.radar1, sc.radar2, so).left_to_right;
+        if (m == 0)
+          l2r = associate_siamese(model, sc.radar1, sc.radar2, so).left_to_right;
+        else if (m == 1)
+          l2r = associate_weighted_test(sc.radar1, sc.radar2, base);
+        else if (m == 2)
+          l2r = associate_nearest_neighbour(sc.radar1, sc.radar2, base);
+        else
+          l2r = associate_siamese(*extra[m - 3].model, sc.radar1, sc.radar2, so).left_to_right;
         Seed003MethodCurve& c = r.methods[m];
         c.seconds[d][run] = std::chrono::duration<double>(clock::now() - t0).count();
         score(l2r, sc, c.accuracy[d][run], c.recall[d][run], c.precision[d][run]);

@@ -48,7 +48,8 @@ struct NamedPairModel {
   const SiameseModel<float>* model;
 };
 
-Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model, const Seed003ExperimentOptions& options,
+Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
+                                               const Seed003ExperimentOptions& options,
                                                const std::vector<NamedPairModel>& extra_models = {});
 
 }  // namespace trackassoc

@@ -20,7 +20,8 @@ Plot plot(const TrackSequences& tr, int64_t i, const RadarErrorModel& radar) {
   const double dx = tr.x[i] - radar.x, dy = tr.y[i] - radar.y;
   const double r = std::hypot(dx, dy), th = std::atan2(dy, dx);
   const double c = std::cos(th), s = std::sin(th);
-  const double vr = radar.sigma_range * radar.sigma_range, vt = radar.sigma_bearing * radar.sigma_bearing * r * r;
+  const double vr = radar.sigma_range * radar.sigma_range,
+               vt = radar.sigma_bearing * radar.sigma_bearing * r * r;
   // J·diag(σr², σθ²)·Jᵀ with J = [[c, −r s], [s, r c]].
   return {tr.x[i], tr.y[i], c * c * vr + s * s * vt, c * s * (vr - vt), s * s * vr + c * c * vt};
 }
@@ -30,7 +31,7 @@ Plot align(const TrackSequences& tr, int32_t k, double t, const RadarErrorModel&
   const int64_t a = tr.offset[k], b = tr.offset[k + 1];
   if (b - a == 1) return plot(tr, a, radar);
   int64_t i = a;
-  while (i + 2 < b && tr.t[i + 1] < t) ++i;  // bracketing (or last two) plots i, i+1
+  while (i + 2 < b && tr.t[i + 1] < t) ++i;                      // bracketing (or last two) plots i, i+1
   const double w = (tr.t[i + 1] - t) / (tr.t[i + 1] - tr.t[i]);  // weight of plot i
   const Plot p = plot(tr, i, radar), q = plot(tr, i + 1, radar);
   return {w * p.x + (1 - w) * q.x, w * p.y + (1 - w) * q.y, w * w * p.pxx + (1 - w) * (1 - w) * q.pxx,
@@ -58,10 +59,12 @@ double distance(const TrackSequences& r1, int32_t i, const TrackSequences& r2, i
 }  // namespace
 
 void ClassicalBaselineOptions::validate() const {
-  require(gate_probability > 0 && gate_probability < 1, "ClassicalBaselineOptions.gate_probability", "must be in (0, 1)");
+  require(gate_probability > 0 && gate_probability < 1, "ClassicalBaselineOptions.gate_probability",
+          "must be in (0, 1)");
   require(nn_gate > 0, "ClassicalBaselineOptions.nn_gate", "must be > 0");
   for (const RadarErrorModel* r : {&radar1, &radar2})
-    require(r->sigma_range > 0 && r->sigma_bearing > 0, "ClassicalBaselineOptions.radar", "sigmas must be > 0");
+    require(r->sigma_range > 0 && r->sigma_bearing > 0, "ClassicalBaselineOptions.radar",
+            "sigmas must be > 0");
 }
 
 std::vector<double> weighted_statistic_matrix(const TrackSequences& r1, const TrackSequences& r2,
@@ -76,8 +79,8 @@ std::vector<double> weighted_statistic_matrix(const TrackSequences& r1, const Tr
   return out;
 }
 
-std::vector<double> weighted_statistic_pairs(const TrackSequences& r1, const TrackSequences& r2, const PairSet& pairs,
-                                             const ClassicalBaselineOptions& o) {
+std::vector<double> weighted_statistic_pairs(const TrackSequences& r1, const TrackSequences& r2,
+                                             const PairSet& pairs, const ClassicalBaselineOptions& o) {
   o.validate();
   std::vector<double> out(pairs.size());
   for (std::size_t k = 0; k < pairs.size(); ++k) out[k] = lambda(r1, pairs.left[k], r2, pairs.right[k], o);

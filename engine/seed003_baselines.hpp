@@ -23,8 +23,8 @@
 namespace trackassoc {
 
 struct RadarErrorModel {
-  double x = 0.0, y = 0.0;          // radar position [m]
-  double sigma_range = 100.0;       // [m]
+  double x = 0.0, y = 0.0;            // radar position [m]
+  double sigma_range = 100.0;         // [m]
   double sigma_bearing = 0.01745329;  // [rad]
 };
 

@@ -14,14 +14,17 @@
 namespace trackassoc {
 
 void SiameseAssociationOptions::validate() const {
-  require(probability_threshold > 0 && probability_threshold < 1, "SiameseAssociationOptions.probability_threshold",
+  require(probability_threshold > 0 && probability_threshold < 1,
+          "SiameseAssociationOptions.probability_threshold",
           "must be in (0, 1), got " + std::to_string(probability_threshold));
   require(batch_tracks >= 1, "SiameseAssociationOptions.batch_tracks", "must be >= 1");
 }
 
-MatrixX<float> embed_tracks(const SiameseModel<float>& model, const TrackSequences& tracks, int batch_tracks) {
+MatrixX<float> embed_tracks(const SiameseModel<float>& model, const TrackSequences& tracks,
+                            int batch_tracks) {
   require(model.shape.architecture == PairArchitecture::kSiamese, "model",
-          "only a Siamese model embeds single tracks; this one is " + std::string(to_string(model.shape.architecture)));
+          "only a Siamese model embeds single tracks; this one is " +
+              std::string(to_string(model.shape.architecture)));
   const std::size_t n = static_cast<std::size_t>(tracks.size());
   MatrixX<float> e(model.shape.embedding(), static_cast<Eigen::Index>(n));
   const std::size_t b = static_cast<std::size_t>(std::max(1, batch_tracks));
@@ -41,7 +44,8 @@ MatrixX<float> embed_tracks(const SiameseModel<float>& model, const TrackSequenc
 
 std::vector<int32_t> assign_by_probability(std::span<const float> probability, int32_t n1, int32_t n2,
                                            double probability_threshold) {
-  require(probability_threshold > 0 && probability_threshold < 1, "probability_threshold", "must be in (0, 1)");
+  require(probability_threshold > 0 && probability_threshold < 1, "probability_threshold",
+          "must be in (0, 1)");
   require(probability.size() == static_cast<std::size_t>(n1) * static_cast<std::size_t>(n2), "probability",
           "size must be n1·n2");
   std::vector<int32_t> left_to_right(static_cast<std::size_t>(n1), -1);
@@ -69,7 +73,8 @@ std::vector<int32_t> assign_by_probability(std::span<const float> probability, i
 }
 
 SiameseAssociationResult associate_siamese(const SiameseModel<float>& model, const TrackSequences& radar1,
-                                           const TrackSequences& radar2, const SiameseAssociationOptions& options) {
+                                           const TrackSequences& radar2,
+                                           const SiameseAssociationOptions& options) {
   using clock = std::chrono::steady_clock;
   options.validate();
   radar1.validate("radar 1 tracks");

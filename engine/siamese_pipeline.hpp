@@ -37,10 +37,12 @@ std::vector<int32_t> assign_by_probability(std::span<const float> probability, i
                                            double probability_threshold);
 
 // Embeddings (2H×N) of all tracks, in batches across TBB; deterministic.
-MatrixX<float> embed_tracks(const SiameseModel<float>& model, const TrackSequences& tracks, int batch_tracks = 64);
+MatrixX<float> embed_tracks(const SiameseModel<float>& model, const TrackSequences& tracks,
+                            int batch_tracks = 64);
 
 SiameseAssociationResult associate_siamese(const SiameseModel<float>& model, const TrackSequences& radar1,
-                                           const TrackSequences& radar2, const SiameseAssociationOptions& options);
+                                           const TrackSequences& radar2,
+                                           const SiameseAssociationOptions& options);
 
 // A model of a concatenated-pair architecture (the LSTM / BiLSTM baselines) is scored this way
 // in associate_siamese, since it has no per-track embedding.

@@ -12,7 +12,8 @@ namespace {
 constexpr const char* kFormat = "trackassoc-seed003-dataset";
 constexpr int64_t kSchemaVersion = 1;
 
-void write_tracks(siamese_h5::File& f, const std::string& g, const TrackSequences& tr, const std::vector<int32_t>& target) {
+void write_tracks(siamese_h5::File& f, const std::string& g, const TrackSequences& tr,
+                  const std::vector<int32_t>& target) {
   f.write(g + "/x", tr.x.data(), tr.x.size());
   f.write(g + "/y", tr.y.data(), tr.y.size());
   f.write(g + "/t", tr.t.data(), tr.t.size());
@@ -20,14 +21,16 @@ void write_tracks(siamese_h5::File& f, const std::string& g, const TrackSequence
   f.write(g + "/target", target.data(), target.size());
 }
 
-void write_pairs(siamese_h5::File& f, const std::string& g, const PairSet& p, const std::vector<uint8_t>& kind) {
+void write_pairs(siamese_h5::File& f, const std::string& g, const PairSet& p,
+                 const std::vector<uint8_t>& kind) {
   f.write(g + "/left", p.left.data(), p.left.size());
   f.write(g + "/right", p.right.data(), p.right.size());
   f.write(g + "/label", p.label.data(), p.label.size());
   f.write(g + "/kind", kind.data(), kind.size());
 }
 
-void read_tracks(const siamese_h5::File& f, const std::string& g, TrackSequences& tr, std::vector<int32_t>& target) {
+void read_tracks(const siamese_h5::File& f, const std::string& g, TrackSequences& tr,
+                 std::vector<int32_t>& target) {
   tr.x = f.read_double(g + "/x");
   const std::vector<hsize_t> n{static_cast<hsize_t>(tr.x.size())};
   tr.y = f.read_double(g + "/y", n);

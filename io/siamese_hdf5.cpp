@@ -65,7 +65,8 @@ bool File::exists(const std::string& name) const {
   while (pos != std::string::npos) {
     const std::size_t next = name.find('/', pos + 1);
     partial = name.substr(0, next);
-    if (!partial.empty() && partial != "/" && H5Lexists(file_.get(), partial.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (!partial.empty() && partial != "/" && H5Lexists(file_.get(), partial.c_str(), H5P_DEFAULT) <= 0)
+      return false;
     pos = next;
   }
   return true;
@@ -88,7 +89,8 @@ static void write_attr(const File& f, const std::string& object, const std::stri
 
 void File::write_attribute(const std::string& object, const std::string& name, const std::string& value) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  if (type.get() < 0 || H5Tset_size(type.get(), value.size() + 1) < 0 || H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0)
+  if (type.get() < 0 || H5Tset_size(type.get(), value.size() + 1) < 0 ||
+      H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0)
     throw InputError(path_ + ": cannot make string type for " + object + "@" + name);
   write_attr(*this, object, name, type.get(), value.c_str());
 }
@@ -130,12 +132,14 @@ std::string File::read_string_attribute(const std::string& object, const std::st
     return out;
   }
   const std::size_t size = H5Tget_size(type.get());
-  if (size == 0 || size > (std::size_t{1} << 26)) throw InputError(path_ + ": bad string size for " + object + "@" + name);
+  if (size == 0 || size > (std::size_t{1} << 26))
+    throw InputError(path_ + ": bad string size for " + object + "@" + name);
   std::string buf(size, '\0');
   Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(mem.get(), size);
   H5Tset_cset(mem.get(), H5Tget_cset(type.get()));  // HDF5 will not convert between ASCII and UTF-8
-  if (H5Aread(a.get(), mem.get(), buf.data()) < 0) throw InputError(path_ + ": cannot read " + object + "@" + name);
+  if (H5Aread(a.get(), mem.get(), buf.data()) < 0)
+    throw InputError(path_ + ": cannot read " + object + "@" + name);
   buf.resize(buf.find('\0') == std::string::npos ? size : buf.find('\0'));
   return buf;
 }
@@ -143,14 +147,16 @@ std::string File::read_string_attribute(const std::string& object, const std::st
 int64_t File::read_int_attribute(const std::string& object, const std::string& name) const {
   Handle a = open_attr(*this, object, name, H5T_INTEGER);
   int64_t v = 0;
-  if (H5Aread(a.get(), H5T_NATIVE_INT64, &v) < 0) throw InputError(path_ + ": cannot read " + object + "@" + name);
+  if (H5Aread(a.get(), H5T_NATIVE_INT64, &v) < 0)
+    throw InputError(path_ + ": cannot read " + object + "@" + name);
   return v;
 }
 
 double File::read_double_attribute(const std::string& object, const std::string& name) const {
   Handle a = open_attr(*this, object, name, H5T_FLOAT);
   double v = 0;
-  if (H5Aread(a.get(), H5T_NATIVE_DOUBLE, &v) < 0) throw InputError(path_ + ": cannot read " + object + "@" + name);
+  if (H5Aread(a.get(), H5T_NATIVE_DOUBLE, &v) < 0)
+    throw InputError(path_ + ": cannot read " + object + "@" + name);
   return v;
 }
 
@@ -161,16 +167,19 @@ void File::write_any(const std::string& name, hid_t mem_type, hid_t file_type, c
   Handle space(H5Screate_simple(rank, dims, nullptr), H5Sclose);
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-  if (space.get() < 0 || dcpl.get() < 0 || lcpl.get() < 0 || H5Pset_create_intermediate_group(lcpl.get(), 1) < 0)
+  if (space.get() < 0 || dcpl.get() < 0 || lcpl.get() < 0 ||
+      H5Pset_create_intermediate_group(lcpl.get(), 1) < 0)
     throw InputError(path_ + ": cannot set up dataset " + name);
   const hsize_t total = rank == 1 ? rows : rows * cols;
   if (total >= 4096) {  // chunk + deflate large datasets (h5py reads them transparently)
-    hsize_t chunk[2] = {std::min<hsize_t>(rows, rank == 1 ? 65536 : std::max<hsize_t>(1, 65536 / cols)), cols};
+    hsize_t chunk[2] = {std::min<hsize_t>(rows, rank == 1 ? 65536 : std::max<hsize_t>(1, 65536 / cols)),
+                        cols};
     if (H5Pset_chunk(dcpl.get(), rank, chunk) < 0 || H5Pset_deflate(dcpl.get(), 4) < 0)
       throw InputError(path_ + ": cannot set compression for " + name);
   }
-  Handle ds(H5Dcreate2(file_.get(), name.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
-            H5Dclose);
+  Handle ds(
+      H5Dcreate2(file_.get(), name.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
+      H5Dclose);
   if (ds.get() < 0) throw InputError(path_ + ": cannot create dataset " + name);
   if (total > 0 && H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
     throw InputError(path_ + ": cannot write dataset " + name);
@@ -198,7 +207,8 @@ std::vector<hsize_t> File::shape(const std::string& name) const {
   if (ds.get() < 0) throw InputError(path_ + ": " + name + " is not a readable dataset");
   Handle space(H5Dget_space(ds.get()), H5Sclose);
   const int rank = space.get() < 0 ? -1 : H5Sget_simple_extent_ndims(space.get());
-  if (rank < 1 || rank > 2) throw InputError(path_ + ": dataset " + name + " has rank " + std::to_string(rank) + ", expected 1 or 2");
+  if (rank < 1 || rank > 2)
+    throw InputError(path_ + ": dataset " + name + " has rank " + std::to_string(rank) + ", expected 1 or 2");
   std::vector<hsize_t> dims(rank);
   H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
   return dims;

@@ -79,11 +79,16 @@ class File {
   // Shape of a dataset (rank 1: {n}; rank 2: {rows, cols}); error when missing.
   std::vector<hsize_t> shape(const std::string& name) const;
   // Reads a whole dataset, checking its type class (float / integer) and, when given, its shape.
-  std::vector<float> read_float(const std::string& name, const std::vector<hsize_t>& expected_shape = {}) const;
-  std::vector<double> read_double(const std::string& name, const std::vector<hsize_t>& expected_shape = {}) const;
-  std::vector<int32_t> read_int32(const std::string& name, const std::vector<hsize_t>& expected_shape = {}) const;
-  std::vector<int64_t> read_int64(const std::string& name, const std::vector<hsize_t>& expected_shape = {}) const;
-  std::vector<uint8_t> read_uint8(const std::string& name, const std::vector<hsize_t>& expected_shape = {}) const;
+  std::vector<float> read_float(const std::string& name,
+                                const std::vector<hsize_t>& expected_shape = {}) const;
+  std::vector<double> read_double(const std::string& name,
+                                  const std::vector<hsize_t>& expected_shape = {}) const;
+  std::vector<int32_t> read_int32(const std::string& name,
+                                  const std::vector<hsize_t>& expected_shape = {}) const;
+  std::vector<int64_t> read_int64(const std::string& name,
+                                  const std::vector<hsize_t>& expected_shape = {}) const;
+  std::vector<uint8_t> read_uint8(const std::string& name,
+                                  const std::vector<hsize_t>& expected_shape = {}) const;
 
  private:
   std::string path_;

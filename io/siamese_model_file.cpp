@@ -39,7 +39,8 @@ std::vector<Block> blocks(const SiameseShape& s) {
 
 }  // namespace
 
-void write_siamese_model(const std::string& path, const SiameseModel<float>& model, const std::string& training_json) {
+void write_siamese_model(const std::string& path, const SiameseModel<float>& model,
+                         const std::string& training_json) {
   model.shape.validate();
   model.normalisation.validate();
   require(static_cast<int64_t>(model.params.size()) == model.shape.parameter_count(), "model",
@@ -88,7 +89,9 @@ LoadedSiameseModel read_siamese_model(const std::string& path) {
   SiameseModel<float>& m = out.model;
   auto dim = [&](const char* name) {
     const int64_t v = f.read_int_attribute("/", name);
-    if (v < 1 || v > 65536) throw InputError(path + ": attribute /@" + std::string(name) + " = " + std::to_string(v) + " is out of range");
+    if (v < 1 || v > 65536)
+      throw InputError(path + ": attribute /@" + std::string(name) + " = " + std::to_string(v) +
+                       " is out of range");
     return static_cast<int>(v);
   };
   m.shape.input = dim("input");
@@ -122,7 +125,8 @@ LoadedSiameseModel read_siamese_model(const std::string& path) {
     const std::vector<float> v = f.read_float(b.name, want);
     for (std::size_t k = 0; k < v.size(); ++k)
       if (!std::isfinite(v[k]))
-        throw InputError(path + ": dataset " + b.name + " has a non-finite value at element " + std::to_string(k));
+        throw InputError(path + ": dataset " + b.name + " has a non-finite value at element " +
+                         std::to_string(k));
     float* p = m.params.data() + b.offset;
     if (b.cols == 0) {
       std::copy(v.begin(), v.end(), p);

@@ -46,7 +46,9 @@ double adam_step(std::span<S> params, std::span<const S> grad, AdamState<S>& sta
   return norm;
 }
 
-template double adam_step<float>(std::span<float>, std::span<const float>, AdamState<float>&, const AdamOptions&);
-template double adam_step<double>(std::span<double>, std::span<const double>, AdamState<double>&, const AdamOptions&);
+template double adam_step<float>(std::span<float>, std::span<const float>, AdamState<float>&,
+                                 const AdamOptions&);
+template double adam_step<double>(std::span<double>, std::span<const double>, AdamState<double>&,
+                                  const AdamOptions&);
 
 }  // namespace trackassoc

@@ -31,6 +31,7 @@ struct AdamState {
 // One Adam step on `params` with gradient `grad` (same size). Returns the gradient norm before
 // clipping. The state is sized on first use.
 template <class S>
-double adam_step(std::span<S> params, std::span<const S> grad, AdamState<S>& state, const AdamOptions& options);
+double adam_step(std::span<S> params, std::span<const S> grad, AdamState<S>& state,
+                 const AdamOptions& options);
 
 }  // namespace trackassoc

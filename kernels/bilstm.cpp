@@ -134,15 +134,15 @@ void bilstm_backward(const S* params, const LstmShape& shape, const SequenceBatc
                 grad + shape.parameter_count());
 }
 
-#define TRACKASSOC_INSTANTIATE_BILSTM(S)                                                                     \
-  template void lstm_forward<S>(const S*, const LstmShape&, const SequenceBatch<S>&, bool, MatrixX<S>&,      \
-                                LstmCache<S>*);                                                              \
-  template void lstm_backward<S>(const S*, const LstmShape&, const SequenceBatch<S>&, bool,                  \
-                                 const LstmCache<S>&, const MatrixX<S>&, S*);                                \
-  template void bilstm_forward<S>(const S*, const LstmShape&, const SequenceBatch<S>&, MatrixX<S>&,          \
-                                  BiLstmCache<S>*);                                                          \
-  template void bilstm_backward<S>(const S*, const LstmShape&, const SequenceBatch<S>&, const BiLstmCache<S>&, \
-                                   const MatrixX<S>&, S*);
+#define TRACKASSOC_INSTANTIATE_BILSTM(S)                                                                \
+  template void lstm_forward<S>(const S*, const LstmShape&, const SequenceBatch<S>&, bool, MatrixX<S>&, \
+                                LstmCache<S>*);                                                         \
+  template void lstm_backward<S>(const S*, const LstmShape&, const SequenceBatch<S>&, bool,             \
+                                 const LstmCache<S>&, const MatrixX<S>&, S*);                           \
+  template void bilstm_forward<S>(const S*, const LstmShape&, const SequenceBatch<S>&, MatrixX<S>&,     \
+                                  BiLstmCache<S>*);                                                     \
+  template void bilstm_backward<S>(const S*, const LstmShape&, const SequenceBatch<S>&,                 \
+                                   const BiLstmCache<S>&, const MatrixX<S>&, S*);
 
 TRACKASSOC_INSTANTIATE_BILSTM(float)
 TRACKASSOC_INSTANTIATE_BILSTM(double)

@@ -56,9 +56,7 @@ struct SequenceBatch {
 struct LstmShape {
   int input = 3;    // F
   int hidden = 64;  // H
-  int64_t parameter_count() const {
-    return 4LL * hidden * input + 4LL * hidden * hidden + 4LL * hidden;
-  }
+  int64_t parameter_count() const { return 4LL * hidden * input + 4LL * hidden * hidden + 4LL * hidden; }
 };
 
 // What the forward pass keeps for BPTT, for one direction, in processing order (step index s is

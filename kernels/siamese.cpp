@@ -13,9 +13,12 @@ namespace trackassoc {
 
 const char* to_string(PairArchitecture a) {
   switch (a) {
-    case PairArchitecture::kSiamese: return "siamese";
-    case PairArchitecture::kConcatLstm: return "lstm";
-    case PairArchitecture::kConcatBiLstm: return "bilstm";
+    case PairArchitecture::kSiamese:
+      return "siamese";
+    case PairArchitecture::kConcatLstm:
+      return "lstm";
+    case PairArchitecture::kConcatBiLstm:
+      return "bilstm";
   }
   return "unknown";
 }
@@ -29,23 +32,27 @@ PairArchitecture parse_pair_architecture(const std::string& name) {
 
 void SiameseShape::validate() const {
   require(input == 3, "SiameseShape.input", "must be 3 (x, y, t), got " + std::to_string(input));
-  require(hidden >= 1 && hidden <= 4096, "SiameseShape.hidden", "must be in [1, 4096], got " + std::to_string(hidden));
+  require(hidden >= 1 && hidden <= 4096, "SiameseShape.hidden",
+          "must be in [1, 4096], got " + std::to_string(hidden));
   require(fc >= 1 && fc <= 65536, "SiameseShape.fc", "must be in [1, 65536], got " + std::to_string(fc));
 }
 
 void TrackNormalisation::validate() const {
-  require(std::isfinite(x0) && std::isfinite(y0) && std::isfinite(t0), "TrackNormalisation", "x0, y0, t0 must be finite");
+  require(std::isfinite(x0) && std::isfinite(y0) && std::isfinite(t0), "TrackNormalisation",
+          "x0, y0, t0 must be finite");
   require(std::isfinite(position_scale) && position_scale > 0, "TrackNormalisation.position_scale",
           "must be finite and > 0");
-  require(std::isfinite(time_scale) && time_scale > 0, "TrackNormalisation.time_scale", "must be finite and > 0");
+  require(std::isfinite(time_scale) && time_scale > 0, "TrackNormalisation.time_scale",
+          "must be finite and > 0");
 }
 
 void TrackSequences::validate(const char* name) const {
   const std::string where(name);
   require(!offset.empty() && offset[0] == 0, where + ".offset", "must start with 0");
   require(x.size() == y.size() && x.size() == t.size(), where, "x, y, t must have equal lengths");
-  require(static_cast<std::size_t>(offset.back()) == x.size(), where + ".offset",
-          "last offset " + std::to_string(offset.back()) + " != number of points " + std::to_string(x.size()));
+  require(
+      static_cast<std::size_t>(offset.back()) == x.size(), where + ".offset",
+      "last offset " + std::to_string(offset.back()) + " != number of points " + std::to_string(x.size()));
   for (std::size_t k = 0; k + 1 < offset.size(); ++k)
     require(offset[k + 1] > offset[k], where + ".offset", "track " + std::to_string(k) + " has no points");
   for (std::size_t i = 0; i < x.size(); ++i)
@@ -70,15 +77,17 @@ void siamese_initialise(SiameseModel<S>& model, uint64_t seed) {
   }
   S* head = model.params.data() + sh.branch_parameter_count();
   const double b1 = 1.0 / std::sqrt(static_cast<double>(sh.embedding()));
-  for (int64_t k = 0; k < int64_t{sh.fc} * sh.embedding() + sh.fc; ++k) head[k] = static_cast<S>(rng.uniform(-b1, b1));
+  for (int64_t k = 0; k < int64_t{sh.fc} * sh.embedding() + sh.fc; ++k)
+    head[k] = static_cast<S>(rng.uniform(-b1, b1));
   const double b2 = 1.0 / std::sqrt(static_cast<double>(sh.fc));
   for (int64_t k = int64_t{sh.fc} * sh.embedding() + sh.fc; k < sh.head_parameter_count(); ++k)
     head[k] = static_cast<S>(rng.uniform(-b2, b2));
 }
 
 template <class S>
-static SequenceBatch<S> make_batch_impl(const TrackSequences* const* sets, const std::span<const int32_t>* which,
-                                        int nsets, const TrackNormalisation& norm) {
+static SequenceBatch<S> make_batch_impl(const TrackSequences* const* sets,
+                                        const std::span<const int32_t>* which, int nsets,
+                                        const TrackNormalisation& norm) {
   int B = 0, T = 0;
   for (int s = 0; s < nsets; ++s) {
     B += static_cast<int>(which[s].size());
@@ -126,7 +135,8 @@ template <class S>
 SequenceBatch<S> make_model_pair_batch(const SiameseModel<S>& model, const TrackSequences& lt,
                                        std::span<const int32_t> l, const TrackSequences& rt,
                                        std::span<const int32_t> r) {
-  if (model.shape.architecture == PairArchitecture::kSiamese) return make_pair_batch<S>(lt, l, rt, r, model.normalisation);
+  if (model.shape.architecture == PairArchitecture::kSiamese)
+    return make_pair_batch<S>(lt, l, rt, r, model.normalisation);
   // One sequence per pair: the points of the left track, then those of the right track.
   const TrackNormalisation& norm = model.normalisation;
   const int B = static_cast<int>(l.size());
@@ -154,7 +164,8 @@ namespace {
 
 // The recurrent branch: BiLSTM, or one forward LSTM for the concatenated-LSTM baseline.
 template <class S>
-void branch_forward(const SiameseModel<S>& m, const SequenceBatch<S>& x, MatrixX<S>& out, BiLstmCache<S>* cache) {
+void branch_forward(const SiameseModel<S>& m, const SequenceBatch<S>& x, MatrixX<S>& out,
+                    BiLstmCache<S>* cache) {
   if (m.shape.directions() == 2)
     bilstm_forward(m.branch(), m.shape.lstm(), x, out, cache);
   else
@@ -211,7 +222,8 @@ void siamese_score_all_pairs(const SiameseModel<S>& model, const MatrixX<S>& e1,
       d = (e2.colwise() - e1.col(static_cast<Eigen::Index>(i))).cwiseAbs();
       siamese_head_logits(model, d, z);
       for (Eigen::Index j = 0; j < n2; ++j)
-        prob[i * static_cast<std::size_t>(n2) + static_cast<std::size_t>(j)] = S(1) / (S(1) + std::exp(-z[j]));
+        prob[i * static_cast<std::size_t>(n2) + static_cast<std::size_t>(j)] =
+            S(1) / (S(1) + std::exp(-z[j]));
     }
   });
 }
@@ -236,7 +248,8 @@ double binary_cross_entropy_from_logit(double z, int label) {
 
 template <class S>
 double siamese_loss_and_gradient(const SiameseModel<S>& model, const SequenceBatch<S>& pairs,
-                                 std::span<const uint8_t> labels, S* grad, std::type_identity_t<VectorX<S>>* logits_out) {
+                                 std::span<const uint8_t> labels, S* grad,
+                                 std::type_identity_t<VectorX<S>>* logits_out) {
   const SiameseShape& sh = model.shape;
   const bool siamese = sh.architecture == PairArchitecture::kSiamese;
   const int B = siamese ? pairs.batch() / 2 : pairs.batch();
@@ -285,23 +298,24 @@ double siamese_loss_and_gradient(const SiameseModel<S>& model, const SequenceBat
   return loss;
 }
 
-#define TRACKASSOC_INSTANTIATE_SIAMESE(S)                                                                      \
-  template void siamese_initialise<S>(SiameseModel<S>&, uint64_t);                                              \
-  template SequenceBatch<S> make_sequence_batch<S>(const TrackSequences&, std::span<const int32_t>,             \
-                                                   const TrackNormalisation&);                                  \
-  template SequenceBatch<S> make_pair_batch<S>(const TrackSequences&, std::span<const int32_t>,                 \
-                                               const TrackSequences&, std::span<const int32_t>,                 \
-                                               const TrackNormalisation&);                                      \
-  template SequenceBatch<S> make_model_pair_batch<S>(const SiameseModel<S>&, const TrackSequences&,             \
-                                                     std::span<const int32_t>, const TrackSequences&,           \
-                                                     std::span<const int32_t>);                                 \
-  template void siamese_embed<S>(const SiameseModel<S>&, const SequenceBatch<S>&, MatrixX<S>&);                 \
-  template void siamese_head_logits<S>(const SiameseModel<S>&, const MatrixX<S>&, VectorX<S>&);                 \
-  template void siamese_score_all_pairs<S>(const SiameseModel<S>&, const MatrixX<S>&, const MatrixX<S>&,        \
-                                           std::span<S>);                                                       \
-  template void siamese_pair_logits<S>(const SiameseModel<S>&, const SequenceBatch<S>&, VectorX<S>&);           \
-  template double siamese_loss_and_gradient<S>(const SiameseModel<S>&, const SequenceBatch<S>&,                 \
-                                               std::span<const uint8_t>, S*, std::type_identity_t<VectorX<S>>*);
+#define TRACKASSOC_INSTANTIATE_SIAMESE(S)                                                                \
+  template void siamese_initialise<S>(SiameseModel<S>&, uint64_t);                                       \
+  template SequenceBatch<S> make_sequence_batch<S>(const TrackSequences&, std::span<const int32_t>,      \
+                                                   const TrackNormalisation&);                           \
+  template SequenceBatch<S> make_pair_batch<S>(const TrackSequences&, std::span<const int32_t>,          \
+                                               const TrackSequences&, std::span<const int32_t>,          \
+                                               const TrackNormalisation&);                               \
+  template SequenceBatch<S> make_model_pair_batch<S>(const SiameseModel<S>&, const TrackSequences&,      \
+                                                     std::span<const int32_t>, const TrackSequences&,    \
+                                                     std::span<const int32_t>);                          \
+  template void siamese_embed<S>(const SiameseModel<S>&, const SequenceBatch<S>&, MatrixX<S>&);          \
+  template void siamese_head_logits<S>(const SiameseModel<S>&, const MatrixX<S>&, VectorX<S>&);          \
+  template void siamese_score_all_pairs<S>(const SiameseModel<S>&, const MatrixX<S>&, const MatrixX<S>&, \
+                                           std::span<S>);                                                \
+  template void siamese_pair_logits<S>(const SiameseModel<S>&, const SequenceBatch<S>&, VectorX<S>&);    \
+  template double siamese_loss_and_gradient<S>(const SiameseModel<S>&, const SequenceBatch<S>&,          \
+                                               std::span<const uint8_t>, S*,                             \
+                                               std::type_identity_t<VectorX<S>>*);
 
 TRACKASSOC_INSTANTIATE_SIAMESE(float)
 TRACKASSOC_INSTANTIATE_SIAMESE(double)

@@ -136,7 +136,8 @@ void siamese_pair_logits(const SiameseModel<S>& model, const SequenceBatch<S>& p
 // (parameter_count() scalars). Writes the logits when `logits` is not null.
 template <class S>
 double siamese_loss_and_gradient(const SiameseModel<S>& model, const SequenceBatch<S>& pairs,
-                                 std::span<const uint8_t> labels, S* grad, std::type_identity_t<VectorX<S>>* logits);
+                                 std::span<const uint8_t> labels, S* grad,
+                                 std::type_identity_t<VectorX<S>>* logits);
 
 // Numerically stable BCE from a logit: softplus(z) − y·z.
 double binary_cross_entropy_from_logit(double z, int label);

@@ -16,8 +16,10 @@ namespace trackassoc {
 
 void SiameseTrainingOptions::validate() const {
   require(epochs >= 1, "SiameseTrainingOptions.epochs", "must be >= 1, got " + std::to_string(epochs));
-  require(batch_size >= 1, "SiameseTrainingOptions.batch_size", "must be >= 1, got " + std::to_string(batch_size));
-  require(chunk_pairs >= 1, "SiameseTrainingOptions.chunk_pairs", "must be >= 1, got " + std::to_string(chunk_pairs));
+  require(batch_size >= 1, "SiameseTrainingOptions.batch_size",
+          "must be >= 1, got " + std::to_string(batch_size));
+  require(chunk_pairs >= 1, "SiameseTrainingOptions.chunk_pairs",
+          "must be >= 1, got " + std::to_string(chunk_pairs));
   adam.validate();
   require(learning_rate_decay > 0 && learning_rate_decay <= 1, "SiameseTrainingOptions.learning_rate_decay",
           "must be in (0, 1], got " + std::to_string(learning_rate_decay));
@@ -32,14 +34,18 @@ void SiameseTrainingOptions::validate() const {
 
 const char* to_string(TrainingTermination t) {
   switch (t) {
-    case TrainingTermination::kEpochLimit: return "epoch_limit";
-    case TrainingTermination::kPlateau: return "plateau";
-    case TrainingTermination::kTimeLimit: return "time_limit";
+    case TrainingTermination::kEpochLimit:
+      return "epoch_limit";
+    case TrainingTermination::kPlateau:
+      return "plateau";
+    case TrainingTermination::kTimeLimit:
+      return "time_limit";
   }
   return "unknown";
 }
 
-void validate_pairs(const PairSet& pairs, const TrackSequences& left, const TrackSequences& right, const char* name) {
+void validate_pairs(const PairSet& pairs, const TrackSequences& left, const TrackSequences& right,
+                    const char* name) {
   const std::string where(name);
   require(pairs.left.size() == pairs.size() && pairs.right.size() == pairs.size(), where,
           "left, right and label must have equal lengths");
@@ -50,14 +56,16 @@ void validate_pairs(const PairSet& pairs, const TrackSequences& left, const Trac
     require(pairs.right[k] >= 0 && pairs.right[k] < right.size(), where + ".right",
             "pair " + std::to_string(k) + " refers to track " + std::to_string(pairs.right[k]) + " of " +
                 std::to_string(right.size()));
-    require(pairs.label[k] <= 1, where + ".label", "pair " + std::to_string(k) + " has label " +
-                                                        std::to_string(int(pairs.label[k])) + ", expected 0 or 1");
+    require(pairs.label[k] <= 1, where + ".label",
+            "pair " + std::to_string(k) + " has label " + std::to_string(int(pairs.label[k])) +
+                ", expected 0 or 1");
   }
 }
 
 template <class S>
-PairEvaluation evaluate_pairs(const SiameseModel<S>& model, const TrackSequences& left, const TrackSequences& right,
-                              const PairSet& pairs, double threshold, std::vector<double>* probabilities) {
+PairEvaluation evaluate_pairs(const SiameseModel<S>& model, const TrackSequences& left,
+                              const TrackSequences& right, const PairSet& pairs, double threshold,
+                              std::vector<double>* probabilities) {
   const std::size_t n = pairs.size();
   std::vector<double> logits(n);
   constexpr std::size_t kChunk = 128;
@@ -68,7 +76,8 @@ PairEvaluation evaluate_pairs(const SiameseModel<S>& model, const TrackSequences
       const std::size_t b = c * kChunk, e = std::min(n, b + kChunk);
       const std::span<const int32_t> l(pairs.left.data() + b, e - b), r(pairs.right.data() + b, e - b);
       siamese_pair_logits(model, make_model_pair_batch<S>(model, left, l, right, r), z);
-      for (std::size_t k = b; k < e; ++k) logits[k] = static_cast<double>(z[static_cast<Eigen::Index>(k - b)]);
+      for (std::size_t k = b; k < e; ++k)
+        logits[k] = static_cast<double>(z[static_cast<Eigen::Index>(k - b)]);
     }
   });
   PairEvaluation ev;
@@ -79,10 +88,14 @@ PairEvaluation evaluate_pairs(const SiameseModel<S>& model, const TrackSequences
     const double p = 1.0 / (1.0 + std::exp(-logits[k]));
     if (probabilities) (*probabilities)[k] = p;
     const bool predicted = p >= threshold, actual = pairs.label[k] == 1;
-    if (predicted && actual) ++ev.true_positive;
-    else if (predicted) ++ev.false_positive;
-    else if (actual) ++ev.false_negative;
-    else ++ev.true_negative;
+    if (predicted && actual)
+      ++ev.true_positive;
+    else if (predicted)
+      ++ev.false_positive;
+    else if (actual)
+      ++ev.false_negative;
+    else
+      ++ev.true_negative;
   }
   ev.mean_loss = n ? loss / double(n) : 0.0;
   return ev;
@@ -106,9 +119,10 @@ void translate_pair(const SiameseModel<S>& model, SequenceBatch<S>& batch, int p
 
 template <class S>
 double siamese_minibatch_step(SiameseModel<S>& model, const TrackSequences& left, const TrackSequences& right,
-                              std::span<const int32_t> l, std::span<const int32_t> r, std::span<const uint8_t> y,
-                              int chunk_pairs, AdamState<S>& adam, const AdamOptions& adam_options,
-                              SiameseStepWorkspace<S>& ws, double augment_shift, uint64_t augment_key) {
+                              std::span<const int32_t> l, std::span<const int32_t> r,
+                              std::span<const uint8_t> y, int chunk_pairs, AdamState<S>& adam,
+                              const AdamOptions& adam_options, SiameseStepWorkspace<S>& ws,
+                              double augment_shift, uint64_t augment_key) {
   const std::size_t P = model.params.size();
   const std::size_t m = y.size();
   const std::size_t cp = static_cast<std::size_t>(std::max(1, chunk_pairs));
@@ -128,7 +142,8 @@ double siamese_minibatch_step(SiameseModel<S>& model, const TrackSequences& left
           translate_pair(model, batch, static_cast<int>(k), rng.uniform(-augment_shift, augment_shift),
                          rng.uniform(-augment_shift, augment_shift));
       }
-      ws.chunk_loss[c] = siamese_loss_and_gradient(model, batch, y.subspan(s, e - s), ws.chunk_grad[c].data(), nullptr);
+      ws.chunk_loss[c] =
+          siamese_loss_and_gradient(model, batch, y.subspan(s, e - s), ws.chunk_grad[c].data(), nullptr);
     }
   });
   // Sum the chunks in order (deterministic for any thread count), as the gradient of the MEAN loss.
@@ -147,8 +162,8 @@ double siamese_minibatch_step(SiameseModel<S>& model, const TrackSequences& left
 
 template <class S>
 SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequences& left,
-                                     const TrackSequences& right, const PairSet& train, const PairSet& validation,
-                                     const SiameseTrainingOptions& options,
+                                     const TrackSequences& right, const PairSet& train,
+                                     const PairSet& validation, const SiameseTrainingOptions& options,
                                      const std::function<void(const SiameseEpochReport&)>& on_epoch) {
   using clock = std::chrono::steady_clock;
   options.validate();
@@ -191,8 +206,8 @@ SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequence
         br.push_back(train.right[order[k]]);
         by.push_back(train.label[order[k]]);
       }
-      epoch_loss += siamese_minibatch_step<S>(model, left, right, bl, br, by, options.chunk_pairs, adam, adam_options,
-                                              workspace, options.augment_shift,
+      epoch_loss += siamese_minibatch_step<S>(model, left, right, bl, br, by, options.chunk_pairs, adam,
+                                              adam_options, workspace, options.augment_shift,
                                               stream_key(options.seed, static_cast<uint64_t>(epoch), b0, 7));
     }
     SiameseEpochReport report;
@@ -209,7 +224,8 @@ SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequence
 
     const double vloss = report.validation.mean_loss;
     const bool significant = vloss < best_loss * (1.0 - options.min_improvement);
-    if (vloss < best_loss) {  // any improvement updates the kept weights; only a significant one resets patience
+    if (vloss <
+        best_loss) {  // any improvement updates the kept weights; only a significant one resets patience
       best_loss = vloss;
       best_params = model.params;
       summary.best_epoch = epoch;
@@ -231,17 +247,18 @@ SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequence
   return summary;
 }
 
-#define TRACKASSOC_INSTANTIATE_TRAINING(S)                                                                     \
-  template PairEvaluation evaluate_pairs<S>(const SiameseModel<S>&, const TrackSequences&, const TrackSequences&, \
-                                            const PairSet&, double, std::vector<double>*);                      \
-  template double siamese_minibatch_step<S>(SiameseModel<S>&, const TrackSequences&, const TrackSequences&,       \
-                                            std::span<const int32_t>, std::span<const int32_t>,                  \
-                                            std::span<const uint8_t>, int, AdamState<S>&, const AdamOptions&,    \
-                                            SiameseStepWorkspace<S>&, double, uint64_t);                         \
-  template void translate_pair<S>(const SiameseModel<S>&, SequenceBatch<S>&, int, double, double);             \
-  template SiameseTrainingSummary train_siamese<S>(SiameseModel<S>&, const TrackSequences&, const TrackSequences&, \
-                                                   const PairSet&, const PairSet&, const SiameseTrainingOptions&, \
-                                                   const std::function<void(const SiameseEpochReport&)>&);
+#define TRACKASSOC_INSTANTIATE_TRAINING(S)                                                                   \
+  template PairEvaluation evaluate_pairs<S>(const SiameseModel<S>&, const TrackSequences&,                   \
+                                            const TrackSequences&, const PairSet&, double,                   \
+                                            std::vector<double>*);                                           \
+  template double siamese_minibatch_step<S>(SiameseModel<S>&, const TrackSequences&, const TrackSequences&,  \
+                                            std::span<const int32_t>, std::span<const int32_t>,              \
+                                            std::span<const uint8_t>, int, AdamState<S>&,                    \
+                                            const AdamOptions&, SiameseStepWorkspace<S>&, double, uint64_t); \
+  template void translate_pair<S>(const SiameseModel<S>&, SequenceBatch<S>&, int, double, double);           \
+  template SiameseTrainingSummary train_siamese<S>(                                                          \
+      SiameseModel<S>&, const TrackSequences&, const TrackSequences&, const PairSet&, const PairSet&,        \
+      const SiameseTrainingOptions&, const std::function<void(const SiameseEpochReport&)>&);
 
 TRACKASSOC_INSTANTIATE_TRAINING(float)
 TRACKASSOC_INSTANTIATE_TRAINING(double)

@@ -22,19 +22,19 @@
 namespace trackassoc {
 
 struct SiameseTrainingOptions {
-  int epochs = 40;                  // epoch limit
-  int batch_size = 64;              // pairs per Adam step
-  int chunk_pairs = 16;             // pairs per TBB task (fixed: determinism does not depend on threads)
+  int epochs = 40;       // epoch limit
+  int batch_size = 64;   // pairs per Adam step
+  int chunk_pairs = 16;  // pairs per TBB task (fixed: determinism does not depend on threads)
   AdamOptions adam{2e-3, 0.9, 0.999, 1e-8, 5.0};
   double learning_rate_decay = 0.93;  // α multiplied by this after every epoch
-  int patience = 5;                 // epochs without validation-loss improvement before stopping
-  double min_improvement = 1e-3;    // relative improvement that counts
-  double max_seconds = 0.0;         // wall-time budget; 0 = none
-  uint64_t seed = 1;                // initialisation (if the model is empty) and shuffling
+  int patience = 5;                   // epochs without validation-loss improvement before stopping
+  double min_improvement = 1e-3;      // relative improvement that counts
+  double max_seconds = 0.0;           // wall-time budget; 0 = none
+  uint64_t seed = 1;                  // initialisation (if the model is empty) and shuffling
   // Data augmentation against over-fitting: each training pair is translated as a whole (both
   // tracks by the same vector, so its label is unchanged) by U(−a, a)² metres, drawn afresh every
   // epoch from CounterRng(seed, epoch, chunk). 0 = off (the paper's fixed data set).
-  double augment_shift = 0.0;       // a [m]
+  double augment_shift = 0.0;  // a [m]
   void validate() const;
 };
 
@@ -47,10 +47,12 @@ struct PairEvaluation {
   int64_t total() const { return true_positive + true_negative + false_positive + false_negative; }
   double accuracy() const { return total() ? double(true_positive + true_negative) / double(total()) : 0.0; }
   double recall() const {
-    return true_positive + false_negative ? double(true_positive) / double(true_positive + false_negative) : 0.0;
+    return true_positive + false_negative ? double(true_positive) / double(true_positive + false_negative)
+                                          : 0.0;
   }
   double precision() const {
-    return true_positive + false_positive ? double(true_positive) / double(true_positive + false_positive) : 0.0;
+    return true_positive + false_positive ? double(true_positive) / double(true_positive + false_positive)
+                                          : 0.0;
   }
 };
 
@@ -85,10 +87,10 @@ struct SiameseStepWorkspace {
 // by a vector drawn from CounterRng(augment_key, c) (see SiameseTrainingOptions::augment_shift).
 template <class S>
 double siamese_minibatch_step(SiameseModel<S>& model, const TrackSequences& left, const TrackSequences& right,
-                              std::span<const int32_t> l, std::span<const int32_t> r, std::span<const uint8_t> y,
-                              int chunk_pairs, AdamState<S>& adam, const AdamOptions& adam_options,
-                              SiameseStepWorkspace<S>& workspace, double augment_shift = 0.0,
-                              uint64_t augment_key = 0);
+                              std::span<const int32_t> l, std::span<const int32_t> r,
+                              std::span<const uint8_t> y, int chunk_pairs, AdamState<S>& adam,
+                              const AdamOptions& adam_options, SiameseStepWorkspace<S>& workspace,
+                              double augment_shift = 0.0, uint64_t augment_key = 0);
 
 // Adds the translation (dx, dy) [m] of pair b to the valid steps of its column(s) of a model pair batch.
 template <class S>
@@ -96,19 +98,20 @@ void translate_pair(const SiameseModel<S>& model, SequenceBatch<S>& batch, int p
 
 // Probabilities (or nothing) and the confusion counts at `threshold` for a pair set.
 template <class S>
-PairEvaluation evaluate_pairs(const SiameseModel<S>& model, const TrackSequences& left, const TrackSequences& right,
-                              const PairSet& pairs, double threshold = 0.5,
+PairEvaluation evaluate_pairs(const SiameseModel<S>& model, const TrackSequences& left,
+                              const TrackSequences& right, const PairSet& pairs, double threshold = 0.5,
                               std::vector<double>* probabilities = nullptr);
 
 // Trains `model` in place (initialised from options.seed when model.params is empty).
 // on_epoch is called after every epoch (progress display lives in the caller).
 template <class S>
 SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequences& left,
-                                     const TrackSequences& right, const PairSet& train, const PairSet& validation,
-                                     const SiameseTrainingOptions& options,
+                                     const TrackSequences& right, const PairSet& train,
+                                     const PairSet& validation, const SiameseTrainingOptions& options,
                                      const std::function<void(const SiameseEpochReport&)>& on_epoch = {});
 
 // Checks that every pair indexes existing tracks and labels are 0/1; throws InputError naming `name`.
-void validate_pairs(const PairSet& pairs, const TrackSequences& left, const TrackSequences& right, const char* name);
+void validate_pairs(const PairSet& pairs, const TrackSequences& left, const TrackSequences& right,
+                    const char* name);
 
 }  // namespace trackassoc

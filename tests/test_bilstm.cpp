@@ -46,7 +46,9 @@ SiameseModel<double> small_model(uint64_t seed, PairArchitecture arch = PairArch
 // |a − b| / max(|a|, |b|), with the denominator floored at 1e-6 so that components that are exactly 0
 // (a ReLU unit inactive on every pair) compare against the difference quotient's rounding (≈ 1e-12)
 // without a spurious large ratio.
-double relative_error(double a, double b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-6}); }
+double relative_error(double a, double b) {
+  return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-6});
+}
 
 }  // namespace
 
@@ -181,10 +183,14 @@ TEST(BiLstm, MaskingMakesPaddingIrrelevant) {
   ASSERT_EQ(alone.length(), 2);
   // Batch: [short track, long track] padded to 9 steps; fill the padding with garbage.
   TrackSequences both = tr;
-  both.x.resize(tr.offset[1]); both.y.resize(tr.offset[1]); both.t.resize(tr.offset[1]);
+  both.x.resize(tr.offset[1]);
+  both.y.resize(tr.offset[1]);
+  both.t.resize(tr.offset[1]);
   both.offset.resize(2);
   for (std::size_t i = 0; i < longer.x.size(); ++i) {
-    both.x.push_back(longer.x[i]); both.y.push_back(longer.y[i]); both.t.push_back(longer.t[i]);
+    both.x.push_back(longer.x[i]);
+    both.y.push_back(longer.y[i]);
+    both.t.push_back(longer.t[i]);
   }
   both.offset.push_back(static_cast<int64_t>(both.x.size()));
   const std::vector<int32_t> pair{0, 1};

@@ -140,13 +140,16 @@ TEST(SiameseModelFile, MissingDatasetWrongShapeNaNAndWrongFormat) {
     return path;
   };
   // Valid as built plus b2: loads.
-  EXPECT_EQ(error_of(make("ok.h5", [](siamese_h5::File& f, std::vector<float>& z) { f.write("/head/b2", z.data(), 1); })), "");
+  EXPECT_EQ(error_of(make("ok.h5", [](siamese_h5::File& f,
+                                      std::vector<float>& z) { f.write("/head/b2", z.data(), 1); })),
+            "");
   // Missing /head/b2.
   const std::string e1 = error_of(make("missing.h5", [](siamese_h5::File&, std::vector<float>&) {}));
   EXPECT_NE(e1.find("/head/b2"), std::string::npos) << e1;
   EXPECT_NE(e1.find("missing"), std::string::npos) << e1;
   // Wrong shape.
-  const std::string e2 = error_of(make("shape.h5", [](siamese_h5::File& f, std::vector<float>& z) { f.write("/head/b2", z.data(), 2); }));
+  const std::string e2 = error_of(
+      make("shape.h5", [](siamese_h5::File& f, std::vector<float>& z) { f.write("/head/b2", z.data(), 2); }));
   EXPECT_NE(e2.find("/head/b2 has shape (2), expected (1)"), std::string::npos) << e2;
   // NaN.
   const std::string e3 = error_of(make("nan.h5", [](siamese_h5::File& f, std::vector<float>& z) {

@@ -1,8 +1,8 @@
 // Adam by hand, training on a tiny separable set, determinism for 1 vs 2 threads.
 #include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
 
 #include <cmath>
-#include <oneapi/tbb/global_control.h>
 
 #include "kernels/adam.hpp"
 #include "kernels/error.hpp"

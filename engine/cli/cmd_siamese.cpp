@@ -1,9 +1,10 @@
 // trackassoc dataset seed003 --out D.h5: the seed 003 (TTCSN) pair data set.
 // trackassoc train-siamese --data D.h5 --out model.h5: trains the Siamese BiLSTM, reports test metrics.
+#include <unistd.h>
+
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include "engine/cli/common.hpp"
 #include "engine/dataset_seed003.hpp"
@@ -20,17 +21,22 @@ void register_dataset(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   args->common.seed = args->options.seed;
-  auto* cmd = app.add_subcommand("dataset", "Generate a paper's training data set (HDF5): seed003 (TTCSN pairs)");
+  auto* cmd =
+      app.add_subcommand("dataset", "Generate a paper's training data set (HDF5): seed003 (TTCSN pairs)");
   cmd->add_option("name", args->name, "Data set name")->required()->check(CLI::IsMember({"seed003"}));
   cmd->add_option("--out,-o", args->output, "Output HDF5 file")->required();
   cmd->add_option("--targets", args->options.targets, "Number of targets")->capture_default_str();
-  cmd->add_option("--positives", args->options.positives, "Positive pairs (<= targets)")->capture_default_str();
-  cmd->add_option("--random-negatives", args->options.random_negatives, "Random negative pairs")->capture_default_str();
+  cmd->add_option("--positives", args->options.positives, "Positive pairs (<= targets)")
+      ->capture_default_str();
+  cmd->add_option("--random-negatives", args->options.random_negatives, "Random negative pairs")
+      ->capture_default_str();
   cmd->add_option("--close-negatives", args->options.close_negatives, "Close-but-different negative pairs")
       ->capture_default_str();
-  cmd->add_option("--close-distance", args->options.close_distance, "Mean true distance of a close negative [m]")
+  cmd->add_option("--close-distance", args->options.close_distance,
+                  "Mean true distance of a close negative [m]")
       ->capture_default_str();
-  cmd->add_option("--max-heading-change", args->options.max_heading_change, "Heading change bound per second [rad]")
+  cmd->add_option("--max-heading-change", args->options.max_heading_change,
+                  "Heading change bound per second [rad]")
       ->capture_default_str();
   cmd->add_option("--max-speed-change", args->options.max_speed_change, "Speed change bound per second [m/s]")
       ->capture_default_str();
@@ -58,9 +64,9 @@ std::string percent(double v) {
 }
 
 nlohmann::json evaluation_json(const PairEvaluation& e) {
-  return {{"accuracy", e.accuracy()}, {"recall", e.recall()}, {"precision", e.precision()},
-          {"mean_loss", e.mean_loss},  {"tp", e.true_positive},  {"tn", e.true_negative},
-          {"fp", e.false_positive},    {"fn", e.false_negative}};
+  return {{"accuracy", e.accuracy()}, {"recall", e.recall()},  {"precision", e.precision()},
+          {"mean_loss", e.mean_loss}, {"tp", e.true_positive}, {"tn", e.true_negative},
+          {"fp", e.false_positive},   {"fn", e.false_negative}};
 }
 
 }  // namespace
@@ -77,7 +83,8 @@ void register_train_siamese(CLI::App& app) {
     std::string architecture = "siamese";
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("train-siamese", "Train the Siamese BiLSTM pair classifier (seed 003) on a data set");
+  auto* cmd = app.add_subcommand("train-siamese",
+                                 "Train the Siamese BiLSTM pair classifier (seed 003) on a data set");
   cmd->add_option("--data", args->data, "Data set from `trackassoc dataset seed003`")->required();
   cmd->add_option("--out,-o", args->output, "Output model file (HDF5)")->required();
   cmd->add_option("--epochs", args->training.epochs, "Epoch limit")->capture_default_str();
@@ -91,12 +98,14 @@ void register_train_siamese(CLI::App& app) {
   cmd->add_option("--lr", args->training.adam.learning_rate, "Adam learning rate")->capture_default_str();
   cmd->add_option("--lr-decay", args->training.learning_rate_decay, "Learning-rate factor per epoch")
       ->capture_default_str();
-  cmd->add_option("--patience", args->training.patience, "Epochs without validation improvement before stopping")
+  cmd->add_option("--patience", args->training.patience,
+                  "Epochs without validation improvement before stopping")
       ->capture_default_str();
   cmd->add_option("--augment-shift", args->training.augment_shift,
                   "Augmentation: translate each training pair by U(-a, a)^2 metres per epoch (0 = off)")
       ->capture_default_str();
-  cmd->add_option("--max-seconds", args->training.max_seconds, "Wall-time budget [s] (0 = none)")->capture_default_str();
+  cmd->add_option("--max-seconds", args->training.max_seconds, "Wall-time budget [s] (0 = none)")
+      ->capture_default_str();
   cmd->add_option("--validation-fraction", args->validation_fraction,
                   "Share of the training pairs held out for early stopping")
       ->capture_default_str();
@@ -114,7 +123,8 @@ void register_train_siamese(CLI::App& app) {
     // The file's training split is already shuffled: the last share becomes the validation set.
     PairSet train, validation;
     std::size_t n = d.train.size();
-    if (args->max_train_pairs > 0) n = std::min<std::size_t>(n, static_cast<std::size_t>(args->max_train_pairs));
+    if (args->max_train_pairs > 0)
+      n = std::min<std::size_t>(n, static_cast<std::size_t>(args->max_train_pairs));
     const std::size_t n_val = static_cast<std::size_t>(args->validation_fraction * double(n));
     for (std::size_t k = 0; k < n; ++k) {
       PairSet& s = k < n - n_val ? train : validation;
@@ -131,15 +141,18 @@ void register_train_siamese(CLI::App& app) {
     SiameseTrainingOptions o = args->training;
     o.seed = args->common.seed;
     const bool tty = isatty(fileno(stderr));
-    std::cerr << "training " << args->architecture << " on " << train.size() << " pairs, validating on " << validation.size() << ", H = "
-              << model.shape.hidden << ", fc = " << model.shape.fc << ", " << model.shape.parameter_count()
-              << " parameters\n";
-    const auto summary = train_siamese(model, d.radar1, d.radar2, train, validation, o, [&](const SiameseEpochReport& r) {
-      char line[256];
-      std::snprintf(line, sizeof line, "epoch %3d  loss %.4f  val loss %.4f  val acc %6.2f %%  lr %.2e  %.1f s", r.epoch,
-                    r.train_loss, r.validation.mean_loss, 100 * r.validation.accuracy(), r.learning_rate, r.seconds);
-      std::cerr << line << (tty ? "\n" : "\n") << std::flush;
-    });
+    std::cerr << "training " << args->architecture << " on " << train.size() << " pairs, validating on "
+              << validation.size() << ", H = " << model.shape.hidden << ", fc = " << model.shape.fc << ", "
+              << model.shape.parameter_count() << " parameters\n";
+    const auto summary =
+        train_siamese(model, d.radar1, d.radar2, train, validation, o, [&](const SiameseEpochReport& r) {
+          char line[256];
+          std::snprintf(line, sizeof line,
+                        "epoch %3d  loss %.4f  val loss %.4f  val acc %6.2f %%  lr %.2e  %.1f s", r.epoch,
+                        r.train_loss, r.validation.mean_loss, 100 * r.validation.accuracy(), r.learning_rate,
+                        r.seconds);
+          std::cerr << line << (tty ? "\n" : "\n") << std::flush;
+        });
     const PairEvaluation test = evaluate_pairs(model, d.radar1, d.radar2, d.test);
     // Accuracy on the close negatives alone (the hard part of the test set).
     PairSet close;
