@@ -103,5 +103,6 @@ void register_run(CLI::App& app);
 void register_dataset(CLI::App& app);        // cmd_siamese.cpp
 void register_train_siamese(CLI::App& app);  // cmd_siamese.cpp
 void register_siamese_experiment(CLI::App& app);  // cmd_siamese_experiment.cpp
+void register_solve3d(CLI::App& app);
 
 }  // namespace trackassoc::cli

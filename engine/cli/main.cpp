@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   trackassoc::cli::register_dataset(app);
   trackassoc::cli::register_train_siamese(app);
   trackassoc::cli::register_siamese_experiment(app);
+  trackassoc::cli::register_solve3d(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
