@@ -7,6 +7,7 @@
 #include <set>
 
 #include "engine/dataset_seed003.hpp"
+#include "engine/seed003_baselines.hpp"
 #include "engine/siamese_pipeline.hpp"
 #include "io/siamese_dataset_file.hpp"
 #include "io/siamese_model_file.hpp"
@@ -201,4 +202,28 @@ TEST(SiamesePipeline, ShippedModelClassifiesFreshSeed003Pairs) {
   const Seed003Scene sc = simulate_seed003_scene(o, 20, 7);
   const auto r = associate_siamese(loaded.model, sc.radar1, sc.radar2, {});
   EXPECT_GE(correct_association_rate(r.left_to_right, sc.target1, sc.target2), 0.8);
+}
+
+TEST(Seed003Baselines, WeightedStatisticByHand) {
+  // Radars at the origin, σr = 100 m, σθ = 0.01 rad: a plot at (10 km, 0) has covariance 100²·I.
+  // Track 1: plots (10 km, 0) at t = 0 and 4 s; track 2: one plot (10.3 km, 0) at t = 2 s.
+  // Aligned at t = 2: w = ½, ẑ1 = (10 km, 0), C = 100²·I + ¼·100²·I + ¼·100²·I = 1.5·10⁴·I,
+  // λ = 300²/1.5·10⁴ = 6.
+  TrackSequences a, b;
+  a.x = {10000, 10000}, a.y = {0, 0}, a.t = {0, 4}, a.offset = {0, 2};
+  b.x = {10300}, b.y = {0}, b.t = {2}, b.offset = {0, 1};
+  ClassicalBaselineOptions o;
+  o.radar1 = o.radar2 = {0.0, 0.0, 100.0, 0.01};
+  const auto lam = weighted_statistic_matrix(a, b, o);
+  ASSERT_EQ(lam.size(), 1u);
+  EXPECT_NEAR(lam[0], 6.0, 1e-9);
+  // χ²₂(0.99) = 9.21 > 6: associated; at gate probability 0.9 (4.61) it is not.
+  EXPECT_EQ(associate_weighted_test(a, b, o), (std::vector<int32_t>{0}));
+  o.gate_probability = 0.9;
+  EXPECT_EQ(associate_weighted_test(a, b, o), (std::vector<int32_t>{-1}));
+  // Nearest neighbour: 300 m away, inside a 1 km gate, outside a 200 m gate.
+  o.nn_gate = 1000;
+  EXPECT_EQ(associate_nearest_neighbour(a, b, o), (std::vector<int32_t>{0}));
+  o.nn_gate = 200;
+  EXPECT_EQ(associate_nearest_neighbour(a, b, o), (std::vector<int32_t>{-1}));
 }
