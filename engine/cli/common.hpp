@@ -100,6 +100,9 @@ void register_simulate(CLI::App& app);
 void register_associate(CLI::App& app);
 void register_evaluate(CLI::App& app);
 void register_run(CLI::App& app);
+void register_dataset(CLI::App& app);        // cmd_siamese.cpp
+void register_train_siamese(CLI::App& app);  // cmd_siamese.cpp
+void register_siamese_experiment(CLI::App& app);  // cmd_siamese_experiment.cpp
 void register_solve3d(CLI::App& app);
 void register_filter(CLI::App& app);
 void register_experiment(CLI::App& app);

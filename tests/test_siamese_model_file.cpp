@@ -1,0 +1,184 @@
+// Siamese model files: round trip, and clear errors for corrupted or wrong files.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "io/siamese_hdf5.hpp"
+#include "io/siamese_model_file.hpp"
+#include "kernels/error.hpp"
+#include "kernels/random.hpp"
+
+using namespace trackassoc;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / ("trackassoc_siamese_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+SiameseModel<float> model_for_test() {
+  SiameseModel<float> m;
+  m.shape.hidden = 5;
+  m.shape.fc = 7;
+  m.normalisation.position_scale = 12345.0;
+  m.normalisation.t0 = 2.5;
+  siamese_initialise(m, 99);
+  return m;
+}
+
+std::string error_of(const std::string& path) {
+  try {
+    read_siamese_model(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Writes a model, then lets `edit` rewrite one dataset or attribute through a fresh file copy.
+std::string write_valid(const std::string& name) {
+  const std::string path = (temp_dir() / name).string();
+  write_siamese_model(path, model_for_test(), R"({"note":"test"})");
+  return path;
+}
+
+}  // namespace
+
+TEST(SiameseModelFile, RoundTripIsBitIdentical) {
+  const SiameseModel<float> m = model_for_test();
+  const std::string path = write_valid("roundtrip.h5");
+  const LoadedSiameseModel loaded = read_siamese_model(path);
+  EXPECT_EQ(loaded.model.shape.hidden, 5);
+  EXPECT_EQ(loaded.model.shape.fc, 7);
+  EXPECT_EQ(loaded.model.normalisation.position_scale, 12345.0);
+  EXPECT_EQ(loaded.model.normalisation.t0, 2.5);
+  EXPECT_EQ(loaded.training_json, R"({"note":"test"})");
+  ASSERT_EQ(loaded.model.params.size(), m.params.size());
+  for (std::size_t k = 0; k < m.params.size(); ++k) ASSERT_EQ(loaded.model.params[k], m.params[k]) << k;
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+}
+
+TEST(SiameseModelFile, ConcatenatedLstmBaselineRoundTrips) {
+  SiameseModel<float> m;
+  m.shape.architecture = PairArchitecture::kConcatLstm;
+  m.shape.hidden = 3;
+  m.shape.fc = 4;
+  siamese_initialise(m, 7);
+  const std::string path = (temp_dir() / "lstm.h5").string();
+  write_siamese_model(path, m);
+  const LoadedSiameseModel back = read_siamese_model(path);
+  EXPECT_EQ(back.model.shape.architecture, PairArchitecture::kConcatLstm);
+  ASSERT_EQ(back.model.params.size(), m.params.size());
+  for (std::size_t k = 0; k < m.params.size(); ++k) ASSERT_EQ(back.model.params[k], m.params[k]);
+  EXPECT_FALSE(siamese_h5::File::open_read(path).exists("/branch/backward/Wx"));
+}
+
+TEST(SiameseModelFile, WeightsAreStoredRowMajorInPyTorchOrientation) {
+  // Element (r, c) of Wx is params[c·4H + r] in memory; the file holds it at [r][c].
+  const SiameseModel<float> m = model_for_test();
+  const std::string path = write_valid("layout.h5");
+  const siamese_h5::File f = siamese_h5::File::open_read(path);
+  const auto wx = f.read_float("/branch/forward/Wx", {20, 3});
+  EXPECT_EQ(wx[2 * 3 + 1], m.params[1 * 20 + 2]);
+  const auto b2 = f.read_float("/head/b2", {1});
+  EXPECT_EQ(b2[0], m.params.back());
+}
+
+TEST(SiameseModelFile, RandomBytesGiveAClearError) {
+  const std::string path = (temp_dir() / "random.h5").string();
+  std::ofstream out(path, std::ios::binary);
+  CounterRng rng(5);
+  for (int k = 0; k < 4096; ++k) out.put(static_cast<char>(rng.next_u64() & 0xff));
+  out.close();
+  EXPECT_NE(error_of(path).find("not an HDF5 file"), std::string::npos) << error_of(path);
+}
+
+TEST(SiameseModelFile, TruncatedFileGivesAClearError) {
+  const std::string path = write_valid("truncated.h5");
+  fs::resize_file(path, fs::file_size(path) / 2);
+  const std::string e = error_of(path);
+  EXPECT_NE(e.find(path), std::string::npos) << e;
+  EXPECT_FALSE(e.empty());
+}
+
+TEST(SiameseModelFile, EmptyAndMissingFiles) {
+  const std::string empty = (temp_dir() / "empty.h5").string();
+  std::ofstream(empty).close();
+  EXPECT_NE(error_of(empty).find("not an HDF5 file"), std::string::npos);
+  EXPECT_NE(error_of((temp_dir() / "nope.h5").string()).find("no such file"), std::string::npos);
+}
+
+TEST(SiameseModelFile, MissingDatasetWrongShapeNaNAndWrongFormat) {
+  const SiameseModel<float> m = model_for_test();
+  auto make = [&](const std::string& name, auto&& tweak) {
+    const std::string path = (temp_dir() / name).string();
+    siamese_h5::File f = siamese_h5::File::create(path);
+    f.write_attribute("/", "format", std::string("trackassoc-siamese-model"));
+    f.write_attribute("/", "schema_version", int64_t{1});
+    f.write_attribute("/", "input", int64_t{3});
+    f.write_attribute("/", "hidden", int64_t{5});
+    f.write_attribute("/", "fc", int64_t{7});
+    f.write_attribute("/", "architecture", std::string("siamese"));
+    for (const char* a : {"x0", "y0", "position_scale", "t0", "time_scale"}) f.write_attribute("/", a, 1.0);
+    f.write_attribute("/", "training", std::string("{}"));
+    std::vector<float> zeros(1000, 0.0f);
+    for (const char* d : {"/branch/forward/", "/branch/backward/"}) {
+      f.write(std::string(d) + "Wx", zeros.data(), 20, 3);
+      f.write(std::string(d) + "Wh", zeros.data(), 20, 5);
+      f.write(std::string(d) + "b", zeros.data(), 20);
+    }
+    f.write("/head/W1", zeros.data(), 7, 10);
+    f.write("/head/b1", zeros.data(), 7);
+    f.write("/head/w2", zeros.data(), 7);
+    tweak(f, zeros);
+    f.close();
+    return path;
+  };
+  // Valid as built plus b2: loads.
+  EXPECT_EQ(error_of(make("ok.h5", [](siamese_h5::File& f,
+                                      std::vector<float>& z) { f.write("/head/b2", z.data(), 1); })),
+            "");
+  // Missing /head/b2.
+  const std::string e1 = error_of(make("missing.h5", [](siamese_h5::File&, std::vector<float>&) {}));
+  EXPECT_NE(e1.find("/head/b2"), std::string::npos) << e1;
+  EXPECT_NE(e1.find("missing"), std::string::npos) << e1;
+  // Wrong shape.
+  const std::string e2 = error_of(
+      make("shape.h5", [](siamese_h5::File& f, std::vector<float>& z) { f.write("/head/b2", z.data(), 2); }));
+  EXPECT_NE(e2.find("/head/b2 has shape (2), expected (1)"), std::string::npos) << e2;
+  // NaN.
+  const std::string e3 = error_of(make("nan.h5", [](siamese_h5::File& f, std::vector<float>& z) {
+    z[0] = std::numeric_limits<float>::quiet_NaN();
+    f.write("/head/b2", z.data(), 1);
+  }));
+  EXPECT_NE(e3.find("/head/b2 has a non-finite value"), std::string::npos) << e3;
+  // Wrong dtype (integers where floats belong).
+  const std::string e4 = error_of(make("dtype.h5", [](siamese_h5::File& f, std::vector<float>&) {
+    const int32_t one = 1;
+    f.write("/head/b2", &one, 1);
+  }));
+  EXPECT_NE(e4.find("wrong type"), std::string::npos) << e4;
+  // A different kind of HDF5 file.
+  const std::string path = (temp_dir() / "other.h5").string();
+  {
+    siamese_h5::File f = siamese_h5::File::create(path);
+    f.write_attribute("/", "format", std::string("trackassoc"));
+    f.close();
+  }
+  EXPECT_NE(error_of(path).find("expected 'trackassoc-siamese-model'"), std::string::npos) << error_of(path);
+}
+
+TEST(SiameseModelFile, FailedWriteLeavesTheOldFileIntact) {
+  const std::string path = write_valid("keep.h5");
+  const auto before = fs::file_size(path);
+  SiameseModel<float> bad = model_for_test();
+  bad.params.pop_back();
+  EXPECT_THROW(write_siamese_model(path, bad), InputError);
+  EXPECT_EQ(fs::file_size(path), before);
+  EXPECT_EQ(error_of(path), "");
+}
