@@ -1,4 +1,4 @@
-// trackassoc experiment-seed003 --model M.h5 [--data D.h5] --out R.h5: the seed 003 study
+// trackassoc experiment seed003 [--model M.h5] [--data D.h5] --out R.h5: the seed 003 study
 // (pair test metrics on the data set's test split; association accuracy and time vs track density).
 #include <cstdio>
 #include <iostream>
@@ -37,7 +37,7 @@ std::vector<double> flatten(const std::vector<std::vector<double>>& m) {
 
 }  // namespace
 
-void register_siamese_experiment(CLI::App& app) {
+void register_experiment_seed003(CLI::App& experiment) {
   struct Args {
     CommonOptions common;
     std::string model, data, output, lstm_model, bilstm_model;
@@ -45,10 +45,11 @@ void register_siamese_experiment(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   args->common.seed = 3;
-  auto* cmd = app.add_subcommand(
-      "experiment-seed003", "Seed 003 (TTCSN) study: pair test metrics and association vs track density");
-  cmd->add_option("--model", args->model, "Siamese model (train-siamese, or data/models/siamese_seed003.h5)")
-      ->required();
+  args->model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";
+  auto* cmd = experiment.add_subcommand(
+      "seed003", "Seed 003 (TTCSN) study: pair test metrics and association vs track density");
+  cmd->add_option("--model", args->model, "Siamese model (from train-siamese; default: the shipped one)")
+      ->capture_default_str();
   cmd->add_option("--lstm-model", args->lstm_model,
                   "Baseline: LSTM on concatenated pairs (train-siamese --architecture lstm)");
   cmd->add_option("--bilstm-model", args->bilstm_model,

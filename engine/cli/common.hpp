@@ -102,7 +102,6 @@ void register_evaluate(CLI::App& app);
 void register_run(CLI::App& app);
 void register_dataset(CLI::App& app);        // cmd_siamese.cpp
 void register_train_siamese(CLI::App& app);  // cmd_siamese.cpp
-void register_siamese_experiment(CLI::App& app);  // cmd_siamese_experiment.cpp
 void register_solve3d(CLI::App& app);
 void register_filter(CLI::App& app);
 void register_experiment(CLI::App& app);
@@ -110,5 +109,6 @@ void register_experiment(CLI::App& app);
 void register_experiment_seed000(CLI::App& experiment);
 void register_experiment_schedules(CLI::App& experiment);
 void register_experiment_scale(CLI::App& experiment);
+void register_experiment_seed003(CLI::App& experiment);  // cmd_siamese_experiment.cpp
 
 }  // namespace trackassoc::cli

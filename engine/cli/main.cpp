@@ -18,7 +18,6 @@ int main(int argc, char** argv) {
   trackassoc::cli::register_evaluate(app);
   trackassoc::cli::register_dataset(app);
   trackassoc::cli::register_train_siamese(app);
-  trackassoc::cli::register_siamese_experiment(app);
   trackassoc::cli::register_solve3d(app);
   trackassoc::cli::register_filter(app);
   trackassoc::cli::register_experiment(app);
