@@ -1,6 +1,54 @@
 // Scenario JSON (DESIGN §3): read, validate and write trackassoc::Scenario.
-// Every field has a default, so a scenario file only states what differs. Unknown keys are an
-// error (a misspelt key must not silently fall back to a default).
+// Every field has a default (kernels/scenario.hpp), so a scenario file only states what differs.
+// Unknown keys and duplicated keys are errors (a misspelt key must not silently fall back to a
+// default); the message names the key path, e.g. "f.json: sensors[1].sigma_range: expected a
+// finite number > 0, found number -3".
+//
+// Units: SI (m, s, m/s, m/s²) except angles, which are in degrees for people: an angle key ends in
+// _deg (or _deg_s for a rate), or, equivalently, _rad (_rad_s) for radians; give one, not both.
+// The writer uses degrees whenever the degree value converts back to the identical double, so
+// parse(to_json(s)) == s exactly; otherwise it writes radians.
+// Positions, velocities, accelerations and area corners are [x, y] or [x, y, z] (missing z = 0).
+//
+//   {
+//     "name": "seed000",                    string
+//     "description": "...",                 string, free text (where the numbers come from)
+//     "layout": "2d",                       "2d" (x,y,vx,vy) or "3d" (x,y,z,vx,vy,vz)
+//     "duration": 60.0,                     s, > 0
+//     "truth_step": 1.0,                    s, > 0, <= duration (duration/truth_step <= 1e7)
+//     "seed": 1,                            integer >= 0
+//     "sensors": [ {                        at least one; ids unique
+//       "id": 0,                            integer >= 0 (default: index in the array)
+//       "position": [125000, 125000, 0],    m
+//       "sigma_range": 170.0,               m, > 0
+//       "sigma_bearing_deg": 1.0,           > 0
+//       "sigma_elevation_deg": 0.0,         >= 0; > 0 required when layout is "3d"
+//       "period": 2.0,                      s, > 0 (duration/period <= 1e7)
+//       "offset": 0.0,                      s, >= 0, time of the first scan
+//       "p_detect": 1.0,                    in (0, 1]
+//       "clutter_rate": 0.0,                expected false plots per scan, >= 0
+//       "reliability": 1.0 } ],             > 0, seed 001 weight ω
+//     "targets": [ {                        scripted targets; ids unique (default: index)
+//       "id": 0, "position": [x, y, z], "velocity": [vx, vy, vz],
+//       "segments": [ {                     played in order; the last one lasts to the end
+//         "model": "cv",                    "cv" | "ca" | "ct" | "accel_step" | "random_manoeuvre"
+//         "duration": 10.0,                 s, >= 0
+//         "acceleration": [ax, ay, az],     m/s², "ca" and "accel_step"
+//         "turn_rate_deg_s": 3.0,           any sign, "ct" (positive = counter-clockwise)
+//         "manoeuvre_period": 1.0,          s, > 0, "random_manoeuvre"
+//         "max_turn_rate_deg_s": 0.0,       >= 0, "random_manoeuvre"
+//         "max_speed_change": 0.0,          m/s per manoeuvre, >= 0
+//         "speed_min": 0.0, "speed_max": 1e9 } ] } ],   m/s, 0 <= speed_min <= speed_max
+//     "random_targets": {                   drawn per Monte Carlo run (seed 000 §4)
+//       "count": 10,                        integer in [0, 1e7]
+//       "area_min": [155000, 155000, 0], "area_max": [205000, 205000, 0],   m, max >= min
+//       "speed_min": 100.0, "speed_max": 400.0,                             m/s, 0 <= min <= max
+//       "heading_min_deg": 0.0, "heading_max_deg": 360.0,                   min <= max
+//       "process_noise": 2.0 },             σ of the white-noise acceleration, m/s², >= 0
+//     "tracker": {                          the local tracker of every sensor
+//       "filter": "cv",                     "cv" | "ca" | "ab" | "cs" | "cs-nn" | "imm"
+//       "process_noise": 2.0 }              m/s², >= 0
+//   }
 #pragma once
 
 #include <string>

@@ -8,7 +8,9 @@
 //   λ(k) = λ(k−1) + dᵀ C⁻¹ d,   d = x̂_a(k) − x̂_b(k),   C = P_a + P_b              (Eq. 1–2)
 //
 // and the correlated-error variant uses C = P_a + P_b − P_ab − P_ba (Bar-Shalom–Campo), with the
-// cross-covariance approximated as P_ab = ρ·(P_a^{1/2} P_b^{1/2}) for a user-chosen ρ.
+// cross-covariance approximated as P_ab = ρ·(P_a^{1/2} P_b^{1/2}) for a user-chosen ρ, using the
+// principal (symmetric) square roots, so that C = (1−ρ)(P_a + P_b) + ρ(P_a^{1/2} − P_b^{1/2})² stays
+// SPD for 0 ≤ ρ < 1. Alignment uses continuous white-noise acceleration (details in the .cpp).
 // Under H0 (same target) λ is chi-square with D·k degrees of freedom; a pair whose λ exceeds the
 // chi-square quantile at the gate probability is not a candidate.
 //

@@ -32,4 +32,10 @@ struct CostTensorOptions {
 CostTensor3 build_cost_tensor(const PairStatistic& s12, const PairStatistic& s23, const PairStatistic* s13,
                               const CostTensorOptions& options);
 
+// The same, writing into `out` and reusing its storage when it already has the right size (a
+// Monte Carlo loop builds one tensor per run; a fresh allocation costs a zero-fill and page faults
+// that double the memory traffic of this write-bound kernel).
+void build_cost_tensor_into(const PairStatistic& s12, const PairStatistic& s23, const PairStatistic* s13,
+                            const CostTensorOptions& options, CostTensor3& out);
+
 }  // namespace trackassoc

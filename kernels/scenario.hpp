@@ -29,6 +29,7 @@ struct MotionSegment {
   double max_turn_rate = 0.0;                   // [rad/s], random manoeuvre heading change bound
   double max_speed_change = 0.0;                // [m/s per manoeuvre], random manoeuvre
   double speed_min = 0.0, speed_max = 1e9;      // [m/s], random manoeuvre speed limits
+  friend bool operator==(const MotionSegment&, const MotionSegment&) = default;
 };
 
 // One scripted target. Initial state is (x, y, z, vx, vy, vz); z and vz are ignored in 2-D.
@@ -36,6 +37,7 @@ struct TargetSpec {
   int32_t id = 0;
   std::array<double, 6> initial_state{0, 0, 0, 0, 0, 0};
   std::vector<MotionSegment> segments;  // played in order; the last one lasts to the end
+  friend bool operator==(const TargetSpec&, const TargetSpec&) = default;
 };
 
 // Targets drawn at random per Monte Carlo run (seed 000 §4: uniform initial position in a
@@ -46,16 +48,19 @@ struct RandomTargetSpec {
   double speed_min = 0.0, speed_max = 0.0;                      // [m/s]
   double heading_min = 0.0, heading_max = 6.283185307179586;    // [rad]
   double process_noise = 0.0;  // σ of the white-noise acceleration [m/s²]
+  friend bool operator==(const RandomTargetSpec&, const RandomTargetSpec&) = default;
 };
 
 // The local tracker each sensor runs to turn its measurements into local tracks.
 struct LocalTrackerSpec {
   std::string filter = "cv";    // cv | ca | ab | cs | cs-nn | imm (DESIGN §4.2)
   double process_noise = 1.0;  // σ of the white-noise acceleration [m/s²]
+  friend bool operator==(const LocalTrackerSpec&, const LocalTrackerSpec&) = default;
 };
 
 struct Scenario {
   std::string name = "unnamed";
+  std::string description;  // free text: where the numbers come from and why
   StateLayout layout = StateLayout::kXY_VXVY;  // 2-D or 3-D
   double duration = 100.0;                     // [s]
   double truth_step = 1.0;                     // truth sampling step [s]
@@ -64,6 +69,7 @@ struct Scenario {
   RandomTargetSpec random_targets;
   std::vector<Sensor> sensors;
   LocalTrackerSpec tracker;
+  friend bool operator==(const Scenario&, const Scenario&) = default;
 };
 
 }  // namespace trackassoc

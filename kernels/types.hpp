@@ -108,6 +108,7 @@ struct Sensor {
   double p_detect = 1.0;                    // detection probability per scan
   double clutter_rate = 0.0;                // expected false plots per scan
   double reliability = 1.0;                 // seed 001 reliability weight ω
+  friend bool operator==(const Sensor&, const Sensor&) = default;
 };
 
 }  // namespace trackassoc

@@ -1,0 +1,449 @@
+#include "io/scenario_json.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include "kernels/error.hpp"
+
+namespace trackassoc {
+namespace {
+
+using json = nlohmann::json;
+using ordered_json = nlohmann::ordered_json;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegToRad = kPi / 180.0;
+// Bounds that keep a scenario from asking for an absurd amount of work or memory.
+constexpr double kMaxSteps = 1e7;            // duration / truth_step, duration / period
+constexpr int64_t kMaxRandomTargets = 10'000'000;
+
+struct ModelName {
+  MotionModel model;
+  const char* name;
+};
+constexpr ModelName kModels[] = {{MotionModel::kConstantVelocity, "cv"},
+                                 {MotionModel::kConstantAcceleration, "ca"},
+                                 {MotionModel::kCoordinatedTurn, "ct"},
+                                 {MotionModel::kAccelerationStep, "accel_step"},
+                                 {MotionModel::kRandomManoeuvre, "random_manoeuvre"}};
+constexpr const char* kFilters[] = {"cv", "ca", "ab", "cs", "cs-nn", "imm"};
+
+// ---------------------------------------------------------------- reading
+
+// One JSON object being read: every key must be consumed, so a misspelt key is reported.
+class Reader {
+ public:
+  Reader(const json& object, std::string path, const std::string& source)
+      : object_(object), path_(std::move(path)), source_(source) {
+    if (!object_.is_object()) fail(path_, "expected an object", object_);
+  }
+  ~Reader() = default;
+
+  [[noreturn]] void fail(const std::string& path, const std::string& expected, const json& found) const {
+    std::string shown = found.dump();
+    if (shown.size() > 60) shown = shown.substr(0, 57) + "...";
+    throw InputError(source_ + ": " + (path.empty() ? "(top level)" : path) + ": " + expected + ", found " +
+                     std::string(found.type_name()) + " " + shown);
+  }
+  std::string key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+  const json* get(const std::string& key) {
+    auto it = object_.find(key);
+    if (it == object_.end()) return nullptr;
+    seen_.insert(key);
+    return &*it;
+  }
+
+  // A finite number, optionally bounded; `rule` describes the bound for the message.
+  void number(const std::string& key, double& out, bool (*ok)(double) = nullptr, const char* rule = "") {
+    const json* v = get(key);
+    if (!v) return;
+    if (!v->is_number()) fail(key_path(key), std::string("expected a number") + rule, *v);
+    const double d = v->get<double>();
+    if (!std::isfinite(d) || (ok && !ok(d))) fail(key_path(key), std::string("expected a finite number") + rule, *v);
+    out = d;
+  }
+  // An angle given either as KEY_deg (degrees) or KEY_rad (radians), stored in radians.
+  // `suffix` is "" for angles and "_s" for angular rates.
+  void angle(const std::string& key, const std::string& suffix, double& out, bool (*ok)(double), const char* rule) {
+    const std::string deg = key + "_deg" + suffix, rad = key + "_rad" + suffix;
+    const bool has_deg = object_.contains(deg), has_rad = object_.contains(rad);
+    if (has_deg && has_rad)
+      throw InputError(source_ + ": " + key_path(deg) + ": give either " + deg + " or " + rad + ", not both");
+    double value = 0.0;
+    if (has_deg) {
+      number(deg, value, nullptr, "");
+      value *= kDegToRad;
+    } else if (has_rad) {
+      number(rad, value, nullptr, "");
+    } else {
+      return;
+    }
+    if (ok && !ok(value)) fail(key_path(has_deg ? deg : rad), std::string("expected a number") + rule, object_[has_deg ? deg : rad]);
+    out = value;
+  }
+  template <typename Int>
+  void integer(const std::string& key, Int& out, int64_t min_value, int64_t max_value) {
+    const json* v = get(key);
+    if (!v) return;
+    const std::string range = " in [" + std::to_string(min_value) + ", " + std::to_string(max_value) + "]";
+    if (!v->is_number_integer()) fail(key_path(key), "expected an integer" + range, *v);
+    if (v->is_number_unsigned()) {
+      const uint64_t u = v->get<uint64_t>();
+      if (u > static_cast<uint64_t>(max_value)) fail(key_path(key), "expected an integer" + range, *v);
+      out = static_cast<Int>(u);
+      return;
+    }
+    const int64_t i = v->get<int64_t>();
+    if (i < min_value || i > max_value) fail(key_path(key), "expected an integer" + range, *v);
+    out = static_cast<Int>(i);
+  }
+  void seed(const std::string& key, uint64_t& out) {
+    const json* v = get(key);
+    if (!v) return;
+    if (!v->is_number_unsigned()) fail(key_path(key), "expected a non-negative integer", *v);
+    out = v->get<uint64_t>();
+  }
+  void string(const std::string& key, std::string& out) {
+    const json* v = get(key);
+    if (!v) return;
+    if (!v->is_string()) fail(key_path(key), "expected a string", *v);
+    out = v->get<std::string>();
+  }
+  // [x, y] or [x, y, z]: a missing z is 0.
+  void vector3(const std::string& key, std::array<double, 3>& out) {
+    const json* v = get(key);
+    if (!v) return;
+    if (!v->is_array() || v->size() < 2 || v->size() > 3)
+      fail(key_path(key), "expected an array of 2 or 3 numbers", *v);
+    std::array<double, 3> r{0, 0, 0};
+    for (std::size_t i = 0; i < v->size(); ++i) {
+      const json& e = (*v)[i];
+      if (!e.is_number() || !std::isfinite(e.get<double>()))
+        fail(key_path(key) + "[" + std::to_string(i) + "]", "expected a finite number", e);
+      r[i] = e.get<double>();
+    }
+    out = r;
+  }
+  const json* array(const std::string& key) {
+    const json* v = get(key);
+    if (v && !v->is_array()) fail(key_path(key), "expected an array", *v);
+    return v;
+  }
+  // Call last: every key of the object must have been read.
+  void finish() const {
+    for (auto it = object_.begin(); it != object_.end(); ++it)
+      if (!seen_.count(it.key()))
+        throw InputError(source_ + ": " + key_path(it.key()) + ": unknown key (see io/scenario_json.hpp for the format)");
+  }
+  const std::string& path() const { return path_; }
+  const std::string& source() const { return source_; }
+
+ private:
+  const json& object_;
+  std::string path_;
+  const std::string& source_;
+  std::set<std::string> seen_;
+};
+
+bool positive(double v) { return v > 0; }
+bool non_negative(double v) { return v >= 0; }
+bool probability(double v) { return v > 0 && v <= 1; }
+
+void read_sensor(Reader& r, Sensor& s) {
+  r.integer("id", s.id, 0, std::numeric_limits<int32_t>::max());
+  r.vector3("position", s.position);
+  r.number("sigma_range", s.sigma_range, positive, " > 0");
+  r.angle("sigma_bearing", "", s.sigma_bearing, positive, " > 0");
+  r.angle("sigma_elevation", "", s.sigma_elevation, non_negative, " >= 0");
+  r.number("period", s.period, positive, " > 0");
+  r.number("offset", s.offset, non_negative, " >= 0");
+  r.number("p_detect", s.p_detect, probability, " in (0, 1]");
+  r.number("clutter_rate", s.clutter_rate, non_negative, " >= 0");
+  r.number("reliability", s.reliability, positive, " > 0");
+  r.finish();
+}
+
+void read_segment(Reader& r, MotionSegment& m) {
+  if (const json* v = r.get("model")) {
+    std::string names;
+    bool found = false;
+    for (const auto& mn : kModels) {
+      names += (names.empty() ? "" : ", ") + std::string(mn.name);
+      if (v->is_string() && v->get<std::string>() == mn.name) {
+        m.model = mn.model;
+        found = true;
+      }
+    }
+    if (!found) r.fail(r.key_path("model"), "expected one of " + names, *v);
+  }
+  r.number("duration", m.duration, non_negative, " >= 0");
+  r.vector3("acceleration", m.acceleration);
+  r.angle("turn_rate", "_s", m.turn_rate, nullptr, "");
+  r.number("manoeuvre_period", m.manoeuvre_period, positive, " > 0");
+  r.angle("max_turn_rate", "_s", m.max_turn_rate, non_negative, " >= 0");
+  r.number("max_speed_change", m.max_speed_change, non_negative, " >= 0");
+  r.number("speed_min", m.speed_min, non_negative, " >= 0");
+  r.number("speed_max", m.speed_max, non_negative, " >= 0");
+  if (m.speed_max < m.speed_min)
+    throw InputError(r.source() + ": " + r.key_path("speed_max") + ": expected >= speed_min (" +
+                     std::to_string(m.speed_min) + "), found " + std::to_string(m.speed_max));
+  r.finish();
+}
+
+void read_target(Reader& r, TargetSpec& t) {
+  r.integer("id", t.id, 0, std::numeric_limits<int32_t>::max());
+  std::array<double, 3> p{t.initial_state[0], t.initial_state[1], t.initial_state[2]};
+  std::array<double, 3> v{t.initial_state[3], t.initial_state[4], t.initial_state[5]};
+  r.vector3("position", p);
+  r.vector3("velocity", v);
+  t.initial_state = {p[0], p[1], p[2], v[0], v[1], v[2]};
+  if (const json* segments = r.array("segments")) {
+    t.segments.clear();
+    for (std::size_t i = 0; i < segments->size(); ++i) {
+      Reader sr((*segments)[i], r.key_path("segments") + "[" + std::to_string(i) + "]", r.source());
+      MotionSegment m;
+      read_segment(sr, m);
+      t.segments.push_back(m);
+    }
+  }
+  r.finish();
+}
+
+void read_random_targets(Reader& r, RandomTargetSpec& g) {
+  r.integer("count", g.count, 0, kMaxRandomTargets);
+  r.vector3("area_min", g.area_min);
+  r.vector3("area_max", g.area_max);
+  r.number("speed_min", g.speed_min, non_negative, " >= 0");
+  r.number("speed_max", g.speed_max, non_negative, " >= 0");
+  r.angle("heading_min", "", g.heading_min, nullptr, "");
+  r.angle("heading_max", "", g.heading_max, nullptr, "");
+  r.number("process_noise", g.process_noise, non_negative, " >= 0");
+  r.finish();
+  auto bad = [&](const std::string& key, const std::string& what) {
+    throw InputError(r.source() + ": " + r.key_path(key) + ": " + what);
+  };
+  for (int d = 0; d < 3; ++d)
+    if (g.area_max[d] < g.area_min[d])
+      bad("area_max", "expected area_max >= area_min in every coordinate, found coordinate " + std::to_string(d) +
+                          " smaller");
+  if (g.speed_max < g.speed_min) bad("speed_max", "expected speed_max >= speed_min");
+  if (g.heading_max < g.heading_min) bad("heading_max", "expected heading_max >= heading_min");
+}
+
+void read_tracker(Reader& r, LocalTrackerSpec& t) {
+  if (const json* v = r.get("filter")) {
+    std::string names;
+    bool found = false;
+    for (const char* f : kFilters) {
+      names += (names.empty() ? "" : ", ") + std::string(f);
+      found = found || (v->is_string() && v->get<std::string>() == f);
+    }
+    if (!found) r.fail(r.key_path("filter"), "expected one of " + names, *v);
+    t.filter = v->get<std::string>();
+  }
+  r.number("process_noise", t.process_noise, non_negative, " >= 0");
+  r.finish();
+}
+
+// nlohmann keeps the last of duplicate keys silently; a duplicated key is as suspicious as a
+// misspelt one, so the parser callback rejects it.
+json parse_rejecting_duplicates(const std::string& text, const std::string& source) {
+  std::vector<std::set<std::string>> keys;
+  auto callback = [&](int, json::parse_event_t event, json& parsed) {
+    if (event == json::parse_event_t::object_start) keys.emplace_back();
+    else if (event == json::parse_event_t::object_end) { if (!keys.empty()) keys.pop_back(); }
+    else if (event == json::parse_event_t::key && !keys.empty()) {
+      const std::string key = parsed.get<std::string>();
+      if (!keys.back().insert(key).second) throw InputError(source + ": key '" + key + "' appears twice in one object");
+    }
+    return true;
+  };
+  try {
+    return json::parse(text, callback);
+  } catch (const json::exception& e) {
+    throw InputError(source + ": invalid JSON: " + e.what());
+  }
+}
+
+// ---------------------------------------------------------------- writing
+
+// Degrees for people, radians inside. The written degree value must convert back to the very same
+// radians, so search a short decimal first, then the neighbouring doubles; fall back to radians.
+std::optional<double> exact_degrees(double radians) {
+  const double guess = radians / kDegToRad;
+  for (int digits : {6, 9, 12, 15, 17}) {
+    char buffer[40];
+    std::snprintf(buffer, sizeof buffer, "%.*g", digits, guess);
+    const double d = std::strtod(buffer, nullptr);
+    if (d * kDegToRad == radians) return d;
+  }
+  double up = guess, down = guess;
+  for (int i = 0; i < 16; ++i) {
+    up = std::nextafter(up, std::numeric_limits<double>::infinity());
+    down = std::nextafter(down, -std::numeric_limits<double>::infinity());
+    if (up * kDegToRad == radians) return up;
+    if (down * kDegToRad == radians) return down;
+  }
+  return std::nullopt;
+}
+
+void write_angle(ordered_json& j, const std::string& key, const std::string& suffix, double radians) {
+  if (const auto d = exact_degrees(radians))
+    j[key + "_deg" + suffix] = *d;
+  else
+    j[key + "_rad" + suffix] = radians;
+}
+
+ordered_json vector_json(const std::array<double, 3>& v) { return ordered_json::array({v[0], v[1], v[2]}); }
+
+const char* model_name(MotionModel m) {
+  for (const auto& mn : kModels)
+    if (mn.model == m) return mn.name;
+  return "cv";
+}
+
+}  // namespace
+
+Scenario parse_scenario_json(const std::string& text, const std::string& source) {
+  const json root = parse_rejecting_duplicates(text, source);
+  Scenario s;
+  Reader r(root, "", source);
+  r.string("name", s.name);
+  r.string("description", s.description);
+  if (const json* v = r.get("layout")) {
+    if (*v == "2d")
+      s.layout = StateLayout::kXY_VXVY;
+    else if (*v == "3d")
+      s.layout = StateLayout::kXYZ_VXVYVZ;
+    else
+      r.fail("layout", "expected \"2d\" or \"3d\"", *v);
+  }
+  r.number("duration", s.duration, positive, " > 0");
+  r.number("truth_step", s.truth_step, positive, " > 0");
+  r.seed("seed", s.seed);
+  if (const json* sensors = r.array("sensors")) {
+    for (std::size_t i = 0; i < sensors->size(); ++i) {
+      Reader sr((*sensors)[i], "sensors[" + std::to_string(i) + "]", source);
+      Sensor sensor;
+      sensor.id = static_cast<int32_t>(i);
+      read_sensor(sr, sensor);
+      s.sensors.push_back(sensor);
+    }
+  }
+  if (const json* targets = r.array("targets")) {
+    for (std::size_t i = 0; i < targets->size(); ++i) {
+      Reader tr((*targets)[i], "targets[" + std::to_string(i) + "]", source);
+      TargetSpec target;
+      target.id = static_cast<int32_t>(i);
+      read_target(tr, target);
+      s.targets.push_back(target);
+    }
+  }
+  if (const json* g = r.get("random_targets")) {
+    Reader gr(*g, "random_targets", source);
+    read_random_targets(gr, s.random_targets);
+  }
+  if (const json* t = r.get("tracker")) {
+    Reader tr(*t, "tracker", source);
+    read_tracker(tr, s.tracker);
+  }
+  r.finish();
+
+  // Whole-scenario rules.
+  auto bad = [&](const std::string& where, const std::string& what) { throw InputError(source + ": " + where + ": " + what); };
+  if (s.sensors.empty()) bad("sensors", "expected at least one sensor, found none");
+  if (s.truth_step > s.duration) bad("truth_step", "expected <= duration");
+  if (s.duration / s.truth_step > kMaxSteps) bad("truth_step", "duration / truth_step exceeds 1e7 steps");
+  std::set<int32_t> ids;
+  for (std::size_t i = 0; i < s.sensors.size(); ++i) {
+    const Sensor& sensor = s.sensors[i];
+    const std::string where = "sensors[" + std::to_string(i) + "]";
+    if (!ids.insert(sensor.id).second) bad(where + ".id", "sensor id " + std::to_string(sensor.id) + " is used twice");
+    if (s.duration / sensor.period > kMaxSteps) bad(where + ".period", "duration / period exceeds 1e7 scans");
+    if (s.layout == StateLayout::kXYZ_VXVYVZ && !(sensor.sigma_elevation > 0))
+      bad(where + ".sigma_elevation_deg", "a 3-D scenario needs sigma_elevation > 0");
+  }
+  ids.clear();
+  for (std::size_t i = 0; i < s.targets.size(); ++i)
+    if (!ids.insert(s.targets[i].id).second)
+      bad("targets[" + std::to_string(i) + "].id", "target id " + std::to_string(s.targets[i].id) + " is used twice");
+  return s;
+}
+
+Scenario read_scenario_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open scenario file for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_scenario_json(ss.str(), path);
+}
+
+std::string scenario_to_json(const Scenario& s) {
+  ordered_json j;
+  j["name"] = s.name;
+  j["description"] = s.description;
+  j["layout"] = s.layout == StateLayout::kXY_VXVY ? "2d" : "3d";
+  j["duration"] = s.duration;
+  j["truth_step"] = s.truth_step;
+  j["seed"] = s.seed;
+  j["sensors"] = ordered_json::array();
+  for (const Sensor& sensor : s.sensors) {
+    ordered_json o;
+    o["id"] = sensor.id;
+    o["position"] = vector_json(sensor.position);
+    o["sigma_range"] = sensor.sigma_range;
+    write_angle(o, "sigma_bearing", "", sensor.sigma_bearing);
+    write_angle(o, "sigma_elevation", "", sensor.sigma_elevation);
+    o["period"] = sensor.period;
+    o["offset"] = sensor.offset;
+    o["p_detect"] = sensor.p_detect;
+    o["clutter_rate"] = sensor.clutter_rate;
+    o["reliability"] = sensor.reliability;
+    j["sensors"].push_back(o);
+  }
+  j["targets"] = ordered_json::array();
+  for (const TargetSpec& t : s.targets) {
+    ordered_json o;
+    o["id"] = t.id;
+    o["position"] = vector_json({t.initial_state[0], t.initial_state[1], t.initial_state[2]});
+    o["velocity"] = vector_json({t.initial_state[3], t.initial_state[4], t.initial_state[5]});
+    o["segments"] = ordered_json::array();
+    for (const MotionSegment& m : t.segments) {
+      ordered_json g;
+      g["model"] = model_name(m.model);
+      g["duration"] = m.duration;
+      g["acceleration"] = vector_json(m.acceleration);
+      write_angle(g, "turn_rate", "_s", m.turn_rate);
+      g["manoeuvre_period"] = m.manoeuvre_period;
+      write_angle(g, "max_turn_rate", "_s", m.max_turn_rate);
+      g["max_speed_change"] = m.max_speed_change;
+      g["speed_min"] = m.speed_min;
+      g["speed_max"] = m.speed_max;
+      o["segments"].push_back(g);
+    }
+    j["targets"].push_back(o);
+  }
+  const RandomTargetSpec& g = s.random_targets;
+  ordered_json rt;
+  rt["count"] = g.count;
+  rt["area_min"] = vector_json(g.area_min);
+  rt["area_max"] = vector_json(g.area_max);
+  rt["speed_min"] = g.speed_min;
+  rt["speed_max"] = g.speed_max;
+  write_angle(rt, "heading_min", "", g.heading_min);
+  write_angle(rt, "heading_max", "", g.heading_max);
+  rt["process_noise"] = g.process_noise;
+  j["random_targets"] = rt;
+  j["tracker"] = {{"filter", s.tracker.filter}, {"process_noise", s.tracker.process_noise}};
+  return j.dump(2) + "\n";
+}
+
+}  // namespace trackassoc

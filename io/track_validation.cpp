@@ -1,0 +1,220 @@
+#include "io/track_validation.hpp"
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+#include <unordered_set>
+
+#include "kernels/assignment_types.hpp"
+#include "kernels/error.hpp"
+
+namespace trackassoc::track_validation {
+namespace {
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+[[noreturn]] void fail(const std::string& file, const std::string& dataset, const std::string& what) {
+  throw InputError(file + ": " + dataset + ": " + what);
+}
+[[noreturn]] void fail_row(const std::string& file, const std::string& dataset, std::size_t row,
+                           const std::string& what) {
+  fail(file, dataset, "row " + std::to_string(row) + ": " + what);
+}
+
+void check_length(const std::string& file, const std::string& dataset, std::size_t found, std::size_t expected,
+                  const std::string& reference) {
+  if (found != expected)
+    fail(file, dataset,
+         "expected " + std::to_string(expected) + " rows (as " + reference + "), found " + std::to_string(found));
+}
+
+void check_finite(const std::string& file, const std::string& dataset, const std::vector<double>& v) {
+  for (std::size_t r = 0; r < v.size(); ++r)
+    if (!std::isfinite(v[r])) fail_row(file, dataset, r, "expected a finite value, found " + number(v[r]));
+}
+
+void check_finite_min(const std::string& file, const std::string& dataset, double v, std::size_t row, double min) {
+  if (!std::isfinite(v) || v < min)
+    fail_row(file, dataset, row, "expected a finite value >= " + number(min) + ", found " + number(v));
+}
+
+std::set<int32_t> sensor_ids(const std::vector<Sensor>& sensors) {
+  std::set<int32_t> ids;
+  for (const Sensor& s : sensors) ids.insert(s.id);
+  return ids;
+}
+
+}  // namespace
+
+void check_object_name(const std::string& file, const std::string& group, const std::string& name) {
+  bool ok = !name.empty() && name != "." && name.find('/') == std::string::npos;
+  for (unsigned char c : name) ok = ok && c >= 32 && c != 127;
+  if (!ok) fail(file, group, "invalid name '" + name + "' (non-empty, no '/', no control characters, not '.')");
+}
+
+std::string positive_definite_failure(const double* packed, int d) {
+  double a[6][6];
+  for (int r = 0, k = 0; r < d; ++r)
+    for (int c = r; c < d; ++c, ++k) a[r][c] = a[c][r] = packed[k];
+  for (int i = 0; i < d; ++i)
+    if (!(a[i][i] > 0))
+      return "diagonal element (" + std::to_string(i) + "," + std::to_string(i) + ") = " + number(a[i][i]) +
+             " is not positive";
+  // In-place Cholesky, lower triangle: a = L Lᵀ exists iff every pivot is positive.
+  for (int j = 0; j < d; ++j) {
+    double pivot = a[j][j];
+    for (int k = 0; k < j; ++k) pivot -= a[j][k] * a[j][k];
+    if (!(pivot > 0)) return "Cholesky pivot " + std::to_string(j) + " = " + number(pivot) + " is not positive";
+    const double l = std::sqrt(pivot);
+    a[j][j] = l;
+    for (int i = j + 1; i < d; ++i) {
+      double v = a[i][j];
+      for (int k = 0; k < j; ++k) v -= a[i][k] * a[j][k];
+      a[i][j] = v / l;
+    }
+  }
+  return "";
+}
+
+void check_sensors(const std::string& file, const std::vector<Sensor>& sensors) {
+  std::set<int32_t> seen;
+  for (std::size_t r = 0; r < sensors.size(); ++r) {
+    const Sensor& s = sensors[r];
+    if (!seen.insert(s.id).second) fail_row(file, "/sensors/id", r, "sensor id " + std::to_string(s.id) + " appears twice");
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(s.position[c]))
+        fail_row(file, "/sensors/position", r, "column " + std::to_string(c) + ": expected a finite value, found " +
+                                                  number(s.position[c]));
+    check_finite_min(file, "/sensors/sigma_range", s.sigma_range, r, 0);
+    check_finite_min(file, "/sensors/sigma_bearing", s.sigma_bearing, r, 0);
+    check_finite_min(file, "/sensors/sigma_elevation", s.sigma_elevation, r, 0);
+    check_finite_min(file, "/sensors/period", s.period, r, 0);
+    check_finite_min(file, "/sensors/offset", s.offset, r, -std::numeric_limits<double>::max());
+    check_finite_min(file, "/sensors/clutter_rate", s.clutter_rate, r, 0);
+    check_finite_min(file, "/sensors/reliability", s.reliability, r, 0);
+    if (!(s.p_detect >= 0 && s.p_detect <= 1))
+      fail_row(file, "/sensors/p_detect", r, "expected a value in [0, 1], found " + number(s.p_detect));
+  }
+}
+
+void check_tracks(const std::string& file, const TrackTable& t, const std::vector<Sensor>& sensors) {
+  const std::size_t n = t.sensor.size();
+  const int d = t.dim();
+  const std::string ref = "/tracks/sensor";
+  check_length(file, "/tracks/track", t.track.size(), n, ref);
+  check_length(file, "/tracks/t", t.t.size(), n, ref);
+  check_length(file, "/tracks/truth", t.truth.size(), n, ref);
+  if (static_cast<int>(t.state.size()) != d) fail(file, "/tracks/state", "expected " + std::to_string(d) + " columns");
+  if (static_cast<int>(t.cov.size()) != packed_size(d))
+    fail(file, "/tracks/cov", "expected " + std::to_string(packed_size(d)) + " columns");
+  for (const auto& c : t.state) check_length(file, "/tracks/state", c.size(), n, ref);
+  for (const auto& c : t.cov) check_length(file, "/tracks/cov", c.size(), n, ref);
+
+  const std::set<int32_t> ids = sensor_ids(sensors);
+  for (std::size_t r = 0; r < n; ++r) {
+    if (!ids.count(t.sensor[r]))
+      fail_row(file, "/tracks/sensor", r, "sensor " + std::to_string(t.sensor[r]) + " is not in /sensors/id");
+    if (t.track[r] < 0) fail_row(file, "/tracks/track", r, "expected a track number >= 0, found " + std::to_string(t.track[r]));
+    if (t.truth[r] < -1) fail_row(file, "/tracks/truth", r, "expected a target id >= -1, found " + std::to_string(t.truth[r]));
+  }
+  check_finite(file, "/tracks/t", t.t);
+  const char* names[] = {"x", "y", "z", "vx", "vy", "vz"};
+  const int order4[] = {0, 1, 3, 4}, order6[] = {0, 1, 2, 3, 4, 5};
+  for (int c = 0; c < d; ++c)
+    for (std::size_t r = 0; r < n; ++r)
+      if (!std::isfinite(t.state[c][r]))
+        fail_row(file, "/tracks/state", r,
+                 "column " + std::to_string(c) + " (" + names[d == 4 ? order4[c] : order6[c]] +
+                     "): expected a finite value, found " + number(t.state[c][r]));
+  const int p = packed_size(d);
+  double packed[21];
+  for (std::size_t r = 0; r < n; ++r) {
+    for (int k = 0; k < p; ++k) {
+      packed[k] = t.cov[k][r];
+      if (!std::isfinite(packed[k]))
+        fail_row(file, "/tracks/cov", r, "column " + std::to_string(k) + ": expected a finite value, found " + number(packed[k]));
+    }
+    const std::string why = positive_definite_failure(packed, d);
+    if (!why.empty()) fail_row(file, "/tracks/cov", r, "covariance is not positive definite: " + why);
+  }
+}
+
+void check_truth(const std::string& file, const TruthTable& t) {
+  const std::size_t n = t.target.size();
+  check_length(file, "/truth/t", t.t.size(), n, "/truth/target");
+  if (static_cast<int>(t.state.size()) != state_dim(t.layout))
+    fail(file, "/truth/state", "expected " + std::to_string(state_dim(t.layout)) + " columns");
+  for (const auto& c : t.state) check_length(file, "/truth/state", c.size(), n, "/truth/target");
+  for (std::size_t r = 0; r < n; ++r)
+    if (t.target[r] < 0) fail_row(file, "/truth/target", r, "expected a target id >= 0, found " + std::to_string(t.target[r]));
+  check_finite(file, "/truth/t", t.t);
+  for (const auto& c : t.state) check_finite(file, "/truth/state", c);
+}
+
+void check_measurements(const std::string& file, const Measurements& m, const std::vector<Sensor>& sensors) {
+  const std::size_t n = m.sensor.size();
+  const std::string ref = "/measurements/sensor";
+  check_length(file, "/measurements/t", m.t.size(), n, ref);
+  check_length(file, "/measurements/range", m.range.size(), n, ref);
+  check_length(file, "/measurements/bearing", m.bearing.size(), n, ref);
+  check_length(file, "/measurements/target", m.target.size(), n, ref);
+  if (!m.elevation.empty()) check_length(file, "/measurements/elevation", m.elevation.size(), n, ref + " (or 0 for 2-D)");
+  const std::set<int32_t> ids = sensor_ids(sensors);
+  for (std::size_t r = 0; r < n; ++r) {
+    if (!ids.count(m.sensor[r]))
+      fail_row(file, "/measurements/sensor", r, "sensor " + std::to_string(m.sensor[r]) + " is not in /sensors/id");
+    if (m.target[r] < -1)
+      fail_row(file, "/measurements/target", r, "expected a target id >= -1 (-1 = clutter), found " + std::to_string(m.target[r]));
+    check_finite_min(file, "/measurements/range", m.range[r], r, 0);
+  }
+  check_finite(file, "/measurements/t", m.t);
+  check_finite(file, "/measurements/bearing", m.bearing);
+  check_finite(file, "/measurements/elevation", m.elevation);
+}
+
+void check_association(const std::string& file, const AssociationRecord& a, const std::vector<Sensor>& sensors,
+                       const TrackTable& tracks) {
+  check_object_name(file, "/associations", a.name);
+  const std::string g = "/associations/" + a.name;
+  const std::size_t s = sensors.size();
+  if (a.num_sensors != static_cast<int32_t>(s))
+    fail(file, g + "/tuples", "expected " + std::to_string(s) + " columns (one per sensor, in /sensors order), found " +
+                                  std::to_string(a.num_sensors));
+  const std::size_t k = a.cost.size();
+  if (a.tuples.size() != k * s)
+    fail(file, g + "/tuples", "expected " + std::to_string(k) + " rows (as " + g + "/cost) of " + std::to_string(s) +
+                                  " columns, found " + std::to_string(a.tuples.size()) + " values");
+  std::map<int32_t, std::size_t> column_of;
+  for (std::size_t c = 0; c < s; ++c) column_of[sensors[c].id] = c;
+  std::vector<std::unordered_set<int32_t>> reported(s);
+  for (std::size_t r = 0; r < tracks.sensor.size(); ++r) {
+    auto it = column_of.find(tracks.sensor[r]);
+    if (it != column_of.end()) reported[it->second].insert(tracks.track[r]);
+  }
+  for (std::size_t r = 0; r < k; ++r)
+    for (std::size_t c = 0; c < s; ++c) {
+      const int32_t v = a.tuples[r * s + c];
+      if (v != kNoTrack && !reported[c].count(v))
+        fail_row(file, g + "/tuples", r,
+                 "column " + std::to_string(c) + " (sensor " + std::to_string(sensors[c].id) + "): expected -1 or a track number of that sensor in /tracks/track, found " +
+                     std::to_string(v));
+    }
+  if (a.energy_rows < 0 || a.energy_cols < 0 ||
+      a.energy.size() != static_cast<std::size_t>(a.energy_rows) * static_cast<std::size_t>(a.energy_cols))
+    fail(file, g + "/energy", "expected " + std::to_string(a.energy_rows) + "x" + std::to_string(a.energy_cols) +
+                                  " values, found " + std::to_string(a.energy.size()));
+}
+
+void check_metrics(const std::string& file, const MetricsRecord& m) {
+  check_object_name(file, "/metrics", m.name);
+  for (const auto& entry : m.tables) check_object_name(file, "/metrics/" + m.name, entry.first);
+}
+
+}  // namespace trackassoc::track_validation

@@ -1,0 +1,276 @@
+// Track alignment at common times and the independent / correlated sequential statistic
+// (seed 000 §2 Eq. 1–2; Bar-Shalom & Campo 1986; DESIGN §4.3). See the header for the contract.
+//
+// Choices made here (the papers leave them open):
+//
+// * Alignment model. A track's latest report at or before the common time t is predicted by the
+//   constant-velocity model with continuous white-noise acceleration of power spectral density
+//   q = process_noise² (Bar-Shalom, Li, Kirubarajan 2001, §6.2.2), per spatial axis:
+//       F = [1 Δ; 0 1],   Q = q·[Δ³/3  Δ²/2; Δ²/2  Δ].
+//   The continuous model is used rather than the piecewise-constant (discrete) one because the
+//   prediction interval Δ varies from track to track and time to time; the continuous Q is
+//   consistent under splitting of Δ. Reports at the same time: the last row in table order wins.
+//   A track is invalid at t when it has no report at or before t, or its latest report is older
+//   than max_extrapolation.
+//
+// * Correlated errors. Bar-Shalom–Campo need the cross-covariance P_ab of the two local estimates,
+//   which a track file does not carry. We approximate it as ρ times the symmetric product of the
+//   principal square roots, S_a = P_a^{1/2}, S_b = P_b^{1/2}:
+//       P_ab + P_ba ≈ ρ·(S_a S_b + S_b S_a),
+//   so C = P_a + P_b − ρ(S_a S_b + S_b S_a) = (1−ρ)(P_a + P_b) + ρ(S_a − S_b)², which is SPD for
+//   0 ≤ ρ < 1 whenever P_a + P_b is (a sum of an SPD and a PSD matrix). With ρ = 0 it reduces to
+//   the independent form. The square roots are computed once per aligned row, not per pair.
+//
+// * Pairs that never coexist at a common time get λ = 0, dof = 0 and are outside the gate: there is
+//   no evidence that they are the same target.
+//
+// * C is factorised by Cholesky (LLᵀ) per pair per time; d ᵀC⁻¹d = |L⁻¹d|². A C that is not
+//   positive definite means a bad input covariance and raises InputError naming the tracks.
+#include "kernels/association_statistic.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "kernels/error.hpp"
+#include "kernels/parallel.hpp"
+
+namespace trackassoc {
+
+void AlignmentOptions::validate() const {
+  require(std::isfinite(process_noise) && process_noise >= 0.0, "AlignmentOptions.process_noise",
+          "must be finite and >= 0 [m/s^2], got " + std::to_string(process_noise));
+  require(std::isfinite(max_extrapolation) && max_extrapolation >= 0.0, "AlignmentOptions.max_extrapolation",
+          "must be finite and >= 0 [s], got " + std::to_string(max_extrapolation));
+}
+
+void StatisticOptions::validate() const {
+  require(std::isfinite(cross_correlation) && cross_correlation >= 0.0 && cross_correlation < 1.0,
+          "StatisticOptions.cross_correlation",
+          "must be in [0, 1), got " + std::to_string(cross_correlation));
+  require(gate_probability > 0.0 && gate_probability <= 1.0, "StatisticOptions.gate_probability",
+          "must be in (0, 1] (1 disables gating), got " + std::to_string(gate_probability));
+}
+
+AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<const double> common_times,
+                           const AlignmentOptions& options) {
+  options.validate();
+  const int D = tracks.dim();
+  const int P = packed_size(D);
+  const int m = D / 2;  // spatial dimension: state = (position[m], velocity[m])
+  const int32_t K = static_cast<int32_t>(common_times.size());
+  const bool has_truth = tracks.truth.size() == tracks.size();
+  require(tracks.sensor.size() == tracks.size() && tracks.track.size() == tracks.size() &&
+              tracks.state.size() == static_cast<std::size_t>(D) &&
+              tracks.cov.size() == static_cast<std::size_t>(P),
+          "align_tracks", "the track table's columns are inconsistent");
+  for (const auto& col : tracks.state)
+    require(col.size() == tracks.size(), "align_tracks", "a state column has the wrong length");
+  for (const auto& col : tracks.cov)
+    require(col.size() == tracks.size(), "align_tracks", "a covariance column has the wrong length");
+  for (int32_t k = 0; k < K; ++k) {
+    require(std::isfinite(common_times[k]), "align_tracks.common_times",
+            "time " + std::to_string(k) + " is not finite");
+    require(k == 0 || common_times[k] > common_times[k - 1], "align_tracks.common_times",
+            "must be strictly ascending, time " + std::to_string(k) + " is not");
+  }
+
+  // Rows of this sensor, ordered by (track, t, row): the stable order makes ties deterministic.
+  std::vector<std::size_t> rows;
+  for (std::size_t r = 0; r < tracks.size(); ++r)
+    if (tracks.sensor[r] == sensor) {
+      if (!std::isfinite(tracks.t[r]))
+        throw InputError("/tracks/t: row " + std::to_string(r) + " is not finite");
+      rows.push_back(r);
+    }
+  std::stable_sort(rows.begin(), rows.end(), [&](std::size_t x, std::size_t y) {
+    if (tracks.track[x] != tracks.track[y]) return tracks.track[x] < tracks.track[y];
+    return tracks.t[x] < tracks.t[y];
+  });
+
+  AlignedTracks out;
+  out.sensor = sensor;
+  out.dim = D;
+  out.n_times = K;
+  std::vector<std::size_t> begin;  // first row (in `rows`) of each track
+  for (std::size_t q = 0; q < rows.size(); ++q)
+    if (q == 0 || tracks.track[rows[q]] != tracks.track[rows[q - 1]]) {
+      begin.push_back(q);
+      out.track.push_back(tracks.track[rows[q]]);
+    }
+  begin.push_back(rows.size());
+  const int32_t n = out.n_tracks();
+  out.truth.resize(n);
+  out.state.assign(static_cast<std::size_t>(n) * K * D, 0.0);
+  out.cov.assign(static_cast<std::size_t>(n) * K * P, 0.0);
+  out.valid.assign(static_cast<std::size_t>(n) * K, 0);
+  const double q = options.process_noise * options.process_noise;
+
+  for (int32_t a = 0; a < n; ++a) {
+    out.truth[a] = has_truth ? tracks.truth[rows[begin[a + 1] - 1]] : -1;
+    std::size_t cur = begin[a];  // walks forward: common times are ascending
+    for (int32_t k = 0; k < K; ++k) {
+      const double t = common_times[k];
+      while (cur < begin[a + 1] && tracks.t[rows[cur]] <= t) ++cur;
+      if (cur == begin[a]) continue;  // no report yet
+      const std::size_t r = rows[cur - 1];
+      const double dt = t - tracks.t[r];
+      if (dt > options.max_extrapolation) continue;
+      const std::size_t cell = static_cast<std::size_t>(a) * K + k;
+      out.valid[cell] = 1;
+      double* x = &out.state[cell * D];
+      for (int c = 0; c < D; ++c) x[c] = tracks.state[c][r];
+      for (int c = 0; c < m; ++c) x[c] += dt * x[m + c];  // x ← F x
+      // P ← F P Fᵀ + Q on the full matrix, then packed back.
+      Eigen::MatrixXd Pm(D, D);
+      for (int i = 0, p = 0; i < D; ++i)
+        for (int j = i; j < D; ++j, ++p) Pm(i, j) = Pm(j, i) = tracks.cov[p][r];
+      Eigen::MatrixXd F = Eigen::MatrixXd::Identity(D, D);
+      for (int c = 0; c < m; ++c) F(c, m + c) = dt;
+      Eigen::MatrixXd Pp = F * Pm * F.transpose();
+      for (int c = 0; c < m; ++c) {
+        Pp(c, c) += q * dt * dt * dt / 3.0;
+        Pp(c, m + c) += q * dt * dt / 2.0;
+        Pp(m + c, c) += q * dt * dt / 2.0;
+        Pp(m + c, m + c) += q * dt;
+      }
+      double* pc = &out.cov[cell * P];
+      for (int i = 0, p = 0; i < D; ++i)
+        for (int j = i; j < D; ++j, ++p) pc[p] = Pp(i, j);
+    }
+  }
+  return out;
+}
+
+namespace {
+
+template <int D>
+using Mat = Eigen::Matrix<double, D, D>;
+template <int D>
+using Vec = Eigen::Matrix<double, D, 1>;
+
+template <int D>
+Mat<D> unpack(const double* packed, int d) {
+  Mat<D> M(d, d);
+  for (int i = 0, p = 0; i < d; ++i)
+    for (int j = i; j < d; ++j, ++p) M(i, j) = M(j, i) = packed[p];
+  return M;
+}
+
+// Principal square roots of every valid aligned covariance (correlated form only).
+template <int D>
+std::vector<double> covariance_square_roots(const AlignedTracks& x) {
+  const int d = x.dim, P = packed_size(d);
+  std::vector<double> out(x.valid.size() * P, 0.0);
+  parallel_for_range(x.valid.size(), 64, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t cell = lo; cell < hi; ++cell) {
+      if (!x.valid[cell]) continue;
+      Eigen::SelfAdjointEigenSolver<Mat<D>> es(unpack<D>(&x.cov[cell * P], d));
+      if (es.info() != Eigen::Success || es.eigenvalues().minCoeff() < 0.0)
+        throw InputError("independent_sequential_statistic: covariance of sensor " +
+                         std::to_string(x.sensor) + " track " + std::to_string(x.track[cell / x.n_times]) +
+                         " at common time " + std::to_string(cell % x.n_times) +
+                         " is not positive semi-definite");
+      const Mat<D> S = es.operatorSqrt();
+      for (int i = 0, p = 0; i < d; ++i)
+        for (int j = i; j < d; ++j, ++p) out[cell * P + p] = S(i, j);
+    }
+  });
+  return out;
+}
+
+template <int D>
+PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
+                                   const StatisticOptions& opt) {
+  const int d = a.dim, P = packed_size(d);
+  const int32_t K = a.n_times, na = a.n_tracks(), nb = b.n_tracks();
+  PairStatistic s;
+  s.n_a = na;
+  s.n_b = nb;
+  const std::size_t pairs = static_cast<std::size_t>(na) * nb;
+  s.lambda.assign(pairs, 0.0);
+  s.dof.assign(pairs, 0);
+  s.in_gate.assign(pairs, 0);
+
+  const bool correlated = opt.correlated && opt.cross_correlation > 0.0;
+  const double rho = opt.cross_correlation;
+  std::vector<double> sqrt_a, sqrt_b;
+  if (correlated) {
+    sqrt_a = covariance_square_roots<D>(a);
+    sqrt_b = covariance_square_roots<D>(b);
+  }
+  // Gate thresholds by number of common times: χ²_p(d·k), k = 1..K.
+  std::vector<double> threshold(K + 1, std::numeric_limits<double>::infinity());
+  if (opt.gate_probability < 1.0)
+    for (int32_t k = 1; k <= K; ++k) threshold[k] = chi_square_quantile(opt.gate_probability, d * k);
+
+  // One task per block of rows a; each pair is a serial loop over k, so the result does not
+  // depend on the split (bit-identical for any thread count).
+  parallel_for_range(na, 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i)
+      for (int32_t j = 0; j < nb; ++j) {
+        double lambda = 0.0;
+        int32_t times = 0;
+        for (int32_t k = 0; k < K; ++k) {
+          const std::size_t ca = i * K + k, cb = static_cast<std::size_t>(j) * K + k;
+          if (!a.valid[ca] || !b.valid[cb]) continue;
+          Vec<D> diff(d);
+          for (int c = 0; c < d; ++c) diff[c] = a.state[ca * d + c] - b.state[cb * d + c];
+          Mat<D> C = unpack<D>(&a.cov[ca * P], d) + unpack<D>(&b.cov[cb * P], d);  // seed 000 Eq. 2
+          if (correlated) {
+            // Bar-Shalom–Campo: C = P_a + P_b − P_ab − P_ba, P_ab + P_ba ≈ ρ(S_a S_b + S_b S_a).
+            const Mat<D> Sa = unpack<D>(&sqrt_a[ca * P], d), Sb = unpack<D>(&sqrt_b[cb * P], d);
+            const Mat<D> SaSb = Sa * Sb;
+            C.noalias() -= rho * (SaSb + SaSb.transpose());
+          }
+          Eigen::LLT<Mat<D>> llt(C);
+          if (llt.info() != Eigen::Success)  // build the message only on failure: this is the hot loop
+            throw InputError(
+                "independent_sequential_statistic: C = P_a + P_b is not positive definite for sensor " +
+                std::to_string(a.sensor) + " track " + std::to_string(a.track[i]) + " vs sensor " +
+                std::to_string(b.sensor) + " track " + std::to_string(b.track[j]) + " at common time " +
+                std::to_string(k));
+          const Vec<D> w = llt.matrixL().solve(diff);
+          lambda += w.squaredNorm();  // seed 000 Eq. 1: λ(k) = λ(k−1) + dᵀC⁻¹d
+          ++times;
+        }
+        const std::size_t idx = i * nb + j;
+        s.lambda[idx] = lambda;
+        s.dof[idx] = d * times;
+        s.in_gate[idx] = times > 0 && lambda <= threshold[times];
+      }
+  });
+  return s;
+}
+
+}  // namespace
+
+PairStatistic independent_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
+                                               const StatisticOptions& options) {
+  options.validate();
+  require(a.dim == b.dim, "independent_sequential_statistic",
+          "state dimensions differ: " + std::to_string(a.dim) + " vs " + std::to_string(b.dim));
+  require(
+      a.n_times == b.n_times, "independent_sequential_statistic",
+      "numbers of common times differ: " + std::to_string(a.n_times) + " vs " + std::to_string(b.n_times));
+  for (const AlignedTracks* x : {&a, &b}) {
+    const std::size_t cells = static_cast<std::size_t>(x->n_tracks()) * x->n_times;
+    require(x->dim > 0 && x->valid.size() == cells && x->state.size() == cells * x->dim &&
+                x->cov.size() == cells * packed_size(x->dim),
+            "independent_sequential_statistic",
+            "aligned tracks of sensor " + std::to_string(x->sensor) + " have inconsistent array sizes");
+  }
+  switch (a.dim) {
+    case 4:
+      return sequential_statistic<4>(a, b, options);
+    case 6:
+      return sequential_statistic<6>(a, b, options);
+    default:
+      return sequential_statistic<Eigen::Dynamic>(a, b, options);
+  }
+}
+
+}  // namespace trackassoc
