@@ -142,7 +142,7 @@ std::vector<std::size_t> arrival_order(std::span<const double> t) {
 
 void FusionOutput::resize(std::size_t n) {
   system_track.assign(n, -1);
-  for (auto* c : {&x, &y, &vx, &vy}) c->assign(n, std::numeric_limits<double>::quiet_NaN());
+  for (auto* c : {&x, &y, &vx, &vy, &degree}) c->assign(n, std::numeric_limits<double>::quiet_NaN());
 }
 
 const char* weighting_name(ReliabilityWeighting w) {
@@ -271,6 +271,7 @@ FusionOutput run_fuzzy_association(const PacketSpans& packets, std::span<const d
     out.y[i] = d.fused.y;
     out.vx[i] = d.fused.vx;
     out.vy[i] = d.fused.vy;
+    if (!d.new_track) out.degree[i] = d.degree;
   }
   out.num_system_tracks = static_cast<int32_t>(fc.num_system_tracks());
   out.summary.termination = Termination::kHeuristic;

@@ -118,10 +118,12 @@ std::vector<std::size_t> arrival_order(std::span<const double> t);
 
 // The per-packet output of a sequential fusion centre (this kernel and FTAA, kernels/ftaa.hpp):
 // the system track the packet went to (−1 = none: a first plot) and the fused system-track
-// state right after processing it, at the packet's time. Rows are in input order.
+// state right after processing it, at the packet's time, and the association degree μ of the
+// decision (NaN when none: a first plot, a new system track, or a method without μ). Rows are in
+// input order.
 struct FusionOutput {
   std::vector<int32_t> system_track;
-  std::vector<double> x, y, vx, vy;
+  std::vector<double> x, y, vx, vy, degree;
   int32_t num_system_tracks = 0;
   SolverSummary summary;  // termination kHeuristic; iterations = association decisions
   void resize(std::size_t n);
