@@ -1,0 +1,185 @@
+// Scenario simulation (DESIGN §4.1); see engine/simulation.hpp, engine/simulation_truth.hpp
+// (trajectories) and engine/simulation_tracker.hpp (local tracking).
+//
+// Measurement model, per sensor scan t_k = offset + k·period ≤ duration and per target:
+//   detected with probability p_detect; then range, bearing (and elevation in 3-D) of the true
+//   position plus N(0, σ²) errors, bearing wrapped to (−π, π] (conventions in kalman_converted.hpp).
+// Clutter: Poisson(clutter_rate) false plots per scan (target = −1), uniform in the sensor's
+// coverage, taken as the polar box range ∈ [0, 1.2·r_max], bearing ∈ [−π, π), elevation ∈
+// [φ_min − 0.05, φ_max + 0.05] rad, where r_max and φ_min/φ_max are the extremes over the true
+// targets seen by that sensor during the run (the scenario has no explicit coverage field).
+// Random streams: one CounterRng per (sensor, target) for detections and noise, one per sensor for
+// clutter, one per target for manoeuvres and random targets — all keyed (seed, run, stream id), so
+// the output is bit-identical for any thread count.
+#include "engine/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "engine/simulation_tracker.hpp"
+#include "engine/simulation_truth.hpp"
+#include "kernels/error.hpp"
+#include "kernels/kalman_converted.hpp"
+#include "kernels/parallel.hpp"
+#include "kernels/random.hpp"
+
+namespace trackassoc {
+
+namespace {
+
+void validate_scenario(const Scenario& sc) {
+  require(std::isfinite(sc.duration) && sc.duration > 0.0, "scenario.duration", "expected a finite duration > 0 [s]");
+  require(std::isfinite(sc.truth_step) && sc.truth_step > 0.0, "scenario.truth_step", "expected a finite step > 0 [s]");
+  require(sc.duration / sc.truth_step <= 1e7, "scenario.truth_step", "more than 10^7 truth samples; increase the step");
+  require(sc.random_targets.count >= 0, "scenario.random_targets.count", "expected ≥ 0");
+  require(sc.random_targets.process_noise >= 0.0, "scenario.random_targets.process_noise", "expected σ ≥ 0");
+  for (std::size_t s = 0; s < sc.sensors.size(); ++s) {
+    const Sensor& x = sc.sensors[s];
+    const std::string w = "scenario.sensors[" + std::to_string(s) + "].";
+    require(std::isfinite(x.period) && x.period > 0.0, w + "period", "expected a scan period > 0 [s]");
+    require(sc.duration / x.period <= 1e7, w + "period", "more than 10^7 scans; increase the period");
+    require(std::isfinite(x.offset) && x.offset >= 0.0, w + "offset", "expected an offset ≥ 0 [s]");
+    require(x.p_detect >= 0.0 && x.p_detect <= 1.0, w + "p_detect", "expected a probability in [0, 1]");
+    require(std::isfinite(x.clutter_rate) && x.clutter_rate >= 0.0 && x.clutter_rate <= 1e5, w + "clutter_rate",
+            "expected a rate in [0, 1e5] per scan");
+    require(x.sigma_range >= 0.0 && x.sigma_bearing >= 0.0 && x.sigma_elevation >= 0.0, w + "sigma",
+            "expected standard deviations ≥ 0");
+  }
+}
+
+// Poisson draw: Knuth's product method for small means, the normal approximation above 30.
+int poisson(CounterRng& rng, double mean) {
+  if (mean <= 0.0) return 0;
+  if (mean > 30.0) return std::max(0, static_cast<int>(std::lround(mean + std::sqrt(mean) * rng.normal())));
+  const double limit = std::exp(-mean);
+  int k = 0;
+  double p = rng.uniform();
+  while (p > limit) {
+    ++k;
+    p *= rng.uniform();
+  }
+  return k;
+}
+
+double wrap_angle(double a) {
+  a = std::remainder(a, 2.0 * std::numbers::pi);
+  return a <= -std::numbers::pi ? a + 2.0 * std::numbers::pi : a;
+}
+
+struct SensorMeasurements {
+  Measurements m;
+  std::vector<double> scans;
+};
+
+SensorMeasurements measure(const Scenario& sc, std::size_t s, const std::vector<TargetTrajectory>& targets,
+                           uint64_t seed, int run) {
+  const Sensor& sensor = sc.sensors[s];
+  const int d = spatial_dim(sc.layout);
+  SensorMeasurements out;
+  for (long k = 0;; ++k) {
+    const double t = sensor.offset + static_cast<double>(k) * sensor.period;
+    if (t > sc.duration + 1e-9) break;
+    out.scans.push_back(t);
+  }
+  // Coverage of the clutter: extremes of the true polar coordinates over the run.
+  double r_max = 0.0, el_min = 0.0, el_max = 0.0;
+  bool first = true;
+  std::vector<CounterRng> rng;
+  rng.reserve(targets.size());
+  for (std::size_t j = 0; j < targets.size(); ++j)
+    rng.emplace_back(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kDetection, s), j);
+  CounterRng clutter_rng(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kClutter, s));
+  Measurements& m = out.m;
+  // Pass 1 finds the coverage; pass 2 draws. Both passes are cheap next to the filtering.
+  for (double t : out.scans)
+    for (const auto& tr : targets) {
+      const PolarPoint q = cartesian_to_polar(d, sensor, tr.at(t).p);
+      r_max = std::max(r_max, q.range);
+      el_min = first ? q.elevation : std::min(el_min, q.elevation);
+      el_max = first ? q.elevation : std::max(el_max, q.elevation);
+      first = false;
+    }
+  const double el_lo = std::max(-std::numbers::pi / 2, el_min - 0.05), el_hi = std::min(std::numbers::pi / 2, el_max + 0.05);
+  for (double t : out.scans) {
+    for (std::size_t j = 0; j < targets.size(); ++j) {
+      const bool hit = rng[j].uniform() < sensor.p_detect;
+      const PolarPoint q = cartesian_to_polar(d, sensor, targets[j].at(t).p);
+      const double nr = rng[j].normal(), nb = rng[j].normal(), ne = d == 3 ? rng[j].normal() : 0.0;
+      if (!hit) continue;
+      m.sensor.push_back(sensor.id);
+      m.t.push_back(t);
+      m.range.push_back(std::max(0.0, q.range + sensor.sigma_range * nr));
+      m.bearing.push_back(wrap_angle(q.bearing + sensor.sigma_bearing * nb));
+      if (d == 3) m.elevation.push_back(std::clamp(q.elevation + sensor.sigma_elevation * ne, -std::numbers::pi / 2, std::numbers::pi / 2));
+      m.target.push_back(targets[j].id);
+    }
+    const int false_plots = poisson(clutter_rng, sensor.clutter_rate);
+    for (int c = 0; c < false_plots; ++c) {
+      m.sensor.push_back(sensor.id);
+      m.t.push_back(t);
+      m.range.push_back(clutter_rng.uniform(0.0, 1.2 * r_max));
+      m.bearing.push_back(wrap_angle(clutter_rng.uniform(-std::numbers::pi, std::numbers::pi)));
+      if (d == 3) m.elevation.push_back(clutter_rng.uniform(el_lo, el_hi));
+      m.target.push_back(-1);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<TargetTrajectory> simulate_trajectories(const Scenario& sc, uint64_t seed, int run) {
+  validate_scenario(sc);
+  const int d = spatial_dim(sc.layout);
+  std::vector<TargetTrajectory> targets;
+  int32_t next_id = 0;
+  for (std::size_t i = 0; i < sc.targets.size(); ++i) {
+    CounterRng rng(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kTargetManoeuvre, i));
+    targets.push_back(scripted_trajectory(sc.targets[i], sc.duration, d, rng));
+    next_id = std::max(next_id, sc.targets[i].id + 1);
+  }
+  for (int32_t k = 0; k < sc.random_targets.count; ++k) {
+    CounterRng rng(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kRandomTarget, static_cast<uint64_t>(k)));
+    targets.push_back(random_trajectory(sc.random_targets, next_id + k, sc.duration, sc.truth_step, d, rng));
+  }
+  return targets;
+}
+
+SimulationResult simulate(const Scenario& sc, uint64_t seed, int run) {
+  require(run >= 0, "simulate.run", "expected a run number ≥ 0");
+  const std::vector<TargetTrajectory> targets = simulate_trajectories(sc, seed, run);
+  const int d = spatial_dim(sc.layout);
+  SimulationResult result{TruthTable(sc.layout), Measurements{}, TrackTable(sc.layout)};
+  const long steps = static_cast<long>(std::floor(sc.duration / sc.truth_step + 1e-9));
+  for (const auto& tr : targets)
+    for (long k = 0; k <= steps; ++k) {
+      const double t = static_cast<double>(k) * sc.truth_step;
+      const Kinematics q = tr.at(t);
+      result.truth.target.push_back(tr.id);
+      result.truth.t.push_back(t);
+      for (int a = 0; a < d; ++a) {
+        result.truth.state[a].push_back(q.p[a]);
+        result.truth.state[d + a].push_back(q.v[a]);
+      }
+    }
+  std::vector<SensorMeasurements> per_sensor(sc.sensors.size());
+  parallel_for_range(sc.sensors.size(), 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t s = b; s < e; ++s) per_sensor[s] = measure(sc, s, targets, seed, run);
+  });
+  Measurements& all = result.measurements;
+  std::vector<std::vector<double>> scans;
+  for (auto& p : per_sensor) {
+    all.sensor.insert(all.sensor.end(), p.m.sensor.begin(), p.m.sensor.end());
+    all.t.insert(all.t.end(), p.m.t.begin(), p.m.t.end());
+    all.range.insert(all.range.end(), p.m.range.begin(), p.m.range.end());
+    all.bearing.insert(all.bearing.end(), p.m.bearing.begin(), p.m.bearing.end());
+    all.elevation.insert(all.elevation.end(), p.m.elevation.begin(), p.m.elevation.end());
+    all.target.insert(all.target.end(), p.m.target.begin(), p.m.target.end());
+    scans.push_back(std::move(p.scans));
+  }
+  result.tracks = track_measurements(all, sc.sensors, sc.layout, sc.tracker, seed, run, scans).tracks;
+  return result;
+}
+
+}  // namespace trackassoc

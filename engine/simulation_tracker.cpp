@@ -1,0 +1,203 @@
+#include "engine/simulation_tracker.hpp"
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+
+#include "engine/simulation_truth.hpp"
+#include "kernels/error.hpp"
+#include "kernels/kalman_converted.hpp"
+#include "kernels/parallel.hpp"
+#include "kernels/random.hpp"
+
+namespace trackassoc {
+
+namespace {
+
+// CV / CA Kalman bank (kernels/kalman_bank.hpp).
+class KalmanLocalBank final : public LocalFilterBank {
+ public:
+  KalmanLocalBank(KalmanModel model, double sigma, int d, std::size_t n)
+      : bank_(d, static_cast<int>(model), n) {
+    options_.model = model;
+    options_.process_noise = sigma;
+    options_.validate();
+  }
+  void step(double dt, const PositionScan& scan) override { kalman_bank_step(bank_, dt, scan, options_); }
+  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2,
+                  const Eigen::MatrixXd& R2, double dt) override {
+    // CA: the acceleration is unknown at initiation; its prior σ is 10 process-noise units.
+    const double s = 10.0 * options_.process_noise;
+    two_point_initialise(bank_, i, z1, R1, z2, R2, dt, s * s);
+  }
+  void position_velocity(std::size_t i, Eigen::VectorXd& x, Eigen::MatrixXd& P) const override {
+    const int m = 2 * bank_.spatial_dim();
+    x = bank_.state_vector(i).head(m);
+    P = bank_.covariance(i).topLeftCorner(m, m);
+  }
+
+ private:
+  KinematicBank bank_;
+  KalmanOptions options_;
+};
+
+struct SensorTracks {
+  TrackTable table;
+  std::vector<double> model_prob;
+  int num_models = 0;
+};
+
+Eigen::MatrixXd unpack(int d, const std::array<double, 6>& R) {
+  Eigen::MatrixXd M(d, d);
+  for (int a = 0, k = 0; a < d; ++a)
+    for (int b = a; b < d; ++b, ++k) M(a, b) = M(b, a) = R[k];
+  return M;
+}
+
+SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::size_t>& rows, const Sensor& sensor,
+                              std::size_t sensor_index, StateLayout layout, const LocalTrackerSpec& spec,
+                              uint64_t seed, int run, std::vector<double> scans) {
+  const int d = spatial_dim(layout);
+  SensorTracks out;
+  out.table.reset(layout);
+  // Targets seen by this sensor, in ascending id order = bank order.
+  std::vector<int32_t> targets;
+  for (std::size_t r : rows)
+    if (meas.target[r] >= 0) targets.push_back(meas.target[r]);
+  std::sort(targets.begin(), targets.end());
+  targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
+  const std::size_t n = targets.size();
+  if (scans.empty())
+    for (std::size_t r : rows) scans.push_back(meas.t[r]);
+  std::sort(scans.begin(), scans.end());
+  scans.erase(std::unique(scans.begin(), scans.end()), scans.end());
+  if (n == 0) return out;
+
+  // Shuffled local track numbers: track_number[bank index].
+  std::vector<int32_t> track_number(n);
+  std::iota(track_number.begin(), track_number.end(), 0);
+  CounterRng shuffle_rng(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kShuffle, sensor_index));
+  shuffle_rng.shuffle(std::span<int32_t>(track_number));
+  std::vector<std::size_t> by_number(n);
+  for (std::size_t i = 0; i < n; ++i) by_number[track_number[i]] = i;
+
+  // Detections grouped by scan time (first detection of a target per scan wins).
+  std::map<double, std::vector<std::size_t>> at_time;
+  for (std::size_t r : rows)
+    if (meas.target[r] >= 0) at_time[meas.t[r]].push_back(r);
+
+  auto bank = make_local_filter_bank(spec, d, n);
+  out.num_models = bank->num_models();
+  std::vector<double> z[3], R[6];
+  for (auto& c : z) c.assign(n, 0.0);
+  for (auto& c : R) c.assign(n, 0.0);
+  std::vector<uint8_t> detected(n, 0), active(n, 0), have_first(n, 0);
+  std::vector<ConvertedMeasurement> first_plot(n);
+  std::vector<double> first_time(n, 0.0);
+  std::vector<ConvertedMeasurement> plot(n);
+  PositionScan scan;
+  for (int a = 0; a < 3; ++a) scan.z[a] = z[a];
+  for (int k = 0; k < 6; ++k) scan.R[k] = R[k];
+  scan.detected = detected;
+
+  double previous = scans.front();
+  Eigen::VectorXd x;
+  Eigen::MatrixXd P;
+  for (double t : scans) {
+    std::fill(detected.begin(), detected.end(), 0);
+    std::vector<uint8_t> seen(n, 0);
+    if (auto it = at_time.find(t); it != at_time.end()) {
+      for (std::size_t r : it->second) {
+        const std::size_t i = std::lower_bound(targets.begin(), targets.end(), meas.target[r]) - targets.begin();
+        if (seen[i]) continue;
+        seen[i] = 1;
+        const double el = meas.elevation.empty() ? 0.0 : meas.elevation[r];
+        plot[i] = convert_polar(d, sensor, meas.range[r], meas.bearing[r], el);
+        if (active[i]) {
+          for (int a = 0; a < d; ++a) z[a][i] = plot[i].z[a];
+          for (int k = 0; k < packed_size(d); ++k) R[k][i] = plot[i].R[k];
+          detected[i] = 1;
+        }
+      }
+    }
+    bank->step(t - previous, scan);
+    previous = t;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!seen[i] || active[i]) continue;
+      if (have_first[i] && t > first_time[i]) {
+        bank->initialise(i, Eigen::Map<Eigen::VectorXd>(first_plot[i].z.data(), d), unpack(d, first_plot[i].R),
+                         Eigen::Map<Eigen::VectorXd>(plot[i].z.data(), d), unpack(d, plot[i].R), t - first_time[i]);
+        active[i] = 1;
+      } else {
+        first_plot[i] = plot[i];
+        first_time[i] = t;
+        have_first[i] = 1;
+      }
+    }
+    for (int32_t number = 0; number < static_cast<int32_t>(n); ++number) {
+      const std::size_t i = by_number[number];
+      if (!active[i]) continue;
+      bank->position_velocity(i, x, P);
+      out.table.push_back(sensor.id, number, t, x, P, targets[i]);
+      if (out.num_models > 0) {
+        const auto mu = bank->model_probabilities(i);
+        out.model_prob.insert(out.model_prob.end(), mu.begin(), mu.end());
+      }
+    }
+  }
+  return out;
+}
+
+void append(TrackTable& dst, const TrackTable& src) {
+  dst.sensor.insert(dst.sensor.end(), src.sensor.begin(), src.sensor.end());
+  dst.track.insert(dst.track.end(), src.track.begin(), src.track.end());
+  dst.t.insert(dst.t.end(), src.t.begin(), src.t.end());
+  dst.truth.insert(dst.truth.end(), src.truth.begin(), src.truth.end());
+  for (std::size_t c = 0; c < dst.state.size(); ++c) dst.state[c].insert(dst.state[c].end(), src.state[c].begin(), src.state[c].end());
+  for (std::size_t c = 0; c < dst.cov.size(); ++c) dst.cov[c].insert(dst.cov[c].end(), src.cov[c].begin(), src.cov[c].end());
+}
+
+}  // namespace
+
+std::unique_ptr<LocalFilterBank> make_local_filter_bank(const LocalTrackerSpec& spec, int d, std::size_t n) {
+  require(std::isfinite(spec.process_noise) && spec.process_noise >= 0.0, "tracker.process_noise",
+          "expected a finite σ ≥ 0 [m/s²]");
+  if (spec.filter == "cv") return std::make_unique<KalmanLocalBank>(KalmanModel::kConstantVelocity, spec.process_noise, d, n);
+  if (spec.filter == "ca") return std::make_unique<KalmanLocalBank>(KalmanModel::kConstantAcceleration, spec.process_noise, d, n);
+  throw InputError("tracker.filter: expected cv or ca, got '" + spec.filter + "'");
+}
+
+LocalTrackingResult track_measurements(const Measurements& meas, const std::vector<Sensor>& sensors, StateLayout layout,
+                                       const LocalTrackerSpec& spec, uint64_t seed, int run,
+                                       const std::vector<std::vector<double>>& scan_times) {
+  make_local_filter_bank(spec, spatial_dim(layout), 0);  // validates the spec before any work
+  require(scan_times.empty() || scan_times.size() == sensors.size(), "track_measurements.scan_times",
+          "expected one list per sensor");
+  if (spatial_dim(layout) == 3)
+    require(meas.elevation.size() == meas.size(), "measurements.elevation", "a 3-D layout needs one elevation per measurement");
+  std::map<int32_t, std::size_t> index_of;
+  for (std::size_t s = 0; s < sensors.size(); ++s) index_of[sensors[s].id] = s;
+  std::vector<std::vector<std::size_t>> rows(sensors.size());
+  for (std::size_t r = 0; r < meas.size(); ++r) {
+    auto it = index_of.find(meas.sensor[r]);
+    require(it != index_of.end(), "measurements.sensor", "row " + std::to_string(r) + " names sensor " +
+                                                            std::to_string(meas.sensor[r]) + ", which is not in /sensors");
+    rows[it->second].push_back(r);
+  }
+  std::vector<SensorTracks> parts(sensors.size());
+  parallel_for_range(sensors.size(), 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t s = b; s < e; ++s)
+      parts[s] = track_one_sensor(meas, rows[s], sensors[s], s, layout, spec, seed, run,
+                                  scan_times.empty() ? std::vector<double>{} : scan_times[s]);
+  });
+  LocalTrackingResult result;
+  result.tracks.reset(layout);
+  for (auto& p : parts) {
+    append(result.tracks, p.table);
+    if (p.num_models > 0) result.num_models = p.num_models;
+    result.model_prob.insert(result.model_prob.end(), p.model_prob.begin(), p.model_prob.end());
+  }
+  return result;
+}
+
+}  // namespace trackassoc
