@@ -105,7 +105,10 @@ Seed001Result run_seed001(const Seed001Options& o) {
   method[0].fuzzy = o.fuzzy;
   method[1].method = FusionMethod::kFtaa;
   method[1].ftaa = o.ftaa;
-  for (auto& m : method) m.packet_period = o.packet_period;
+  for (auto& m : method) {
+    m.packet_period = o.packet_period;
+    m.packet_source = o.packet_source;
+  }
 
   std::vector<RunOutcome> outcomes(o.runs);
   Seed001Result result;
@@ -119,7 +122,7 @@ Seed001Result run_seed001(const Seed001Options& o) {
           out.n[m][k].assign(steps, 0.0);
         }
         const std::string name = fusion_method_name(method[m].method);
-        const FuzzyPipelineResult res = run_fuzzy_pipeline(sim.tracks, scenario.sensors, method[m], name);
+        const FuzzyPipelineResult res = run_fuzzy_pipeline(sim.tracks, scenario.sensors, method[m], name, &sim.measurements);
         const PacketTable& p = res.packets;
         for (std::size_t i = 0; i < p.size(); ++i) {
           const int32_t target = p.truth[i];

@@ -15,7 +15,10 @@
 //     so every target is 20–70 km from every sensor.
 //   - Duration 200 s (the paths cross near t ≈ 96–101 s; the targets never come closer than 2 km).
 //   - Local tracks: the simulation's CV Kalman filter (white acceleration σ = 1 m/s²) on
-//     converted measurements, Pd = 1, no clutter. Packets carry the local track's position only.
+//     converted measurements, Pd = 1, no clutter. A packet carries one plot of a local track
+//     (seed 001 §2: "a packet usually holds one plot"): the converted measurement the local track
+//     was updated with at that scan (packet_source = plot). With packet_source = track it carries
+//     the local Kalman estimate instead (an ablation: see the printed notes).
 //   - RMSE. After each packet of target T the fusion centre outputs the fused state of the system
 //     track the packet went to; its position error against the truth at the packet time, per
 //     1-s time step, is averaged over the runs (RMSE(t)), and the table gives the mean over time.
@@ -40,6 +43,7 @@ struct Seed001Options {
   double duration = 200.0;      // [s]
   double scan_period = 1.0;     // [s], sensor scan and local tracker rate
   double packet_period = 4.0;   // [s], local node → fusion centre report rate (T of the paper)
+  PacketSource packet_source = PacketSource::kPlot;  // the paper's packets carry plots
   FuzzyAssociationOptions fuzzy;
   FtaaOptions ftaa;
   void validate() const;

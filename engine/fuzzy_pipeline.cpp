@@ -5,8 +5,10 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "kernels/error.hpp"
+#include "kernels/kalman_converted.hpp"
 
 namespace trackassoc {
 
@@ -30,6 +32,7 @@ nlohmann::json FuzzyPipelineOptions::to_json() const {
   nlohmann::json j;
   j["method"] = fusion_method_name(method);
   j["packet_period"] = packet_period;
+  j["packets"] = packet_source == PacketSource::kPlot ? "plot" : "track";
   const FactorScales& sc = method == FusionMethod::kFuzzy ? fuzzy.scales : ftaa.scales;
   const SynthesisOptions& sy = method == FusionMethod::kFuzzy ? fuzzy.synthesis : ftaa.synthesis;
   j["u_max_position"] = sc.position;
@@ -77,6 +80,11 @@ FuzzyPipelineOptions fuzzy_pipeline_options(FusionMethod method, const nlohmann:
   SynthesisOptions& sy = fz ? o.fuzzy.synthesis : o.ftaa.synthesis;
   for (const auto& [key, v] : j.items()) {
     if (key == "packet_period") o.packet_period = number(v, key);
+    else if (key == "packets") {
+      const std::string src = v.is_string() ? v.get<std::string>() : "";
+      if (src != "track" && src != "plot") throw InputError("--options: key 'packets': expected \"track\" or \"plot\"");
+      o.packet_source = src == "plot" ? PacketSource::kPlot : PacketSource::kTrack;
+    }
     else if (key == "gate") (fz ? o.fuzzy.gate : o.ftaa.gate) = number(v, key);
     else if (key == "u_max_position") sc.position = number(v, key);
     else if (key == "u_max_speed") sc.speed = number(v, key);
@@ -118,8 +126,18 @@ FuzzyPipelineOptions fuzzy_pipeline_options(FusionMethod method, const nlohmann:
   return o;
 }
 
-PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& sensors, double packet_period) {
+PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& sensors, double packet_period,
+                         PacketSource source, const Measurements* measurements) {
   require(!sensors.empty(), "sensors", "expected at least one sensor");
+  const bool plots = source == PacketSource::kPlot;
+  require(!plots || measurements != nullptr, "packets",
+          "\"plot\" packets need /measurements (use \"track\" for a recorded track set)");
+  // (sensor, target, time in µs) → measurement row, for plot packets.
+  std::map<std::tuple<int32_t, int32_t, int64_t>, std::size_t> plot_of;
+  if (plots)
+    for (std::size_t m = 0; m < measurements->size(); ++m)
+      if (measurements->target[m] >= 0)
+        plot_of[{measurements->sensor[m], measurements->target[m], std::llround(measurements->t[m] * 1e6)}] = m;
   require(std::isfinite(packet_period) && packet_period >= 0, "packet_period", "expected >= 0 [s]");
   std::map<int32_t, int32_t> sensor_index;
   for (std::size_t s = 0; s < sensors.size(); ++s) sensor_index[sensors[s].id] = static_cast<int32_t>(s);
@@ -145,6 +163,11 @@ PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& se
     }
     const int32_t l = li->second;
     row_local[r] = l;
+    if (plots) {
+      require(r < tracks.truth.size() && tracks.truth[r] >= 0, "/tracks/truth",
+              "row " + std::to_string(r) + ": \"plot\" packets need the target of every track row");
+      if (!plot_of.count({tracks.sensor[r], tracks.truth[r], std::llround(tracks.t[r] * 1e6)})) continue;  // missed
+    }
     // 1e-9 s tolerance: report times are sums of periods.
     if (packet_period == 0.0 || tracks.t[r] >= last_kept[l] + packet_period - 1e-9) {
       keep[r] = 1;
@@ -156,18 +179,27 @@ PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& se
     p.sensor.push_back(sensor_index[tracks.sensor[r]]);
     p.local.push_back(row_local[r]);
     p.t.push_back(tracks.t[r]);
-    p.x.push_back(tracks.state[0][r]);
-    p.y.push_back(tracks.state[1][r]);
+    if (plots) {
+      const std::size_t m = plot_of.at({tracks.sensor[r], tracks.truth[r], std::llround(tracks.t[r] * 1e6)});
+      const ConvertedMeasurement z =
+          convert_polar(2, sensors[sensor_index[tracks.sensor[r]]], measurements->range[m], measurements->bearing[m], 0.0);
+      p.x.push_back(z.z[0]);
+      p.y.push_back(z.z[1]);
+    } else {
+      p.x.push_back(tracks.state[0][r]);
+      p.y.push_back(tracks.state[1][r]);
+    }
     p.truth.push_back(r < tracks.truth.size() ? tracks.truth[r] : -1);
   }
   return p;
 }
 
 FuzzyPipelineResult run_fuzzy_pipeline(const TrackTable& tracks, const std::vector<Sensor>& sensors,
-                                       const FuzzyPipelineOptions& options, const std::string& name) {
+                                       const FuzzyPipelineOptions& options, const std::string& name,
+                                       const Measurements* measurements) {
   options.validate();
   FuzzyPipelineResult res;
-  res.packets = make_packets(tracks, sensors, options.packet_period);
+  res.packets = make_packets(tracks, sensors, options.packet_period, options.packet_source, measurements);
   const PacketTable& p = res.packets;
   const std::size_t L = p.num_local(), S = sensors.size();
   std::vector<double> reliability(S);
@@ -277,7 +309,8 @@ FuzzyPipelineResult run_fuzzy_pipeline(const TrackTable& tracks, const std::vect
 }
 
 FuzzyPipelineResult associate_fuzzy(TrackFile& file, const FuzzyPipelineOptions& options, const std::string& name) {
-  FuzzyPipelineResult res = run_fuzzy_pipeline(file.tracks, file.sensors, options, name);
+  FuzzyPipelineResult res = run_fuzzy_pipeline(file.tracks, file.sensors, options, name,
+                                               file.measurements ? &*file.measurements : nullptr);
   std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == name; });
   std::erase_if(file.system_tracks, [&](const SystemTrackRecord& r) { return r.name == name; });
   file.associations.push_back(res.association);

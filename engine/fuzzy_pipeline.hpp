@@ -2,10 +2,16 @@
 // association (kernels/fuzzy_association.hpp) or the FTAA baseline (kernels/ftaa.hpp) → system
 // tracks, the local-to-system mapping and an /associations/<name>/ record.
 //
-// Packets. Every /tracks row is one packet holding the local track's position (x, y) at its
-// time — the paper's packets carry plots only (seed 001 §2). `packet_period` > 0 thins each local
-// track to one packet per period (the first row, then the first row at least a period after the
-// last kept one): local nodes that track at the scan rate but report at a slower rate.
+// Packets. The paper's packets carry one plot of a local track (seed 001 §2: position, track
+// number, time, reliability). Two sources:
+//   - track (default): each /tracks row's position estimate (x, y), for recorded track sets;
+//   - plot: the measurement each /tracks row was updated with (the /measurements row of the same
+//     sensor, time and target), converted to Cartesian (kernels/kalman_converted.hpp). Needs
+//     /measurements and /tracks/truth; a row whose target was not detected at that scan has no
+//     new plot and sends no packet.
+// `packet_period` > 0 thins each local track to one packet per period (the first row, then the
+// first row at least a period after the last kept one): local nodes that track at the scan rate
+// but report at a slower rate.
 //
 // Tuples (AssociationRecord, one column per /sensors entry). Each local track is mapped to the
 // system track that received most of its packets (ties: the lower system track number). A tuple
@@ -29,17 +35,20 @@
 namespace trackassoc {
 
 enum class FusionMethod { kFuzzy, kFtaa };
+enum class PacketSource { kTrack, kPlot };
 
 struct FuzzyPipelineOptions {
   FusionMethod method = FusionMethod::kFuzzy;
   double packet_period = 0.0;  // [s]; 0 = every /tracks row is a packet
+  PacketSource packet_source = PacketSource::kTrack;
   FuzzyAssociationOptions fuzzy;
   FtaaOptions ftaa;
   void validate() const;
   nlohmann::json to_json() const;
 };
 
-// Options from a JSON object (the CLI's --options). Keys (all optional): packet_period, gate,
+// Options from a JSON object (the CLI's --options). Keys (all optional): packet_period,
+// packets ("track" | "plot"), gate,
 // u_max_position, u_max_speed, u_max_heading, synthesis, weights, q, and for fuzzy: weighting,
 // min_degree, track_timeout, smoother {gains: "kalata"|"fixed", alpha, beta, process_noise,
 // measurement_noise}; for ftaa: threshold, association_quality, separation_quality, track_timeout.
@@ -59,7 +68,9 @@ struct PacketTable {
   std::size_t num_local() const { return local_track.size(); }
   PacketSpans spans() const { return {sensor, local, t, x, y}; }
 };
-PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& sensors, double packet_period);
+// `measurements` is needed (non-null) for PacketSource::kPlot.
+PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& sensors, double packet_period,
+                         PacketSource source = PacketSource::kTrack, const Measurements* measurements = nullptr);
 
 struct FuzzyPipelineResult {
   PacketTable packets;
@@ -71,7 +82,8 @@ struct FuzzyPipelineResult {
 
 // Runs the method over `tracks`. `name` names the /associations and /system_tracks groups.
 FuzzyPipelineResult run_fuzzy_pipeline(const TrackTable& tracks, const std::vector<Sensor>& sensors,
-                                       const FuzzyPipelineOptions& options, const std::string& name);
+                                       const FuzzyPipelineOptions& options, const std::string& name,
+                                       const Measurements* measurements = nullptr);
 
 // Convenience for `associate`: runs on a file and appends/replaces the two records in it.
 FuzzyPipelineResult associate_fuzzy(TrackFile& file, const FuzzyPipelineOptions& options, const std::string& name);

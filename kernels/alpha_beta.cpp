@@ -39,6 +39,11 @@ AlphaBetaGains kalata_gains(double lambda) {
   return g;
 }
 
+AlphaBetaGains expanding_memory_gains(int64_t n) {
+  const double m = static_cast<double>(n);
+  return {2.0 * (2.0 * m + 1.0) / ((m + 2.0) * (m + 1.0)), 6.0 / ((m + 2.0) * (m + 1.0))};
+}
+
 AlphaBetaGains alpha_beta_gains(const AlphaBetaOptions& o, double step) {
   if (o.gains == AlphaBetaGainMode::kFixed) return {o.alpha, o.beta};
   return kalata_gains(tracking_index(o.process_noise, o.measurement_noise, step));
@@ -89,9 +94,12 @@ AlphaBetaBank::AlphaBetaBank(int spatial_dim, std::size_t n, const AlphaBetaOpti
   alpha.assign(n, 0.0);
   beta.assign(n, 0.0);
   step.assign(n, 0.0);
+  measurements.assign(n, 0);
 }
 
-void AlphaBetaBank::initialise(std::size_t i, std::span<const double> pos, std::span<const double> vel) {
+void AlphaBetaBank::initialise(std::size_t i, std::span<const double> pos, std::span<const double> vel,
+                               int64_t count) {
+  require(count >= 0, "AlphaBetaBank.initialise", "measurements must be >= 0");
   require(i < size(), "AlphaBetaBank.initialise", "track index out of range");
   require(pos.size() == static_cast<std::size_t>(spatial_dim_) && vel.size() == pos.size(),
           "AlphaBetaBank.initialise", "expected spatial_dim position and velocity entries");
@@ -100,9 +108,10 @@ void AlphaBetaBank::initialise(std::size_t i, std::span<const double> pos, std::
     velocity[a][i] = vel[a];
   }
   alpha[i] = beta[i] = step[i] = 0.0;
+  measurements[i] = count;
 }
 
-std::size_t AlphaBetaBank::add_track(std::span<const double> pos, std::span<const double> vel) {
+std::size_t AlphaBetaBank::add_track(std::span<const double> pos, std::span<const double> vel, int64_t count) {
   for (int a = 0; a < spatial_dim_; ++a) {
     position[a].push_back(0.0);
     velocity[a].push_back(0.0);
@@ -110,7 +119,8 @@ std::size_t AlphaBetaBank::add_track(std::span<const double> pos, std::span<cons
   alpha.push_back(0.0);
   beta.push_back(0.0);
   step.push_back(0.0);
-  initialise(size() - 1, pos, vel);
+  measurements.push_back(0);
+  initialise(size() - 1, pos, vel, count);
   return size() - 1;
 }
 
@@ -118,6 +128,16 @@ std::size_t AlphaBetaBank::add_track(std::span<const double> pos, std::span<cons
 namespace {
 
 inline void predict_element(double* p, const double* v, std::size_t i, double T) { p[i] += T * v[i]; }
+
+// The gains of one update: steady (a, b) or, during the expanding-memory start, the
+// least-squares ones (Brookner §1.2.6).
+inline AlphaBetaGains effective_gains(double a, double b, int64_t n, bool expanding) {
+  if (expanding) {
+    const AlphaBetaGains g = expanding_memory_gains(n);
+    if (g.alpha > a) return g;
+  }
+  return {a, b};
+}
 
 inline void update_element(double* p, double* v, std::size_t i, double z, double a, double b_over_t) {
   const double r = z - p[i];
@@ -167,24 +187,25 @@ void AlphaBetaBank::update(std::span<const std::span<const double>> z, std::span
           "expected spatial_dim measurement columns");
   for (const auto& c : z) require(c.size() == size(), "AlphaBetaBank.update", "expected one measurement per track");
   require(detected.size() == size(), "AlphaBetaBank.update", "expected one detected flag per track");
+  const bool expanding = options_.expanding_memory_start;
   parallel_for_range(size(), options_.grain, [&](std::size_t b, std::size_t e) {
-    for (int a = 0; a < spatial_dim_; ++a) {
-      double* p = position[a].data();
-      double* v = velocity[a].data();
-      const double* za = z[a].data();
-      for (std::size_t i = b; i < e; ++i) {
-        // A track never predicted (step 0) takes no velocity correction; undetected tracks none.
-        const double on = detected[i] ? 1.0 : 0.0;
-        const double bt = step[i] > 0.0 ? beta[i] / step[i] : 0.0;
-        update_element(p, v, i, detected[i] ? za[i] : p[i], on * alpha[i], on * bt);
-      }
+    for (std::size_t i = b; i < e; ++i) {
+      // A track never predicted (step 0) takes no correction; undetected tracks none.
+      if (!detected[i] || !(step[i] > 0.0)) continue;
+      const AlphaBetaGains g = effective_gains(alpha[i], beta[i], measurements[i], expanding);
+      const double bt = g.beta / step[i];
+      for (int a = 0; a < spatial_dim_; ++a) update_element(position[a].data(), velocity[a].data(), i, z[a][i], g.alpha, bt);
+      ++measurements[i];
     }
   });
 }
 
 void AlphaBetaBank::update_track(std::size_t i, std::span<const double> z) {
-  const double bt = step[i] > 0.0 ? beta[i] / step[i] : 0.0;
-  for (int a = 0; a < spatial_dim_; ++a) update_element(position[a].data(), velocity[a].data(), i, z[a], alpha[i], bt);
+  if (!(step[i] > 0.0)) return;
+  const AlphaBetaGains g = effective_gains(alpha[i], beta[i], measurements[i], options_.expanding_memory_start);
+  const double bt = g.beta / step[i];
+  for (int a = 0; a < spatial_dim_; ++a) update_element(position[a].data(), velocity[a].data(), i, z[a], g.alpha, bt);
+  ++measurements[i];
 }
 
 }  // namespace trackassoc

@@ -12,6 +12,12 @@
 //       α = −(λ² + 8λ − (λ + 4)·√(λ² + 8λ))/8,   β = (λ² + 4λ − λ·√(λ² + 8λ))/4
 //     (Kalata, "The tracking index", IEEE T-AES 20(2), 1984, Eq. 27–28). These are the gains of
 //     the steady-state Kalman filter of the same model, so the filter is optimal in steady state.
+//   Expanding-memory start (default on): a track that has absorbed n measurements (n = 2 after a
+//   two-point initialisation) updates with the least-squares straight-line gains
+//     g_n = 2(2n + 1)/((n + 2)(n + 1)),   h_n = 6/((n + 2)(n + 1))
+//   (Brookner, "Tracking and Kalman Filtering Made Easy", 1998, §1.2.6; Morrison 1969) while g_n
+//   exceeds the steady-state α, then switches to (α, β). So a new track converges as fast as a
+//   least-squares fit of its measurements instead of creeping from its initial state.
 //   Gains are recomputed at every predict from its T (so irregular steps are handled); a predict
 //   with T = 0 keeps the previous gains and step, and the following update corrects the position
 //   with α and the velocity with β over the last positive step. A track not predicted since
@@ -48,6 +54,7 @@ struct AlphaBetaOptions {
   double beta = 0.2;               // fixed gains only; 0 < β < 4 − 2α
   double process_noise = 1.0;      // σ_w [m/s²], Kalata gains only; > 0
   double measurement_noise = 100;  // σ_v [m], Kalata gains only; > 0
+  bool expanding_memory_start = true;  // least-squares gains until they fall to the steady ones
   std::size_t grain = 4096;        // smallest block of tracks per TBB task
   // Throws InputError naming the field.
   void validate() const;
@@ -59,6 +66,9 @@ struct AlphaBetaGains {
 
 // Kalata's tracking index λ = σ_w·T²/σ_v.
 double tracking_index(double process_noise, double measurement_noise, double step);
+// Expanding-memory (least-squares line) gains for the update that brings a track to n + 1
+// measurements: (g_n, h_n) of the header comment.
+AlphaBetaGains expanding_memory_gains(int64_t n);
 // Steady-state α, β for a tracking index λ ≥ 0 (Kalata 1984 Eq. 27–28).
 AlphaBetaGains kalata_gains(double lambda);
 // The gains the bank uses for a step T > 0 under `options`.
@@ -79,11 +89,12 @@ class AlphaBetaBank {
   std::size_t size() const { return alpha.size(); }
   const AlphaBetaOptions& options() const { return options_; }
 
-  // Sets track i's state (first plot / two-point initialisation). pos and vel have spatial_dim
-  // entries.
-  void initialise(std::size_t i, std::span<const double> pos, std::span<const double> vel);
+  // Sets track i's state; `measurements` is how many measurements it already summarises (2 for a
+  // two-point initialisation, 1 for a first plot with zero velocity, 0 for a prior guess), which
+  // sets the expanding-memory start. pos and vel have spatial_dim entries.
+  void initialise(std::size_t i, std::span<const double> pos, std::span<const double> vel, int64_t measurements = 2);
   // Appends a track and returns its index.
-  std::size_t add_track(std::span<const double> pos, std::span<const double> vel);
+  std::size_t add_track(std::span<const double> pos, std::span<const double> vel, int64_t measurements = 2);
 
   // Advances every track by `step` ≥ 0 seconds and sets the step's gains.
   void predict(double step);
@@ -100,6 +111,7 @@ class AlphaBetaBank {
   // State, SoA: position[a][i], velocity[a][i]; gains and step of the current step.
   std::array<std::vector<double>, 3> position, velocity;
   std::vector<double> alpha, beta, step;
+  std::vector<int64_t> measurements;  // measurements absorbed per track (expanding-memory start)
 
  private:
   int spatial_dim_;

@@ -20,6 +20,7 @@ AlphaBetaOptions fixed(double a, double b) {
   o.gains = AlphaBetaGainMode::kFixed;
   o.alpha = a;
   o.beta = b;
+  o.expanding_memory_start = false;
   return o;
 }
 }  // namespace
@@ -48,6 +49,45 @@ TEST(AlphaBeta, HandComputedTwoSteps) {
   EXPECT_NEAR(bank.velocity[0][0], 10.22, 1e-12);
   EXPECT_NEAR(bank.position[1][0], 84.05, 1e-12);
   EXPECT_NEAR(bank.velocity[1][0], -5.21, 1e-12);
+}
+
+TEST(AlphaBeta, ExpandingMemoryStartIsTheLeastSquaresLineFit) {
+  // With tiny steady gains the filter stays in its expanding-memory start, whose estimate after
+  // n measurements equals the least-squares straight line through them (Brookner §1.2.6).
+  AlphaBetaOptions o = fixed(1e-4, 1e-6);
+  o.expanding_memory_start = true;
+  AlphaBetaBank bank(2, 1, o);
+  const double zero[2] = {0.0, 0.0}, junk[2] = {123.0, -45.0};
+  bank.initialise(0, zero, junk, /*measurements=*/0);
+  CounterRng rng(3);
+  const double T = 2.0;
+  std::vector<double> ts, zs;
+  for (int k = 0; k < 12; ++k) {
+    const double t = k * T, zx = 5.0 + 3.0 * t + rng.normal(0, 4);
+    if (k > 0) bank.predict(T);
+    else bank.step[0] = T;  // the first measurement: no prediction, but a defined step
+    const double z[2] = {zx, -zx};
+    bank.update_track(0, z);
+    ts.push_back(t);
+    zs.push_back(zx);
+    if (k < 1) continue;
+    // Least squares z ≈ c0 + c1·t, evaluated at t.
+    Eigen::MatrixXd A(ts.size(), 2);
+    Eigen::VectorXd b(ts.size());
+    for (std::size_t r = 0; r < ts.size(); ++r) {
+      A(r, 0) = 1.0;
+      A(r, 1) = ts[r];
+      b(r) = zs[r];
+    }
+    const Eigen::Vector2d c = A.colPivHouseholderQr().solve(b);
+    EXPECT_NEAR(bank.position[0][0], c(0) + c(1) * t, 1e-9) << "k=" << k;
+    EXPECT_NEAR(bank.velocity[0][0], c(1), 1e-9) << "k=" << k;
+    EXPECT_NEAR(bank.position[1][0], -(c(0) + c(1) * t), 1e-9) << "k=" << k;
+  }
+  EXPECT_EQ(bank.measurements[0], 12);
+  // g_n, h_n by hand: n = 2 → 10/12, 1/2.
+  EXPECT_NEAR(expanding_memory_gains(2).alpha, 10.0 / 12.0, 1e-15);
+  EXPECT_NEAR(expanding_memory_gains(2).beta, 0.5, 1e-15);
 }
 
 TEST(AlphaBeta, KalataGainsAreTheSteadyStateKalmanGains) {

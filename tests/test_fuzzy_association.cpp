@@ -157,6 +157,7 @@ TEST(FuzzyAssociatorTest, SmoothsWithTheAlphaBetaFilter) {
   o.smoother.gains = AlphaBetaGainMode::kFixed;
   o.smoother.alpha = 0.5;
   o.smoother.beta = 0.2;
+  o.smoother.expanding_memory_start = false;
   const std::vector<double> rel{1.0};
   FuzzyAssociator fc(o, rel, 2);
   EXPECT_EQ(fc.process(0, 0, 0.0, 0.0, 0.0).system_track, -1);
