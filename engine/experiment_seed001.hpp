@@ -15,15 +15,18 @@
 //     so every target is 20–70 km from every sensor.
 //   - Duration 200 s (the paths cross near t ≈ 96–101 s; the targets never come closer than 2 km).
 //   - Local tracks: the simulation's CV Kalman filter (white acceleration σ = 1 m/s²) on
-//     converted measurements, Pd = 1, no clutter. A packet carries one plot of a local track
-//     (seed 001 §2: "a packet usually holds one plot"): the converted measurement the local track
-//     was updated with at that scan (packet_source = plot). With packet_source = track it carries
-//     the local Kalman estimate instead (an ablation: see the printed notes).
+//     converted measurements, Pd = 1, no clutter. A packet carries one position of a local track
+//     (seed 001 §2: "a packet usually holds one plot"): by default the local track's Kalman
+//     estimate at that scan (packet_source = track). The other reading, the raw converted
+//     measurement (packet_source = plot, `--packets plot`), is unworkable with these sensor
+//     positions: sensor N1's 1° bearing error is 0.7–1.2 km cross-range at 40–70 km, beyond the
+//     800 m gate, so both methods fragment (measured: see the report). The paper does not give the
+//     sensor positions that would make raw plots fit its gate.
 //   - RMSE. After each packet of target T the fusion centre outputs the fused state of the system
 //     track the packet went to; its position error against the truth at the packet time, per
 //     1-s time step, is averaged over the runs (RMSE(t)), and the table gives the mean over time.
 //   - Time per association: the method's wall time over its association decisions (one per packet
-//     that forms a temporary track / carries a two-plot state), averaged over the runs.
+//     that forms a temporary track / carries a two-plot state), the median over the runs.
 #pragma once
 
 #include <array>
@@ -43,7 +46,7 @@ struct Seed001Options {
   double duration = 200.0;      // [s]
   double scan_period = 1.0;     // [s], sensor scan and local tracker rate
   double packet_period = 4.0;   // [s], local node → fusion centre report rate (T of the paper)
-  PacketSource packet_source = PacketSource::kPlot;  // the paper's packets carry plots
+  PacketSource packet_source = PacketSource::kTrack;  // local track estimates (see the header)
   FuzzyAssociationOptions fuzzy;
   FtaaOptions ftaa;
   void validate() const;
@@ -57,7 +60,7 @@ struct Seed001MethodResult {
   std::vector<double> time;                   // RMSE time grid [s]
   std::array<std::vector<double>, 2> rmse;    // per target, per time (NaN where no estimate)
   std::array<double, 2> mean_rmse{};          // per target, mean over time
-  double time_per_association_s = 0.0;        // mean over runs
+  double time_per_association_s = 0.0;        // median over runs
   double decisions_per_run = 0.0;
   double system_tracks_per_run = 0.0;
   double correct_rate = 0.0, false_rate = 0.0, missed_rate = 0.0;  // engine/metrics.hpp, mean over runs
