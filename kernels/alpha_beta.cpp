@@ -1,6 +1,7 @@
 #include "kernels/alpha_beta.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -189,13 +190,27 @@ void AlphaBetaBank::update(std::span<const std::span<const double>> z, std::span
   require(detected.size() == size(), "AlphaBetaBank.update", "expected one detected flag per track");
   const bool expanding = options_.expanding_memory_start;
   parallel_for_range(size(), options_.grain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      // A track never predicted (step 0) takes no correction; undetected tracks none.
-      if (!detected[i] || !(step[i] > 0.0)) continue;
-      const AlphaBetaGains g = effective_gains(alpha[i], beta[i], measurements[i], expanding);
-      const double bt = g.beta / step[i];
-      for (int a = 0; a < spatial_dim_; ++a) update_element(position[a].data(), velocity[a].data(), i, z[a][i], g.alpha, bt);
-      ++measurements[i];
+    // Chunks of kChunk tracks: the gains of the chunk first (branchy), then one branch-free,
+    // vectorised loop per axis. Undetected tracks and tracks never predicted get zero gains.
+    constexpr std::size_t kChunk = 256;
+    double ga[kChunk], gb[kChunk];
+    for (std::size_t c0 = b; c0 < e; c0 += kChunk) {
+      const std::size_t m = std::min(kChunk, e - c0);
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::size_t i = c0 + k;
+        const bool on = detected[i] && step[i] > 0.0;
+        const AlphaBetaGains g = effective_gains(alpha[i], beta[i], measurements[i], expanding);
+        ga[k] = on ? g.alpha : 0.0;
+        gb[k] = on ? g.beta / step[i] : 0.0;
+        measurements[i] += on ? 1 : 0;
+      }
+      for (int a = 0; a < spatial_dim_; ++a) {
+        double* p = position[a].data() + c0;
+        double* v = velocity[a].data() + c0;
+        const double* za = z[a].data() + c0;
+        // A zero gain must leave the state exactly unchanged, whatever z holds (NaN for a miss).
+        for (std::size_t k = 0; k < m; ++k) update_element(p, v, k, ga[k] != 0.0 ? za[k] : p[k], ga[k], gb[k]);
+      }
     }
   });
 }
