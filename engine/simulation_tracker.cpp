@@ -5,7 +5,11 @@
 #include <numeric>
 
 #include "engine/simulation_truth.hpp"
+#include "kernels/bp_network.hpp"
+#include "kernels/cs_filter.hpp"
+#include "kernels/cs_parallel.hpp"
 #include "kernels/error.hpp"
+#include "kernels/imm.hpp"
 #include "kernels/kalman_converted.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/random.hpp"
@@ -13,6 +17,16 @@
 namespace trackassoc {
 
 namespace {
+
+// The acceleration of an order-3 model is unknown at initiation: prior σ = 20 m/s² (2 g), no
+// correlation with the two-point position and velocity.
+constexpr double kAccelPriorVariance = 20.0 * 20.0;
+
+void position_velocity_of(const KinematicBank& bank, std::size_t i, Eigen::VectorXd& x, Eigen::MatrixXd& P) {
+  const int m = 2 * bank.spatial_dim();
+  x = bank.state_vector(i).head(m);
+  P = bank.covariance(i).topLeftCorner(m, m);
+}
 
 // CV / CA Kalman bank (kernels/kalman_bank.hpp).
 class KalmanLocalBank final : public LocalFilterBank {
@@ -26,19 +40,76 @@ class KalmanLocalBank final : public LocalFilterBank {
   void step(double dt, const PositionScan& scan) override { kalman_bank_step(bank_, dt, scan, options_); }
   void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2,
                   const Eigen::MatrixXd& R2, double dt) override {
-    // CA: the acceleration is unknown at initiation; its prior σ is 10 process-noise units.
-    const double s = 10.0 * options_.process_noise;
-    two_point_initialise(bank_, i, z1, R1, z2, R2, dt, s * s);
+    two_point_initialise(bank_, i, z1, R1, z2, R2, dt, kAccelPriorVariance);
   }
   void position_velocity(std::size_t i, Eigen::VectorXd& x, Eigen::MatrixXd& P) const override {
-    const int m = 2 * bank_.spatial_dim();
-    x = bank_.state_vector(i).head(m);
-    P = bank_.covariance(i).topLeftCorner(m, m);
+    position_velocity_of(bank_, i, x, P);
   }
 
  private:
   KinematicBank bank_;
   KalmanOptions options_;
+};
+
+// "Current" statistical model (kernels/cs_filter.hpp), CsOptions defaults.
+class CsLocalBank final : public LocalFilterBank {
+ public:
+  CsLocalBank(int d, std::size_t n) : bank_(d, 3, n) {}
+  void step(double dt, const PositionScan& scan) override { cs_bank_step(bank_, dt, scan, options_); }
+  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2,
+                  const Eigen::MatrixXd& R2, double dt) override {
+    two_point_initialise(bank_, i, z1, R1, z2, R2, dt, kAccelPriorVariance);
+  }
+  void position_velocity(std::size_t i, Eigen::VectorXd& x, Eigen::MatrixXd& P) const override {
+    position_velocity_of(bank_, i, x, P);
+  }
+
+ private:
+  KinematicBank bank_;
+  CsOptions options_;
+};
+
+// Two parallel CS filters tuned by the trained network (kernels/cs_parallel.hpp).
+class CsParallelLocalBank final : public LocalFilterBank {
+ public:
+  CsParallelLocalBank(int d, std::size_t n) : bank_(d, n, trained_cs_network()) {}
+  void step(double dt, const PositionScan& scan) override { cs_parallel_step(bank_, dt, scan, options_); }
+  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2,
+                  const Eigen::MatrixXd& R2, double dt) override {
+    two_point_initialise(bank_.f1, i, z1, R1, z2, R2, dt, kAccelPriorVariance);
+    two_point_initialise(bank_.f2, i, z1, R1, z2, R2, dt, kAccelPriorVariance);
+    bank_.scale[i] = 1.0;
+  }
+  void position_velocity(std::size_t i, Eigen::VectorXd& x, Eigen::MatrixXd& P) const override {
+    position_velocity_of(bank_.f2, i, x, P);
+  }
+
+ private:
+  CsParallelBank bank_;
+  CsParallelOptions options_;
+};
+
+// The seed 002 IMM {CS-parallel with network, CA σ = 5 m/s²} (kernels/imm.hpp).
+class ImmLocalBank final : public LocalFilterBank {
+ public:
+  ImmLocalBank(int d, std::size_t n) : bank_(d, n, ImmOptions::seed002(), trained_cs_network()) {}
+  void step(double dt, const PositionScan& scan) override { imm_bank_step(bank_, dt, scan); }
+  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2,
+                  const Eigen::MatrixXd& R2, double dt) override {
+    bank_.initialise(i, z1, R1, z2, R2, dt, kAccelPriorVariance);
+  }
+  void position_velocity(std::size_t i, Eigen::VectorXd& x, Eigen::MatrixXd& P) const override {
+    position_velocity_of(bank_.combined(), i, x, P);
+  }
+  std::vector<double> model_probabilities(std::size_t i) const override {
+    std::vector<double> mu(bank_.num_models());
+    for (int j = 0; j < bank_.num_models(); ++j) mu[j] = bank_.probability(i, j);
+    return mu;
+  }
+  int num_models() const override { return bank_.num_models(); }
+
+ private:
+  ImmBank bank_;
 };
 
 struct SensorTracks {
@@ -164,7 +235,12 @@ std::unique_ptr<LocalFilterBank> make_local_filter_bank(const LocalTrackerSpec& 
           "expected a finite σ ≥ 0 [m/s²]");
   if (spec.filter == "cv") return std::make_unique<KalmanLocalBank>(KalmanModel::kConstantVelocity, spec.process_noise, d, n);
   if (spec.filter == "ca") return std::make_unique<KalmanLocalBank>(KalmanModel::kConstantAcceleration, spec.process_noise, d, n);
-  throw InputError("tracker.filter: expected cv or ca, got '" + spec.filter + "'");
+  if (spec.filter == "cs") return std::make_unique<CsLocalBank>(d, n);
+  if (spec.filter == "cs-nn") return std::make_unique<CsParallelLocalBank>(d, n);
+  if (spec.filter == "imm") return std::make_unique<ImmLocalBank>(d, n);
+  if (spec.filter == "ab")
+    throw InputError("tracker.filter: 'ab' (alpha-beta) is not wired into the local tracker yet; use cv, ca, cs, cs-nn or imm");
+  throw InputError("tracker.filter: expected cv, ca, cs, cs-nn or imm, got '" + spec.filter + "'");
 }
 
 LocalTrackingResult track_measurements(const Measurements& meas, const std::vector<Sensor>& sensors, StateLayout layout,

@@ -47,7 +47,12 @@ class LocalFilterBank {
   virtual int num_models() const { return 0; }
 };
 
-// Creates the bank for `spec.filter` (cv | ca | cs | cs-nn | imm); throws InputError otherwise.
+// Creates the bank for `spec.filter`; throws InputError otherwise:
+//   cv, ca  Kalman CV / CA with σ = spec.process_noise (kernels/kalman_bank.hpp)
+//   cs      "current" statistical model, CsOptions defaults (kernels/cs_filter.hpp)
+//   cs-nn   two parallel CS filters tuned by the trained 3-7-1 network (kernels/cs_parallel.hpp)
+//   imm     seed 002's IMM {cs-nn, CA σ = 5 m/s²} (kernels/imm.hpp)
+//   ab      not yet: the alpha-beta kernel belongs to the fuzzy-association work.
 std::unique_ptr<LocalFilterBank> make_local_filter_bank(const LocalTrackerSpec& spec, int spatial_dim,
                                                         std::size_t tracks);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "engine/relaxation_solvers.hpp"
 #include "kernels/error.hpp"
 #include "kernels/heuristic_solvers.hpp"
 
@@ -21,7 +22,9 @@ std::vector<SolverEntry> make_registry() {
                  reject_unknown_keys(o, {}, "pairwise");
                  return solve_pairwise3(b, PairwiseOptions{});
                }});
-  // Further solvers (lr, lr+ls, exact, hopfield, chnn, ...) register here.
+  register_relaxation_solvers(r);  // lr, lr+ls, exact
+  // Further solvers (hopfield, chnn, ...) register here.
+  register_local_search_variants(r);  // "X+ls" for every solver above: keep this last
   return r;
 }
 

@@ -35,14 +35,6 @@ Handle creation_properties(hid_t cls, const std::string& where) {
   return p;
 }
 
-// Variable-length UTF-8 string type (h5py reads it as str).
-Handle utf8_string_type(const std::string& where) {
-  Handle t(H5Tcopy(H5T_C_S1), H5Tclose);
-  if (!t.valid() || H5Tset_size(t.get(), H5T_VARIABLE) < 0 || H5Tset_cset(t.get(), H5T_CSET_UTF8) < 0)
-    throw InputError(where + ": cannot create HDF5 string type");
-  return t;
-}
-
 herr_t collect_name(hid_t, const char* name, const H5L_info_t*, void* out) {
   static_cast<std::vector<std::string>*>(out)->push_back(name);
   return 0;
@@ -88,7 +80,12 @@ File File::create(const std::string& path) {
   silence_library_errors();
   // The file creation property list is a group creation list for the root group: no times there either.
   Handle fcpl = creation_properties(H5P_FILE_CREATE, path);
-  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), H5P_DEFAULT), H5Fclose);
+  // The 1.8 file format: superblock v2 and object headers v2 carry checksums, so a corrupted
+  // header is reported by the library instead of being decoded; HDF5 >= 1.8 (h5py, MATLAB) reads it.
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  if (!fapl.valid() || H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18) < 0)
+    throw InputError(path + ": cannot set HDF5 file format version");
+  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), H5Fclose);
   if (!f.valid()) throw InputError(path + ": cannot create HDF5 file (is the folder writable?)");
   return File(path, std::move(f));
 }
@@ -135,13 +132,18 @@ Group Group::create_group(const std::string& name, bool track_order) const {
   return Group(file_path_, std::move(g), child_path(name));
 }
 
+// Strings are written fixed-length (UTF-8, NUL-terminated), not variable-length: variable-length
+// data lives in the global heap, which has no checksum, and libhdf5 1.10 hangs or overruns buffers
+// on a corrupted global heap (found by tests/fuzz/fuzz_track_file). h5py reads both kinds.
 void Group::write_attribute(const std::string& name, const std::string& value) const {
   const std::string where = path_ + " attribute " + name;
-  Handle type = utf8_string_type(file_path_ + ": " + where);
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  if (!type.valid() || H5Tset_size(type.get(), value.size() + 1) < 0 ||
+      H5Tset_strpad(type.get(), H5T_STR_NULLTERM) < 0 || H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0)
+    throw InputError(file_path_ + ": " + where + ": cannot create HDF5 string type");
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   Handle attr(H5Acreate2(id(), name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  const char* p = value.c_str();
-  if (!space.valid() || !attr.valid() || H5Awrite(attr.get(), type.get(), &p) < 0)
+  if (!space.valid() || !attr.valid() || H5Awrite(attr.get(), type.get(), value.c_str()) < 0)
     throw InputError(file_path_ + ": " + where + ": cannot write string attribute");
 }
 
@@ -248,9 +250,10 @@ std::string Group::read_string_attribute(const std::string& name) const {
   const htri_t variable = H5Tis_variable_str(type.get());
   if (variable < 0) throw InputError(where + ": cannot read its type");
   if (variable > 0) {
-    Handle mem = utf8_string_type(where);
+    // Files from other writers (h5py's default for str): the memory type is the file's own.
+    Handle mem(H5Tcopy(type.get()), H5Tclose);
     char* p = nullptr;
-    if (H5Aread(attr.get(), mem.get(), &p) < 0) throw InputError(where + ": cannot read");
+    if (!mem.valid() || H5Aread(attr.get(), mem.get(), &p) < 0) throw InputError(where + ": cannot read");
     std::string value = p ? p : "";
     // Frees the library-allocated string (H5Dvlen_reclaim is the 1.10 spelling).
     H5free_memory(p);

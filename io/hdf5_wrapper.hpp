@@ -5,6 +5,8 @@
 //   CLI prints one line (the library's own error stack printing is switched off).
 // - Groups and datasets are created without modification times (H5Pset_obj_track_times false), so
 //   the same content gives a bit-identical file (DESIGN §7 Reproducibility).
+// - Files use the HDF5 1.8 format (checksummed superblock and object headers) and fixed-length
+//   strings, so that corruption is detected rather than decoded (see write_attribute).
 // - Readers check the dtype class (a string where numbers are expected is an error), accept any
 //   integer or float width and convert to the memory type, and check rank and shape.
 #pragma once
@@ -60,7 +62,7 @@ class Group {
 
   // Creation. `track_order` keeps the children in creation order (for /associations, /metrics).
   Group create_group(const std::string& name, bool track_order = false) const;
-  void write_attribute(const std::string& name, const std::string& value) const;  // UTF-8, variable length
+  void write_attribute(const std::string& name, const std::string& value) const;  // UTF-8, fixed length
   void write_attribute(const std::string& name, double value) const;
   void write_attribute(const std::string& name, int32_t value) const;
   void write_attribute(const std::string& name, uint64_t value) const;

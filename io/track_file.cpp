@@ -6,10 +6,12 @@
 // definite covariances (io/track_validation.hpp).
 #include "io/track_file.hpp"
 
+#include <filesystem>
 #include <limits>
 #include <set>
 
 #include "io/atomic_file.hpp"
+#include "io/isolated_run.hpp"
 #include "io/hdf5_wrapper.hpp"
 #include "io/track_validation.hpp"
 #include "kernels/error.hpp"
@@ -310,7 +312,17 @@ MetricsRecord read_metrics(const Group& parent, const std::string& name) {
 
 }  // namespace
 
-TrackFile read_track_file(const std::string& path) {
+TrackFile read_track_file(const std::string& path, double timeout_s) {
+  if (timeout_s <= 0) {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    timeout_s = 60.0 + (ec ? 0.0 : static_cast<double>(size) / 10e6);
+  }
+  run_isolated(path, [&] { read_track_file_in_process(path); }, timeout_s);
+  return read_track_file_in_process(path);
+}
+
+TrackFile read_track_file_in_process(const std::string& path) {
   h5::File f = h5::File::open_read_only(path);
   const Group root = f.root();
   if (!root.has_attribute("format"))

@@ -1,5 +1,6 @@
 #include "kernels/kalman_bank.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -134,6 +135,29 @@ void kalman_parallel(KinematicBank& bank, double dt, const PositionScan& scan, c
 }
 
 }  // namespace
+
+FilterStepSummary kinematic_bank_update(KinematicBank& bank, const PositionScan& scan, InnovationOutput out,
+                                        std::size_t grain_blocks) {
+  block::check_scan(scan, out, bank.size(), bank.spatial_dim(), "kinematic_bank_update.scan");
+  const bool want = !out.nis.empty() || !out.log_likelihood.empty();
+  block::dispatch(bank.spatial_dim(), bank.order(), [&](auto dc, auto nc) {
+    constexpr int d = decltype(dc)::value, n = decltype(nc)::value;
+    parallel_for_range(bank.num_blocks(), std::max<std::size_t>(1, grain_blocks), [&](std::size_t b0, std::size_t b1) {
+      block::LaneMeasurement<d> m;
+      block::LaneInnovation v;
+      for (std::size_t b = b0; b < b1; ++b) {
+        block::load_measurement<d>(scan, b, bank.size(), m);
+        block::update<d, n>(bank.block(b), m, want ? &v : nullptr);
+        if (want) block::store_innovation(out, b, bank.size(), v);
+      }
+    });
+  });
+  FilterStepSummary s;
+  s.tracks = bank.size();
+  s.updated = scan.detected.empty() ? bank.size() : 0;
+  for (uint8_t f : scan.detected) s.updated += f != 0;
+  return s;
+}
 
 FilterStepSummary kalman_bank_step(KinematicBank& bank, double dt, const PositionScan& scan,
                                    const KalmanOptions& options, InnovationOutput out) {

@@ -108,6 +108,11 @@ struct FilterStepSummary {
 FilterStepSummary kalman_bank_step(KinematicBank& bank, double dt, const PositionScan& scan,
                                    const KalmanOptions& options, InnovationOutput out = {});
 
+// The update half alone (any order): updates the detected tracks of `bank` with `scan`. Used by
+// filters whose prediction is not a plain CV/CA model (CS, IMM).
+FilterStepSummary kinematic_bank_update(KinematicBank& bank, const PositionScan& scan, InnovationOutput out = {},
+                                        std::size_t grain_blocks = 256);
+
 // Per-axis transition F1 and process noise Q1 (n×n) of the CV (n = 2) and CA (n = 3) models above.
 Eigen::MatrixXd kinematic_transition(int order, double dt);
 Eigen::MatrixXd kinematic_process_noise(int order, double dt, double sigma);

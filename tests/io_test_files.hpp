@@ -7,6 +7,7 @@
 #include <hdf5.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -68,7 +69,15 @@ inline Eigen::MatrixXd spd_matrix(int d, uint64_t seed) {
       s = s * 6364136223846793005ull + 1442695040888963407ull;
       a(r, c) = static_cast<double>(s >> 11) / 9007199254740992.0 * 10.0 - 5.0;
     }
-  return a * a.transpose() + Eigen::MatrixXd::Identity(d, d);
+  // A·Aᵀ by hand: Eigen's dynamic GEMM kernel triggers a GCC 12 AVX-512 false-positive warning.
+  Eigen::MatrixXd p(d, d);
+  for (int r = 0; r < d; ++r)
+    for (int c = 0; c < d; ++c) {
+      double sum = r == c ? 1.0 : 0.0;
+      for (int k = 0; k < d; ++k) sum += a(r, k) * a(c, k);
+      p(r, c) = sum;
+    }
+  return p;
 }
 
 // A complete file: 3 sensors (ids 10, 20, 30; sensor 30 reports no tracks unless `all_sensors`),
@@ -236,7 +245,9 @@ inline void damage_file(const std::string& path, const std::function<void(hid_t)
 // of `mem_type`.
 inline void put_dataset(hid_t f, const std::string& name, hid_t file_type, hid_t mem_type,
                         const std::vector<hsize_t>& dims, const void* data) {
-  if (H5Lexists(f, name.c_str(), H5P_DEFAULT) > 0) ASSERT_GE(H5Ldelete(f, name.c_str(), H5P_DEFAULT), 0);
+  if (H5Lexists(f, name.c_str(), H5P_DEFAULT) > 0) {
+    ASSERT_GE(H5Ldelete(f, name.c_str(), H5P_DEFAULT), 0);
+  }
   const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
   const hid_t set = H5Dcreate2(f, name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   ASSERT_GE(set, 0) << name;
@@ -267,6 +278,25 @@ inline void put_string_attribute(hid_t f, const std::string& object, const std::
                                        H5P_DEFAULT);
   ASSERT_GE(attr, 0);
   H5Awrite(attr, type, value.c_str());
+  H5Aclose(attr);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
+// A variable-length UTF-8 string attribute, as h5py writes a Python str.
+inline void put_vlen_string_attribute(hid_t f, const std::string& object, const std::string& name,
+                                      const std::string& value) {
+  if (H5Aexists_by_name(f, object.c_str(), name.c_str(), H5P_DEFAULT) > 0)
+    H5Adelete_by_name(f, object.c_str(), name.c_str(), H5P_DEFAULT);
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, H5T_VARIABLE);
+  H5Tset_cset(type, H5T_CSET_UTF8);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attr = H5Acreate_by_name(f, object.c_str(), name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT,
+                                       H5P_DEFAULT);
+  ASSERT_GE(attr, 0);
+  const char* p = value.c_str();
+  H5Awrite(attr, type, &p);
   H5Aclose(attr);
   H5Sclose(space);
   H5Tclose(type);

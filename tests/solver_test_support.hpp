@@ -1,21 +1,16 @@
 // Shared helpers of the 3-D solver tests: the benchmark instance paths and checks every solver
 // result must pass (valid assignment, recomputed cost = objective), plus a brute-force optimum.
-//
-// TEMPORARY: read_instance_local / read_optima_local are a minimal reader of the DESIGN §3 text
-// format, used only until io/instance_text.cpp (branch io) lands on main; then they are replaced by
-// read_3dap_instance / read_known_optima.
 #pragma once
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "io/instance_text.hpp"
 #include "kernels/assignment_types.hpp"
 
 namespace trackassoc::testing_support {
@@ -23,27 +18,6 @@ namespace trackassoc::testing_support {
 inline std::string bench_dir() { return std::string(TRACKASSOC_SHARED_DIR) + "/benchmarks/3dap"; }
 inline std::string decomplib(const std::string& name) { return bench_dir() + "/decomplib/" + name; }
 inline std::string balas_saltzman(const std::string& name) { return bench_dir() + "/balas-saltzman/" + name; }
-
-inline CostTensor3 read_instance_local(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  int s = 0, n1 = 0, n2 = 0, n3 = 0;
-  in >> s >> n1 >> n2 >> n3;
-  if (!in || s != 3) throw std::runtime_error("bad header in " + path);
-  CostTensor3 b(n1, n2, n3);
-  for (auto& x : b.cost)
-    if (!(in >> x)) throw std::runtime_error("too few costs in " + path);
-  return b;
-}
-
-inline std::map<std::string, double> read_optima_local(const std::string& path) {
-  std::ifstream in(path);
-  std::map<std::string, double> m;
-  std::string name;
-  double v;
-  while (in >> name >> v) m[name] = v;
-  return m;
-}
 
 // Every solver result: a valid assignment whose recomputed cost equals the reported objective.
 inline void expect_consistent(const CostTensor3& b, const Solution3& s) {

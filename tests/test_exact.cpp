@@ -17,7 +17,7 @@ using namespace testing_support;
 
 void expect_exact(const std::string& file, const std::string& name, double optimum) {
   SCOPED_TRACE(name);
-  const CostTensor3 b = read_instance_local(file);
+  const CostTensor3 b = read_3dap_instance(file);
   const Solution3 s = solve_branch_and_bound3(b);
   expect_consistent(b, s);
   EXPECT_EQ(s.summary.termination, Termination::kOptimal) << s.summary.message;
@@ -27,7 +27,7 @@ void expect_exact(const std::string& file, const std::string& name, double optim
 }
 
 TEST(Exact, BalasSaltzmanUpTo12) {
-  const auto optima = read_optima_local(balas_saltzman("bs.opt"));
+  const auto optima = read_known_optima(balas_saltzman("bs.opt"));
   int solved = 0;
   for (int n : {4, 6, 8, 10, 12})
     for (int r = 1; r <= 5; ++r) {
@@ -40,7 +40,7 @@ TEST(Exact, BalasSaltzmanUpTo12) {
 }
 
 TEST(Exact, DecompLibUpTo20) {
-  const auto optima = read_optima_local(decomplib("ap3.opt"));
+  const auto optima = read_known_optima(decomplib("ap3.opt"));
   int solved = 0;
   for (int n : {5, 10, 20})
     for (int r = 1; r <= 10; ++r) {
@@ -55,19 +55,15 @@ TEST(Exact, DecompLibUpTo20) {
 // The DecompLib .sol files: their (1-based) assignment costs exactly the ap3.opt optimum, which
 // confirms our reading of the index order ("first index slowest").
 TEST(Exact, DecompLibSolutionFilesAgreeWithOptima) {
-  const auto optima = read_optima_local(decomplib("ap3.opt"));
+  const auto optima = read_known_optima(decomplib("ap3.opt"));
   for (const std::string name : {"ap3.5.1", "ap3.10.3", "ap3.20.7"}) {
-    const CostTensor3 b = read_instance_local(decomplib(name + ".txt"));
-    std::ifstream in(decomplib(name + ".sol"));
-    std::string word;
-    double opt = 0;
-    in >> word >> opt;  // "OPT:" value
-    EXPECT_EQ(opt, optima.at(name));
-    std::vector<Tuple3> t;
-    int i, j, k;
-    while (in >> i >> j >> k) t.push_back({i - 1, j - 1, k - 1});
-    EXPECT_TRUE(is_valid_assignment(b, t));
-    EXPECT_DOUBLE_EQ(assignment_cost(b, t), opt);
+    const CostTensor3 b = read_3dap_instance(decomplib(name + ".txt"));
+    const Solution3File sol = read_3dap_solution(decomplib(name + ".sol"));
+    EXPECT_EQ(sol.optimum, optima.at(name));
+    EXPECT_TRUE(is_valid_assignment(b, sol.tuples));
+    EXPECT_DOUBLE_EQ(assignment_cost(b, sol.tuples), sol.optimum);
+    // And exact finds a solution of that cost (possibly another optimal one).
+    EXPECT_DOUBLE_EQ(solve_branch_and_bound3(b).summary.objective, sol.optimum);
   }
 }
 
@@ -137,8 +133,8 @@ TEST(Exact, EmptyAndSingleton) {
 
 // A time limit too short to finish: a valid incumbent and a lower bound not above the optimum.
 TEST(Exact, TimeLimitReportsValidBound) {
-  const auto optima = read_optima_local(balas_saltzman("bs.opt"));
-  const CostTensor3 b = read_instance_local(balas_saltzman("bs.12.1.txt"));
+  const auto optima = read_known_optima(balas_saltzman("bs.opt"));
+  const CostTensor3 b = read_3dap_instance(balas_saltzman("bs.12.1.txt"));
   BranchAndBoundOptions o;
   o.max_nodes = 1;
   o.root.max_iterations = 3;

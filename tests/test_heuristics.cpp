@@ -7,6 +7,8 @@
 #include <limits>
 #include <numeric>
 
+#include "kernels/association_statistic.hpp"
+#include "kernels/cost_tensor.hpp"
 #include "kernels/error.hpp"
 #include "kernels/heuristic_solvers.hpp"
 #include "kernels/random.hpp"
@@ -215,6 +217,49 @@ TEST(Heuristics, EmptyDimensionAndBadInput) {
   CostTensor3 neg_miss(2, 2, 2, 1.f);
   neg_miss.miss_cost = -1.f;
   EXPECT_THROW(solve_pairwise3(neg_miss), InputError);
+}
+
+// The association kernels together: 3 asynchronous sensors see 8 well-separated targets (1 km
+// apart, 20 m position noise), with shuffled local track numbers; alignment → statistic → chain
+// tensor → greedy / pairwise must pair the tracks of the same target.
+TEST(Heuristics, EndToEndThreeSensorsRecoverTruth) {
+  const int n = 8;
+  TrackTable tt(StateLayout::kXY_VXVY);
+  CounterRng rng(31, 0, 0);
+  for (int s = 0; s < 3; ++s) {
+    std::vector<int32_t> number(n);
+    std::iota(number.begin(), number.end(), 100 * s);
+    rng.shuffle(std::span<int32_t>(number));
+    for (int target = 0; target < n; ++target)
+      for (int scan = 0; scan <= 12; ++scan) {
+        const double t = scan + 0.3 * s;
+        const Eigen::Vector4d truth(1000.0 * target + 100.0 * t, 50.0 * t, 100.0, 50.0);
+        Eigen::Vector4d x = truth;
+        for (int c = 0; c < 4; ++c) x[c] += (c < 2 ? 20.0 : 2.0) * rng.normal();
+        const Eigen::MatrixXd P = Eigen::Vector4d(400.0, 400.0, 4.0, 4.0).asDiagonal();
+        tt.push_back(s, number[target], t, x, P, target);
+      }
+  }
+  std::vector<double> times;
+  for (int k = 1; k <= 10; ++k) times.push_back(k + 0.7);
+  std::array<AlignedTracks, 3> al;
+  for (int s = 0; s < 3; ++s) al[s] = align_tracks(tt, s, times, AlignmentOptions{});
+  const PairStatistic s12 = independent_sequential_statistic(al[0], al[1], StatisticOptions{});
+  const PairStatistic s23 = independent_sequential_statistic(al[1], al[2], StatisticOptions{});
+  int true_in_gate = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (al[0].truth[i] == al[1].truth[j]) true_in_gate += s12.in_gate[i * n + j];
+  EXPECT_GE(true_in_gate, n - 1);  // gate probability 0.99
+  const CostTensor3 b = build_cost_tensor(s12, s23, nullptr, CostTensorOptions{});
+  for (const Solution3& sol : {solve_greedy3(b), solve_pairwise3(b)}) {
+    expect_valid_heuristic(b, sol);
+    ASSERT_EQ(sol.tuples.size(), static_cast<std::size_t>(n));
+    for (const auto& t : sol.tuples) {
+      EXPECT_EQ(al[0].truth[t[0]], al[1].truth[t[1]]);
+      EXPECT_EQ(al[1].truth[t[1]], al[2].truth[t[2]]);
+    }
+  }
 }
 
 }  // namespace

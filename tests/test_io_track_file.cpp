@@ -2,6 +2,7 @@
 // layout of the file as h5py sees it, bit-identical output for the same content, and atomic
 // writes that never damage an existing file.
 #include <chrono>
+#include <cstdlib>
 #include <thread>
 
 #include "io/hdf5_wrapper.hpp"
@@ -118,6 +119,24 @@ TEST(TrackFileLayout, AssociationsAndMetricsKeepTheirOrder) {
   EXPECT_EQ(back.associations[0].name, "zeta");
   EXPECT_EQ(back.associations[1].name, "hopfield-sync");
   EXPECT_EQ(back.metrics[0].name, "zz");
+}
+
+// The file is readable without C++: scripts/check_h5.py opens it with h5py and asserts the schema
+// (shapes, dtypes, ids, positive-definite covariances unpacked with numpy).
+TEST(TrackFileLayout, ReadableWithH5pyAndFollowsTheSchema) {
+  if (std::system("/usr/bin/python3 -c 'import h5py' >/dev/null 2>&1") != 0) GTEST_SKIP() << "no python3-h5py";
+  TempDir dir;
+  for (StateLayout layout : {StateLayout::kXY_VXVY, StateLayout::kXYZ_VXVYVZ}) {
+    write_track_file(dir.file("f.h5"), test::full_track_file(layout));
+    const std::string cmd = "/usr/bin/python3 " + std::string(TRACKASSOC_SOURCE_DIR) + "/scripts/check_h5.py " +
+                            dir.file("f.h5") + " --quiet >/dev/null";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  }
+  // And it fails on a file that breaks the schema.
+  test::damage_file(dir.file("f.h5"), [](hid_t f) { H5Ldelete(f, "/tracks/cov", H5P_DEFAULT); });
+  const std::string cmd = "/usr/bin/python3 " + std::string(TRACKASSOC_SOURCE_DIR) + "/scripts/check_h5.py " +
+                          dir.file("f.h5") + " --quiet 2>/dev/null >/dev/null";
+  EXPECT_NE(std::system(cmd.c_str()), 0);
 }
 
 // DESIGN §7: the same content gives bit-identical files, whenever it is written (object

@@ -100,6 +100,7 @@ void register_simulate(CLI::App& app);
 void register_associate(CLI::App& app);
 void register_evaluate(CLI::App& app);
 void register_run(CLI::App& app);
+void register_solve3d(CLI::App& app);
 void register_experiment(CLI::App& app);
 // Experiments, registered by register_experiment (engine/cli/cmd_experiment.cpp).
 void register_experiment_seed001(CLI::App& experiment);

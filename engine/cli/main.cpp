@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   trackassoc::cli::register_simulate(app);
   trackassoc::cli::register_associate(app);
   trackassoc::cli::register_evaluate(app);
+  trackassoc::cli::register_solve3d(app);
   trackassoc::cli::register_experiment(app);
   try {
     app.parse(argc, argv);

@@ -1,0 +1,26 @@
+// Registry adapters of the relaxation-based 3-D solvers (kernels/lagrangian_relaxation.hpp,
+// local_search.hpp, branch_and_bound.hpp): JSON options → XxxOptions, validated, unknown keys
+// rejected. Called from make_registry() in solver_registry.cpp.
+//
+//   lr       Lagrangian relaxation. Options: max_iterations, relative_gap_tolerance,
+//            absolute_gap_tolerance, time_limit_s, step_rule ("polyak" | "diminishing" |
+//            "deflected"), theta, theta_patience, min_theta.
+//   lr+ls    the same, each recovered solution polished by local search; adds max_rounds.
+//   exact    branch and bound. Options: time_limit_s, max_nodes, node_subgradient_iterations,
+//            root_max_iterations. Not run by `run` above n = 30 (max_default_n).
+//   X+ls     for every other registered solver X: X's result polished by local search. Options:
+//            max_rounds, plus X's own options under the key "base".
+#pragma once
+
+#include <vector>
+
+#include "engine/solver_registry.hpp"
+
+namespace trackassoc {
+
+// Appends lr, lr+ls and exact.
+void register_relaxation_solvers(std::vector<SolverEntry>& registry);
+// Appends "X+ls" for every entry X already present that is not exact and has no "+ls" twin.
+void register_local_search_variants(std::vector<SolverEntry>& registry);
+
+}  // namespace trackassoc

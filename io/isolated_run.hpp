@@ -1,0 +1,23 @@
+// Runs a check in a child process, so that a crash or a hang inside a third-party library becomes
+// an InputError instead of taking the program down (DESIGN §2: no input may crash or hang it).
+//
+// Why: libhdf5 1.10 has known bugs on damaged files; libFuzzer (tests/fuzz/fuzz_track_file) found
+// hangs and heap overflows inside the library's global-heap and object-header decoding. The engine
+// cannot fix the library, so read_track_file first reads the file in a forked child: if the child
+// crashes, is killed, or does not finish in time, the parent reports the file as corrupt without
+// ever touching it with HDF5 itself; if the child finds an InputError, the parent throws the same
+// message; only a file the child read completely is read again in process.
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace trackassoc {
+
+// Calls `check` in a forked child. Throws InputError: with the child's message when `check`
+// threw InputError; "<subject>: ... crashed ..." when the child died; "<subject>: ... did not
+// finish within T s ..." after `timeout_s`. Returns normally when `check` returned. When fork()
+// is unavailable it calls `check` in process.
+void run_isolated(const std::string& subject, const std::function<void()>& check, double timeout_s);
+
+}  // namespace trackassoc
