@@ -363,6 +363,8 @@ TrackFile read_track_file_in_process(const std::string& path) {
     const Group g = root.open_group("metrics");
     for (const std::string& name : g.children()) file.metrics.push_back(read_metrics(g, name));
   }
+  file.system_tracks = read_system_tracks(root);
+  for (const auto& r : file.system_tracks) check_system_tracks(path, r, file.sensors);
   return file;
 }
 
@@ -375,6 +377,11 @@ void write_track_file(const std::string& path, const TrackFile& file) {
     for (const auto& a : file.associations) {
       tv::check_association(path, a, file.sensors, file.tracks);
       if (!names.insert(a.name).second) throw InputError(path + ": /associations/" + a.name + ": name used twice");
+    }
+    names.clear();
+    for (const auto& r : file.system_tracks) {
+      check_system_tracks(path, r, file.sensors);
+      if (!names.insert(r.name).second) throw InputError(path + ": /system_tracks/" + r.name + ": name used twice");
     }
     names.clear();
     for (const auto& m : file.metrics) {
@@ -409,6 +416,7 @@ void write_track_file(const std::string& path, const TrackFile& file) {
         const Group g = root.create_group("metrics", /*track_order=*/true);
         for (const auto& m : file.metrics) write_metrics(g, m);
       }
+      write_system_tracks(root, file.system_tracks);
     }
     f.close();
   });

@@ -9,6 +9,8 @@
 //   /associations/<name>/  tuples (K×S int32), cost (K); attrs solver, options, objective,
 //                          lower_bound, gap, runtime_s, seed; optional energy (R×T float32)
 //   /metrics/<name>/       attrs correct_rate, false_rate, missed_rate; small tables as datasets
+//   /system_tracks/<name>/ track, t, state (N×4), mapping/{sensor, local_track, system_track, packets};
+//                          attrs method, options (seed 001 fusion centres, io/system_tracks_file.hpp)
 //
 // Only /sensors and /tracks are required. The reader validates format, version, shapes, dtypes,
 // finiteness and positive-definite covariances, and throws InputError naming file, dataset and row.
@@ -22,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "io/system_tracks_file.hpp"
 #include "kernels/types.hpp"
 
 namespace trackassoc {
@@ -60,6 +63,7 @@ struct TrackFile {
   TrackTable tracks;
   std::vector<AssociationRecord> associations;
   std::vector<MetricsRecord> metrics;
+  std::vector<SystemTrackRecord> system_tracks;  // /system_tracks/<name>/ (io/system_tracks_file.hpp)
 };
 
 // Reads and validates a schema v1 file. Throws InputError on anything malformed.

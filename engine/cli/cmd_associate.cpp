@@ -5,6 +5,7 @@
 
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
+#include "engine/fuzzy_pipeline.hpp"
 #include "engine/pipeline.hpp"
 #include "engine/solver_registry.hpp"
 
@@ -19,6 +20,7 @@ void register_associate(CLI::App& app) {
   auto args = std::make_shared<Args>();
   std::string solver_help = "3-D assignment solver:";
   for (const auto& e : solver_registry()) solver_help += " " + e.name;
+  solver_help += "; or a seed 001 fusion centre over all sensors: fuzzy, ftaa (also writes /system_tracks/NAME)";
   auto* cmd = app.add_subcommand("associate", "Associate the local tracks of three sensors");
   cmd->add_option("--input,-i", args->input, "Input HDF5 track file (schema v1)")->required();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file (input content + the association)")->required();
@@ -30,6 +32,19 @@ void register_associate(CLI::App& app) {
     ThreadScope threads(args->common.threads);
     const PipelineOptions options = resolve(args->pipeline);
     const nlohmann::json solver_options = parse_solver_options(args->pipeline.solver_options);
+    if (args->solver == "fuzzy" || args->solver == "ftaa") {  // not a 3-D tensor solver (seed 001)
+      const FuzzyPipelineOptions fuzzy =
+          fuzzy_pipeline_options(parse_fusion_method(args->solver), solver_options);
+      TrackFile file = read_track_file(args->input);
+      const std::string name = args->name.empty() ? args->solver : args->name;
+      const FuzzyPipelineResult res = associate_fuzzy(file, fuzzy, name);
+      write_track_file(args->output, file);
+      std::cout << "associated " << res.packets.num_local() << " local tracks (" << res.packets.size()
+                << " packets) with '" << args->solver << "': " << res.fusion.num_system_tracks << " system tracks, "
+                << res.association.num_tuples() << " tuples, " << fmt(1e3 * res.fusion.summary.wall_time_s, "%.2f")
+                << " ms -> " << args->output << "\n";
+      return;
+    }
     find_solver(args->solver);  // fail on an unknown name before reading anything
     TrackFile file = read_track_file(args->input);
     const AssociationProblem problem = build_association_problem(file, options);

@@ -10,6 +10,7 @@ void register_experiment(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("experiment", "Reproduce a paper's study or run an engine study (DESIGN §5)");
   cmd->require_subcommand(1);
   register_experiment_seed000(*cmd);
+  register_experiment_seed001(*cmd);
   add_experiment_seed002(cmd);
   register_experiment_seed003(*cmd);
   register_experiment_schedules(*cmd);

@@ -107,6 +107,7 @@ void register_filter(CLI::App& app);
 void register_experiment(CLI::App& app);
 // Sub-subcommands of `experiment` (engine/cli/cmd_experiment.cpp calls them).
 void register_experiment_seed000(CLI::App& experiment);
+void register_experiment_seed001(CLI::App& experiment);  // cmd_experiment_seed001.cpp
 void register_experiment_schedules(CLI::App& experiment);
 void register_experiment_scale(CLI::App& experiment);
 void register_experiment_seed003(CLI::App& experiment);  // cmd_siamese_experiment.cpp
