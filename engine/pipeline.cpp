@@ -76,25 +76,35 @@ std::vector<double> common_time_grid(const TrackTable& tracks, const std::array<
   return grid;
 }
 
+SensorSelection select_sensors(const TrackFile& file, const PipelineOptions& options) {
+  SensorSelection sel;
+  sel.num_sensors = static_cast<int32_t>(file.sensors.size());
+  if (sel.num_sensors < 3)
+    throw InputError("/sensors: three-sensor association needs at least 3 sensors, the file has " +
+                     std::to_string(sel.num_sensors));
+  std::map<int32_t, int32_t> column;
+  for (int32_t s = 0; s < sel.num_sensors; ++s) column[file.sensors[s].id] = s;
+  sel.period = options.common_period;
+  for (int d = 0; d < 3; ++d) {
+    sel.ids[d] = options.sensors.empty() ? file.sensors[d].id : options.sensors[d];
+    auto it = column.find(sel.ids[d]);
+    if (it == column.end())
+      throw InputError("--sensors: sensor id " + std::to_string(sel.ids[d]) + " is not in /sensors/id");
+    sel.columns[d] = it->second;
+    if (options.common_period == 0.0) sel.period = std::max(sel.period, file.sensors[it->second].period);
+  }
+  require(sel.period > 0.0, "PipelineOptions.common_period", "the sensors' periods are not positive");
+  return sel;
+}
+
 AssociationProblem build_association_problem(const TrackFile& file, const PipelineOptions& options) {
   options.validate();
   AssociationProblem p;
-  p.num_sensors = static_cast<int32_t>(file.sensors.size());
-  if (p.num_sensors < 3)
-    throw InputError("/sensors: three-sensor association needs at least 3 sensors, the file has " +
-                     std::to_string(p.num_sensors));
-  std::map<int32_t, int32_t> column;
-  for (int32_t s = 0; s < p.num_sensors; ++s) column[file.sensors[s].id] = s;
-  double period = options.common_period;
-  for (int d = 0; d < 3; ++d) {
-    p.sensor_ids[d] = options.sensors.empty() ? file.sensors[d].id : options.sensors[d];
-    auto it = column.find(p.sensor_ids[d]);
-    if (it == column.end())
-      throw InputError("--sensors: sensor id " + std::to_string(p.sensor_ids[d]) + " is not in /sensors/id");
-    p.sensor_columns[d] = it->second;
-    if (options.common_period == 0.0) period = std::max(period, file.sensors[it->second].period);
-  }
-  require(period > 0.0, "PipelineOptions.common_period", "the sensors' periods are not positive");
+  const SensorSelection sel = select_sensors(file, options);
+  p.num_sensors = sel.num_sensors;
+  p.sensor_ids = sel.ids;
+  p.sensor_columns = sel.columns;
+  const double period = sel.period;
 
   const auto t0 = std::chrono::steady_clock::now();
   p.common_times = common_time_grid(file.tracks, p.sensor_ids, period);

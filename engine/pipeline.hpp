@@ -59,6 +59,17 @@ AssociationRecord solve_association(const AssociationProblem& problem, const std
                                     const nlohmann::json& solver_options, uint64_t seed,
                                     const PipelineOptions& options);
 
+// The three sensors of an association: their /sensors ids and columns, and the common-time period
+// (options.common_period, or the largest scan period of the three). Throws InputError when the file
+// has fewer than three sensors or a chosen id is unknown. Shared by the dense and sparse pipelines.
+struct SensorSelection {
+  int32_t num_sensors = 0;  // S of the output tuples
+  std::array<int32_t, 3> ids{};
+  std::array<int32_t, 3> columns{};
+  double period = 0.0;
+};
+SensorSelection select_sensors(const TrackFile& file, const PipelineOptions& options);
+
 // Common time grid (exposed for tests): see the header comment.
 std::vector<double> common_time_grid(const TrackTable& tracks, const std::array<int32_t, 3>& sensor_ids,
                                      double period);

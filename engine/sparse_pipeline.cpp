@@ -56,22 +56,11 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   options.validate();
   const PipelineOptions& po = options.pipeline;
   SparseAssociationProblem p;
-  p.num_sensors = static_cast<int32_t>(file.sensors.size());
-  if (p.num_sensors < 3)
-    throw InputError("/sensors: three-sensor association needs at least 3 sensors, the file has " +
-                     std::to_string(p.num_sensors));
-  std::map<int32_t, int32_t> column;
-  for (int32_t s = 0; s < p.num_sensors; ++s) column[file.sensors[s].id] = s;
-  double period = po.common_period;
-  for (int d = 0; d < 3; ++d) {
-    p.sensor_ids[d] = po.sensors.empty() ? file.sensors[d].id : po.sensors[d];
-    auto it = column.find(p.sensor_ids[d]);
-    if (it == column.end())
-      throw InputError("--sensors: sensor id " + std::to_string(p.sensor_ids[d]) + " is not in /sensors/id");
-    p.sensor_columns[d] = it->second;
-    if (po.common_period == 0.0) period = std::max(period, file.sensors[it->second].period);
-  }
-  require(period > 0.0, "PipelineOptions.common_period", "the sensors' periods are not positive");
+  const SensorSelection sel = select_sensors(file, po);
+  p.num_sensors = sel.num_sensors;
+  p.sensor_ids = sel.ids;
+  p.sensor_columns = sel.columns;
+  const double period = sel.period;
 
   auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, std::size_t bytes) {
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), static_cast<double>(bytes) / kMiB});
