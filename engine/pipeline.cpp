@@ -69,10 +69,10 @@ std::vector<double> common_time_grid(const TrackTable& tracks, const std::array<
     grid.push_back(t);
   }
   if (grid.empty())
-    throw InputError("/tracks: sensors " + std::to_string(sensor_ids[0]) + ", " + std::to_string(sensor_ids[1]) +
-                     ", " + std::to_string(sensor_ids[2]) + " never report at a common time (common interval [" +
-                     std::to_string(start) + ", " + std::to_string(end) + "] s with period " +
-                     std::to_string(period) + " s)");
+    throw InputError("/tracks: sensors " + std::to_string(sensor_ids[0]) + ", " +
+                     std::to_string(sensor_ids[1]) + ", " + std::to_string(sensor_ids[2]) +
+                     " never report at a common time (common interval [" + std::to_string(start) + ", " +
+                     std::to_string(end) + "] s with period " + std::to_string(period) + " s)");
   return grid;
 }
 

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <chrono>
 
+#include "engine/hopfield_json.hpp"
 #include "engine/relaxation_solvers.hpp"
 #include "kernels/error.hpp"
-#include "engine/hopfield_json.hpp"
 #include "kernels/heuristic_solvers.hpp"
 
 namespace trackassoc {
@@ -27,9 +27,11 @@ std::vector<SolverEntry> make_registry() {
   // Hopfield solvers (kernels/hopfield.hpp; options: engine/hopfield_json.hpp).
   for (const char* name : {"hopfield", "hopfield-paper", "chnn"}) {
     const std::string n = name;
-    const std::string desc = n == "hopfield"         ? "discrete 3-D Hopfield network, full-plane energy, mean-field start (seed 000)"
-                             : n == "hopfield-paper" ? "discrete 3-D Hopfield network as printed (seed 000 Eq. 11, A=B=C=300, D=200, E=1100)"
-                                                     : "continuous Hopfield network with gain annealing (CHNN, seed 004)";
+    const std::string desc =
+        n == "hopfield" ? "discrete 3-D Hopfield network, full-plane energy, mean-field start (seed 000)"
+        : n == "hopfield-paper"
+            ? "discrete 3-D Hopfield network as printed (seed 000 Eq. 11, A=B=C=300, D=200, E=1100)"
+            : "continuous Hopfield network with gain annealing (CHNN, seed 004)";
     r.push_back({n, desc, 200, [n](const CostTensor3& b, const nlohmann::json& o, uint64_t seed) {
                    return solve_hopfield_json(n, b, o, seed);
                  }});

@@ -12,10 +12,12 @@ namespace trackassoc {
 Scenario load_scenario(const std::string& name_or_path) {
   std::error_code ec;
   if (std::filesystem::is_regular_file(name_or_path, ec)) return read_scenario_file(name_or_path);
-  if (auto text = embedded_scenario(name_or_path)) return parse_scenario_json(*text, "embedded:" + name_or_path);
+  if (auto text = embedded_scenario(name_or_path))
+    return parse_scenario_json(*text, "embedded:" + name_or_path);
   std::string names;
   for (const auto& s : embedded_scenarios()) names += (names.empty() ? "" : ", ") + std::string(s.name);
-  throw InputError("--scenario: '" + name_or_path + "' is neither a file nor an embedded scenario (" + names + ")");
+  throw InputError("--scenario: '" + name_or_path + "' is neither a file nor an embedded scenario (" + names +
+                   ")");
 }
 
 TrackFile simulation_to_track_file(const Scenario& scenario, const SimulationResult& result) {

@@ -42,7 +42,8 @@ double regularized_gamma_p(double a, double x) {
 
 double chi_square_quantile(double p, int dof) {
   require(dof > 0, "chi_square_quantile", "degrees of freedom must be positive, got " + std::to_string(dof));
-  require(p > 0.0 && p < 1.0, "chi_square_quantile", "probability must be in (0, 1), got " + std::to_string(p));
+  require(p > 0.0 && p < 1.0, "chi_square_quantile",
+          "probability must be in (0, 1), got " + std::to_string(p));
   const double k = dof;
   // Wilson–Hilferty start: x ≈ k (1 − 2/(9k) + z √(2/(9k)))³, z the normal quantile (Acklam-free:
   // a bisection-safe Newton refinement below makes the start's accuracy unimportant).
@@ -61,11 +62,18 @@ double chi_square_quantile(double p, int dof) {
   for (int i = 0; i < 200; ++i) {
     const double f = regularized_gamma_p(0.5 * k, 0.5 * x) - p;
     if (std::fabs(f) < 1e-14) break;
-    if (f > 0) hi = x; else lo = x;
-    const double log_pdf = (0.5 * k - 1.0) * std::log(x) - 0.5 * x - 0.5 * k * std::log(2.0) - std::lgamma(0.5 * k);
+    if (f > 0)
+      hi = x;
+    else
+      lo = x;
+    const double log_pdf =
+        (0.5 * k - 1.0) * std::log(x) - 0.5 * x - 0.5 * k * std::log(2.0) - std::lgamma(0.5 * k);
     double next = x - f / std::exp(log_pdf);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::fabs(next - x) < 1e-12 * std::max(1.0, x)) { x = next; break; }
+    if (std::fabs(next - x) < 1e-12 * std::max(1.0, x)) {
+      x = next;
+      break;
+    }
     x = next;
   }
   return x;

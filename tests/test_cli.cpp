@@ -24,8 +24,8 @@ class CliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("trackassoc_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-            std::to_string(::getpid()));
+           ("trackassoc_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+            "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -73,7 +73,8 @@ TEST_F(CliTest, RunPrintsATableAndWritesAReadableFile) {
 
 TEST_F(CliTest, SimulateAssociateEvaluate) {
   ASSERT_EQ(run("simulate --output " + path("sim.h5")).status, 0);
-  const Result a = run("associate --input " + path("sim.h5") + " --output " + path("assoc.h5") + " --solver greedy");
+  const Result a =
+      run("associate --input " + path("sim.h5") + " --output " + path("assoc.h5") + " --solver greedy");
   ASSERT_EQ(a.status, 0) << a.err;
   const Result e = run("evaluate --input " + path("assoc.h5"));
   ASSERT_EQ(e.status, 0) << e.err;
@@ -104,7 +105,8 @@ TEST_F(CliTest, MissingInputFile) {
 
 TEST_F(CliTest, UnknownSolverIsRejectedBeforeAnyWork) {
   ASSERT_EQ(run("simulate --output " + path("sim.h5")).status, 0);
-  const Result r = run("associate --input " + path("sim.h5") + " --output " + path("o.h5") + " --solver magic");
+  const Result r =
+      run("associate --input " + path("sim.h5") + " --output " + path("o.h5") + " --solver magic");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("unknown solver 'magic'"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("o.h5")));

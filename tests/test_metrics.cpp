@@ -13,7 +13,8 @@ TrackTable make_tracks(const std::vector<std::vector<int32_t>>& truth_by_sensor)
   const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(4, 4);
   for (std::size_t s = 0; s < truth_by_sensor.size(); ++s)
     for (std::size_t k = 0; k < truth_by_sensor[s].size(); ++k)
-      for (double time : {0.0, 1.0}) t.push_back(10 * (s + 1), static_cast<int32_t>(k), time, x, P, truth_by_sensor[s][k]);
+      for (double time : {0.0, 1.0})
+        t.push_back(10 * (s + 1), static_cast<int32_t>(k), time, x, P, truth_by_sensor[s][k]);
   return t;
 }
 

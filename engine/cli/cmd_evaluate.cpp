@@ -16,7 +16,8 @@ void register_evaluate(CLI::App& app) {
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("evaluate", "Score the associations of a file against its ground truth");
   cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks/truth and /associations")->required();
-  cmd->add_option("--output,-o", args->output, "Where to write the file with /metrics (default: replace the input)");
+  cmd->add_option("--output,-o", args->output,
+                  "Where to write the file with /metrics (default: replace the input)");
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
@@ -35,7 +36,8 @@ void register_evaluate(CLI::App& app) {
                  percent(m.missed_rate)});
     }
     if (!any_truth)
-      throw InputError(args->input + ": /tracks/truth holds no target ids (-1 everywhere); nothing to evaluate");
+      throw InputError(args->input +
+                       ": /tracks/truth holds no target ids (-1 everywhere); nothing to evaluate");
     table.print(std::cout);
     write_track_file(args->output.empty() ? args->input : args->output, file);
   });

@@ -24,10 +24,12 @@ void register_run(CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Simulate, associate with every solver, evaluate, print a table");
   cmd->add_option("--scenario", args->scenario, "Scenario JSON file or embedded name")->capture_default_str();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file")->capture_default_str();
-  cmd->add_option("--solvers", args->solvers, "Solvers to run (default: all that suit the size)")->delimiter(',');
+  cmd->add_option("--solvers", args->solvers, "Solvers to run (default: all that suit the size)")
+      ->delimiter(',');
   add_pipeline_options(cmd, args->pipeline);
-  cmd->get_option("--options")->description(
-      "Per-solver options as JSON keyed by solver name, e.g. '{\"hopfield\": {\"restarts\": 8}}'");
+  cmd->get_option("--options")
+      ->description(
+          "Per-solver options as JSON keyed by solver name, e.g. '{\"hopfield\": {\"restarts\": 8}}'");
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
@@ -40,23 +42,23 @@ void register_run(CLI::App& app) {
     const AssociationProblem problem = build_association_problem(file, options);
     const int32_t n = std::max({problem.tensor.n1, problem.tensor.n2, problem.tensor.n3});
 
-    std::cout << "scenario '" << scenario.name << "', seed " << args->common.seed << ": "
-              << problem.tensor.n1 << " x " << problem.tensor.n2 << " x " << problem.tensor.n3
-              << " local tracks on sensors " << problem.sensor_ids[0] << ", " << problem.sensor_ids[1] << ", "
-              << problem.sensor_ids[2] << "; " << problem.common_times.size() << " common times; statistics "
+    std::cout << "scenario '" << scenario.name << "', seed " << args->common.seed << ": " << problem.tensor.n1
+              << " x " << problem.tensor.n2 << " x " << problem.tensor.n3 << " local tracks on sensors "
+              << problem.sensor_ids[0] << ", " << problem.sensor_ids[1] << ", " << problem.sensor_ids[2]
+              << "; " << problem.common_times.size() << " common times; statistics "
               << fmt(1e3 * problem.statistics_time_s, "%.2f") << " ms, cost tensor "
               << fmt(1e3 * problem.tensor_time_s, "%.2f") << " ms\n\n";
     TextTable table({"solver", "objective", "lower bound", "gap", "correct", "false", "missed", "time [ms]",
                      "termination"});
     for (const auto& entry : solver_registry()) {
-      const bool chosen = args->solvers.empty()
-                              ? n <= entry.max_default_n
-                              : std::find(args->solvers.begin(), args->solvers.end(), entry.name) != args->solvers.end();
+      const bool chosen = args->solvers.empty() ? n <= entry.max_default_n
+                                                : std::find(args->solvers.begin(), args->solvers.end(),
+                                                            entry.name) != args->solvers.end();
       if (!chosen) continue;
-      AssociationRecord rec = solve_association(problem, entry.name, solver_options.contains(entry.name)
-                                                                         ? solver_options[entry.name]
-                                                                         : nlohmann::json::object(),
-                                                args->common.seed, options);
+      AssociationRecord rec = solve_association(
+          problem, entry.name,
+          solver_options.contains(entry.name) ? solver_options[entry.name] : nlohmann::json::object(),
+          args->common.seed, options);
       const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
       file.metrics.push_back(to_metrics_record(rec.name, m));
       table.add({rec.name, fmt(rec.objective, "%.6g"), fmt(rec.lower_bound, "%.6g"), percent(rec.gap),

@@ -13,7 +13,8 @@ void register_simulate(CLI::App& app) {
     int run = 0;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("simulate", "Simulate a scenario: truth, measurements and local tracks (HDF5)");
+  auto* cmd =
+      app.add_subcommand("simulate", "Simulate a scenario: truth, measurements and local tracks (HDF5)");
   cmd->add_option("--scenario", args->scenario, "Scenario JSON file or embedded name")->capture_default_str();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file")->required();
   cmd->add_option("--run", args->run, "Monte Carlo run number (selects the random stream)")
