@@ -68,7 +68,8 @@ const CostTensor3& tracking(int n) {
 
 void BM_LagrangianToOnePercent(benchmark::State& state, bool local_search) {
   const int n = static_cast<int>(state.range(0));
-  tbb::global_control control(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(1)));
+  tbb::global_control control(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(state.range(1)));
   const CostTensor3& b = tracking(n);
   LagrangianOptions o;
   o.relative_gap_tolerance = 0.01;
@@ -87,7 +88,8 @@ void BM_LagrangianToOnePercent(benchmark::State& state, bool local_search) {
 
 void BM_ExactBalasSaltzman(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
-  tbb::global_control control(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(1)));
+  tbb::global_control control(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(state.range(1)));
   const std::string dir = std::string(TRACKASSOC_SHARED_DIR) + "/benchmarks/3dap/balas-saltzman/";
   const auto optima = read_known_optima(dir + "bs.opt");
   std::vector<CostTensor3> instances;
@@ -123,8 +125,14 @@ void bs_args(benchmark::internal::Benchmark* b) {
     for (int t : {1, 2}) b->Args({n, t});
 }
 
-BENCHMARK_CAPTURE(BM_LagrangianToOnePercent, lr, false)->Apply(lr_args)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_LagrangianToOnePercent, lr_ls, true)->Apply(lr_args)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_LagrangianToOnePercent, lr, false)
+    ->Apply(lr_args)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_LagrangianToOnePercent, lr_ls, true)
+    ->Apply(lr_args)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_ExactBalasSaltzman)->Apply(bs_args)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -9,9 +9,9 @@
 //   BM_CsParallelBank/N/threads  the two parallel CS filters alone
 // Counter "updates/s" = tracks advanced (predict + update, 90 % detected) per second.
 #include <benchmark/benchmark.h>
+#include <oneapi/tbb/global_control.h>
 
 #include <Eigen/Dense>
-#include <oneapi/tbb/global_control.h>
 #include <vector>
 
 #include "kernels/bp_network.hpp"
@@ -46,8 +46,8 @@ struct ScanColumns {
 };
 
 void set_rate(benchmark::State& state, std::size_t n) {
-  state.counters["updates/s"] =
-      benchmark::Counter(static_cast<double>(n) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["updates/s"] = benchmark::Counter(
+      static_cast<double>(n) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["tracks"] = static_cast<double>(n);
 }
 
@@ -68,12 +68,13 @@ void BM_CvBank(benchmark::State& state) {
 struct EigenCvTrack {
   Eigen::Vector4d x = Eigen::Vector4d::Zero();
   Eigen::Matrix4d P = Eigen::Matrix4d::Identity();
-  void step(const Eigen::Matrix4d& F, const Eigen::Matrix4d& Q, const Eigen::Vector2d& z, const Eigen::Matrix2d& R,
-            bool detected) {
+  void step(const Eigen::Matrix4d& F, const Eigen::Matrix4d& Q, const Eigen::Vector2d& z,
+            const Eigen::Matrix2d& R, bool detected) {
     x = F * x;
     P = F * P * F.transpose() + Q;
     if (!detected) return;
-    const Eigen::Matrix<double, 2, 4> H = (Eigen::Matrix<double, 2, 4>() << 1, 0, 0, 0, 0, 1, 0, 0).finished();
+    const Eigen::Matrix<double, 2, 4> H =
+        (Eigen::Matrix<double, 2, 4>() << 1, 0, 0, 0, 0, 1, 0, 0).finished();
     const Eigen::Matrix2d S = H * P * H.transpose() + R;
     const Eigen::Matrix<double, 4, 2> K = P * H.transpose() * S.inverse();
     x += K * (z - H * x);

@@ -34,17 +34,24 @@ void BM_FuzzyAssociation(benchmark::State& state) {
   const FuzzyAssociationOptions options;
   int64_t tracks = 0;
   for (auto _ : state) {
-    const FusionOutput out = run_fuzzy_association(scene.spans(), scene.reliability, scene.num_local, options);
+    const FusionOutput out =
+        run_fuzzy_association(scene.spans(), scene.reliability, scene.num_local, options);
     tracks = out.num_system_tracks;
     benchmark::DoNotOptimize(out.x.data());
   }
   const double packets = static_cast<double>(scene.size());
   state.counters["system_tracks"] = static_cast<double>(tracks);
   state.counters["packets"] = packets;
-  state.counters["us_per_packet"] = benchmark::Counter(packets * 1e-6, benchmark::Counter::kIsIterationInvariantRate |
-                                                                          benchmark::Counter::kInvert);
+  state.counters["us_per_packet"] = benchmark::Counter(
+      packets * 1e-6, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_FuzzyAssociation)->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FuzzyAssociation)
+    ->Arg(10)
+    ->Arg(30)
+    ->Arg(100)
+    ->Arg(300)
+    ->Arg(1000)
+    ->Unit(benchmark::kMillisecond);
 
 void BM_Ftaa(benchmark::State& state) {
   const int J = static_cast<int>(state.range(0));
@@ -56,8 +63,8 @@ void BM_Ftaa(benchmark::State& state) {
   }
   const double packets = static_cast<double>(scene.size());
   state.counters["packets"] = packets;
-  state.counters["us_per_packet"] = benchmark::Counter(packets * 1e-6, benchmark::Counter::kIsIterationInvariantRate |
-                                                                          benchmark::Counter::kInvert);
+  state.counters["us_per_packet"] = benchmark::Counter(
+      packets * 1e-6, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_Ftaa)->Arg(10)->Arg(30)->Arg(100)->Arg(300)->Arg(1000)->Unit(benchmark::kMillisecond);
 
@@ -81,7 +88,8 @@ BankInput bank_input(std::size_t n) {
 
 void BM_AlphaBetaBank(benchmark::State& state) {
   const std::size_t n = static_cast<std::size_t>(state.range(0));
-  tbb::global_control c(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(1)));
+  tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                        static_cast<std::size_t>(state.range(1)));
   AlphaBetaBank bank(2, n, AlphaBetaOptions{});
   const BankInput in = bank_input(n);
   const std::vector<std::span<const double>> z{in.zx, in.zy};
@@ -93,7 +101,11 @@ void BM_AlphaBetaBank(benchmark::State& state) {
   state.counters["updates_per_s"] =
       benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_AlphaBetaBank)->Args({1 << 20, 1})->Args({1 << 20, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_AlphaBetaBank)
+    ->Args({1 << 20, 1})
+    ->Args({1 << 20, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_AlphaBetaPerTrack(benchmark::State& state) {
   const std::size_t n = static_cast<std::size_t>(state.range(0));

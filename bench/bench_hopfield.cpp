@@ -5,12 +5,12 @@
 //     sweep at n = 10–15.
 // Thread variants use tbb::global_control with the thread count as the last Arg.
 #include <benchmark/benchmark.h>
+#include <oneapi/tbb/global_control.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <numeric>
-#include <oneapi/tbb/global_control.h>
 #include <vector>
 
 #include "kernels/hopfield.hpp"
@@ -53,8 +53,9 @@ void BM_StreamCopy(benchmark::State& state) {
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, state.range(0));
   std::vector<float> a(std::size_t{16} << 20, 1.f), b(a.size(), 0.f);
   for (auto _ : state) benchmark::DoNotOptimize(stream_copy_seconds(a, b));
-  state.counters["GB/s"] = benchmark::Counter(2.0 * a.size() * sizeof(float), benchmark::Counter::kIsIterationInvariantRate,
-                                              benchmark::Counter::kIs1000);
+  state.counters["GB/s"] =
+      benchmark::Counter(2.0 * a.size() * sizeof(float), benchmark::Counter::kIsIterationInvariantRate,
+                         benchmark::Counter::kIs1000);
 }
 BENCHMARK(BM_StreamCopy)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -85,7 +86,8 @@ void run_with_floor(benchmark::State& state, std::size_t neurons, int threads, S
     total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   const double floor_s = kFloorBytesPerNeuron * neurons / g_copy_bandwidth[std::min(threads, 2)];
-  state.counters["neurons/s"] = benchmark::Counter(static_cast<double>(neurons), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["neurons/s"] =
+      benchmark::Counter(static_cast<double>(neurons), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["floor_ms"] = floor_s * 1e3;
   state.counters["floor_ratio"] = total / static_cast<double>(state.iterations()) / floor_s;
 }
@@ -110,7 +112,10 @@ void BM_SyncSweepPrinted(benchmark::State& state) {
   net.set_state(f.V0);
   run_with_floor(state, f.c.size(), threads, [&] { benchmark::DoNotOptimize(sync_sweep(net).flips); });
 }
-BENCHMARK(BM_SyncSweepPrinted)->ArgsProduct({{50, 100, 200}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SyncSweepPrinted)
+    ->ArgsProduct({{50, 100, 200}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // Async: serial within a restart; the sweep includes drawing its order (Arg 1: 0 = uniform random
 // permutation, 1 = slice-random order).
@@ -176,7 +181,10 @@ void BM_ContinuousSyncStep(benchmark::State& state) {
   p.w = f.w;
   run_with_floor(state, f.c.size(), threads, [&] { benchmark::DoNotOptimize(continuous_sync_step(net, p)); });
 }
-BENCHMARK(BM_ContinuousSyncStep)->ArgsProduct({{50, 100, 200}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ContinuousSyncStep)
+    ->ArgsProduct({{50, 100, 200}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // Restarts in parallel: 8 restarts of 20 async sweeps each at n = 50.
 void BM_Restarts(benchmark::State& state) {
@@ -189,7 +197,8 @@ void BM_Restarts(benchmark::State& state) {
   o.anneal_E_factor = 1.0;
   o.max_sweeps = 20;
   for (auto _ : state) benchmark::DoNotOptimize(solve_hopfield(f.inst.cost, o, 1).solution.summary.objective);
-  state.counters["restarts/s"] = benchmark::Counter(o.restarts, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["restarts/s"] =
+      benchmark::Counter(o.restarts, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_Restarts)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -203,7 +212,8 @@ void BM_NaiveWeightsSweep(benchmark::State& state) {
     naive.sync_sweep(V, out);
     benchmark::DoNotOptimize(out.data());
   }
-  state.counters["neurons/s"] = benchmark::Counter(static_cast<double>(V.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["neurons/s"] =
+      benchmark::Counter(static_cast<double>(V.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_NaiveWeightsSweep)->DenseRange(10, 15, 5)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -214,7 +224,8 @@ void BM_MarginalSweepSmall(benchmark::State& state) {
   DiscreteNetwork net(HopfieldEnergy::kFullPlane, f.w, f.c);
   net.set_state(f.V0);
   for (auto _ : state) benchmark::DoNotOptimize(sync_sweep(net).flips);
-  state.counters["neurons/s"] = benchmark::Counter(static_cast<double>(f.c.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["neurons/s"] =
+      benchmark::Counter(static_cast<double>(f.c.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_MarginalSweepSmall)->DenseRange(10, 15, 5)->Unit(benchmark::kMicrosecond)->UseRealTime();
 

@@ -67,7 +67,8 @@ void BM_SparseCandidates(benchmark::State& state) {
     benchmark::DoNotOptimize(c.a.data());
   }
   state.counters["candidates"] = static_cast<double>(pairs);
-  state.counters["tracks_per_s"] = benchmark::Counter(2.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["tracks_per_s"] =
+      benchmark::Counter(2.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_AllPairsCandidates(benchmark::State& state) {
@@ -75,10 +76,12 @@ void BM_AllPairsCandidates(benchmark::State& state) {
   std::unique_ptr<tbb::global_control> gc;
   set_threads(state, gc);
   for (auto _ : state) {
-    const CandidatePairs c = gated_candidate_pairs_all_pairs(f.aligned[0], f.aligned[1], CandidateOptions{0.999, 1.0});
+    const CandidatePairs c =
+        gated_candidate_pairs_all_pairs(f.aligned[0], f.aligned[1], CandidateOptions{0.999, 1.0});
     benchmark::DoNotOptimize(c.a.data());
   }
-  state.counters["tracks_per_s"] = benchmark::Counter(2.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["tracks_per_s"] =
+      benchmark::Counter(2.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_SparseStatistic(benchmark::State& state) {
@@ -118,7 +121,8 @@ void BM_SparseProblem(benchmark::State& state) {
     const SparseAssociationProblem p = build_sparse_association_problem(f.file, o);
     benchmark::DoNotOptimize(p.components.count);
   }
-  state.counters["tracks_per_s"] = benchmark::Counter(3.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["tracks_per_s"] =
+      benchmark::Counter(3.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_SparseSolve(benchmark::State& state) {
@@ -127,7 +131,8 @@ void BM_SparseSolve(benchmark::State& state) {
   set_threads(state, gc);
   const auto o = pipeline_options();
   for (auto _ : state) {
-    const AssociationRecord r = solve_sparse_association(*f.problem, "pairwise", nlohmann::json::object(), 1, o);
+    const AssociationRecord r =
+        solve_sparse_association(*f.problem, "pairwise", nlohmann::json::object(), 1, o);
     benchmark::DoNotOptimize(r.tuples.data());
   }
   state.counters["components"] = static_cast<double>(f.problem->components.count);

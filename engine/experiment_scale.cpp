@@ -27,14 +27,17 @@ void SyntheticTrackSpec::validate() const {
   require(sensors >= 1, "SyntheticTrackSpec.sensors", "must be >= 1");
   require(box > 0 && std::isfinite(box) && box_z >= 0 && std::isfinite(box_z), "SyntheticTrackSpec.box",
           "must be finite and positive");
-  require(speed_min >= 0 && speed_max >= speed_min, "SyntheticTrackSpec.speed_min", "need 0 <= speed_min <= speed_max");
+  require(speed_min >= 0 && speed_max >= speed_min, "SyntheticTrackSpec.speed_min",
+          "need 0 <= speed_min <= speed_max");
   require(duration > 0 && std::isfinite(duration), "SyntheticTrackSpec.duration", "must be positive");
   require(sigma_pos > 0 && sigma_vel > 0, "SyntheticTrackSpec.sigma_pos", "error sigmas must be positive");
   require(p_seen >= 0 && p_seen <= 1, "SyntheticTrackSpec.p_seen", "must be in [0, 1]");
   require(min_lifetime_fraction > 0 && min_lifetime_fraction <= 1, "SyntheticTrackSpec.min_lifetime_fraction",
           "must be in (0, 1]");
-  require(!periods.empty() && !offsets.empty(), "SyntheticTrackSpec.periods", "need at least one period and offset");
-  for (double p : periods) require(p > 0 && std::isfinite(p), "SyntheticTrackSpec.periods", "must be positive");
+  require(!periods.empty() && !offsets.empty(), "SyntheticTrackSpec.periods",
+          "need at least one period and offset");
+  for (double p : periods)
+    require(p > 0 && std::isfinite(p), "SyntheticTrackSpec.periods", "must be positive");
 }
 
 TrackFile synthetic_recorded_tracks(const SyntheticTrackSpec& spec) {
@@ -98,7 +101,8 @@ TrackFile synthetic_recorded_tracks(const SyntheticTrackSpec& spec) {
         t_begin = e.uniform(0.0, spec.duration - life);
         t_end = t_begin + life;
       }
-      const int64_t scans = static_cast<int64_t>(std::floor((spec.duration - sensor.offset) / sensor.period + 1e-9));
+      const int64_t scans =
+          static_cast<int64_t>(std::floor((spec.duration - sensor.offset) / sensor.period + 1e-9));
       for (int64_t k = 0; k <= scans; ++k) {
         const double t = sensor.offset + static_cast<double>(k) * sensor.period;
         if (t < t_begin || t > t_end) continue;
@@ -114,25 +118,41 @@ TrackFile synthetic_recorded_tracks(const SyntheticTrackSpec& spec) {
 
 void ScaleExperimentOptions::validate() const {
   require(!sizes.empty(), "ScaleExperimentOptions.sizes", "need at least one size");
-  for (int32_t n : sizes) require(n >= 1, "ScaleExperimentOptions.sizes", "sizes must be >= 1, got " + std::to_string(n));
+  for (int32_t n : sizes)
+    require(n >= 1, "ScaleExperimentOptions.sizes", "sizes must be >= 1, got " + std::to_string(n));
   require(dense_max >= 0, "ScaleExperimentOptions.dense_max", "must be >= 0");
   require(density > 0 && std::isfinite(density), "ScaleExperimentOptions.density", "must be positive");
   require(gate_probability > 0 && gate_probability < 1, "ScaleExperimentOptions.gate_probability",
           "must be in (0, 1)");
   require(threads >= 0, "ScaleExperimentOptions.threads", "must be >= 0");
-  require(tracks.sensors == 3, "ScaleExperimentOptions.tracks.sensors", "the scale experiment uses 3 sensors");
+  require(tracks.sensors == 3, "ScaleExperimentOptions.tracks.sensors",
+          "the scale experiment uses 3 sensors");
   tracks.validate();
 }
 
 nlohmann::json ScaleRow::to_json() const {
-  return {{"n", n}, {"tracks", tracks}, {"candidate_pairs", candidate_pairs}, {"gated_pairs", gated_pairs},
-          {"components", components}, {"largest_component", largest_component}, {"stage", stage},
-          {"stage_s", stage_s}, {"stage_peak_mib", stage_peak_mib}, {"stage_data_mib", stage_data_mib},
-          {"total_s", total_s}, {"peak_mib", peak_mib}, {"correct_rate", correct_rate},
-          {"false_rate", false_rate}, {"missed_rate", missed_rate}, {"dense_run", dense_run},
-          {"dense_total_s", dense_total_s}, {"dense_peak_mib", dense_peak_mib},
-          {"dense_correct_rate", dense_correct_rate}, {"dense_identical", dense_identical},
-          {"dense_gated_pairs", dense_gated_pairs}, {"error", error}};
+  return {{"n", n},
+          {"tracks", tracks},
+          {"candidate_pairs", candidate_pairs},
+          {"gated_pairs", gated_pairs},
+          {"components", components},
+          {"largest_component", largest_component},
+          {"stage", stage},
+          {"stage_s", stage_s},
+          {"stage_peak_mib", stage_peak_mib},
+          {"stage_data_mib", stage_data_mib},
+          {"total_s", total_s},
+          {"peak_mib", peak_mib},
+          {"correct_rate", correct_rate},
+          {"false_rate", false_rate},
+          {"missed_rate", missed_rate},
+          {"dense_run", dense_run},
+          {"dense_total_s", dense_total_s},
+          {"dense_peak_mib", dense_peak_mib},
+          {"dense_correct_rate", dense_correct_rate},
+          {"dense_identical", dense_identical},
+          {"dense_gated_pairs", dense_gated_pairs},
+          {"error", error}};
 }
 
 ScaleRow ScaleRow::from_json(const nlohmann::json& j) {
@@ -167,7 +187,8 @@ namespace {
 std::set<std::vector<int32_t>> tuple_set(const AssociationRecord& r) {
   std::set<std::vector<int32_t>> s;
   for (std::size_t q = 0; q < r.num_tuples(); ++q)
-    s.insert(std::vector<int32_t>(r.tuples.begin() + q * r.num_sensors, r.tuples.begin() + (q + 1) * r.num_sensors));
+    s.insert(std::vector<int32_t>(r.tuples.begin() + q * r.num_sensors,
+                                  r.tuples.begin() + (q + 1) * r.num_sensors));
   return s;
 }
 
@@ -204,7 +225,8 @@ ScaleRow run_one_size(const ScaleExperimentOptions& o, int32_t n) {
   for (std::size_t c : p.candidate_pairs) row.candidate_pairs += static_cast<int64_t>(c);
   row.gated_pairs = static_cast<int64_t>(p.s12.size() + p.s23.size() + p.s13.size());
   row.components = p.components.count;
-  for (int32_t c = 0; c < p.components.count; ++c) row.largest_component = std::max(row.largest_component, p.components.size(c));
+  for (int32_t c = 0; c < p.components.count; ++c)
+    row.largest_component = std::max(row.largest_component, p.components.size(c));
   const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
   row.correct_rate = m.correct_rate;
   row.false_rate = m.false_rate;
@@ -265,8 +287,9 @@ ScaleRow run_isolated(const ScaleExperimentOptions& o, int32_t n) {
   if (in.empty()) {
     ScaleRow r;
     r.n = n;
-    r.error = WIFSIGNALED(status) ? "child killed by signal " + std::to_string(WTERMSIG(status)) + " (out of memory?)"
-                                  : "child produced no result";
+    r.error = WIFSIGNALED(status)
+                  ? "child killed by signal " + std::to_string(WTERMSIG(status)) + " (out of memory?)"
+                  : "child produced no result";
     return r;
   }
   return ScaleRow::from_json(nlohmann::json::parse(in));
@@ -313,14 +336,14 @@ double scaling_exponent(const std::vector<ScaleRow>& rows, int32_t n_min) {
 std::string scale_table(const std::vector<ScaleRow>& rows) {
   std::ostringstream os;
   char line[512];
-  std::snprintf(line, sizeof line, "%7s %9s %9s %8s %8s %8s %8s %8s %8s %8s %9s %8s %8s %8s %5s\n", "n", "cand", "gated",
-                "comps", "align_s", "cand_s", "stat_s", "clust_s", "solve_s", "total_s", "peak_MiB", "correct",
-                "dense_s", "dense_ok", "same");
+  std::snprintf(line, sizeof line, "%7s %9s %9s %8s %8s %8s %8s %8s %8s %8s %9s %8s %8s %8s %5s\n", "n",
+                "cand", "gated", "comps", "align_s", "cand_s", "stat_s", "clust_s", "solve_s", "total_s",
+                "peak_MiB", "correct", "dense_s", "dense_ok", "same");
   os << line;
   for (const auto& r : rows) {
     if (!r.error.empty()) {
-      os << std::string(7 - std::min<std::size_t>(7, std::to_string(r.n).size()), ' ') << r.n << "  error: " << r.error
-         << "\n";
+      os << std::string(7 - std::min<std::size_t>(7, std::to_string(r.n).size()), ' ') << r.n
+         << "  error: " << r.error << "\n";
       continue;
     }
     auto st = [&](const char* name) {
@@ -328,10 +351,10 @@ std::string scale_table(const std::vector<ScaleRow>& rows) {
         if (r.stage[q] == name) return r.stage_s[q];
       return 0.0;
     };
-    std::snprintf(line, sizeof line, "%7d %9lld %9lld %8d %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %9.0f %7.1f%% ", r.n,
-                  static_cast<long long>(r.candidate_pairs), static_cast<long long>(r.gated_pairs), r.components,
-                  st("alignment"), st("candidates"), st("statistics"), st("clusters"), st("solve"), r.total_s,
-                  r.peak_mib, 100.0 * r.correct_rate);
+    std::snprintf(line, sizeof line, "%7d %9lld %9lld %8d %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %9.0f %7.1f%% ",
+                  r.n, static_cast<long long>(r.candidate_pairs), static_cast<long long>(r.gated_pairs),
+                  r.components, st("alignment"), st("candidates"), st("statistics"), st("clusters"),
+                  st("solve"), r.total_s, r.peak_mib, 100.0 * r.correct_rate);
     os << line;
     if (r.dense_run) {
       std::snprintf(line, sizeof line, "%8.3f %7.1f%% %5s\n", r.dense_total_s, 100.0 * r.dense_correct_rate,
@@ -349,19 +372,22 @@ std::string scale_csv(const std::vector<ScaleRow>& rows) {
   os << "n,tracks1,tracks2,tracks3,candidate_pairs,gated_pairs,components,largest_component";
   const std::vector<std::string> stages{"alignment", "candidates", "statistics", "clusters", "solve"};
   for (const auto& s : stages) os << "," << s << "_s," << s << "_peak_mib," << s << "_data_mib";
-  os << ",total_s,peak_mib,correct_rate,false_rate,missed_rate,dense_total_s,dense_peak_mib,dense_correct_rate,"
+  os << ",total_s,peak_mib,correct_rate,false_rate,missed_rate,dense_total_s,dense_peak_mib,dense_correct_"
+        "rate,"
         "dense_identical,dense_gated_pairs,error\n";
   for (const auto& r : rows) {
     os << r.n;
     for (int d = 0; d < 3; ++d) os << "," << (d < static_cast<int>(r.tracks.size()) ? r.tracks[d] : 0);
-    os << "," << r.candidate_pairs << "," << r.gated_pairs << "," << r.components << "," << r.largest_component;
+    os << "," << r.candidate_pairs << "," << r.gated_pairs << "," << r.components << ","
+       << r.largest_component;
     for (const auto& s : stages) {
       double t = NAN, pk = NAN, dm = NAN;
       for (std::size_t q = 0; q < r.stage.size(); ++q)
         if (r.stage[q] == s) t = r.stage_s[q], pk = r.stage_peak_mib[q], dm = r.stage_data_mib[q];
       os << "," << t << "," << pk << "," << dm;
     }
-    os << "," << r.total_s << "," << r.peak_mib << "," << r.correct_rate << "," << r.false_rate << "," << r.missed_rate;
+    os << "," << r.total_s << "," << r.peak_mib << "," << r.correct_rate << "," << r.false_rate << ","
+       << r.missed_rate;
     if (r.dense_run)
       os << "," << r.dense_total_s << "," << r.dense_peak_mib << "," << r.dense_correct_rate << ","
          << (r.dense_identical ? 1 : 0) << "," << r.dense_gated_pairs;

@@ -33,12 +33,12 @@ struct SyntheticTrackSpec {
   int32_t targets = 100;
   int32_t sensors = 3;
   bool three_d = true;
-  double box = 20000.0, box_z = 10000.0;   // [m]
+  double box = 20000.0, box_z = 10000.0;        // [m]
   double speed_min = 150.0, speed_max = 250.0;  // [m/s]
-  double vertical_speed = 5.0;             // σ of the vertical rate [m/s], 3-D only
-  bool formation = false;                  // every target takes the first target's velocity
-  double duration = 30.0;                  // [s]
-  double sigma_pos = 150.0, sigma_vel = 10.0;  // [m], [m/s]
+  double vertical_speed = 5.0;                  // σ of the vertical rate [m/s], 3-D only
+  bool formation = false;                       // every target takes the first target's velocity
+  double duration = 30.0;                       // [s]
+  double sigma_pos = 150.0, sigma_vel = 10.0;   // [m], [m/s]
   double p_seen = 1.0;
   // Each local track covers a random sub-interval of at least this fraction of the duration
   // (births and deaths at different times per sensor); 1 = every track covers the whole duration.
@@ -56,29 +56,30 @@ struct ScaleExperimentOptions {
   int32_t dense_max = 300;          // also run the dense path up to this n
   std::string solver = "pairwise";  // engine/solver_registry.hpp, for both paths
   nlohmann::json solver_options = nlohmann::json::object();
-  double density = 100.0;           // targets per 100 km² of ground (seed 003: 10⁴ in 100×100 km): box = √(n / density)·10 km
-  SyntheticTrackSpec tracks;        // everything but targets, box and seed
+  double density =
+      100.0;  // targets per 100 km² of ground (seed 003: 10⁴ in 100×100 km): box = √(n / density)·10 km
+  SyntheticTrackSpec tracks;  // everything but targets, box and seed
   double gate_probability = 0.999;
   uint64_t seed = 1;
-  int threads = 0;                  // 0 = all cores
-  bool isolate = true;              // fork one child per size (clean peak memory)
+  int threads = 0;      // 0 = all cores
+  bool isolate = true;  // fork one child per size (clean peak memory)
   void validate() const;
 };
 
 struct ScaleRow {
-  int32_t n = 0;                      // targets
-  std::vector<int32_t> tracks;        // tracks per sensor
+  int32_t n = 0;                // targets
+  std::vector<int32_t> tracks;  // tracks per sensor
   int64_t candidate_pairs = 0, gated_pairs = 0;
   int32_t components = 0, largest_component = 0;
-  std::vector<std::string> stage;     // alignment, candidates, statistics, clusters, solve
+  std::vector<std::string> stage;  // alignment, candidates, statistics, clusters, solve
   std::vector<double> stage_s, stage_peak_mib, stage_data_mib;
   double total_s = 0.0, peak_mib = 0.0;
   double correct_rate = 0.0, false_rate = 0.0, missed_rate = 0.0;
   bool dense_run = false;
   double dense_total_s = 0.0, dense_peak_mib = 0.0, dense_correct_rate = 0.0;
-  bool dense_identical = false;       // same tuple set
-  int64_t dense_gated_pairs = 0;      // in-gate pairs of the dense statistic (lossless check)
-  std::string error;                  // non-empty when the size failed (e.g. out of memory)
+  bool dense_identical = false;   // same tuple set
+  int64_t dense_gated_pairs = 0;  // in-gate pairs of the dense statistic (lossless check)
+  std::string error;              // non-empty when the size failed (e.g. out of memory)
   nlohmann::json to_json() const;
   static ScaleRow from_json(const nlohmann::json& j);
 };

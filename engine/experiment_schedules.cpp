@@ -30,7 +30,8 @@ void SchedulesExperimentOptions::validate() const {
   require(restarts >= 1, "--restarts", "expected >= 1");
   for (int32_t n : tracking_sizes) require(n >= 1 && n <= 200, "--sizes", "expected sizes in 1..200");
   for (int32_t n : decomplib_sizes)
-    require(n == 10 || n == 20 || n == 30 || n == 40, "--decomplib-sizes", "DecompLib has n = 10, 20, 30, 40");
+    require(n == 10 || n == 20 || n == 30 || n == 40, "--decomplib-sizes",
+            "DecompLib has n = 10, 20, 30, 40");
   require(!output.empty(), "--output", "expected a file name");
 }
 
@@ -53,7 +54,9 @@ ReferencedInstance seed000_tracking_instance(int32_t n, uint64_t seed, int32_t r
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 struct Method {
   std::string name;
@@ -117,7 +120,9 @@ ScheduleRow run_method(const Method& m, const ReferencedInstance& inst, uint64_t
       row.sweeps = sw / std::max<std::size_t>(1, r.restarts.size());
       break;
     }
-    case Method::kGreedy: s = solve_greedy3(inst.cost); break;
+    case Method::kGreedy:
+      s = solve_greedy3(inst.cost);
+      break;
     case Method::kGreedyLocalSearch: {
       const Solution3 g = solve_greedy3(inst.cost);
       s = solve_local_search3(inst.cost, g.tuples);
@@ -138,7 +143,8 @@ ScheduleRow run_method(const Method& m, const ReferencedInstance& inst, uint64_t
 
 }  // namespace
 
-std::vector<ScheduleRow> run_schedules_experiment(const SchedulesExperimentOptions& o, std::ostream* progress) {
+std::vector<ScheduleRow> run_schedules_experiment(const SchedulesExperimentOptions& o,
+                                                  std::ostream* progress) {
   o.validate();
   std::vector<ReferencedInstance> instances;
   for (int32_t n : o.tracking_sizes)
@@ -208,19 +214,21 @@ std::string schedules_summary_table(const std::vector<ScheduleRow>& rows) {
   std::ostringstream os;
   char line[256];
   for (const auto& g : groups) {
-    os << "\n" << g.first << ", n = " << g.second
+    os << "\n"
+       << g.first << ", n = " << g.second
        << (g.first == "tracking" ? "  (gap to the LR lower bound)" : "  (gap to the known optimum)") << "\n";
-    std::snprintf(line, sizeof line, "  %-32s %9s %9s %8s %7s %8s %9s %10s\n", "method", "mean gap", "max gap",
-                  "<=1 %", "valid", "raw", "sweeps", "time [ms]");
+    std::snprintf(line, sizeof line, "  %-32s %9s %9s %8s %7s %8s %9s %10s\n", "method", "mean gap",
+                  "max gap", "<=1 %", "valid", "raw", "sweeps", "time [ms]");
     os << line << "  " << std::string(98, '-') << "\n";
     for (const auto& m : method_order) {
       const auto it = agg.find({g.first, g.second, m});
       if (it == agg.end()) continue;
       const Aggregate& a = it->second;
       const double c = a.count;
-      std::snprintf(line, sizeof line, "  %-32s %8.3f%% %8.3f%% %3d/%-3d %6.0f%% %8s %9.1f %10.2f\n", m.c_str(),
-                    100 * a.gap / c, 100 * a.max_gap, a.within, a.count, 100.0 * a.valid / c,
-                    a.network ? (format("%.0f", 100 * a.raw / c) + "%").c_str() : "-", a.sweeps / c, 1e3 * a.wall / c);
+      std::snprintf(line, sizeof line, "  %-32s %8.3f%% %8.3f%% %3d/%-3d %6.0f%% %8s %9.1f %10.2f\n",
+                    m.c_str(), 100 * a.gap / c, 100 * a.max_gap, a.within, a.count, 100.0 * a.valid / c,
+                    a.network ? (format("%.0f", 100 * a.raw / c) + "%").c_str() : "-", a.sweeps / c,
+                    1e3 * a.wall / c);
       os << line;
     }
   }
@@ -239,30 +247,41 @@ std::string svg_scatter(const std::string& title, const std::string& xlabel, con
       ymin = std::min(ymin, s.y[i]);
       ymax = std::max(ymax, s.y[i]);
     }
-  if (!(xmin < xmax)) { xmin -= 1; xmax += 1; }
-  if (!(ymin < ymax)) { ymin -= 1; ymax += 1; }
+  if (!(xmin < xmax)) {
+    xmin -= 1;
+    xmax += 1;
+  }
+  if (!(ymin < ymax)) {
+    ymin -= 1;
+    ymax += 1;
+  }
   const double px = (W - L - R) / (xmax - xmin), py = (H - T - B) / (ymax - ymin);
   auto X = [&](double x) { return L + (tx(x) - xmin) * px; };
   auto Y = [&](double y) { return H - B - (y - ymin) * py; };
-  static const char* colours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
-                                  "#7f7f7f", "#bcbd22", "#17becf", "#000000", "#aa0000", "#00aa00", "#0000aa"};
+  static const char* colours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                  "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf",
+                                  "#000000", "#aa0000", "#00aa00", "#0000aa"};
   std::ostringstream os;
-  os << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H << "' font-family='sans-serif' font-size='12'>\n";
+  os << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
+     << "' font-family='sans-serif' font-size='12'>\n";
   os << "<rect width='100%' height='100%' fill='white'/>\n";
   os << "<text x='" << W / 2 << "' y='22' text-anchor='middle' font-size='15'>" << title << "</text>\n";
-  os << "<line x1='" << L << "' y1='" << H - B << "' x2='" << W - R << "' y2='" << H - B << "' stroke='black'/>\n";
+  os << "<line x1='" << L << "' y1='" << H - B << "' x2='" << W - R << "' y2='" << H - B
+     << "' stroke='black'/>\n";
   os << "<line x1='" << L << "' y1='" << T << "' x2='" << L << "' y2='" << H - B << "' stroke='black'/>\n";
   for (int t = 0; t <= 5; ++t) {
     const double xv = xmin + (xmax - xmin) * t / 5, yv = ymin + (ymax - ymin) * t / 5;
     const double xs = L + (xv - xmin) * px, ys = H - B - (yv - ymin) * py;
     os << "<text x='" << xs << "' y='" << H - B + 18 << "' text-anchor='middle'>"
        << (log_x ? format("%.3g", std::pow(10.0, xv)) : format("%.3g", xv)) << "</text>\n";
-    os << "<text x='" << L - 6 << "' y='" << ys + 4 << "' text-anchor='end'>" << format("%.3g", yv) << "</text>\n";
+    os << "<text x='" << L - 6 << "' y='" << ys + 4 << "' text-anchor='end'>" << format("%.3g", yv)
+       << "</text>\n";
     os << "<line x1='" << L << "' y1='" << ys << "' x2='" << W - R << "' y2='" << ys << "' stroke='#ddd'/>\n";
   }
-  os << "<text x='" << (L + W - R) / 2 << "' y='" << H - 15 << "' text-anchor='middle'>" << xlabel << "</text>\n";
-  os << "<text x='18' y='" << (T + H - B) / 2 << "' text-anchor='middle' transform='rotate(-90 18 " << (T + H - B) / 2
-     << ")'>" << ylabel << "</text>\n";
+  os << "<text x='" << (L + W - R) / 2 << "' y='" << H - 15 << "' text-anchor='middle'>" << xlabel
+     << "</text>\n";
+  os << "<text x='18' y='" << (T + H - B) / 2 << "' text-anchor='middle' transform='rotate(-90 18 "
+     << (T + H - B) / 2 << ")'>" << ylabel << "</text>\n";
   for (std::size_t s = 0; s < series.size(); ++s) {
     const char* col = colours[s % (sizeof colours / sizeof colours[0])];
     for (std::size_t i = 0; i < series[s].x.size(); ++i)
@@ -310,9 +329,10 @@ void write_schedules_outputs(const std::vector<ScheduleRow>& rows, const Schedul
     const h5::Group g = root.create_group("schedules");
     g.write_attribute("methods", nlohmann::json(method_names).dump());
     g.write_attribute("instances", nlohmann::json(instance_names).dump());
-    g.write_attribute("note", std::string("one row per (instance, method); gap = (objective - reference) / |reference|; "
-                                          "reference = LR lower bound (tracking) or known optimum (decomplib); "
-                                          "raw_validity = -1 for non-network methods"));
+    g.write_attribute(
+        "note", std::string("one row per (instance, method); gap = (objective - reference) / |reference|; "
+                            "reference = LR lower bound (tracking) or known optimum (decomplib); "
+                            "raw_validity = -1 for non-network methods"));
     const hsize_t K = rows.size();
     g.write_dataset("method", method, {K});
     g.write_dataset("instance", instance, {K});
@@ -339,8 +359,8 @@ void write_schedules_outputs(const std::vector<ScheduleRow>& rows, const Schedul
         }
       series.push_back(std::move(s));
     }
-    const std::string svg = svg_scatter("Hopfield schedules: gap vs wall time (all instances)", "wall time [s]",
-                                        "gap to reference [%]", series, true);
+    const std::string svg = svg_scatter("Hopfield schedules: gap vs wall time (all instances)",
+                                        "wall time [s]", "gap to reference [%]", series, true);
     write_atomically(o.plot, [&](const std::string& tmp) {
       std::ofstream out(tmp);
       out << svg;

@@ -20,10 +20,10 @@ namespace trackassoc {
 
 struct SchedulesExperimentOptions {
   std::vector<int32_t> tracking_sizes{10, 20, 50, 100};
-  int32_t runs = 3;                  // tracking instances per size
+  int32_t runs = 3;  // tracking instances per size
   std::vector<int32_t> decomplib_sizes{10, 20, 30, 40};
-  int32_t decomplib_per_size = 3;    // ap3.n.1 .. ap3.n.k
-  std::string decomplib_dir;         // empty: <shared>/benchmarks/3dap/decomplib is required
+  int32_t decomplib_per_size = 3;  // ap3.n.1 .. ap3.n.k
+  std::string decomplib_dir;       // empty: <shared>/benchmarks/3dap/decomplib is required
   int32_t restarts = 8;
   uint64_t seed = 1;
   std::string output = "experiment-schedules.h5";
@@ -53,7 +53,8 @@ struct ScheduleRow {
 // Seed 000 tracking instances: scenario `seed000` with `n` targets, Monte Carlo run `run`.
 ReferencedInstance seed000_tracking_instance(int32_t n, uint64_t seed, int32_t run);
 
-std::vector<ScheduleRow> run_schedules_experiment(const SchedulesExperimentOptions& options, std::ostream* progress);
+std::vector<ScheduleRow> run_schedules_experiment(const SchedulesExperimentOptions& options,
+                                                  std::ostream* progress);
 
 // Aggregated table: per (family, n, method) mean gap, share within 1 %, raw validity, sweeps, time.
 std::string schedules_summary_table(const std::vector<ScheduleRow>& rows);

@@ -56,8 +56,8 @@ void correlate_track_errors(TrackFile& file, double rho, uint64_t seed, int32_t 
     const Eigen::LLT<Eigen::MatrixXd> llt(P);
     if (llt.info() != Eigen::Success) continue;
     // z is common to every sensor's track of this target at this time.
-    CounterRng rng(seed, static_cast<uint64_t>(run), 0xc077e1a7ULL ^ (static_cast<uint64_t>(tr.truth[r]) << 40),
-                   static_cast<uint64_t>(tus));
+    CounterRng rng(seed, static_cast<uint64_t>(run),
+                   0xc077e1a7ULL ^ (static_cast<uint64_t>(tr.truth[r]) << 40), static_cast<uint64_t>(tus));
     Eigen::VectorXd z(D);
     for (int i = 0; i < D; ++i) z(i) = rng.normal();
     const Eigen::VectorXd common = llt.matrixL() * z;
@@ -112,8 +112,8 @@ std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& o
   for (int32_t targets : o.targets)
     for (bool correlated : {false, true}) {
       if (progress)
-        *progress << targets << " targets, " << (correlated ? "correlated" : "independent") << " errors: " << o.runs
-                  << " runs\n";
+        *progress << targets << " targets, " << (correlated ? "correlated" : "independent")
+                  << " errors: " << o.runs << " runs\n";
       for (int32_t run = 0; run < o.runs; ++run) {
         Scenario sc = base;
         sc.random_targets.count = targets;
@@ -145,8 +145,8 @@ std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& o
 std::string seed000_summary_table(const std::vector<Seed000Row>& rows, const Seed000ExperimentOptions& o) {
   std::ostringstream os;
   char line[256];
-  std::snprintf(line, sizeof line, "%-8s %-12s %-15s %9s %9s %11s %14s %10s\n", "targets", "errors", "solver", "correct",
-                "(paper)", "vs lr [pt]", "<=1 % of exact", "time [ms]");
+  std::snprintf(line, sizeof line, "%-8s %-12s %-15s %9s %9s %11s %14s %10s\n", "targets", "errors", "solver",
+                "correct", "(paper)", "vs lr [pt]", "<=1 % of exact", "time [ms]");
   os << line << std::string(96, '-') << "\n";
   // Objective of the exact solver per (targets, correlated, run), for the optimality column.
   std::map<std::tuple<int32_t, bool, int32_t>, double> exact;
@@ -163,7 +163,8 @@ std::string seed000_summary_table(const std::vector<Seed000Row>& rows, const See
           acc[r.solver].second += r.wall_s;
           ++count[r.solver];
           const auto ex = exact.find({r.targets, r.correlated, r.run});
-          if (ex != exact.end()) within[r.solver] += r.objective <= ex->second + 0.01 * std::abs(ex->second) + 1e-9;
+          if (ex != exact.end())
+            within[r.solver] += r.objective <= ex->second + 0.01 * std::abs(ex->second) + 1e-9;
         }
       if (count.count("lr")) lr_rate = acc["lr"].first / count["lr"];
       for (const auto& name : o.solvers) {
@@ -171,23 +172,26 @@ std::string seed000_summary_table(const std::vector<Seed000Row>& rows, const See
         const double rate = acc[name].first / count[name];
         const bool hop = name.rfind("hopfield", 0) == 0 || name == "chnn";
         const double paper = name == "hopfield-paper" ? paper_rate(targets, correlated) : std::nan("");
-        const std::string opt = exact.empty() ? "" : std::to_string(within[name]) + "/" + std::to_string(count[name]);
-        std::snprintf(line, sizeof line, "%-8d %-12s %-15s %8.1f%% %9s %11s %14s %10.2f\n", targets,
-                      correlated ? "correlated" : "independent", name.c_str(), 100 * rate,
-                      std::isnan(paper) ? "" : (std::to_string(static_cast<int>(std::lround(100 * paper))) + "%").c_str(),
-                      hop && !std::isnan(lr_rate)
-                          ? ([&] {
-                              char b[32];
-                              std::snprintf(b, sizeof b, "%+.1f (~+6)", 100 * (rate - lr_rate));
-                              return std::string(b);
-                            }())
-                                .c_str()
-                          : "",
-                      opt.c_str(), 1e3 * acc[name].second / count[name]);
+        const std::string opt =
+            exact.empty() ? "" : std::to_string(within[name]) + "/" + std::to_string(count[name]);
+        std::snprintf(
+            line, sizeof line, "%-8d %-12s %-15s %8.1f%% %9s %11s %14s %10.2f\n", targets,
+            correlated ? "correlated" : "independent", name.c_str(), 100 * rate,
+            std::isnan(paper) ? ""
+                              : (std::to_string(static_cast<int>(std::lround(100 * paper))) + "%").c_str(),
+            hop && !std::isnan(lr_rate) ? ([&] {
+                                            char b[32];
+                                            std::snprintf(b, sizeof b, "%+.1f (~+6)", 100 * (rate - lr_rate));
+                                            return std::string(b);
+                                          }())
+                                              .c_str()
+                                        : "",
+            opt.c_str(), 1e3 * acc[name].second / count[name]);
         os << line;
       }
     }
-  os << "\npaper (seed 000 §4): Hopfield correct association ≈ 89 % (10 targets, independent), 85 % (correlated), "
+  os << "\npaper (seed 000 §4): Hopfield correct association ≈ 89 % (10 targets, independent), 85 % "
+        "(correlated), "
         "80 % / 76 % (20 targets); Hopfield ≈ 6 points above the relaxation algorithm.\n";
   return os.str();
 }
@@ -199,7 +203,8 @@ void write_seed000_outputs(const std::vector<Seed000Row>& rows, const Seed000Exp
     targets.push_back(r.targets);
     correlated.push_back(r.correlated);
     run.push_back(r.run);
-    solver.push_back(static_cast<int32_t>(std::find(o.solvers.begin(), o.solvers.end(), r.solver) - o.solvers.begin()));
+    solver.push_back(
+        static_cast<int32_t>(std::find(o.solvers.begin(), o.solvers.end(), r.solver) - o.solvers.begin()));
     rate.push_back(r.correct_rate);
     objective.push_back(r.objective);
     wall.push_back(r.wall_s);
@@ -213,8 +218,9 @@ void write_seed000_outputs(const std::vector<Seed000Row>& rows, const Seed000Exp
     root.write_attribute("correlation", o.correlation);
     const h5::Group g = root.create_group("seed000");
     g.write_attribute("solvers", nlohmann::json(o.solvers).dump());
-    g.write_attribute("paper", std::string("Hopfield correct association ~89/85 % (10 targets, independent/correlated), "
-                                           "80/76 % (20 targets); ~6 points above relaxation"));
+    g.write_attribute(
+        "paper", std::string("Hopfield correct association ~89/85 % (10 targets, independent/correlated), "
+                             "80/76 % (20 targets); ~6 points above relaxation"));
     const hsize_t K = rows.size();
     g.write_dataset("targets", targets, {K});
     g.write_dataset("correlated", correlated, {K});
@@ -265,9 +271,11 @@ void write_seed000_outputs(const std::vector<Seed000Row>& rows, const Seed000Exp
   std::string xlabel = "configuration:";
   int idx = 1;
   for (int32_t t : o.targets)
-    for (bool c : {false, true}) xlabel += " " + std::to_string(idx++) + "=" + std::to_string(t) + (c ? "c" : "i");
-  const std::string svg = svg_scatter("seed 000 Monte Carlo: correct association rate", xlabel + " (i/c = independent/correlated)",
-                                      "correct association [%]", series, false);
+    for (bool c : {false, true})
+      xlabel += " " + std::to_string(idx++) + "=" + std::to_string(t) + (c ? "c" : "i");
+  const std::string svg =
+      svg_scatter("seed 000 Monte Carlo: correct association rate",
+                  xlabel + " (i/c = independent/correlated)", "correct association [%]", series, false);
   write_atomically(o.plot, [&](const std::string& tmp) {
     std::ofstream out(tmp);
     out << svg;

@@ -50,8 +50,10 @@ struct Seed000Row {
 // without a truth sample at their time are left unchanged. Deterministic in (seed, run).
 void correlate_track_errors(TrackFile& file, double rho, uint64_t seed, int32_t run);
 
-std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& options, std::ostream* progress);
-std::string seed000_summary_table(const std::vector<Seed000Row>& rows, const Seed000ExperimentOptions& options);
+std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& options,
+                                               std::ostream* progress);
+std::string seed000_summary_table(const std::vector<Seed000Row>& rows,
+                                  const Seed000ExperimentOptions& options);
 void write_seed000_outputs(const std::vector<Seed000Row>& rows, const Seed000ExperimentOptions& options);
 
 }  // namespace trackassoc

@@ -32,8 +32,8 @@ Scenario seed001_scenario(const Seed001Options& o) {
   s.truth_step = o.scan_period;
   s.seed = o.seed;
   // Paper order [x, vx, y, vy] → (x, y, z, vx, vy, vz).
-  const std::array<std::array<double, 6>, 2> x0{{{-29500.0, 34500.0, 0.0, 290.0, -400.0, 0.0},
-                                                 {-12250.0, 32500.0, 0.0, 125.0, -400.0, 0.0}}};
+  const std::array<std::array<double, 6>, 2> x0{
+      {{-29500.0, 34500.0, 0.0, 290.0, -400.0, 0.0}, {-12250.0, 32500.0, 0.0, 125.0, -400.0, 0.0}}};
   for (int k = 0; k < 2; ++k) {
     TargetSpec t;
     t.id = k;
@@ -122,7 +122,8 @@ Seed001Result run_seed001(const Seed001Options& o) {
           out.n[m][k].assign(steps, 0.0);
         }
         const std::string name = fusion_method_name(method[m].method);
-        const FuzzyPipelineResult res = run_fuzzy_pipeline(sim.tracks, scenario.sensors, method[m], name, &sim.measurements);
+        const FuzzyPipelineResult res =
+            run_fuzzy_pipeline(sim.tracks, scenario.sensors, method[m], name, &sim.measurements);
         const PacketTable& p = res.packets;
         for (std::size_t i = 0; i < p.size(); ++i) {
           const int32_t target = p.truth[i];

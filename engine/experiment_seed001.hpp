@@ -43,9 +43,9 @@ namespace trackassoc {
 struct Seed001Options {
   int runs = 100;
   uint64_t seed = 1;
-  double duration = 200.0;      // [s]
-  double scan_period = 1.0;     // [s], sensor scan and local tracker rate
-  double packet_period = 4.0;   // [s], local node → fusion centre report rate (T of the paper)
+  double duration = 200.0;     // [s]
+  double scan_period = 1.0;    // [s], sensor scan and local tracker rate
+  double packet_period = 4.0;  // [s], local node → fusion centre report rate (T of the paper)
   PacketSource packet_source = PacketSource::kTrack;  // local track estimates (see the header)
   FuzzyAssociationOptions fuzzy;
   FtaaOptions ftaa;
@@ -57,10 +57,10 @@ Scenario seed001_scenario(const Seed001Options& options);
 
 struct Seed001MethodResult {
   std::string method;
-  std::vector<double> time;                   // RMSE time grid [s]
-  std::array<std::vector<double>, 2> rmse;    // per target, per time (NaN where no estimate)
-  std::array<double, 2> mean_rmse{};          // per target, mean over time
-  double time_per_association_s = 0.0;        // median over runs
+  std::vector<double> time;                 // RMSE time grid [s]
+  std::array<std::vector<double>, 2> rmse;  // per target, per time (NaN where no estimate)
+  std::array<double, 2> mean_rmse{};        // per target, mean over time
+  double time_per_association_s = 0.0;      // median over runs
   double decisions_per_run = 0.0;
   double system_tracks_per_run = 0.0;
   double correct_rate = 0.0, false_rate = 0.0, missed_rate = 0.0;  // engine/metrics.hpp, mean over runs

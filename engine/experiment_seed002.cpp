@@ -1,6 +1,7 @@
 // `trackassoc experiment seed002`: see engine/experiment_seed002.hpp for the study's design.
 #include "engine/experiment_seed002.hpp"
 
+#include <oneapi/tbb/global_control.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -8,7 +9,6 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
-#include <oneapi/tbb/global_control.h>
 
 #include "engine/cli/table.hpp"
 #include "engine/experiments.hpp"
@@ -89,7 +89,8 @@ Seed002Motion run_motion(int motion, const Seed002Options& o, const BpNetwork& n
   const std::size_t R = static_cast<std::size_t>(o.runs);
   std::vector<SensorMeasurements> meas(R);
   parallel_for_range(R, 8, [&](std::size_t b, std::size_t e) {
-    for (std::size_t r = b; r < e; ++r) meas[r] = simulate_sensor(sc, 0, trajectories, o.seed, static_cast<int>(r));
+    for (std::size_t r = b; r < e; ++r)
+      meas[r] = simulate_sensor(sc, 0, trajectories, o.seed, static_cast<int>(r));
   });
   const std::vector<double>& scans = meas.front().scans;
   const std::size_t K = scans.size();
@@ -98,7 +99,8 @@ Seed002Motion run_motion(int motion, const Seed002Options& o, const BpNetwork& n
   for (std::size_t r = 0; r < R; ++r) {
     const Measurements& m = meas[r].m;
     require(m.size() == K, "seed002", "expected one plot per scan");
-    for (std::size_t k = 0; k < K; ++k) z[r][k] = convert_polar(2, sc.sensors[0], m.range[k], m.bearing[k], 0.0);
+    for (std::size_t k = 0; k < K; ++k)
+      z[r][k] = convert_polar(2, sc.sensors[0], m.range[k], m.bearing[k], 0.0);
   }
   ImmBank imm(2, R, ImmOptions::seed002(), net);
   CsParallelBank par(2, R, net);
@@ -112,8 +114,10 @@ Seed002Motion run_motion(int motion, const Seed002Options& o, const BpNetwork& n
       return M;
     };
     imm.initialise(r, vec(z[r][0]), mat(z[r][0]), vec(z[r][1]), mat(z[r][1]), dt0, kAccelPriorVariance);
-    two_point_initialise(par.f1, r, vec(z[r][0]), mat(z[r][0]), vec(z[r][1]), mat(z[r][1]), dt0, kAccelPriorVariance);
-    two_point_initialise(par.f2, r, vec(z[r][0]), mat(z[r][0]), vec(z[r][1]), mat(z[r][1]), dt0, kAccelPriorVariance);
+    two_point_initialise(par.f1, r, vec(z[r][0]), mat(z[r][0]), vec(z[r][1]), mat(z[r][1]), dt0,
+                         kAccelPriorVariance);
+    two_point_initialise(par.f2, r, vec(z[r][0]), mat(z[r][0]), vec(z[r][1]), mat(z[r][1]), dt0,
+                         kAccelPriorVariance);
   }
   Seed002Motion out;
   out.name = kMotions[motion];
@@ -253,7 +257,8 @@ void print_seed002(const Seed002Result& res, std::ostream& os) {
     r.add({labels[m], cells[0], cells[1], cells[2], fmt(mu, "%.2f")});
   }
   r.print(os);
-  os << "\nWhy ours differs from the paper's Table 1: the paper's motions, sensor, noise levels, CS parameters\n"
+  os << "\nWhy ours differs from the paper's Table 1: the paper's motions, sensor, noise levels, CS "
+        "parameters\n"
         "(α, a_max) and network training pairs are not published (they come from ref. [4]); ours are\n"
         "documented in engine/experiment_seed002.hpp and kernels/bp_network.hpp. The ratio also depends on\n"
         "the undefined averaging (we average RMSE over scans, then divide).\n";
@@ -278,12 +283,14 @@ void add_experiment_seed002(CLI::App* experiment) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file")->capture_default_str();
-  cmd->add_option("--plots", args->plots, "Folder for the PNG plots (scripts/plot.py)")->capture_default_str();
+  cmd->add_option("--plots", args->plots, "Folder for the PNG plots (scripts/plot.py)")
+      ->capture_default_str();
   cmd->add_flag("--no-plots", args->no_plots, "Skip the PNG plots");
   cmd->callback([args] {
     std::unique_ptr<tbb::global_control> control;
     if (args->threads > 0)
-      control = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, args->threads);
+      control =
+          std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, args->threads);
     args->options.validate();
     if (isatty(2)) std::cerr << "seed002: " << args->options.runs << " runs × 4 motions ...\n";
     const Seed002Result res = run_seed002(args->options);

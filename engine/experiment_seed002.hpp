@@ -32,8 +32,8 @@ struct Seed002Options {
 };
 
 struct Seed002Motion {
-  std::string name;                 // step | circle | ca | cv
-  std::vector<double> t;            // scan times [s]
+  std::string name;       // step | circle | ca | cv
+  std::vector<double> t;  // scan times [s]
   // RMSE per scan, [quantity][k] with quantity 0 = position, 1 = velocity, 2 = acceleration.
   std::array<std::vector<double>, 3> rmse_imm, rmse_cs_parallel;
   std::vector<double> imm_prob_cs;  // mean IMM probability of the CS-parallel model per scan
@@ -48,10 +48,8 @@ struct Seed002Result {
 };
 
 // The paper's Table 1 (IMM / CS-parallel), position, velocity, acceleration, in motion order.
-inline constexpr std::array<std::array<double, 3>, 4> kSeed002PaperTable1{{{0.7876, 0.5105, 0.5515},
-                                                                             {0.8532, 0.6988, 0.5820},
-                                                                             {0.6815, 0.2503, 0.2059},
-                                                                             {0.6620, 0.2047, 0.1847}}};
+inline constexpr std::array<std::array<double, 3>, 4> kSeed002PaperTable1{
+    {{0.7876, 0.5105, 0.5515}, {0.8532, 0.6988, 0.5820}, {0.6815, 0.2503, 0.2059}, {0.6620, 0.2047, 0.1847}}};
 
 Seed002Result run_seed002(const Seed002Options& options);
 

@@ -79,18 +79,25 @@ FuzzyPipelineOptions fuzzy_pipeline_options(FusionMethod method, const nlohmann:
   FactorScales& sc = fz ? o.fuzzy.scales : o.ftaa.scales;
   SynthesisOptions& sy = fz ? o.fuzzy.synthesis : o.ftaa.synthesis;
   for (const auto& [key, v] : j.items()) {
-    if (key == "packet_period") o.packet_period = number(v, key);
+    if (key == "packet_period")
+      o.packet_period = number(v, key);
     else if (key == "packets") {
       const std::string src = v.is_string() ? v.get<std::string>() : "";
-      if (src != "track" && src != "plot") throw InputError("--options: key 'packets': expected \"track\" or \"plot\"");
+      if (src != "track" && src != "plot")
+        throw InputError("--options: key 'packets': expected \"track\" or \"plot\"");
       o.packet_source = src == "plot" ? PacketSource::kPlot : PacketSource::kTrack;
-    }
-    else if (key == "gate") (fz ? o.fuzzy.gate : o.ftaa.gate) = number(v, key);
-    else if (key == "u_max_position") sc.position = number(v, key);
-    else if (key == "u_max_speed") sc.speed = number(v, key);
-    else if (key == "u_max_heading") sc.heading = number(v, key);
-    else if (key == "q") sy.q = number(v, key);
-    else if (key == "track_timeout") (fz ? o.fuzzy.track_timeout : o.ftaa.track_timeout) = number(v, key);
+    } else if (key == "gate")
+      (fz ? o.fuzzy.gate : o.ftaa.gate) = number(v, key);
+    else if (key == "u_max_position")
+      sc.position = number(v, key);
+    else if (key == "u_max_speed")
+      sc.speed = number(v, key);
+    else if (key == "u_max_heading")
+      sc.heading = number(v, key);
+    else if (key == "q")
+      sy.q = number(v, key);
+    else if (key == "track_timeout")
+      (fz ? o.fuzzy.track_timeout : o.ftaa.track_timeout) = number(v, key);
     else if (key == "synthesis") {
       if (!v.is_string()) throw InputError("--options: key 'synthesis': expected a string");
       sy.function = parse_synthesis(v.get<std::string>());
@@ -101,24 +108,34 @@ FuzzyPipelineOptions fuzzy_pipeline_options(FusionMethod method, const nlohmann:
     } else if (fz && key == "weighting") {
       if (!v.is_string()) throw InputError("--options: key 'weighting': expected a string");
       o.fuzzy.weighting = parse_weighting(v.get<std::string>());
-    } else if (fz && key == "min_degree") o.fuzzy.min_degree = number(v, key);
+    } else if (fz && key == "min_degree")
+      o.fuzzy.min_degree = number(v, key);
     else if (fz && key == "smoother") {
       if (!v.is_object()) throw InputError("--options: key 'smoother': expected an object");
       AlphaBetaOptions& ab = o.fuzzy.smoother;
       for (const auto& [k2, v2] : v.items()) {
         if (k2 == "gains") {
           const std::string g = v2.is_string() ? v2.get<std::string>() : "";
-          if (g != "kalata" && g != "fixed") throw InputError("--options: smoother.gains: expected kalata or fixed");
+          if (g != "kalata" && g != "fixed")
+            throw InputError("--options: smoother.gains: expected kalata or fixed");
           ab.gains = g == "kalata" ? AlphaBetaGainMode::kKalata : AlphaBetaGainMode::kFixed;
-        } else if (k2 == "alpha") ab.alpha = number(v2, k2);
-        else if (k2 == "beta") ab.beta = number(v2, k2);
-        else if (k2 == "process_noise") ab.process_noise = number(v2, k2);
-        else if (k2 == "measurement_noise") ab.measurement_noise = number(v2, k2);
-        else throw InputError("--options: unknown key 'smoother." + k2 + "'");
+        } else if (k2 == "alpha")
+          ab.alpha = number(v2, k2);
+        else if (k2 == "beta")
+          ab.beta = number(v2, k2);
+        else if (k2 == "process_noise")
+          ab.process_noise = number(v2, k2);
+        else if (k2 == "measurement_noise")
+          ab.measurement_noise = number(v2, k2);
+        else
+          throw InputError("--options: unknown key 'smoother." + k2 + "'");
       }
-    } else if (!fz && key == "threshold") o.ftaa.threshold = number(v, key);
-    else if (!fz && key == "association_quality") o.ftaa.association_quality = static_cast<int>(number(v, key));
-    else if (!fz && key == "separation_quality") o.ftaa.separation_quality = static_cast<int>(number(v, key));
+    } else if (!fz && key == "threshold")
+      o.ftaa.threshold = number(v, key);
+    else if (!fz && key == "association_quality")
+      o.ftaa.association_quality = static_cast<int>(number(v, key));
+    else if (!fz && key == "separation_quality")
+      o.ftaa.separation_quality = static_cast<int>(number(v, key));
     else
       throw InputError("--options: unknown key '" + key + "' for solver " + fusion_method_name(method));
   }
@@ -137,7 +154,8 @@ PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& se
   if (plots)
     for (std::size_t m = 0; m < measurements->size(); ++m)
       if (measurements->target[m] >= 0)
-        plot_of[{measurements->sensor[m], measurements->target[m], std::llround(measurements->t[m] * 1e6)}] = m;
+        plot_of[{measurements->sensor[m], measurements->target[m], std::llround(measurements->t[m] * 1e6)}] =
+            m;
   require(std::isfinite(packet_period) && packet_period >= 0, "packet_period", "expected >= 0 [s]");
   std::map<int32_t, int32_t> sensor_index;
   for (std::size_t s = 0; s < sensors.size(); ++s) sensor_index[sensors[s].id] = static_cast<int32_t>(s);
@@ -145,7 +163,8 @@ PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& se
   // Rows in time order per local track, for thinning.
   std::vector<std::size_t> order(tracks.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tracks.t[a] < tracks.t[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return tracks.t[a] < tracks.t[b]; });
   std::vector<uint8_t> keep(tracks.size(), 0);
   std::vector<double> last_kept;
   PacketTable p;
@@ -166,7 +185,8 @@ PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& se
     if (plots) {
       require(r < tracks.truth.size() && tracks.truth[r] >= 0, "/tracks/truth",
               "row " + std::to_string(r) + ": \"plot\" packets need the target of every track row");
-      if (!plot_of.count({tracks.sensor[r], tracks.truth[r], std::llround(tracks.t[r] * 1e6)})) continue;  // missed
+      if (!plot_of.count({tracks.sensor[r], tracks.truth[r], std::llround(tracks.t[r] * 1e6)}))
+        continue;  // missed
     }
     // 1e-9 s tolerance: report times are sums of periods.
     if (packet_period == 0.0 || tracks.t[r] >= last_kept[l] + packet_period - 1e-9) {
@@ -181,8 +201,8 @@ PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& se
     p.t.push_back(tracks.t[r]);
     if (plots) {
       const std::size_t m = plot_of.at({tracks.sensor[r], tracks.truth[r], std::llround(tracks.t[r] * 1e6)});
-      const ConvertedMeasurement z =
-          convert_polar(2, sensors[sensor_index[tracks.sensor[r]]], measurements->range[m], measurements->bearing[m], 0.0);
+      const ConvertedMeasurement z = convert_polar(2, sensors[sensor_index[tracks.sensor[r]]],
+                                                   measurements->range[m], measurements->bearing[m], 0.0);
       p.x.push_back(z.z[0]);
       p.y.push_back(z.z[1]);
     } else {
@@ -299,8 +319,8 @@ FuzzyPipelineResult run_fuzzy_pipeline(const TrackTable& tracks, const std::vect
   for (double c : a.cost) a.objective += c;
   a.runtime_s = f.summary.wall_time_s;
   a.termination = std::string(termination_name(f.summary.termination)) + ": " +
-                  std::to_string(f.summary.iterations) + " decisions, " + std::to_string(f.num_system_tracks) +
-                  " system tracks";
+                  std::to_string(f.summary.iterations) + " decisions, " +
+                  std::to_string(f.num_system_tracks) + " system tracks";
   if (res.sensor_conflicts > 0)
     a.termination += ", " + std::to_string(res.sensor_conflicts) +
                      " local tracks of a sensor shared a system track with another of the same sensor "
@@ -308,7 +328,8 @@ FuzzyPipelineResult run_fuzzy_pipeline(const TrackTable& tracks, const std::vect
   return res;
 }
 
-FuzzyPipelineResult associate_fuzzy(TrackFile& file, const FuzzyPipelineOptions& options, const std::string& name) {
+FuzzyPipelineResult associate_fuzzy(TrackFile& file, const FuzzyPipelineOptions& options,
+                                    const std::string& name) {
   FuzzyPipelineResult res = run_fuzzy_pipeline(file.tracks, file.sensors, options, name,
                                                file.measurements ? &*file.measurements : nullptr);
   std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == name; });

@@ -62,7 +62,7 @@ struct PacketTable {
   std::vector<int32_t> sensor;  // index into the sensor list
   std::vector<int32_t> local;   // dense local track index
   std::vector<double> t, x, y;
-  std::vector<int32_t> truth;   // /tracks/truth of the row
+  std::vector<int32_t> truth;                         // /tracks/truth of the row
   std::vector<int32_t> local_sensor_id, local_track;  // per dense local track: /sensors id, /tracks/track
   std::size_t size() const { return t.size(); }
   std::size_t num_local() const { return local_track.size(); }
@@ -70,14 +70,15 @@ struct PacketTable {
 };
 // `measurements` is needed (non-null) for PacketSource::kPlot.
 PacketTable make_packets(const TrackTable& tracks, const std::vector<Sensor>& sensors, double packet_period,
-                         PacketSource source = PacketSource::kTrack, const Measurements* measurements = nullptr);
+                         PacketSource source = PacketSource::kTrack,
+                         const Measurements* measurements = nullptr);
 
 struct FuzzyPipelineResult {
   PacketTable packets;
-  FusionOutput fusion;            // per packet
+  FusionOutput fusion;  // per packet
   SystemTrackRecord system_tracks;
   AssociationRecord association;
-  int32_t sensor_conflicts = 0;   // local tracks dropped from a tuple (see the header comment)
+  int32_t sensor_conflicts = 0;  // local tracks dropped from a tuple (see the header comment)
 };
 
 // Runs the method over `tracks`. `name` names the /associations and /system_tracks groups.
@@ -86,6 +87,7 @@ FuzzyPipelineResult run_fuzzy_pipeline(const TrackTable& tracks, const std::vect
                                        const Measurements* measurements = nullptr);
 
 // Convenience for `associate`: runs on a file and appends/replaces the two records in it.
-FuzzyPipelineResult associate_fuzzy(TrackFile& file, const FuzzyPipelineOptions& options, const std::string& name);
+FuzzyPipelineResult associate_fuzzy(TrackFile& file, const FuzzyPipelineOptions& options,
+                                    const std::string& name);
 
 }  // namespace trackassoc

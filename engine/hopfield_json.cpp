@@ -37,7 +37,8 @@ template <class T>
 T get_number(const nlohmann::json& j, const std::string& key, const std::string& solver) {
   if (!j.is_number()) throw InputError("solver '" + solver + "' options: '" + key + "' must be a number");
   if constexpr (std::is_integral_v<T>) {
-    if (!j.is_number_integer()) throw InputError("solver '" + solver + "' options: '" + key + "' must be an integer");
+    if (!j.is_number_integer())
+      throw InputError("solver '" + solver + "' options: '" + key + "' must be an integer");
     const auto v = j.get<int64_t>();
     if (v < std::numeric_limits<T>::min() || v > std::numeric_limits<T>::max())
       throw InputError("solver '" + solver + "' options: '" + key + "' out of range");
@@ -53,13 +54,15 @@ std::string get_string(const nlohmann::json& j, const std::string& key, const st
 }
 
 bool get_bool(const nlohmann::json& j, const std::string& key, const std::string& solver) {
-  if (!j.is_boolean()) throw InputError("solver '" + solver + "' options: '" + key + "' must be true or false");
+  if (!j.is_boolean())
+    throw InputError("solver '" + solver + "' options: '" + key + "' must be true or false");
   return j.get<bool>();
 }
 
 }  // namespace
 
-HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohmann::json& options, bool& polish) {
+HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohmann::json& options,
+                                           bool& polish) {
   HopfieldOptions o = hopfield_preset(name);
   polish = false;
   if (options.is_null()) return o;
@@ -72,37 +75,66 @@ HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohma
     try {
       if (k == "energy") {
         const std::string e = get_string(v, k, name);
-        if (e == "full_plane") o.energy = HopfieldEnergy::kFullPlane;
-        else if (e == "printed") o.energy = HopfieldEnergy::kPrinted;
-        else throw InputError("energy: expected full_plane or printed, found '" + e + "'");
-      } else if (k == "schedule") o.schedule = parse_hopfield_schedule(get_string(v, k, name));
-      else if (k == "restarts") o.restarts = get_number<int32_t>(v, k, name);
-      else if (k == "max_sweeps") o.max_sweeps = get_number<int32_t>(v, k, name);
-      else if (k == "init") o.init = parse_hopfield_init(get_string(v, k, name));
-      else if (k == "init_density") o.init_density = get_number<double>(v, k, name);
-      else if (k == "greedy_noise") o.greedy_noise = get_number<double>(v, k, name);
-      else if (k == "order") o.order = parse_hopfield_order(get_string(v, k, name));
-      else if (k == "anneal_E_factor") o.anneal_E_factor = get_number<double>(v, k, name);
-      else if (k == "anneal_sweeps") o.anneal_sweeps = get_number<int32_t>(v, k, name);
-      else if (k == "temperature") o.temperature = get_number<double>(v, k, name);
-      else if (k == "damping") o.damping = get_number<double>(v, k, name);
-      else if (k == "continuous_async") o.continuous_async = get_bool(v, k, name);
-      else if (k == "dt") o.dt = get_number<double>(v, k, name);
-      else if (k == "tau") o.tau = get_number<double>(v, k, name);
-      else if (k == "u0_start") o.u0_start = get_number<double>(v, k, name);
-      else if (k == "u0_end") o.u0_end = get_number<double>(v, k, name);
-      else if (k == "gain_anneal_steps") o.gain_anneal_steps = get_number<int32_t>(v, k, name);
-      else if (k == "noise") o.noise = get_number<double>(v, k, name);
-      else if (k == "self_excitation") o.self_excitation = get_number<double>(v, k, name);
-      else if (k == "tolerance") o.tolerance = get_number<double>(v, k, name);
-      else if (k == "mean_field_steps") o.mean_field_steps = get_number<int32_t>(v, k, name);
+        if (e == "full_plane")
+          o.energy = HopfieldEnergy::kFullPlane;
+        else if (e == "printed")
+          o.energy = HopfieldEnergy::kPrinted;
+        else
+          throw InputError("energy: expected full_plane or printed, found '" + e + "'");
+      } else if (k == "schedule")
+        o.schedule = parse_hopfield_schedule(get_string(v, k, name));
+      else if (k == "restarts")
+        o.restarts = get_number<int32_t>(v, k, name);
+      else if (k == "max_sweeps")
+        o.max_sweeps = get_number<int32_t>(v, k, name);
+      else if (k == "init")
+        o.init = parse_hopfield_init(get_string(v, k, name));
+      else if (k == "init_density")
+        o.init_density = get_number<double>(v, k, name);
+      else if (k == "greedy_noise")
+        o.greedy_noise = get_number<double>(v, k, name);
+      else if (k == "order")
+        o.order = parse_hopfield_order(get_string(v, k, name));
+      else if (k == "anneal_E_factor")
+        o.anneal_E_factor = get_number<double>(v, k, name);
+      else if (k == "anneal_sweeps")
+        o.anneal_sweeps = get_number<int32_t>(v, k, name);
+      else if (k == "temperature")
+        o.temperature = get_number<double>(v, k, name);
+      else if (k == "damping")
+        o.damping = get_number<double>(v, k, name);
+      else if (k == "continuous_async")
+        o.continuous_async = get_bool(v, k, name);
+      else if (k == "dt")
+        o.dt = get_number<double>(v, k, name);
+      else if (k == "tau")
+        o.tau = get_number<double>(v, k, name);
+      else if (k == "u0_start")
+        o.u0_start = get_number<double>(v, k, name);
+      else if (k == "u0_end")
+        o.u0_end = get_number<double>(v, k, name);
+      else if (k == "gain_anneal_steps")
+        o.gain_anneal_steps = get_number<int32_t>(v, k, name);
+      else if (k == "noise")
+        o.noise = get_number<double>(v, k, name);
+      else if (k == "self_excitation")
+        o.self_excitation = get_number<double>(v, k, name);
+      else if (k == "tolerance")
+        o.tolerance = get_number<double>(v, k, name);
+      else if (k == "mean_field_steps")
+        o.mean_field_steps = get_number<int32_t>(v, k, name);
       else if (k == "repair") {
         const std::string r = get_string(v, k, name);
-        if (r == "greedy") o.repair = HopfieldRepair::kGreedy;
-        else if (r == "lap") o.repair = HopfieldRepair::kLap;
-        else throw InputError("repair: expected greedy or lap, found '" + r + "'");
-      } else if (k == "trace") o.trace = get_bool(v, k, name);
-      else if (k == "polish") o.polish = polish = get_bool(v, k, name);
+        if (r == "greedy")
+          o.repair = HopfieldRepair::kGreedy;
+        else if (r == "lap")
+          o.repair = HopfieldRepair::kLap;
+        else
+          throw InputError("repair: expected greedy or lap, found '" + r + "'");
+      } else if (k == "trace")
+        o.trace = get_bool(v, k, name);
+      else if (k == "polish")
+        o.polish = polish = get_bool(v, k, name);
       else if (k == "A" || k == "B" || k == "C" || k == "D" || k == "E") {
         const float x = get_number<float>(v, k, name);
         weights_given = true;
@@ -141,7 +173,8 @@ Solution3 solve_hopfield_json(const std::string& name, const CostTensor3& cost, 
     s.energy_cols = static_cast<int32_t>(cols);
     s.energy_trace.assign(r.restarts.size() * cols, std::numeric_limits<float>::quiet_NaN());
     for (std::size_t i = 0; i < r.restarts.size(); ++i)
-      std::copy(r.restarts[i].energy_trace.begin(), r.restarts[i].energy_trace.end(), s.energy_trace.begin() + i * cols);
+      std::copy(r.restarts[i].energy_trace.begin(), r.restarts[i].energy_trace.end(),
+                s.energy_trace.begin() + i * cols);
   }
   return s;
 }

@@ -25,7 +25,8 @@ namespace trackassoc {
 HopfieldOptions hopfield_preset(const std::string& name);
 
 // The preset overridden by `options`; `polish` mirrors the "polish" key.
-HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohmann::json& options, bool& polish);
+HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohmann::json& options,
+                                           bool& polish);
 
 // Runs the solver: Solution3 with the energy trace (restarts × sweeps) when "trace" is set; the
 // summary message carries the raw validity rate.

@@ -18,14 +18,21 @@ void read_number(const nlohmann::json& o, const char* key, T& target, const std:
   const auto& v = o.at(key);
   if (!v.is_number()) throw InputError("solver '" + solver + "' options: '" + key + "' must be a number");
   if constexpr (std::is_integral_v<T>) {
-    if (!v.is_number_integer()) throw InputError("solver '" + solver + "' options: '" + key + "' must be an integer");
+    if (!v.is_number_integer())
+      throw InputError("solver '" + solver + "' options: '" + key + "' must be an integer");
   }
   target = v.get<T>();
 }
 
 LagrangianOptions lagrangian_options(const nlohmann::json& o, const std::string& solver, bool with_ls) {
-  std::vector<std::string> keys{"max_iterations", "relative_gap_tolerance", "absolute_gap_tolerance", "time_limit_s",
-                                "step_rule",      "theta",                  "theta_patience",         "min_theta"};
+  std::vector<std::string> keys{"max_iterations",
+                                "relative_gap_tolerance",
+                                "absolute_gap_tolerance",
+                                "time_limit_s",
+                                "step_rule",
+                                "theta",
+                                "theta_patience",
+                                "min_theta"};
   if (with_ls) keys.push_back("max_rounds");
   reject_unknown_keys(o, keys, solver);
   LagrangianOptions lo;
@@ -37,7 +44,8 @@ LagrangianOptions lagrangian_options(const nlohmann::json& o, const std::string&
   read_number(o, "theta_patience", lo.theta_patience, solver);
   read_number(o, "min_theta", lo.min_theta, solver);
   if (!o.is_null() && o.contains("step_rule")) {
-    if (!o.at("step_rule").is_string()) throw InputError("solver '" + solver + "' options: 'step_rule' must be a string");
+    if (!o.at("step_rule").is_string())
+      throw InputError("solver '" + solver + "' options: 'step_rule' must be a string");
     lo.step_rule = parse_step_rule(o.at("step_rule").get<std::string>());
   }
   lo.local_search = with_ls;
@@ -59,8 +67,9 @@ void register_relaxation_solvers(std::vector<SolverEntry>& r) {
                }});
   r.push_back({"exact", "branch and bound with Lagrangian bounds (proven optimum or time limit)", 30,
                [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
-                 reject_unknown_keys(o, {"time_limit_s", "max_nodes", "node_subgradient_iterations", "root_max_iterations"},
-                                     "exact");
+                 reject_unknown_keys(
+                     o, {"time_limit_s", "max_nodes", "node_subgradient_iterations", "root_max_iterations"},
+                     "exact");
                  BranchAndBoundOptions bo;
                  read_number(o, "time_limit_s", bo.time_limit_s, "exact");
                  read_number(o, "max_nodes", bo.max_nodes, "exact");
@@ -87,8 +96,8 @@ void register_local_search_variants(std::vector<SolverEntry>& r) {
                    read_number(o, "max_rounds", lo.max_rounds, name);
                    lo.validate();
                    const auto t0 = std::chrono::steady_clock::now();
-                   const Solution3 start =
-                       base.solve(b, o.is_null() || !o.contains("base") ? nlohmann::json() : o.at("base"), seed);
+                   const Solution3 start = base.solve(
+                       b, o.is_null() || !o.contains("base") ? nlohmann::json() : o.at("base"), seed);
                    Solution3 s = solve_local_search3(b, start.tuples, lo);
                    // Keep the base's bound (still valid) and recompute the gap for the polished result.
                    if (!std::isnan(start.summary.lower_bound) && s.summary.feasible) {
@@ -99,7 +108,8 @@ void register_local_search_variants(std::vector<SolverEntry>& r) {
                    s.summary.iterations = start.summary.iterations;
                    s.summary.message = "polished " + base.name + " (objective " +
                                        std::to_string(start.summary.objective) + ")";
-                   s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                   s.summary.wall_time_s =
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                    return s;
                  }});
   }

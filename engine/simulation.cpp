@@ -29,9 +29,12 @@ namespace trackassoc {
 namespace {
 
 void validate_scenario(const Scenario& sc) {
-  require(std::isfinite(sc.duration) && sc.duration > 0.0, "scenario.duration", "expected a finite duration > 0 [s]");
-  require(std::isfinite(sc.truth_step) && sc.truth_step > 0.0, "scenario.truth_step", "expected a finite step > 0 [s]");
-  require(sc.duration / sc.truth_step <= 1e7, "scenario.truth_step", "more than 10^7 truth samples; increase the step");
+  require(std::isfinite(sc.duration) && sc.duration > 0.0, "scenario.duration",
+          "expected a finite duration > 0 [s]");
+  require(std::isfinite(sc.truth_step) && sc.truth_step > 0.0, "scenario.truth_step",
+          "expected a finite step > 0 [s]");
+  require(sc.duration / sc.truth_step <= 1e7, "scenario.truth_step",
+          "more than 10^7 truth samples; increase the step");
   require(sc.random_targets.count >= 0, "scenario.random_targets.count", "expected ≥ 0");
   require(sc.random_targets.process_noise >= 0.0, "scenario.random_targets.process_noise", "expected σ ≥ 0");
   for (std::size_t s = 0; s < sc.sensors.size(); ++s) {
@@ -41,8 +44,8 @@ void validate_scenario(const Scenario& sc) {
     require(sc.duration / x.period <= 1e7, w + "period", "more than 10^7 scans; increase the period");
     require(std::isfinite(x.offset) && x.offset >= 0.0, w + "offset", "expected an offset ≥ 0 [s]");
     require(x.p_detect >= 0.0 && x.p_detect <= 1.0, w + "p_detect", "expected a probability in [0, 1]");
-    require(std::isfinite(x.clutter_rate) && x.clutter_rate >= 0.0 && x.clutter_rate <= 1e5, w + "clutter_rate",
-            "expected a rate in [0, 1e5] per scan");
+    require(std::isfinite(x.clutter_rate) && x.clutter_rate >= 0.0 && x.clutter_rate <= 1e5,
+            w + "clutter_rate", "expected a rate in [0, 1e5] per scan");
     require(x.sigma_range >= 0.0 && x.sigma_bearing >= 0.0 && x.sigma_elevation >= 0.0, w + "sigma",
             "expected standard deviations ≥ 0");
   }
@@ -69,8 +72,8 @@ double wrap_angle(double a) {
 
 }  // namespace
 
-SensorMeasurements simulate_sensor(const Scenario& sc, std::size_t s, const std::vector<TargetTrajectory>& targets,
-                                   uint64_t seed, int run) {
+SensorMeasurements simulate_sensor(const Scenario& sc, std::size_t s,
+                                   const std::vector<TargetTrajectory>& targets, uint64_t seed, int run) {
   const Sensor& sensor = sc.sensors[s];
   const int d = spatial_dim(sc.layout);
   SensorMeasurements out;
@@ -97,7 +100,8 @@ SensorMeasurements simulate_sensor(const Scenario& sc, std::size_t s, const std:
       el_max = first ? q.elevation : std::max(el_max, q.elevation);
       first = false;
     }
-  const double el_lo = std::max(-std::numbers::pi / 2, el_min - 0.05), el_hi = std::min(std::numbers::pi / 2, el_max + 0.05);
+  const double el_lo = std::max(-std::numbers::pi / 2, el_min - 0.05),
+               el_hi = std::min(std::numbers::pi / 2, el_max + 0.05);
   for (double t : out.scans) {
     for (std::size_t j = 0; j < targets.size(); ++j) {
       const bool hit = rng[j].uniform() < sensor.p_detect;
@@ -108,7 +112,9 @@ SensorMeasurements simulate_sensor(const Scenario& sc, std::size_t s, const std:
       m.t.push_back(t);
       m.range.push_back(std::max(0.0, q.range + sensor.sigma_range * nr));
       m.bearing.push_back(wrap_angle(q.bearing + sensor.sigma_bearing * nb));
-      if (d == 3) m.elevation.push_back(std::clamp(q.elevation + sensor.sigma_elevation * ne, -std::numbers::pi / 2, std::numbers::pi / 2));
+      if (d == 3)
+        m.elevation.push_back(std::clamp(q.elevation + sensor.sigma_elevation * ne, -std::numbers::pi / 2,
+                                         std::numbers::pi / 2));
       m.target.push_back(targets[j].id);
     }
     const int false_plots = poisson(clutter_rng, sensor.clutter_rate);
@@ -135,7 +141,8 @@ std::vector<TargetTrajectory> simulate_trajectories(const Scenario& sc, uint64_t
     next_id = std::max(next_id, sc.targets[i].id + 1);
   }
   for (int32_t k = 0; k < sc.random_targets.count; ++k) {
-    CounterRng rng(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kRandomTarget, static_cast<uint64_t>(k)));
+    CounterRng rng(seed, static_cast<uint64_t>(run),
+                   stream_id(SimulationStream::kRandomTarget, static_cast<uint64_t>(k)));
     targets.push_back(random_trajectory(sc.random_targets, next_id + k, sc.duration, sc.truth_step, d, rng));
   }
   return targets;

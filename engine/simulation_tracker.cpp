@@ -38,8 +38,8 @@ class KalmanLocalBank final : public LocalFilterBank {
     options_.validate();
   }
   void step(double dt, const PositionScan& scan) override { kalman_bank_step(bank_, dt, scan, options_); }
-  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2,
-                  const Eigen::MatrixXd& R2, double dt) override {
+  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1,
+                  const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt) override {
     two_point_initialise(bank_, i, z1, R1, z2, R2, dt, kAccelPriorVariance);
   }
   void position_velocity(std::size_t i, Eigen::VectorXd& x, Eigen::MatrixXd& P) const override {
@@ -56,8 +56,8 @@ class CsLocalBank final : public LocalFilterBank {
  public:
   CsLocalBank(int d, std::size_t n) : bank_(d, 3, n) {}
   void step(double dt, const PositionScan& scan) override { cs_bank_step(bank_, dt, scan, options_); }
-  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2,
-                  const Eigen::MatrixXd& R2, double dt) override {
+  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1,
+                  const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt) override {
     two_point_initialise(bank_, i, z1, R1, z2, R2, dt, kAccelPriorVariance);
   }
   void position_velocity(std::size_t i, Eigen::VectorXd& x, Eigen::MatrixXd& P) const override {
@@ -74,8 +74,8 @@ class CsParallelLocalBank final : public LocalFilterBank {
  public:
   CsParallelLocalBank(int d, std::size_t n) : bank_(d, n, trained_cs_network()) {}
   void step(double dt, const PositionScan& scan) override { cs_parallel_step(bank_, dt, scan, options_); }
-  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2,
-                  const Eigen::MatrixXd& R2, double dt) override {
+  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1,
+                  const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt) override {
     two_point_initialise(bank_.f1, i, z1, R1, z2, R2, dt, kAccelPriorVariance);
     two_point_initialise(bank_.f2, i, z1, R1, z2, R2, dt, kAccelPriorVariance);
     bank_.scale[i] = 1.0;
@@ -94,8 +94,8 @@ class ImmLocalBank final : public LocalFilterBank {
  public:
   ImmLocalBank(int d, std::size_t n) : bank_(d, n, ImmOptions::seed002(), trained_cs_network()) {}
   void step(double dt, const PositionScan& scan) override { imm_bank_step(bank_, dt, scan); }
-  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2,
-                  const Eigen::MatrixXd& R2, double dt) override {
+  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1,
+                  const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt) override {
     bank_.initialise(i, z1, R1, z2, R2, dt, kAccelPriorVariance);
   }
   void position_velocity(std::size_t i, Eigen::VectorXd& x, Eigen::MatrixXd& P) const override {
@@ -125,9 +125,10 @@ Eigen::MatrixXd unpack(int d, const std::array<double, 6>& R) {
   return M;
 }
 
-SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::size_t>& rows, const Sensor& sensor,
-                              std::size_t sensor_index, StateLayout layout, const LocalTrackerSpec& spec,
-                              uint64_t seed, int run, std::vector<double> scans) {
+SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::size_t>& rows,
+                              const Sensor& sensor, std::size_t sensor_index, StateLayout layout,
+                              const LocalTrackerSpec& spec, uint64_t seed, int run,
+                              std::vector<double> scans) {
   const int d = spatial_dim(layout);
   SensorTracks out;
   out.table.reset(layout);
@@ -147,7 +148,8 @@ SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::s
   // Shuffled local track numbers: track_number[bank index].
   std::vector<int32_t> track_number(n);
   std::iota(track_number.begin(), track_number.end(), 0);
-  CounterRng shuffle_rng(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kShuffle, sensor_index));
+  CounterRng shuffle_rng(seed, static_cast<uint64_t>(run),
+                         stream_id(SimulationStream::kShuffle, sensor_index));
   shuffle_rng.shuffle(std::span<int32_t>(track_number));
   std::vector<std::size_t> by_number(n);
   for (std::size_t i = 0; i < n; ++i) by_number[track_number[i]] = i;
@@ -179,7 +181,8 @@ SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::s
     std::vector<uint8_t> seen(n, 0);
     if (auto it = at_time.find(t); it != at_time.end()) {
       for (std::size_t r : it->second) {
-        const std::size_t i = std::lower_bound(targets.begin(), targets.end(), meas.target[r]) - targets.begin();
+        const std::size_t i =
+            std::lower_bound(targets.begin(), targets.end(), meas.target[r]) - targets.begin();
         if (seen[i]) continue;
         seen[i] = 1;
         const double el = meas.elevation.empty() ? 0.0 : meas.elevation[r];
@@ -196,8 +199,9 @@ SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::s
     for (std::size_t i = 0; i < n; ++i) {
       if (!seen[i] || active[i]) continue;
       if (have_first[i] && t > first_time[i]) {
-        bank->initialise(i, Eigen::Map<Eigen::VectorXd>(first_plot[i].z.data(), d), unpack(d, first_plot[i].R),
-                         Eigen::Map<Eigen::VectorXd>(plot[i].z.data(), d), unpack(d, plot[i].R), t - first_time[i]);
+        bank->initialise(i, Eigen::Map<Eigen::VectorXd>(first_plot[i].z.data(), d),
+                         unpack(d, first_plot[i].R), Eigen::Map<Eigen::VectorXd>(plot[i].z.data(), d),
+                         unpack(d, plot[i].R), t - first_time[i]);
         active[i] = 1;
       } else {
         first_plot[i] = plot[i];
@@ -224,8 +228,10 @@ void append(TrackTable& dst, const TrackTable& src) {
   dst.track.insert(dst.track.end(), src.track.begin(), src.track.end());
   dst.t.insert(dst.t.end(), src.t.begin(), src.t.end());
   dst.truth.insert(dst.truth.end(), src.truth.begin(), src.truth.end());
-  for (std::size_t c = 0; c < dst.state.size(); ++c) dst.state[c].insert(dst.state[c].end(), src.state[c].begin(), src.state[c].end());
-  for (std::size_t c = 0; c < dst.cov.size(); ++c) dst.cov[c].insert(dst.cov[c].end(), src.cov[c].begin(), src.cov[c].end());
+  for (std::size_t c = 0; c < dst.state.size(); ++c)
+    dst.state[c].insert(dst.state[c].end(), src.state[c].begin(), src.state[c].end());
+  for (std::size_t c = 0; c < dst.cov.size(); ++c)
+    dst.cov[c].insert(dst.cov[c].end(), src.cov[c].begin(), src.cov[c].end());
 }
 
 }  // namespace
@@ -233,31 +239,37 @@ void append(TrackTable& dst, const TrackTable& src) {
 std::unique_ptr<LocalFilterBank> make_local_filter_bank(const LocalTrackerSpec& spec, int d, std::size_t n) {
   require(std::isfinite(spec.process_noise) && spec.process_noise >= 0.0, "tracker.process_noise",
           "expected a finite σ ≥ 0 [m/s²]");
-  if (spec.filter == "cv") return std::make_unique<KalmanLocalBank>(KalmanModel::kConstantVelocity, spec.process_noise, d, n);
-  if (spec.filter == "ca") return std::make_unique<KalmanLocalBank>(KalmanModel::kConstantAcceleration, spec.process_noise, d, n);
+  if (spec.filter == "cv")
+    return std::make_unique<KalmanLocalBank>(KalmanModel::kConstantVelocity, spec.process_noise, d, n);
+  if (spec.filter == "ca")
+    return std::make_unique<KalmanLocalBank>(KalmanModel::kConstantAcceleration, spec.process_noise, d, n);
   if (spec.filter == "cs") return std::make_unique<CsLocalBank>(d, n);
   if (spec.filter == "cs-nn") return std::make_unique<CsParallelLocalBank>(d, n);
   if (spec.filter == "imm") return std::make_unique<ImmLocalBank>(d, n);
   if (spec.filter == "ab")
-    throw InputError("tracker.filter: 'ab' (alpha-beta) is not wired into the local tracker yet; use cv, ca, cs, cs-nn or imm");
+    throw InputError(
+        "tracker.filter: 'ab' (alpha-beta) is not wired into the local tracker yet; use cv, ca, cs, cs-nn or "
+        "imm");
   throw InputError("tracker.filter: expected cv, ca, cs, cs-nn or imm, got '" + spec.filter + "'");
 }
 
-LocalTrackingResult track_measurements(const Measurements& meas, const std::vector<Sensor>& sensors, StateLayout layout,
-                                       const LocalTrackerSpec& spec, uint64_t seed, int run,
-                                       const std::vector<std::vector<double>>& scan_times) {
+LocalTrackingResult track_measurements(const Measurements& meas, const std::vector<Sensor>& sensors,
+                                       StateLayout layout, const LocalTrackerSpec& spec, uint64_t seed,
+                                       int run, const std::vector<std::vector<double>>& scan_times) {
   make_local_filter_bank(spec, spatial_dim(layout), 0);  // validates the spec before any work
   require(scan_times.empty() || scan_times.size() == sensors.size(), "track_measurements.scan_times",
           "expected one list per sensor");
   if (spatial_dim(layout) == 3)
-    require(meas.elevation.size() == meas.size(), "measurements.elevation", "a 3-D layout needs one elevation per measurement");
+    require(meas.elevation.size() == meas.size(), "measurements.elevation",
+            "a 3-D layout needs one elevation per measurement");
   std::map<int32_t, std::size_t> index_of;
   for (std::size_t s = 0; s < sensors.size(); ++s) index_of[sensors[s].id] = s;
   std::vector<std::vector<std::size_t>> rows(sensors.size());
   for (std::size_t r = 0; r < meas.size(); ++r) {
     auto it = index_of.find(meas.sensor[r]);
-    require(it != index_of.end(), "measurements.sensor", "row " + std::to_string(r) + " names sensor " +
-                                                            std::to_string(meas.sensor[r]) + ", which is not in /sensors");
+    require(it != index_of.end(), "measurements.sensor",
+            "row " + std::to_string(r) + " names sensor " + std::to_string(meas.sensor[r]) +
+                ", which is not in /sensors");
     rows[it->second].push_back(r);
   }
   std::vector<SensorTracks> parts(sensors.size());

@@ -17,13 +17,12 @@
 // target id is kept in TrackTable::truth.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "kernels/kalman_bank.hpp"
 #include "kernels/scenario.hpp"
@@ -66,7 +65,7 @@ struct LocalTrackingResult {
 // scan_times[s] lists the scan times of sensor s (same order as `sensors`); when empty, the
 // distinct measurement times of that sensor are the scans.
 LocalTrackingResult track_measurements(const Measurements& measurements, const std::vector<Sensor>& sensors,
-                                       StateLayout layout, const LocalTrackerSpec& spec, uint64_t seed, int run,
-                                       const std::vector<std::vector<double>>& scan_times = {});
+                                       StateLayout layout, const LocalTrackerSpec& spec, uint64_t seed,
+                                       int run, const std::vector<std::vector<double>>& scan_times = {});
 
 }  // namespace trackassoc

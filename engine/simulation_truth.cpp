@@ -35,7 +35,8 @@ Kinematics evaluate(const TrajectoryPiece& q, double t) {
 Kinematics TargetTrajectory::at(double t) const {
   if (pieces.empty()) return {};
   // Pieces are sorted; the last piece with t0 ≤ t holds t.
-  auto it = std::upper_bound(pieces.begin(), pieces.end(), t, [](double v, const TrajectoryPiece& q) { return v < q.t0; });
+  auto it = std::upper_bound(pieces.begin(), pieces.end(), t,
+                             [](double v, const TrajectoryPiece& q) { return v < q.t0; });
   const TrajectoryPiece& q = it == pieces.begin() ? pieces.front() : *std::prev(it);
   return evaluate(q, t);
 }
@@ -53,7 +54,8 @@ void TargetTrajectory::append(double duration, const std::array<double, 3>& acce
   pieces.push_back(q);
 }
 
-TargetTrajectory scripted_trajectory(const TargetSpec& spec, double duration, int spatial_dim, CounterRng& rng) {
+TargetTrajectory scripted_trajectory(const TargetSpec& spec, double duration, int spatial_dim,
+                                     CounterRng& rng) {
   TargetTrajectory tr;
   tr.id = spec.id;
   const auto& s0 = spec.initial_state;
@@ -83,17 +85,26 @@ TargetTrajectory scripted_trajectory(const TargetSpec& spec, double duration, in
     const MotionSegment& seg = spec.segments[i];
     const bool last = i + 1 == spec.segments.size();
     const double len = last ? std::max(duration - t, seg.duration) : seg.duration;
-    require(std::isfinite(len) && len >= 0.0, "targets[" + std::to_string(spec.id) + "].segments[" + std::to_string(i) + "].duration",
+    require(std::isfinite(len) && len >= 0.0,
+            "targets[" + std::to_string(spec.id) + "].segments[" + std::to_string(i) + "].duration",
             "expected a finite duration ≥ 0");
     if (len == 0.0 && !last) continue;
     switch (seg.model) {
-      case MotionModel::kConstantVelocity: push(len, {0, 0, 0}, 0.0); break;
+      case MotionModel::kConstantVelocity:
+        push(len, {0, 0, 0}, 0.0);
+        break;
       case MotionModel::kConstantAcceleration:
-      case MotionModel::kAccelerationStep: push(len, axes(seg.acceleration), 0.0); break;
-      case MotionModel::kCoordinatedTurn: push(len, {0, 0, 0}, seg.turn_rate); break;
+      case MotionModel::kAccelerationStep:
+        push(len, axes(seg.acceleration), 0.0);
+        break;
+      case MotionModel::kCoordinatedTurn:
+        push(len, {0, 0, 0}, seg.turn_rate);
+        break;
       case MotionModel::kRandomManoeuvre: {
-        require(seg.manoeuvre_period > 0.0, "targets[" + std::to_string(spec.id) + "].segments[" + std::to_string(i) + "].manoeuvre_period",
-                "expected > 0");
+        require(
+            seg.manoeuvre_period > 0.0,
+            "targets[" + std::to_string(spec.id) + "].segments[" + std::to_string(i) + "].manoeuvre_period",
+            "expected > 0");
         double done = 0.0;
         while (done < len - 1e-12) {
           const double piece = std::min(seg.manoeuvre_period, len - done);
@@ -110,7 +121,8 @@ TargetTrajectory scripted_trajectory(const TargetSpec& spec, double duration, in
           const double ns = std::clamp(speed + rng.uniform(-seg.max_speed_change, seg.max_speed_change),
                                        seg.speed_min, seg.speed_max);
           const std::array<double, 3> nv{ns * std::cos(heading + dh), ns * std::sin(heading + dh), k.v[2]};
-          push(piece, {(nv[0] - k.v[0]) / seg.manoeuvre_period, (nv[1] - k.v[1]) / seg.manoeuvre_period, 0.0}, 0.0);
+          push(piece, {(nv[0] - k.v[0]) / seg.manoeuvre_period, (nv[1] - k.v[1]) / seg.manoeuvre_period, 0.0},
+               0.0);
           done += piece;
         }
         break;

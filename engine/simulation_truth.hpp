@@ -31,8 +31,16 @@
 namespace trackassoc {
 
 // Purposes of the simulation's random streams: CounterRng(seed, run, stream_id(tag, index), sub).
-enum class SimulationStream : uint64_t { kTargetManoeuvre = 1, kRandomTarget = 2, kDetection = 3, kClutter = 4, kShuffle = 5 };
-inline uint64_t stream_id(SimulationStream tag, uint64_t index) { return (static_cast<uint64_t>(tag) << 40) | index; }
+enum class SimulationStream : uint64_t {
+  kTargetManoeuvre = 1,
+  kRandomTarget = 2,
+  kDetection = 3,
+  kClutter = 4,
+  kShuffle = 5
+};
+inline uint64_t stream_id(SimulationStream tag, uint64_t index) {
+  return (static_cast<uint64_t>(tag) << 40) | index;
+}
 
 struct Kinematics {
   std::array<double, 3> p{0, 0, 0}, v{0, 0, 0}, a{0, 0, 0};
@@ -40,8 +48,8 @@ struct Kinematics {
 
 struct TrajectoryPiece {
   double t0 = 0, t1 = 0;
-  Kinematics start;                  // position and velocity at t0 (start.a = acceleration of a CA piece)
-  double turn_rate = 0;              // ≠ 0: coordinated turn
+  Kinematics start;      // position and velocity at t0 (start.a = acceleration of a CA piece)
+  double turn_rate = 0;  // ≠ 0: coordinated turn
 };
 
 class TargetTrajectory {
@@ -54,7 +62,8 @@ class TargetTrajectory {
 };
 
 // `rng` supplies the random manoeuvres; spatial_dim 2 zeroes z motion.
-TargetTrajectory scripted_trajectory(const TargetSpec& spec, double duration, int spatial_dim, CounterRng& rng);
+TargetTrajectory scripted_trajectory(const TargetSpec& spec, double duration, int spatial_dim,
+                                     CounterRng& rng);
 TargetTrajectory random_trajectory(const RandomTargetSpec& spec, int32_t id, double duration, double step,
                                    int spatial_dim, CounterRng& rng);
 

@@ -52,7 +52,8 @@ nlohmann::json SparsePipelineOptions::to_json() const {
   return j;
 }
 
-SparseAssociationProblem build_sparse_association_problem(const TrackFile& file, const SparsePipelineOptions& options) {
+SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
+                                                          const SparsePipelineOptions& options) {
   options.validate();
   const PipelineOptions& po = options.pipeline;
   SparseAssociationProblem p;
@@ -93,8 +94,8 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   std::array<SparsePairStatistic*, 3> out{&p.s12, &p.s23, &p.s13};
   bytes = 0;
   for (int q = 0; q < 3; ++q) {
-    *out[q] = keep_in_gate(sparse_sequential_statistic(p.aligned[sensor_pairs[q].first],
-                                                       p.aligned[sensor_pairs[q].second], cand[q], po.statistic));
+    *out[q] = keep_in_gate(sparse_sequential_statistic(
+        p.aligned[sensor_pairs[q].first], p.aligned[sensor_pairs[q].second], cand[q], po.statistic));
     CandidatePairs().a.swap(cand[q].a);
     CandidatePairs().b.swap(cand[q].b);
     bytes += out[q]->bytes();
@@ -126,8 +127,9 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
     }
   }
   p.components = connected_components(p.offset[3], u, v);
-  stage("clusters", t0, (p.components.label.size() + p.components.nodes.size()) * sizeof(int32_t) +
-                            p.components.begin.size() * sizeof(int64_t));
+  stage("clusters", t0,
+        (p.components.label.size() + p.components.nodes.size()) * sizeof(int32_t) +
+            p.components.begin.size() * sizeof(int64_t));
   return p;
 }
 
@@ -159,7 +161,8 @@ double gated_lambda(const SparsePairStatistic& s, int32_t ia, int32_t ib) {
   return q < 0 ? std::numeric_limits<double>::quiet_NaN() : s.lambda[q];
 }
 
-ComponentProblem component_problem(const SparseAssociationProblem& p, int32_t c, const SparsePipelineOptions& o) {
+ComponentProblem component_problem(const SparseAssociationProblem& p, int32_t c,
+                                   const SparsePipelineOptions& o) {
   ComponentProblem cp;
   for (int32_t node : p.components.members(c)) {
     int d = 0;
@@ -172,12 +175,12 @@ ComponentProblem component_problem(const SparseAssociationProblem& p, int32_t c,
   if (pad) n.fill(*std::max_element(n.begin(), n.end()));
   const double entries = static_cast<double>(n[0]) * n[1] * n[2];
   if (entries > static_cast<double>(o.max_component_entries))
-    throw InputError("sparse association: component " + std::to_string(c) + " holds " +
-                     std::to_string(cp.rows[0].size()) + "×" + std::to_string(cp.rows[1].size()) + "×" +
-                     std::to_string(cp.rows[2].size()) + " tracks, a dense sub-tensor of " +
-                     std::to_string(static_cast<long long>(entries)) + " entries > max_component_entries = " +
-                     std::to_string(o.max_component_entries) +
-                     "; tighten the gate (--gate) or raise the limit (no sparse-capable solver is registered)");
+    throw InputError(
+        "sparse association: component " + std::to_string(c) + " holds " + std::to_string(cp.rows[0].size()) +
+        "×" + std::to_string(cp.rows[1].size()) + "×" + std::to_string(cp.rows[2].size()) +
+        " tracks, a dense sub-tensor of " + std::to_string(static_cast<long long>(entries)) +
+        " entries > max_component_entries = " + std::to_string(o.max_component_entries) +
+        "; tighten the gate (--gate) or raise the limit (no sparse-capable solver is registered)");
   const double G = p.gated_pair_cost;
   // Pair costs as the dense tensor has them (kernels/cost_tensor.cpp): float(λ) in the gate,
   // float(G) otherwise, then summed in float in the same order, so that the costs are bit-identical.
@@ -198,7 +201,8 @@ ComponentProblem component_problem(const SparseAssociationProblem& p, int32_t c,
   for (int32_t i = 0; i < n[0]; ++i)
     for (int32_t j = 0; j < n[1]; ++j)
       for (int32_t k = 0; k < n[2]; ++k) {
-        const float a = c12[static_cast<std::size_t>(i) * n[1] + j], c = c23[static_cast<std::size_t>(j) * n[2] + k];
+        const float a = c12[static_cast<std::size_t>(i) * n[1] + j],
+                    c = c23[static_cast<std::size_t>(j) * n[2] + k];
         cp.tensor.at(i, j, k) = all_pairs ? a + c + c13[static_cast<std::size_t>(i) * n[2] + k]
                                           : a + c;  // seed 000 Eq. 3: λ_ij + λ_jk
       }
@@ -229,8 +233,8 @@ void decode_rows(const SparseAssociationProblem& p, const std::array<int32_t, 3>
   const double l13 = has0 && has2 ? gated_lambda(p.s13, t[0], t[2]) : NAN;
   if (!std::isnan(l12) && !std::isnan(l23) && (!all_pairs || !std::isnan(l13))) {
     // The cost the dense tensor holds for this tuple (float).
-    emit({true, true, true}, all_pairs ? pair_cost(l12) + pair_cost(l23) + pair_cost(l13)
-                                       : pair_cost(l12) + pair_cost(l23));
+    emit({true, true, true},
+         all_pairs ? pair_cost(l12) + pair_cost(l23) + pair_cost(l13) : pair_cost(l12) + pair_cost(l23));
     return;
   }
   struct Pair {
@@ -268,11 +272,12 @@ struct ComponentResult {
 
 AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, const std::string& solver,
                                            const nlohmann::json& solver_options, uint64_t seed,
-                                           const SparsePipelineOptions& options, std::vector<StageReport>* stages) {
+                                           const SparsePipelineOptions& options,
+                                           std::vector<StageReport>* stages) {
   const SolverEntry& entry = find_solver(solver);
   AssociationRecord rec = solve_sparse_association(
-      p, [&](const CostTensor3& b, uint64_t s) { return entry.solve(b, solver_options, s); }, solver, seed, options,
-      stages);
+      p, [&](const CostTensor3& b, uint64_t s) { return entry.solve(b, solver_options, s); }, solver, seed,
+      options, stages);
   nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
                          {"pipeline", options.to_json()}};
   rec.options_json = opts.dump();
@@ -281,7 +286,8 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
 
 AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, const ComponentSolver& solve,
                                            const std::string& solver, uint64_t seed,
-                                           const SparsePipelineOptions& options, std::vector<StageReport>* stages) {
+                                           const SparsePipelineOptions& options,
+                                           std::vector<StageReport>* stages) {
   options.validate();
   const auto t0 = std::chrono::steady_clock::now();
   const bool all_pairs = options.pipeline.cost.form == CostForm::kAllPairs;
@@ -340,7 +346,8 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
             if (!std::isnan(l)) pairs.push_back({l, da, db, xa, xb});
           }
     }
-    std::stable_sort(pairs.begin(), pairs.end(), [](const Leftover& x, const Leftover& y) { return x.lambda < y.lambda; });
+    std::stable_sort(pairs.begin(), pairs.end(),
+                     [](const Leftover& x, const Leftover& y) { return x.lambda < y.lambda; });
     for (const Leftover& l : pairs) {
       if (seen[l.da][l.xa] || seen[l.db][l.xb]) continue;
       seen[l.da][l.xa] = seen[l.db][l.xb] = 1;
@@ -404,8 +411,9 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
   return rec;
 }
 
-AssociationRecord associate_sparse(const TrackFile& file, const std::string& solver, const nlohmann::json& solver_options,
-                                   uint64_t seed, const SparsePipelineOptions& options, std::vector<StageReport>* stages) {
+AssociationRecord associate_sparse(const TrackFile& file, const std::string& solver,
+                                   const nlohmann::json& solver_options, uint64_t seed,
+                                   const SparsePipelineOptions& options, std::vector<StageReport>* stages) {
   SparseAssociationProblem p = build_sparse_association_problem(file, options);
   if (stages) *stages = p.stages;
   return solve_sparse_association(p, solver, solver_options, seed, options, stages);

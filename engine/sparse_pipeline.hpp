@@ -72,11 +72,12 @@ struct SparseAssociationProblem {
   SparsePairStatistic s12, s23, s13;             // in-gate pairs only
   std::array<int32_t, 4> offset{};               // node of (sensor d, track i) = offset[d] + i
   Components components;
-  double gated_pair_cost = 0.0;  // G used in every sub-tensor
+  double gated_pair_cost = 0.0;     // G used in every sub-tensor
   std::vector<StageReport> stages;  // alignment, candidates, statistics, clusters
 };
 
-SparseAssociationProblem build_sparse_association_problem(const TrackFile& file, const SparsePipelineOptions& options);
+SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
+                                                          const SparsePipelineOptions& options);
 
 // Solves every component with `solver` (engine/solver_registry.hpp) in parallel and decodes.
 // The solver of component c gets the seed stream_key(seed, c). Appends a "solve" StageReport to
@@ -89,14 +90,15 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& probl
 // The same with any solver callable (a custom or test solver): `solve(tensor, seed)`. `name` goes
 // to the record's solver attribute.
 using ComponentSolver = std::function<Solution3(const CostTensor3&, uint64_t seed)>;
-AssociationRecord solve_sparse_association(const SparseAssociationProblem& problem, const ComponentSolver& solve,
-                                           const std::string& name, uint64_t seed,
-                                           const SparsePipelineOptions& options,
+AssociationRecord solve_sparse_association(const SparseAssociationProblem& problem,
+                                           const ComponentSolver& solve, const std::string& name,
+                                           uint64_t seed, const SparsePipelineOptions& options,
                                            std::vector<StageReport>* stages = nullptr);
 
 // The entry point for `associate --sparse` (the lead wires the flag): build + solve.
-AssociationRecord associate_sparse(const TrackFile& file, const std::string& solver, const nlohmann::json& solver_options,
-                                   uint64_t seed, const SparsePipelineOptions& options,
+AssociationRecord associate_sparse(const TrackFile& file, const std::string& solver,
+                                   const nlohmann::json& solver_options, uint64_t seed,
+                                   const SparsePipelineOptions& options,
                                    std::vector<StageReport>* stages = nullptr);
 
 // Component sizes: counts[d] = tracks of sensor d in component c.

@@ -24,8 +24,9 @@ CostTensor3 read_cost_tensor_hdf5(const std::string& path) {
     const float x = values[e];
     if (std::isnan(x) || x == -std::numeric_limits<float>::infinity()) {
       const std::size_t i = e / (dims[1] * dims[2]), j = (e / dims[2]) % dims[1], k = e % dims[2];
-      throw InputError(path + ": /cost[" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) +
-                       "] is " + std::to_string(x) + "; expected a finite cost or +inf (forbidden tuple)");
+      throw InputError(path + ": /cost[" + std::to_string(i) + ", " + std::to_string(j) + ", " +
+                       std::to_string(k) + "] is " + std::to_string(x) +
+                       "; expected a finite cost or +inf (forbidden tuple)");
     }
   }
   b.cost = std::move(values);
@@ -50,19 +51,22 @@ void write_cost_tensor_hdf5(const std::string& path, const CostTensor3& b) {
   write_atomically(path, [&](const std::string& tmp) {
     h5::File file = h5::File::create(tmp);
     const h5::Group root = file.root();
-    const hsize_t dims[3] = {static_cast<hsize_t>(b.n1), static_cast<hsize_t>(b.n2), static_cast<hsize_t>(b.n3)};
+    const hsize_t dims[3] = {static_cast<hsize_t>(b.n1), static_cast<hsize_t>(b.n2),
+                             static_cast<hsize_t>(b.n3)};
     h5::Handle space(H5Screate_simple(3, dims, nullptr), H5Sclose);
     h5::Handle set(space.valid() ? H5Dcreate2(root.id(), "cost", H5T_IEEE_F32LE, space.get(), H5P_DEFAULT,
                                               H5P_DEFAULT, H5P_DEFAULT)
                                  : H5I_INVALID_HID,
                    H5Dclose);
     if (!set.valid()) throw InputError(tmp + ": /cost: cannot create the dataset");
-    if (!b.cost.empty() && H5Dwrite(set.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.cost.data()) < 0)
+    if (!b.cost.empty() &&
+        H5Dwrite(set.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.cost.data()) < 0)
       throw InputError(tmp + ": /cost: cannot write");
     if (std::isfinite(b.miss_cost)) {
       h5::Handle aspace(H5Screate(H5S_SCALAR), H5Sclose);
-      h5::Handle attr(H5Acreate2(set.get(), "miss_cost", H5T_IEEE_F64LE, aspace.get(), H5P_DEFAULT, H5P_DEFAULT),
-                      H5Aclose);
+      h5::Handle attr(
+          H5Acreate2(set.get(), "miss_cost", H5T_IEEE_F64LE, aspace.get(), H5P_DEFAULT, H5P_DEFAULT),
+          H5Aclose);
       const double miss = b.miss_cost;
       if (!attr.valid() || H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, &miss) < 0)
         throw InputError(tmp + ": /cost attribute miss_cost: cannot write");

@@ -12,20 +12,30 @@ namespace {
 
 std::string class_name(H5T_class_t c) {
   switch (c) {
-    case H5T_INTEGER: return "integer";
-    case H5T_FLOAT: return "float";
-    case H5T_STRING: return "string";
-    case H5T_BITFIELD: return "bitfield";
-    case H5T_OPAQUE: return "opaque";
-    case H5T_COMPOUND: return "compound";
-    case H5T_REFERENCE: return "reference";
-    case H5T_ENUM: return "enum";
-    case H5T_VLEN: return "variable-length sequence";
-    case H5T_ARRAY: return "array";
-    default: return "unknown type";
+    case H5T_INTEGER:
+      return "integer";
+    case H5T_FLOAT:
+      return "float";
+    case H5T_STRING:
+      return "string";
+    case H5T_BITFIELD:
+      return "bitfield";
+    case H5T_OPAQUE:
+      return "opaque";
+    case H5T_COMPOUND:
+      return "compound";
+    case H5T_REFERENCE:
+      return "reference";
+    case H5T_ENUM:
+      return "enum";
+    case H5T_VLEN:
+      return "variable-length sequence";
+    case H5T_ARRAY:
+      return "array";
+    default:
+      return "unknown type";
   }
 }
-
 
 // Object creation properties shared by groups and datasets: no modification times.
 Handle creation_properties(hid_t cls, const std::string& where) {
@@ -125,7 +135,8 @@ void Group::fail(const std::string& object, const std::string& what) const {
 
 Group Group::create_group(const std::string& name, bool track_order) const {
   Handle gcpl = creation_properties(H5P_GROUP_CREATE, file_path_ + ": " + child_path(name));
-  if (track_order && H5Pset_link_creation_order(gcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED) < 0)
+  if (track_order &&
+      H5Pset_link_creation_order(gcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED) < 0)
     fail(name, "cannot set link creation order");
   Handle g(H5Gcreate2(id(), name.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), H5Gclose);
   if (!g.valid()) fail(name, "cannot create group");
@@ -140,7 +151,8 @@ Group Group::create_group(const std::string& name, bool track_order) const {
 void Group::write_attribute(const std::string& name, const std::string& value) const {
   const std::string where = path_ + " attribute " + name;
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  if (!type.valid() || H5Tset_size(type.get(), H5T_VARIABLE) < 0 || H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0)
+  if (!type.valid() || H5Tset_size(type.get(), H5T_VARIABLE) < 0 ||
+      H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0)
     throw InputError(file_path_ + ": " + where + ": cannot create HDF5 string type");
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   Handle attr(H5Acreate2(id(), name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
@@ -150,8 +162,8 @@ void Group::write_attribute(const std::string& name, const std::string& value) c
 }
 
 namespace {
-void write_scalar_attribute(hid_t loc, const std::string& file, const std::string& where, const std::string& name,
-                            hid_t file_type, hid_t mem_type, const void* value) {
+void write_scalar_attribute(hid_t loc, const std::string& file, const std::string& where,
+                            const std::string& name, hid_t file_type, hid_t mem_type, const void* value) {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   Handle attr(H5Acreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   if (!space.valid() || !attr.valid() || H5Awrite(attr.get(), mem_type, value) < 0)
@@ -185,13 +197,16 @@ void Group::write_numeric(const std::string& name, hid_t file_type, hid_t mem_ty
   if (set.close() < 0) fail(name, "cannot close dataset");
 }
 
-void Group::write_dataset(const std::string& name, std::span<const int32_t> data, std::vector<hsize_t> dims) const {
+void Group::write_dataset(const std::string& name, std::span<const int32_t> data,
+                          std::vector<hsize_t> dims) const {
   write_numeric(name, H5T_STD_I32LE, H5T_NATIVE_INT32, data.data(), std::move(dims), data.size());
 }
-void Group::write_dataset(const std::string& name, std::span<const double> data, std::vector<hsize_t> dims) const {
+void Group::write_dataset(const std::string& name, std::span<const double> data,
+                          std::vector<hsize_t> dims) const {
   write_numeric(name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, data.data(), std::move(dims), data.size());
 }
-void Group::write_dataset(const std::string& name, std::span<const float> data, std::vector<hsize_t> dims) const {
+void Group::write_dataset(const std::string& name, std::span<const float> data,
+                          std::vector<hsize_t> dims) const {
   write_numeric(name, H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, data.data(), std::move(dims), data.size());
 }
 
@@ -207,7 +222,8 @@ bool Group::has(const std::string& name) const {
 bool Group::is_group(const std::string& name) const {
   if (!has(name)) return false;
   H5O_info_t info;
-  if (H5Oget_info_by_name(id(), name.c_str(), &info, H5P_DEFAULT) < 0) fail(name, "cannot read object header");
+  if (H5Oget_info_by_name(id(), name.c_str(), &info, H5P_DEFAULT) < 0)
+    fail(name, "cannot read object header");
   return info.type == H5O_TYPE_GROUP;
 }
 
@@ -265,7 +281,8 @@ std::string Group::read_string_attribute(const std::string& name) const {
   if (size == 0 || size > (std::size_t{1} << 26)) throw InputError(where + ": implausible string size");
   std::vector<char> buffer(size + 1, '\0');
   Handle mem(H5Tcopy(type.get()), H5Tclose);
-  if (!mem.valid() || H5Aread(attr.get(), mem.get(), buffer.data()) < 0) throw InputError(where + ": cannot read");
+  if (!mem.valid() || H5Aread(attr.get(), mem.get(), buffer.data()) < 0)
+    throw InputError(where + ": cannot read");
   return std::string(buffer.data(), strnlen(buffer.data(), size));
 }
 
@@ -318,7 +335,8 @@ std::vector<hsize_t> Group::dataset_shape(const std::string& name) const {
   const int rank = space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;
   if (rank < 0 || rank > 32) fail(name, "cannot read dataspace");
   std::vector<hsize_t> dims(rank);
-  if (rank > 0 && H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr) < 0) fail(name, "cannot read dataspace");
+  if (rank > 0 && H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr) < 0)
+    fail(name, "cannot read dataspace");
   return dims;
 }
 
@@ -331,7 +349,8 @@ Handle Group::open_numeric_dataset(const std::string& name, NumberClass accepted
   const H5T_class_t cls = H5Tget_class(type.get());
   const bool ok = cls == H5T_INTEGER || (accepted == NumberClass::kIntegerOrFloat && cls == H5T_FLOAT);
   if (!ok)
-    fail(name, std::string("expected ") + (accepted == NumberClass::kInteger ? "integer" : "numeric (integer or float)") +
+    fail(name, std::string("expected ") +
+                   (accepted == NumberClass::kInteger ? "integer" : "numeric (integer or float)") +
                    " values, found " + class_name(cls));
   if (static_cast<int>(dims.size()) != rank)
     fail(name, "expected a " + std::to_string(rank) + "-D dataset, found shape " + shape_text(dims));
@@ -366,7 +385,8 @@ std::vector<double> Group::read_doubles(const std::string& name, int rank, std::
 std::vector<float> Group::read_floats(const std::string& name, int rank, std::vector<hsize_t>& dims) const {
   return read_typed<float>(name, NumberClass::kIntegerOrFloat, H5T_NATIVE_FLOAT, rank, dims);
 }
-std::vector<int64_t> Group::read_integers(const std::string& name, int rank, std::vector<hsize_t>& dims) const {
+std::vector<int64_t> Group::read_integers(const std::string& name, int rank,
+                                          std::vector<hsize_t>& dims) const {
   return read_typed<int64_t>(name, NumberClass::kInteger, H5T_NATIVE_INT64, rank, dims);
 }
 

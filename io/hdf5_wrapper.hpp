@@ -58,7 +58,9 @@ class Group {
       : file_path_(file_path), handle_(std::move(handle)), path_(std::move(path)) {}
 
   const std::string& path() const { return path_; }
-  std::string child_path(const std::string& name) const { return path_ == "/" ? "/" + name : path_ + "/" + name; }
+  std::string child_path(const std::string& name) const {
+    return path_ == "/" ? "/" + name : path_ + "/" + name;
+  }
   hid_t id() const { return handle_.get(); }
 
   // Creation. `track_order` keeps the children in creation order (for /associations, /metrics).
@@ -77,7 +79,7 @@ class Group {
   bool is_group(const std::string& name) const;
   bool has_attribute(const std::string& name) const;
   Group open_group(const std::string& name) const;  // throws "missing group" when absent
-  std::vector<std::string> children() const;         // creation order if tracked, else by name
+  std::vector<std::string> children() const;        // creation order if tracked, else by name
   std::string read_string_attribute(const std::string& name) const;
   double read_double_attribute(const std::string& name) const;  // integer or float attribute
   int64_t read_integer_attribute(const std::string& name) const;
@@ -95,8 +97,8 @@ class Group {
  private:
   void write_numeric(const std::string& name, hid_t file_type, hid_t mem_type, const void* data,
                      std::vector<hsize_t> dims, std::size_t count) const;
-  Handle open_numeric_dataset(const std::string& name, NumberClass accepted, int rank, std::vector<hsize_t>& dims,
-                              std::size_t& count) const;
+  Handle open_numeric_dataset(const std::string& name, NumberClass accepted, int rank,
+                              std::vector<hsize_t>& dims, std::size_t& count) const;
   template <typename T>
   std::vector<T> read_typed(const std::string& name, NumberClass accepted, hid_t mem_type, int rank,
                             std::vector<hsize_t>& dims) const;

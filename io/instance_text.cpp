@@ -37,7 +37,9 @@ class Tokenizer {
   }
 
  private:
-  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
+  static bool is_space(char c) {
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+  }
   std::string_view text_;
   const std::string& source_;
   std::size_t pos_ = 0;
@@ -73,7 +75,8 @@ int32_t parse_size(Tokenizer& tok, const std::string& what) {
 // into a small buffer (costs are short).
 float parse_cost(Tokenizer& tok, std::string_view t, std::size_t index) {
   char buffer[64];
-  if (t.size() >= sizeof(buffer)) tok.fail("cost #" + std::to_string(index) + " is not a number: " + shown(t));
+  if (t.size() >= sizeof(buffer))
+    tok.fail("cost #" + std::to_string(index) + " is not a number: " + shown(t));
   t.copy(buffer, t.size());
   buffer[t.size()] = '\0';
   char* end = nullptr;
@@ -97,10 +100,12 @@ std::string read_whole_file(const std::string& path) {
 
 }  // namespace
 
-CostTensor3 parse_3dap_instance(const std::string& text, const std::string& source, std::size_t max_elements) {
+CostTensor3 parse_3dap_instance(const std::string& text, const std::string& source,
+                                std::size_t max_elements) {
   Tokenizer tok(text, source);
   const std::string_view first = tok.next();
-  if (first.empty()) throw InputError(source + ": empty instance (expected the number of dimensions on line 1)");
+  if (first.empty())
+    throw InputError(source + ": empty instance (expected the number of dimensions on line 1)");
   if (first != "3") {
     bool digits = !first.empty();
     for (char c : first) digits = digits && c >= '0' && c <= '9';
@@ -114,7 +119,8 @@ CostTensor3 parse_3dap_instance(const std::string& text, const std::string& sour
   const long double exact = static_cast<long double>(n1) * n2 * n3;
   if (exact > static_cast<long double>(max_elements))
     throw InputError(source + ": tensor " + std::to_string(n1) + "x" + std::to_string(n2) + "x" +
-                     std::to_string(n3) + " has more than the allowed " + std::to_string(max_elements) + " elements");
+                     std::to_string(n3) + " has more than the allowed " + std::to_string(max_elements) +
+                     " elements");
   const std::size_t count = static_cast<std::size_t>(n1) * n2 * n3;
   CostTensor3 b;
   b.n1 = n1;
@@ -135,7 +141,9 @@ CostTensor3 parse_3dap_instance(const std::string& text, const std::string& sour
   return b;
 }
 
-CostTensor3 read_3dap_instance(const std::string& path) { return parse_3dap_instance(read_whole_file(path), path); }
+CostTensor3 read_3dap_instance(const std::string& path) {
+  return parse_3dap_instance(read_whole_file(path), path);
+}
 
 std::map<std::string, double> read_known_optima(const std::string& path) {
   const std::string text = read_whole_file(path);

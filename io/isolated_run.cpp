@@ -64,7 +64,8 @@ void run_isolated(const std::string& subject, const std::function<void()>& check
   bool timed_out = false;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) {
       timed_out = true;
       break;
@@ -88,16 +89,19 @@ void run_isolated(const std::string& subject, const std::function<void()>& check
   while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
   }
   if (timed_out)
-    throw InputError(subject + ": reading did not finish within " + std::to_string(static_cast<int>(timeout_s)) +
+    throw InputError(subject + ": reading did not finish within " +
+                     std::to_string(static_cast<int>(timeout_s)) +
                      " s; the file is probably corrupt (the HDF5 library loops on some damaged files)");
   if (WIFSIGNALED(status))
     throw InputError(subject + ": the file is corrupt: the HDF5 library crashed reading it (signal " +
                      std::to_string(WTERMSIG(status)) + ")");
   if (WIFEXITED(status) && WEXITSTATUS(status) == 2) throw InputError(message);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    throw InputError(message.empty() ? subject + ": the file is corrupt: the HDF5 library failed reading it (exit status " +
-                                           std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")"
-                                     : message);
+    throw InputError(message.empty()
+                         ? subject +
+                               ": the file is corrupt: the HDF5 library failed reading it (exit status " +
+                               std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")"
+                         : message);
 }
 
 }  // namespace trackassoc

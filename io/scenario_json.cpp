@@ -21,7 +21,7 @@ using ordered_json = nlohmann::ordered_json;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;
 // Bounds that keep a scenario from asking for an absurd amount of work or memory.
-constexpr double kMaxSteps = 1e7;            // duration / truth_step, duration / period
+constexpr double kMaxSteps = 1e7;  // duration / truth_step, duration / period
 constexpr int64_t kMaxRandomTargets = 10'000'000;
 
 struct ModelName {
@@ -67,12 +67,14 @@ class Reader {
     if (!v) return;
     if (!v->is_number()) fail(key_path(key), std::string("expected a number") + rule, *v);
     const double d = v->get<double>();
-    if (!std::isfinite(d) || (ok && !ok(d))) fail(key_path(key), std::string("expected a finite number") + rule, *v);
+    if (!std::isfinite(d) || (ok && !ok(d)))
+      fail(key_path(key), std::string("expected a finite number") + rule, *v);
     out = d;
   }
   // An angle given either as KEY_deg (degrees) or KEY_rad (radians), stored in radians.
   // `suffix` is "" for angles and "_s" for angular rates.
-  void angle(const std::string& key, const std::string& suffix, double& out, bool (*ok)(double), const char* rule) {
+  void angle(const std::string& key, const std::string& suffix, double& out, bool (*ok)(double),
+             const char* rule) {
     const std::string deg = key + "_deg" + suffix, rad = key + "_rad" + suffix;
     const bool has_deg = object_.contains(deg), has_rad = object_.contains(rad);
     if (has_deg && has_rad)
@@ -86,7 +88,9 @@ class Reader {
     } else {
       return;
     }
-    if (ok && !ok(value)) fail(key_path(has_deg ? deg : rad), std::string("expected a number") + rule, object_[has_deg ? deg : rad]);
+    if (ok && !ok(value))
+      fail(key_path(has_deg ? deg : rad), std::string("expected a number") + rule,
+           object_[has_deg ? deg : rad]);
     out = value;
   }
   template <typename Int>
@@ -141,7 +145,8 @@ class Reader {
   void finish() const {
     for (auto it = object_.begin(); it != object_.end(); ++it)
       if (!seen_.count(it.key()))
-        throw InputError(source_ + ": " + key_path(it.key()) + ": unknown key (see io/scenario_json.hpp for the format)");
+        throw InputError(source_ + ": " + key_path(it.key()) +
+                         ": unknown key (see io/scenario_json.hpp for the format)");
   }
   const std::string& path() const { return path_; }
   const std::string& source() const { return source_; }
@@ -232,8 +237,8 @@ void read_random_targets(Reader& r, RandomTargetSpec& g) {
   };
   for (int d = 0; d < 3; ++d)
     if (g.area_max[d] < g.area_min[d])
-      bad("area_max", "expected area_max >= area_min in every coordinate, found coordinate " + std::to_string(d) +
-                          " smaller");
+      bad("area_max", "expected area_max >= area_min in every coordinate, found coordinate " +
+                          std::to_string(d) + " smaller");
   if (g.speed_max < g.speed_min) bad("speed_max", "expected speed_max >= speed_min");
   if (g.heading_max < g.heading_min) bad("heading_max", "expected heading_max >= heading_min");
 }
@@ -258,11 +263,14 @@ void read_tracker(Reader& r, LocalTrackerSpec& t) {
 json parse_rejecting_duplicates(const std::string& text, const std::string& source) {
   std::vector<std::set<std::string>> keys;
   auto callback = [&](int, json::parse_event_t event, json& parsed) {
-    if (event == json::parse_event_t::object_start) keys.emplace_back();
-    else if (event == json::parse_event_t::object_end) { if (!keys.empty()) keys.pop_back(); }
-    else if (event == json::parse_event_t::key && !keys.empty()) {
+    if (event == json::parse_event_t::object_start)
+      keys.emplace_back();
+    else if (event == json::parse_event_t::object_end) {
+      if (!keys.empty()) keys.pop_back();
+    } else if (event == json::parse_event_t::key && !keys.empty()) {
       const std::string key = parsed.get<std::string>();
-      if (!keys.back().insert(key).second) throw InputError(source + ": key '" + key + "' appears twice in one object");
+      if (!keys.back().insert(key).second)
+        throw InputError(source + ": key '" + key + "' appears twice in one object");
     }
     return true;
   };
@@ -358,7 +366,9 @@ Scenario parse_scenario_json(const std::string& text, const std::string& source)
   r.finish();
 
   // Whole-scenario rules.
-  auto bad = [&](const std::string& where, const std::string& what) { throw InputError(source + ": " + where + ": " + what); };
+  auto bad = [&](const std::string& where, const std::string& what) {
+    throw InputError(source + ": " + where + ": " + what);
+  };
   if (s.sensors.empty()) bad("sensors", "expected at least one sensor, found none");
   if (s.truth_step > s.duration) bad("truth_step", "expected <= duration");
   if (s.duration / s.truth_step > kMaxSteps) bad("truth_step", "duration / truth_step exceeds 1e7 steps");
@@ -366,7 +376,8 @@ Scenario parse_scenario_json(const std::string& text, const std::string& source)
   for (std::size_t i = 0; i < s.sensors.size(); ++i) {
     const Sensor& sensor = s.sensors[i];
     const std::string where = "sensors[" + std::to_string(i) + "]";
-    if (!ids.insert(sensor.id).second) bad(where + ".id", "sensor id " + std::to_string(sensor.id) + " is used twice");
+    if (!ids.insert(sensor.id).second)
+      bad(where + ".id", "sensor id " + std::to_string(sensor.id) + " is used twice");
     if (s.duration / sensor.period > kMaxSteps) bad(where + ".period", "duration / period exceeds 1e7 scans");
     if (s.layout == StateLayout::kXYZ_VXVYVZ && !(sensor.sigma_elevation > 0))
       bad(where + ".sigma_elevation_deg", "a 3-D scenario needs sigma_elevation > 0");
@@ -374,7 +385,8 @@ Scenario parse_scenario_json(const std::string& text, const std::string& source)
   ids.clear();
   for (std::size_t i = 0; i < s.targets.size(); ++i)
     if (!ids.insert(s.targets[i].id).second)
-      bad("targets[" + std::to_string(i) + "].id", "target id " + std::to_string(s.targets[i].id) + " is used twice");
+      bad("targets[" + std::to_string(i) + "].id",
+          "target id " + std::to_string(s.targets[i].id) + " is used twice");
   return s;
 }
 

@@ -28,12 +28,15 @@ std::vector<int32_t> read_int32_column(const Group& g, const std::string& name, 
 
 }  // namespace
 
-void check_system_tracks(const std::string& file, const SystemTrackRecord& r, const std::vector<Sensor>& sensors) {
+void check_system_tracks(const std::string& file, const SystemTrackRecord& r,
+                         const std::vector<Sensor>& sensors) {
   const std::string where = file + ": /system_tracks/" + r.name;
-  require(!r.name.empty() && r.name.find('/') == std::string::npos, where, "group name must be non-empty without '/'");
+  require(!r.name.empty() && r.name.find('/') == std::string::npos, where,
+          "group name must be non-empty without '/'");
   const std::size_t n = r.size();
   require(r.track.size() == n, where + "/track", "expected " + std::to_string(n) + " rows (as t)");
-  for (const auto& c : r.state) require(c.size() == n, where + "/state", "expected " + std::to_string(n) + " rows");
+  for (const auto& c : r.state)
+    require(c.size() == n, where + "/state", "expected " + std::to_string(n) + " rows");
   for (std::size_t i = 0; i < n; ++i) {
     bool finite = std::isfinite(r.t[i]);
     for (const auto& c : r.state) finite = finite && std::isfinite(c[i]);
@@ -90,7 +93,8 @@ std::vector<SystemTrackRecord> read_system_tracks(const Group& root) {
     r.track = read_int32_column(g, "track", n);
     const std::vector<double> rows = g.read_doubles("state", 2, dims);
     if (dims[0] != n || dims[1] != 4)
-      g.fail("state", "expected shape " + std::to_string(n) + "x4 (x, y, vx, vy), found " + h5::shape_text(dims));
+      g.fail("state",
+             "expected shape " + std::to_string(n) + "x4 (x, y, vx, vy), found " + h5::shape_text(dims));
     for (int c = 0; c < 4; ++c) {
       r.state[c].resize(n);
       for (std::size_t i = 0; i < n; ++i) r.state[c][i] = rows[i * 4 + c];

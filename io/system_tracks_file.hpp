@@ -30,8 +30,8 @@ class Group;
 }
 
 struct SystemTrackRecord {
-  std::string name;                 // group name under /system_tracks
-  std::string method;               // "fuzzy" or "ftaa"
+  std::string name;    // group name under /system_tracks
+  std::string method;  // "fuzzy" or "ftaa"
   std::string options_json = "{}";
   std::vector<int32_t> track;
   std::vector<double> t;
@@ -43,7 +43,8 @@ struct SystemTrackRecord {
 
 // Checks lengths, finiteness, and that mapping sensors are /sensors ids. Throws InputError naming
 // `file`, the dataset and the row.
-void check_system_tracks(const std::string& file, const SystemTrackRecord& r, const std::vector<Sensor>& sensors);
+void check_system_tracks(const std::string& file, const SystemTrackRecord& r,
+                         const std::vector<Sensor>& sensors);
 
 // Writes /system_tracks/<name>/ for every record under `root` (nothing when `records` is empty).
 void write_system_tracks(const h5::Group& root, const std::vector<SystemTrackRecord>& records);

@@ -11,8 +11,8 @@
 #include <set>
 
 #include "io/atomic_file.hpp"
-#include "io/isolated_run.hpp"
 #include "io/hdf5_wrapper.hpp"
+#include "io/isolated_run.hpp"
 #include "io/track_validation.hpp"
 #include "kernels/error.hpp"
 
@@ -37,7 +37,8 @@ std::vector<double> rows_from_columns(const std::vector<std::vector<double>>& co
   return out;
 }
 
-std::vector<std::vector<double>> columns_from_rows(const std::vector<double>& data, std::size_t rows, std::size_t d) {
+std::vector<std::vector<double>> columns_from_rows(const std::vector<double>& data, std::size_t rows,
+                                                   std::size_t d) {
   std::vector<std::vector<double>> out(d, std::vector<double>(rows));
   for (std::size_t r = 0; r < rows; ++r)
     for (std::size_t c = 0; c < d; ++c) out[c][r] = data[r * d + c];
@@ -92,7 +93,8 @@ void write_truth(const Group& root, const TruthTable& t) {
   write_1d(g, "target", t.target);
   write_1d(g, "t", t.t);
   const std::vector<double> state = rows_from_columns(t.state, n);
-  g.write_dataset("state", std::span<const double>(state), {n, static_cast<std::size_t>(state_dim(t.layout))});
+  g.write_dataset("state", std::span<const double>(state),
+                  {n, static_cast<std::size_t>(state_dim(t.layout))});
 }
 
 void write_measurements(const Group& root, const Measurements& m) {
@@ -164,8 +166,8 @@ std::vector<double> read_2d(const Group& g, const std::string& name, std::size_t
   std::vector<hsize_t> dims;
   std::vector<double> v = g.read_doubles(name, 2, dims);
   if (dims[0] != rows || dims[1] != cols)
-    g.fail(name, "expected shape " + std::to_string(rows) + "x" + std::to_string(cols) + " (" + what + "), found " +
-                     shape_text(dims));
+    g.fail(name, "expected shape " + std::to_string(rows) + "x" + std::to_string(cols) + " (" + what +
+                     "), found " + shape_text(dims));
   return v;
 }
 
@@ -173,7 +175,8 @@ StateLayout read_layout(const Group& g, const std::string& file) {
   const std::string layout = g.read_string_attribute("state_layout");
   if (layout == layout_name(StateLayout::kXY_VXVY)) return StateLayout::kXY_VXVY;
   if (layout == layout_name(StateLayout::kXYZ_VXVYVZ)) return StateLayout::kXYZ_VXVYVZ;
-  throw InputError(file + ": " + g.path() + " attribute state_layout: expected \"x,y,vx,vy\" or \"x,y,z,vx,vy,vz\", found \"" +
+  throw InputError(file + ": " + g.path() +
+                   " attribute state_layout: expected \"x,y,vx,vy\" or \"x,y,z,vx,vy,vz\", found \"" +
                    layout + "\"");
 }
 
@@ -192,10 +195,14 @@ std::vector<Sensor> read_sensors(const Group& root) {
     const char* name;
     double Sensor::*member;
   };
-  const Field fields[] = {{"sigma_range", &Sensor::sigma_range}, {"sigma_bearing", &Sensor::sigma_bearing},
-                          {"sigma_elevation", &Sensor::sigma_elevation}, {"period", &Sensor::period},
-                          {"offset", &Sensor::offset}, {"p_detect", &Sensor::p_detect},
-                          {"clutter_rate", &Sensor::clutter_rate}, {"reliability", &Sensor::reliability}};
+  const Field fields[] = {{"sigma_range", &Sensor::sigma_range},
+                          {"sigma_bearing", &Sensor::sigma_bearing},
+                          {"sigma_elevation", &Sensor::sigma_elevation},
+                          {"period", &Sensor::period},
+                          {"offset", &Sensor::offset},
+                          {"p_detect", &Sensor::p_detect},
+                          {"clutter_rate", &Sensor::clutter_rate},
+                          {"reliability", &Sensor::reliability}};
   for (const Field& f : fields) {
     if (!g.has(f.name)) continue;  // optional: the Sensor default stands
     const std::vector<double> v = read_1d(g, f.name, n, "/sensors/id");
@@ -212,9 +219,11 @@ TrackTable read_tracks(const Group& root, const std::string& file) {
   const std::size_t n = t.sensor.size();
   t.track = read_int32(g, "track", n, "/tracks/sensor");
   t.t = read_1d(g, "t", n, "/tracks/sensor");
-  t.state = columns_from_rows(read_2d(g, "state", n, d, "rows as /tracks/sensor, columns as state_layout"), n, d);
+  t.state =
+      columns_from_rows(read_2d(g, "state", n, d, "rows as /tracks/sensor, columns as state_layout"), n, d);
   t.cov = columns_from_rows(
-      read_2d(g, "cov", n, p, "rows as /tracks/sensor, D(D+1)/2 = " + std::to_string(p) + " packed upper-triangle columns"),
+      read_2d(g, "cov", n, p,
+              "rows as /tracks/sensor, D(D+1)/2 = " + std::to_string(p) + " packed upper-triangle columns"),
       n, p);
   t.truth = g.has("truth") ? read_int32(g, "truth", n, "/tracks/sensor") : std::vector<int32_t>(n, -1);
   return t;
@@ -236,7 +245,8 @@ TruthTable read_truth(const Group& root, const std::string& file) {
   t.target = std::move(target);
   t.t = read_1d(g, "t", n, "/truth/target");
   const std::size_t d = state_dim(layout);
-  t.state = columns_from_rows(read_2d(g, "state", n, d, "rows as /truth/target, columns as the state layout"), n, d);
+  t.state = columns_from_rows(read_2d(g, "state", n, d, "rows as /truth/target, columns as the state layout"),
+                              n, d);
   return t;
 }
 
@@ -318,7 +328,8 @@ TrackFile read_track_file(const std::string& path, double timeout_s) {
     const auto size = std::filesystem::file_size(path, ec);
     timeout_s = 60.0 + (ec ? 0.0 : static_cast<double>(size) / 10e6);
   }
-  run_isolated(path, [&] { read_track_file_in_process(path); }, timeout_s);
+  run_isolated(
+      path, [&] { read_track_file_in_process(path); }, timeout_s);
   return read_track_file_in_process(path);
 }
 
@@ -376,12 +387,14 @@ void write_track_file(const std::string& path, const TrackFile& file) {
     std::set<std::string> names;
     for (const auto& a : file.associations) {
       tv::check_association(path, a, file.sensors, file.tracks);
-      if (!names.insert(a.name).second) throw InputError(path + ": /associations/" + a.name + ": name used twice");
+      if (!names.insert(a.name).second)
+        throw InputError(path + ": /associations/" + a.name + ": name used twice");
     }
     names.clear();
     for (const auto& r : file.system_tracks) {
       check_system_tracks(path, r, file.sensors);
-      if (!names.insert(r.name).second) throw InputError(path + ": /system_tracks/" + r.name + ": name used twice");
+      if (!names.insert(r.name).second)
+        throw InputError(path + ": /system_tracks/" + r.name + ": name used twice");
     }
     names.clear();
     for (const auto& m : file.metrics) {

@@ -30,10 +30,10 @@
 namespace trackassoc {
 
 struct AssociationRecord {
-  std::string name;                 // group name under /associations
-  int32_t num_sensors = 0;          // S, the number of tuple columns
-  std::vector<int32_t> tuples;      // K×S row-major; column s = local track number of sensor s, -1 = none
-  std::vector<double> cost;         // K, cost of each tuple
+  std::string name;             // group name under /associations
+  int32_t num_sensors = 0;      // S, the number of tuple columns
+  std::vector<int32_t> tuples;  // K×S row-major; column s = local track number of sensor s, -1 = none
+  std::vector<double> cost;     // K, cost of each tuple
   std::string solver;
   std::string options_json = "{}";
   double objective = 0.0;

@@ -28,11 +28,12 @@ std::string number(double v) {
   fail(file, dataset, "row " + std::to_string(row) + ": " + what);
 }
 
-void check_length(const std::string& file, const std::string& dataset, std::size_t found, std::size_t expected,
-                  const std::string& reference) {
+void check_length(const std::string& file, const std::string& dataset, std::size_t found,
+                  std::size_t expected, const std::string& reference) {
   if (found != expected)
     fail(file, dataset,
-         "expected " + std::to_string(expected) + " rows (as " + reference + "), found " + std::to_string(found));
+         "expected " + std::to_string(expected) + " rows (as " + reference + "), found " +
+             std::to_string(found));
 }
 
 void check_finite(const std::string& file, const std::string& dataset, const std::vector<double>& v) {
@@ -40,7 +41,8 @@ void check_finite(const std::string& file, const std::string& dataset, const std
     if (!std::isfinite(v[r])) fail_row(file, dataset, r, "expected a finite value, found " + number(v[r]));
 }
 
-void check_finite_min(const std::string& file, const std::string& dataset, double v, std::size_t row, double min) {
+void check_finite_min(const std::string& file, const std::string& dataset, double v, std::size_t row,
+                      double min) {
   if (!std::isfinite(v) || v < min)
     fail_row(file, dataset, row, "expected a finite value >= " + number(min) + ", found " + number(v));
 }
@@ -56,7 +58,8 @@ std::set<int32_t> sensor_ids(const std::vector<Sensor>& sensors) {
 void check_object_name(const std::string& file, const std::string& group, const std::string& name) {
   bool ok = !name.empty() && name != "." && name.find('/') == std::string::npos;
   for (unsigned char c : name) ok = ok && c >= 32 && c != 127;
-  if (!ok) fail(file, group, "invalid name '" + name + "' (non-empty, no '/', no control characters, not '.')");
+  if (!ok)
+    fail(file, group, "invalid name '" + name + "' (non-empty, no '/', no control characters, not '.')");
 }
 
 std::string positive_definite_failure(const double* packed, int d) {
@@ -71,7 +74,8 @@ std::string positive_definite_failure(const double* packed, int d) {
   for (int j = 0; j < d; ++j) {
     double pivot = a[j][j];
     for (int k = 0; k < j; ++k) pivot -= a[j][k] * a[j][k];
-    if (!(pivot > 0)) return "Cholesky pivot " + std::to_string(j) + " = " + number(pivot) + " is not positive";
+    if (!(pivot > 0))
+      return "Cholesky pivot " + std::to_string(j) + " = " + number(pivot) + " is not positive";
     const double l = std::sqrt(pivot);
     a[j][j] = l;
     for (int i = j + 1; i < d; ++i) {
@@ -87,11 +91,12 @@ void check_sensors(const std::string& file, const std::vector<Sensor>& sensors) 
   std::set<int32_t> seen;
   for (std::size_t r = 0; r < sensors.size(); ++r) {
     const Sensor& s = sensors[r];
-    if (!seen.insert(s.id).second) fail_row(file, "/sensors/id", r, "sensor id " + std::to_string(s.id) + " appears twice");
+    if (!seen.insert(s.id).second)
+      fail_row(file, "/sensors/id", r, "sensor id " + std::to_string(s.id) + " appears twice");
     for (int c = 0; c < 3; ++c)
       if (!std::isfinite(s.position[c]))
-        fail_row(file, "/sensors/position", r, "column " + std::to_string(c) + ": expected a finite value, found " +
-                                                  number(s.position[c]));
+        fail_row(file, "/sensors/position", r,
+                 "column " + std::to_string(c) + ": expected a finite value, found " + number(s.position[c]));
     check_finite_min(file, "/sensors/sigma_range", s.sigma_range, r, 0);
     check_finite_min(file, "/sensors/sigma_bearing", s.sigma_bearing, r, 0);
     check_finite_min(file, "/sensors/sigma_elevation", s.sigma_elevation, r, 0);
@@ -111,7 +116,8 @@ void check_tracks(const std::string& file, const TrackTable& t, const std::vecto
   check_length(file, "/tracks/track", t.track.size(), n, ref);
   check_length(file, "/tracks/t", t.t.size(), n, ref);
   check_length(file, "/tracks/truth", t.truth.size(), n, ref);
-  if (static_cast<int>(t.state.size()) != d) fail(file, "/tracks/state", "expected " + std::to_string(d) + " columns");
+  if (static_cast<int>(t.state.size()) != d)
+    fail(file, "/tracks/state", "expected " + std::to_string(d) + " columns");
   if (static_cast<int>(t.cov.size()) != packed_size(d))
     fail(file, "/tracks/cov", "expected " + std::to_string(packed_size(d)) + " columns");
   for (const auto& c : t.state) check_length(file, "/tracks/state", c.size(), n, ref);
@@ -121,8 +127,10 @@ void check_tracks(const std::string& file, const TrackTable& t, const std::vecto
   for (std::size_t r = 0; r < n; ++r) {
     if (!ids.count(t.sensor[r]))
       fail_row(file, "/tracks/sensor", r, "sensor " + std::to_string(t.sensor[r]) + " is not in /sensors/id");
-    if (t.track[r] < 0) fail_row(file, "/tracks/track", r, "expected a track number >= 0, found " + std::to_string(t.track[r]));
-    if (t.truth[r] < -1) fail_row(file, "/tracks/truth", r, "expected a target id >= -1, found " + std::to_string(t.truth[r]));
+    if (t.track[r] < 0)
+      fail_row(file, "/tracks/track", r, "expected a track number >= 0, found " + std::to_string(t.track[r]));
+    if (t.truth[r] < -1)
+      fail_row(file, "/tracks/truth", r, "expected a target id >= -1, found " + std::to_string(t.truth[r]));
   }
   check_finite(file, "/tracks/t", t.t);
   const char* names[] = {"x", "y", "z", "vx", "vy", "vz"};
@@ -139,7 +147,8 @@ void check_tracks(const std::string& file, const TrackTable& t, const std::vecto
     for (int k = 0; k < p; ++k) {
       packed[k] = t.cov[k][r];
       if (!std::isfinite(packed[k]))
-        fail_row(file, "/tracks/cov", r, "column " + std::to_string(k) + ": expected a finite value, found " + number(packed[k]));
+        fail_row(file, "/tracks/cov", r,
+                 "column " + std::to_string(k) + ": expected a finite value, found " + number(packed[k]));
     }
     const std::string why = positive_definite_failure(packed, d);
     if (!why.empty()) fail_row(file, "/tracks/cov", r, "covariance is not positive definite: " + why);
@@ -153,7 +162,8 @@ void check_truth(const std::string& file, const TruthTable& t) {
     fail(file, "/truth/state", "expected " + std::to_string(state_dim(t.layout)) + " columns");
   for (const auto& c : t.state) check_length(file, "/truth/state", c.size(), n, "/truth/target");
   for (std::size_t r = 0; r < n; ++r)
-    if (t.target[r] < 0) fail_row(file, "/truth/target", r, "expected a target id >= 0, found " + std::to_string(t.target[r]));
+    if (t.target[r] < 0)
+      fail_row(file, "/truth/target", r, "expected a target id >= 0, found " + std::to_string(t.target[r]));
   check_finite(file, "/truth/t", t.t);
   for (const auto& c : t.state) check_finite(file, "/truth/state", c);
 }
@@ -165,13 +175,16 @@ void check_measurements(const std::string& file, const Measurements& m, const st
   check_length(file, "/measurements/range", m.range.size(), n, ref);
   check_length(file, "/measurements/bearing", m.bearing.size(), n, ref);
   check_length(file, "/measurements/target", m.target.size(), n, ref);
-  if (!m.elevation.empty()) check_length(file, "/measurements/elevation", m.elevation.size(), n, ref + " (or 0 for 2-D)");
+  if (!m.elevation.empty())
+    check_length(file, "/measurements/elevation", m.elevation.size(), n, ref + " (or 0 for 2-D)");
   const std::set<int32_t> ids = sensor_ids(sensors);
   for (std::size_t r = 0; r < n; ++r) {
     if (!ids.count(m.sensor[r]))
-      fail_row(file, "/measurements/sensor", r, "sensor " + std::to_string(m.sensor[r]) + " is not in /sensors/id");
+      fail_row(file, "/measurements/sensor", r,
+               "sensor " + std::to_string(m.sensor[r]) + " is not in /sensors/id");
     if (m.target[r] < -1)
-      fail_row(file, "/measurements/target", r, "expected a target id >= -1 (-1 = clutter), found " + std::to_string(m.target[r]));
+      fail_row(file, "/measurements/target", r,
+               "expected a target id >= -1 (-1 = clutter), found " + std::to_string(m.target[r]));
     check_finite_min(file, "/measurements/range", m.range[r], r, 0);
   }
   check_finite(file, "/measurements/t", m.t);
@@ -179,18 +192,20 @@ void check_measurements(const std::string& file, const Measurements& m, const st
   check_finite(file, "/measurements/elevation", m.elevation);
 }
 
-void check_association(const std::string& file, const AssociationRecord& a, const std::vector<Sensor>& sensors,
-                       const TrackTable& tracks) {
+void check_association(const std::string& file, const AssociationRecord& a,
+                       const std::vector<Sensor>& sensors, const TrackTable& tracks) {
   check_object_name(file, "/associations", a.name);
   const std::string g = "/associations/" + a.name;
   const std::size_t s = sensors.size();
   if (a.num_sensors != static_cast<int32_t>(s))
-    fail(file, g + "/tuples", "expected " + std::to_string(s) + " columns (one per sensor, in /sensors order), found " +
-                                  std::to_string(a.num_sensors));
+    fail(file, g + "/tuples",
+         "expected " + std::to_string(s) + " columns (one per sensor, in /sensors order), found " +
+             std::to_string(a.num_sensors));
   const std::size_t k = a.cost.size();
   if (a.tuples.size() != k * s)
-    fail(file, g + "/tuples", "expected " + std::to_string(k) + " rows (as " + g + "/cost) of " + std::to_string(s) +
-                                  " columns, found " + std::to_string(a.tuples.size()) + " values");
+    fail(file, g + "/tuples",
+         "expected " + std::to_string(k) + " rows (as " + g + "/cost) of " + std::to_string(s) +
+             " columns, found " + std::to_string(a.tuples.size()) + " values");
   std::map<int32_t, std::size_t> column_of;
   for (std::size_t c = 0; c < s; ++c) column_of[sensors[c].id] = c;
   std::vector<std::unordered_set<int32_t>> reported(s);
@@ -203,13 +218,15 @@ void check_association(const std::string& file, const AssociationRecord& a, cons
       const int32_t v = a.tuples[r * s + c];
       if (v != kNoTrack && !reported[c].count(v))
         fail_row(file, g + "/tuples", r,
-                 "column " + std::to_string(c) + " (sensor " + std::to_string(sensors[c].id) + "): expected -1 or a track number of that sensor in /tracks/track, found " +
+                 "column " + std::to_string(c) + " (sensor " + std::to_string(sensors[c].id) +
+                     "): expected -1 or a track number of that sensor in /tracks/track, found " +
                      std::to_string(v));
     }
   if (a.energy_rows < 0 || a.energy_cols < 0 ||
       a.energy.size() != static_cast<std::size_t>(a.energy_rows) * static_cast<std::size_t>(a.energy_cols))
-    fail(file, g + "/energy", "expected " + std::to_string(a.energy_rows) + "x" + std::to_string(a.energy_cols) +
-                                  " values, found " + std::to_string(a.energy.size()));
+    fail(file, g + "/energy",
+         "expected " + std::to_string(a.energy_rows) + "x" + std::to_string(a.energy_cols) +
+             " values, found " + std::to_string(a.energy.size()));
 }
 
 void check_metrics(const std::string& file, const MetricsRecord& m) {

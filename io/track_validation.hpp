@@ -30,8 +30,8 @@ void check_measurements(const std::string& file, const Measurements& m, const st
 
 // tuples K×S with S = number of sensors and K = number of costs; every entry is -1 or a local
 // track number that sensor reports in /tracks; energy is rows×cols.
-void check_association(const std::string& file, const AssociationRecord& a, const std::vector<Sensor>& sensors,
-                       const TrackTable& tracks);
+void check_association(const std::string& file, const AssociationRecord& a,
+                       const std::vector<Sensor>& sensors, const TrackTable& tracks);
 void check_metrics(const std::string& file, const MetricsRecord& m);
 
 // Positive definiteness of a packed upper-triangular D×D matrix; empty string when it is, the

@@ -112,7 +112,8 @@ void AlphaBetaBank::initialise(std::size_t i, std::span<const double> pos, std::
   measurements[i] = count;
 }
 
-std::size_t AlphaBetaBank::add_track(std::span<const double> pos, std::span<const double> vel, int64_t count) {
+std::size_t AlphaBetaBank::add_track(std::span<const double> pos, std::span<const double> vel,
+                                     int64_t count) {
   for (int a = 0; a < spatial_dim_; ++a) {
     position[a].push_back(0.0);
     velocity[a].push_back(0.0);
@@ -168,7 +169,8 @@ void AlphaBetaBank::predict(double T) {
 
 void AlphaBetaBank::predict(std::span<const double> steps) {
   require(steps.size() == size(), "AlphaBetaBank.predict", "expected one step per track");
-  for (double T : steps) require(T >= 0.0 && std::isfinite(T), "AlphaBetaBank.predict", "expected finite steps >= 0");
+  for (double T : steps)
+    require(T >= 0.0 && std::isfinite(T), "AlphaBetaBank.predict", "expected finite steps >= 0");
   parallel_for_range(size(), options_.grain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) predict_track(i, steps[i]);
   });
@@ -186,7 +188,8 @@ void AlphaBetaBank::predict_track(std::size_t i, double T) {
 void AlphaBetaBank::update(std::span<const std::span<const double>> z, std::span<const uint8_t> detected) {
   require(z.size() == static_cast<std::size_t>(spatial_dim_), "AlphaBetaBank.update",
           "expected spatial_dim measurement columns");
-  for (const auto& c : z) require(c.size() == size(), "AlphaBetaBank.update", "expected one measurement per track");
+  for (const auto& c : z)
+    require(c.size() == size(), "AlphaBetaBank.update", "expected one measurement per track");
   require(detected.size() == size(), "AlphaBetaBank.update", "expected one detected flag per track");
   const bool expanding = options_.expanding_memory_start;
   parallel_for_range(size(), options_.grain, [&](std::size_t b, std::size_t e) {
@@ -209,7 +212,8 @@ void AlphaBetaBank::update(std::span<const std::span<const double>> z, std::span
         double* v = velocity[a].data() + c0;
         const double* za = z[a].data() + c0;
         // A zero gain must leave the state exactly unchanged, whatever z holds (NaN for a miss).
-        for (std::size_t k = 0; k < m; ++k) update_element(p, v, k, ga[k] != 0.0 ? za[k] : p[k], ga[k], gb[k]);
+        for (std::size_t k = 0; k < m; ++k)
+          update_element(p, v, k, ga[k] != 0.0 ? za[k] : p[k], ga[k], gb[k]);
       }
     }
   });
@@ -217,9 +221,11 @@ void AlphaBetaBank::update(std::span<const std::span<const double>> z, std::span
 
 void AlphaBetaBank::update_track(std::size_t i, std::span<const double> z) {
   if (!(step[i] > 0.0)) return;
-  const AlphaBetaGains g = effective_gains(alpha[i], beta[i], measurements[i], options_.expanding_memory_start);
+  const AlphaBetaGains g =
+      effective_gains(alpha[i], beta[i], measurements[i], options_.expanding_memory_start);
   const double bt = g.beta / step[i];
-  for (int a = 0; a < spatial_dim_; ++a) update_element(position[a].data(), velocity[a].data(), i, z[a], g.alpha, bt);
+  for (int a = 0; a < spatial_dim_; ++a)
+    update_element(position[a].data(), velocity[a].data(), i, z[a], g.alpha, bt);
   ++measurements[i];
 }
 

@@ -50,12 +50,12 @@ enum class AlphaBetaGainMode {
 
 struct AlphaBetaOptions {
   AlphaBetaGainMode gains = AlphaBetaGainMode::kKalata;
-  double alpha = 0.5;              // fixed gains only; 0 < α < 2
-  double beta = 0.2;               // fixed gains only; 0 < β < 4 − 2α
-  double process_noise = 1.0;      // σ_w [m/s²], Kalata gains only; > 0
-  double measurement_noise = 100;  // σ_v [m], Kalata gains only; > 0
+  double alpha = 0.5;                  // fixed gains only; 0 < α < 2
+  double beta = 0.2;                   // fixed gains only; 0 < β < 4 − 2α
+  double process_noise = 1.0;          // σ_w [m/s²], Kalata gains only; > 0
+  double measurement_noise = 100;      // σ_v [m], Kalata gains only; > 0
   bool expanding_memory_start = true;  // least-squares gains until they fall to the steady ones
-  std::size_t grain = 4096;        // smallest block of tracks per TBB task
+  std::size_t grain = 4096;            // smallest block of tracks per TBB task
   // Throws InputError naming the field.
   void validate() const;
 };
@@ -92,7 +92,8 @@ class AlphaBetaBank {
   // Sets track i's state; `measurements` is how many measurements it already summarises (2 for a
   // two-point initialisation, 1 for a first plot with zero velocity, 0 for a prior guess), which
   // sets the expanding-memory start. pos and vel have spatial_dim entries.
-  void initialise(std::size_t i, std::span<const double> pos, std::span<const double> vel, int64_t measurements = 2);
+  void initialise(std::size_t i, std::span<const double> pos, std::span<const double> vel,
+                  int64_t measurements = 2);
   // Appends a track and returns its index.
   std::size_t add_track(std::span<const double> pos, std::span<const double> vel, int64_t measurements = 2);
 

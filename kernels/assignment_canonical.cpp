@@ -33,7 +33,8 @@ CanonicalProblem3 make_canonical(const CostTensor3& b, std::size_t max_padded_el
     const std::size_t m = static_cast<std::size_t>(b.n1) + b.n2 + b.n3;
     require(m * m * m <= max_padded_elements, "cost tensor",
             "finite miss_cost pads each dimension to n1+n2+n3 = " + std::to_string(m) + ", " +
-                std::to_string(m * m * m) + " entries, above the limit of " + std::to_string(max_padded_elements) +
+                std::to_string(m * m * m) + " entries, above the limit of " +
+                std::to_string(max_padded_elements) +
                 "; use miss_cost = inf (min(n1,n2,n3) complete tuples) or a smaller problem");
     const int32_t M = static_cast<int32_t>(m);
     p.original_dim = {0, 1, 2};
@@ -42,14 +43,16 @@ CanonicalProblem3 make_canonical(const CostTensor3& b, std::size_t max_padded_el
       for (int32_t j = 0; j < M; ++j)
         for (int32_t k = 0; k < M; ++k) {
           const int q = (i >= b.n1) + (j >= b.n2) + (k >= b.n3);
-          p.tensor.at(i, j, k) = q == 0 ? b.at(i, j, k) : (q == 3 ? 0.f : static_cast<float>(q) * b.miss_cost);
+          p.tensor.at(i, j, k) =
+              q == 0 ? b.at(i, j, k) : (q == 3 ? 0.f : static_cast<float>(q) * b.miss_cost);
         }
     return p;
   }
 
   // Sort the dimensions by size (stable, so equal sizes keep their order) and permute the tensor.
   std::array<int, 3> order{0, 1, 2};
-  std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return p.original_n[x] < p.original_n[y]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int x, int y) { return p.original_n[x] < p.original_n[y]; });
   p.original_dim = order;
   if (order == std::array<int, 3>{0, 1, 2}) {
     p.tensor = b;

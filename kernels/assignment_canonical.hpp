@@ -24,16 +24,17 @@
 namespace trackassoc {
 
 struct CanonicalProblem3 {
-  CostTensor3 tensor;                    // n1 ≤ n2 ≤ n3, miss_cost = +inf
-  std::array<int, 3> original_dim{};     // canonical dimension d holds original dimension original_dim[d]
-  std::array<int32_t, 3> original_n{};   // sizes of the original (unpadded) tensor, original order
-  bool padded = false;                   // dummies were added (finite miss_cost)
-  bool integer_costs = false;            // every entry is an integer: bounds may be rounded up
+  CostTensor3 tensor;                   // n1 ≤ n2 ≤ n3, miss_cost = +inf
+  std::array<int, 3> original_dim{};    // canonical dimension d holds original dimension original_dim[d]
+  std::array<int32_t, 3> original_n{};  // sizes of the original (unpadded) tensor, original order
+  bool padded = false;                  // dummies were added (finite miss_cost)
+  bool integer_costs = false;           // every entry is an integer: bounds may be rounded up
   // Relaxed (k) constraints are equalities (n1 = n3), so their multipliers are free in sign.
   bool k_equality() const { return tensor.n1 == tensor.n3; }
 };
 
-CanonicalProblem3 make_canonical(const CostTensor3& b, std::size_t max_padded_elements = std::size_t{1} << 27);
+CanonicalProblem3 make_canonical(const CostTensor3& b,
+                                 std::size_t max_padded_elements = std::size_t{1} << 27);
 
 // Canonical tuples (complete, canonical order) → original order; dummy indices become kNoTrack
 // and all-dummy tuples are dropped.

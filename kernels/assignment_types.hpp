@@ -44,26 +44,34 @@ using Tuple3 = std::array<int32_t, 3>;
 
 // Why a solver stopped.
 enum class Termination {
-  kOptimal,          // proven optimal (exact solver, or a zero gap)
-  kConverged,        // a fixed point / no improving move (Hopfield, local search)
-  kGapTolerance,     // relative duality gap below the tolerance (Lagrangian relaxation)
+  kOptimal,       // proven optimal (exact solver, or a zero gap)
+  kConverged,     // a fixed point / no improving move (Hopfield, local search)
+  kGapTolerance,  // relative duality gap below the tolerance (Lagrangian relaxation)
   kIterationLimit,
   kTimeLimit,
-  kCycle,            // synchronous network entered a 2-cycle
-  kInfeasible,       // no feasible assignment exists or none was found
-  kHeuristic,        // a one-pass heuristic (greedy, pairwise) finished
+  kCycle,       // synchronous network entered a 2-cycle
+  kInfeasible,  // no feasible assignment exists or none was found
+  kHeuristic,   // a one-pass heuristic (greedy, pairwise) finished
 };
 
 inline const char* termination_name(Termination t) {
   switch (t) {
-    case Termination::kOptimal: return "optimal";
-    case Termination::kConverged: return "converged";
-    case Termination::kGapTolerance: return "gap_tolerance";
-    case Termination::kIterationLimit: return "iteration_limit";
-    case Termination::kTimeLimit: return "time_limit";
-    case Termination::kCycle: return "cycle";
-    case Termination::kInfeasible: return "infeasible";
-    case Termination::kHeuristic: return "heuristic";
+    case Termination::kOptimal:
+      return "optimal";
+    case Termination::kConverged:
+      return "converged";
+    case Termination::kGapTolerance:
+      return "gap_tolerance";
+    case Termination::kIterationLimit:
+      return "iteration_limit";
+    case Termination::kTimeLimit:
+      return "time_limit";
+    case Termination::kCycle:
+      return "cycle";
+    case Termination::kInfeasible:
+      return "infeasible";
+    case Termination::kHeuristic:
+      return "heuristic";
   }
   return "unknown";
 }
@@ -73,8 +81,8 @@ struct SolverSummary {
   bool feasible = false;
   double objective = std::numeric_limits<double>::quiet_NaN();    // cost of the returned tuples
   double lower_bound = std::numeric_limits<double>::quiet_NaN();  // a valid bound, where defined
-  double gap = std::numeric_limits<double>::quiet_NaN();          // (objective − bound) / max(|objective|, 1e-9)
-  double abs_gap = std::numeric_limits<double>::quiet_NaN();      // objective − bound
+  double gap = std::numeric_limits<double>::quiet_NaN();  // (objective − bound) / max(|objective|, 1e-9)
+  double abs_gap = std::numeric_limits<double>::quiet_NaN();  // objective − bound
   int64_t iterations = 0;
   int64_t sweeps = 0;
   double wall_time_s = 0.0;

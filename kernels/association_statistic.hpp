@@ -53,7 +53,7 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
                            const AlignmentOptions& options);
 
 struct StatisticOptions {
-  bool correlated = false;       // Bar-Shalom–Campo correlated-error form
+  bool correlated = false;         // Bar-Shalom–Campo correlated-error form
   double cross_correlation = 0.0;  // ρ in [0, 1) for the correlated form
   double gate_probability = 0.99;  // chi-square gate; 1.0 disables gating
   void validate() const;
@@ -63,8 +63,8 @@ struct StatisticOptions {
 struct PairStatistic {
   int32_t n_a = 0, n_b = 0;
   std::vector<double> lambda;
-  std::vector<int32_t> dof;        // D · (number of common times); 0 when never together
-  std::vector<uint8_t> in_gate;    // 1 when the pair is a candidate
+  std::vector<int32_t> dof;      // D · (number of common times); 0 when never together
+  std::vector<uint8_t> in_gate;  // 1 when the pair is a candidate
 };
 
 PairStatistic independent_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,

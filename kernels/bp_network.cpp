@@ -33,12 +33,15 @@ double BpNetwork::evaluate(const std::array<double, kInputs>& x) const {
 }
 
 void BpTrainingOptions::validate() const {
-  require(std::isfinite(learning_rate) && learning_rate > 0.0, "BpTrainingOptions.learning_rate", "expected > 0");
-  require(std::isfinite(momentum) && momentum >= 0.0 && momentum < 1.0, "BpTrainingOptions.momentum", "expected in [0, 1)");
+  require(std::isfinite(learning_rate) && learning_rate > 0.0, "BpTrainingOptions.learning_rate",
+          "expected > 0");
+  require(std::isfinite(momentum) && momentum >= 0.0 && momentum < 1.0, "BpTrainingOptions.momentum",
+          "expected in [0, 1)");
   require(iterations >= 0 && iterations <= 100000000, "BpTrainingOptions.iterations", "expected in [0, 1e8]");
 }
 
-BpTrainingSummary train_bp_network(BpNetwork& net, const std::vector<BpSample>& samples, const BpTrainingOptions& o) {
+BpTrainingSummary train_bp_network(BpNetwork& net, const std::vector<BpSample>& samples,
+                                   const BpTrainingOptions& o) {
   o.validate();
   require(!samples.empty(), "train_bp_network.samples", "expected at least one training pair");
   const auto start = std::chrono::steady_clock::now();

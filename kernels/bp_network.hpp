@@ -61,7 +61,8 @@ struct BpTrainingSummary {
   double wall_time_s = 0.0;
 };
 
-BpTrainingSummary train_bp_network(BpNetwork& net, const std::vector<BpSample>& samples, const BpTrainingOptions& options);
+BpTrainingSummary train_bp_network(BpNetwork& net, const std::vector<BpSample>& samples,
+                                   const BpTrainingOptions& options);
 
 // The 16 designed training pairs (inputs already squashed) described above.
 std::vector<BpSample> cs_network_training_set();

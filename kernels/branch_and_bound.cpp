@@ -12,9 +12,11 @@
 namespace trackassoc {
 
 void BranchAndBoundOptions::validate() const {
-  require(time_limit_s > 0.0 && !std::isnan(time_limit_s), "BranchAndBoundOptions.time_limit_s", "must be > 0");
+  require(time_limit_s > 0.0 && !std::isnan(time_limit_s), "BranchAndBoundOptions.time_limit_s",
+          "must be > 0");
   require(max_nodes >= 1, "BranchAndBoundOptions.max_nodes", "must be >= 1");
-  require(node_subgradient_iterations >= 1, "BranchAndBoundOptions.node_subgradient_iterations", "must be >= 1");
+  require(node_subgradient_iterations >= 1, "BranchAndBoundOptions.node_subgradient_iterations",
+          "must be >= 1");
   root.validate();
 }
 
@@ -136,7 +138,8 @@ class Search {
         theta *= 0.5;
       }
       if (it + 1 == o_.node_subgradient_iterations || g2 == 0.0) break;
-      const double target = std::isfinite(incumbent_cost) ? incumbent_cost : raw + 0.05 * std::max(1.0, std::abs(raw));
+      const double target =
+          std::isfinite(incumbent_cost) ? incumbent_cost : raw + 0.05 * std::max(1.0, std::abs(raw));
       const double step = theta * std::max(target - raw, 1e-9) / g2;
       for (int32_t q = 0; q < nk; ++q) {
         mu[K[q]] += step * g[q];
@@ -189,7 +192,9 @@ class Search {
   }
 
  private:
-  double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
+  double elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  }
 
   // A bound `raw` cannot lead to a strictly better solution than the incumbent.
   bool prunable(double raw) const {
@@ -261,14 +266,16 @@ Solution3 solve_branch_and_bound3(const CostTensor3& cost, const BranchAndBoundO
   s.summary.iterations = nodes;
   s.summary.sweeps = run.iterations;
   s.summary.termination = termination;
-  finish_summary(cost, s.tuples, termination == Termination::kInfeasible ? std::numeric_limits<double>::quiet_NaN()
-                                                                          : lower_bound,
-                 s.summary);
+  finish_summary(
+      cost, s.tuples,
+      termination == Termination::kInfeasible ? std::numeric_limits<double>::quiet_NaN() : lower_bound,
+      s.summary);
   if (termination == Termination::kOptimal && s.summary.feasible) {
     s.summary.lower_bound = s.summary.objective;
     s.summary.gap = s.summary.abs_gap = 0.0;
   }
-  s.summary.message = "nodes " + std::to_string(nodes) + ", root relaxation iterations " + std::to_string(run.iterations);
+  s.summary.message =
+      "nodes " + std::to_string(nodes) + ", root relaxation iterations " + std::to_string(run.iterations);
   s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;
 }

@@ -34,8 +34,8 @@ namespace trackassoc {
 struct BranchAndBoundOptions {
   double time_limit_s = 60.0;
   int64_t max_nodes = int64_t{1} << 40;
-  int node_subgradient_iterations = 8;   // subgradient steps per node to sharpen its bound
-  LagrangianOptions root;                // root relaxation; local_search is forced on
+  int node_subgradient_iterations = 8;  // subgradient steps per node to sharpen its bound
+  LagrangianOptions root;               // root relaxation; local_search is forced on
   void validate() const;
 };
 

@@ -30,9 +30,9 @@ class UnionFind {
 
 struct Components {
   int32_t count = 0;
-  std::vector<int32_t> label;   // component of each node, 0..count-1, by smallest node
-  std::vector<int64_t> begin;   // count+1 offsets into `nodes`
-  std::vector<int32_t> nodes;   // members of each component, ascending
+  std::vector<int32_t> label;  // component of each node, 0..count-1, by smallest node
+  std::vector<int64_t> begin;  // count+1 offsets into `nodes`
+  std::vector<int32_t> nodes;  // members of each component, ascending
   int32_t size(int32_t c) const { return static_cast<int32_t>(begin[c + 1] - begin[c]); }
   std::span<const int32_t> members(int32_t c) const {
     return {nodes.data() + begin[c], static_cast<std::size_t>(begin[c + 1] - begin[c])};

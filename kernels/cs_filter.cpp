@@ -4,8 +4,8 @@
 #include <numbers>
 #include <string>
 
-#include "kernels/error.hpp"
 #include "kernels/cs_block.hpp"
+#include "kernels/error.hpp"
 #include "kernels/parallel.hpp"
 
 namespace trackassoc {
@@ -13,10 +13,12 @@ namespace trackassoc {
 void CsOptions::validate() const {
   require(std::isfinite(manoeuvre_frequency) && manoeuvre_frequency > 0.0, "CsOptions.manoeuvre_frequency",
           "expected α > 0 [1/s], got " + std::to_string(manoeuvre_frequency));
-  require(std::isfinite(a_max) && a_max > 0.0, "CsOptions.a_max", "expected > 0 [m/s²], got " + std::to_string(a_max));
+  require(std::isfinite(a_max) && a_max > 0.0, "CsOptions.a_max",
+          "expected > 0 [m/s²], got " + std::to_string(a_max));
   require(std::isfinite(a_neg_max) && a_neg_max < 0.0, "CsOptions.a_neg_max",
           "expected < 0 [m/s²], got " + std::to_string(a_neg_max));
-  require(std::isfinite(min_accel_variance) && min_accel_variance >= 0.0, "CsOptions.min_accel_variance", "expected ≥ 0");
+  require(std::isfinite(min_accel_variance) && min_accel_variance >= 0.0, "CsOptions.min_accel_variance",
+          "expected ≥ 0");
   require(grain_blocks >= 1, "CsOptions.grain_blocks", "expected ≥ 1");
 }
 
@@ -36,7 +38,8 @@ Eigen::Matrix3d cs_transition(double alpha, double T) {
 Eigen::Matrix3d cs_process_noise_shape(double a, double T) {
   // Singer (1970), Eq. 19; multiplied by σ_w² = 2ασ_a² by the caller.
   const double e = std::exp(-a * T), e2 = std::exp(-2.0 * a * T), aT = a * T;
-  const double q11 = (1.0 - e2 + 2.0 * aT + 2.0 * aT * aT * aT / 3.0 - 2.0 * aT * aT - 4.0 * aT * e) / (2.0 * std::pow(a, 5));
+  const double q11 = (1.0 - e2 + 2.0 * aT + 2.0 * aT * aT * aT / 3.0 - 2.0 * aT * aT - 4.0 * aT * e) /
+                     (2.0 * std::pow(a, 5));
   const double q12 = (e2 + 1.0 - 2.0 * e + 2.0 * aT * e - 2.0 * aT + aT * aT) / (2.0 * std::pow(a, 4));
   const double q13 = (1.0 - e2 - 2.0 * aT * e) / (2.0 * std::pow(a, 3));
   const double q22 = (4.0 * e - 3.0 - e2 + 2.0 * aT) / (2.0 * std::pow(a, 3));
@@ -78,7 +81,8 @@ FilterStepSummary cs_bank_step(KinematicBank& bank, double dt, const PositionSca
   o.validate();
   require(bank.order() == 3, "cs_bank_step.bank", "the CS model needs an order-3 (acceleration) bank");
   require(std::isfinite(dt) && dt >= 0.0, "cs_bank_step.dt", "expected a finite scan interval ≥ 0");
-  require(scale.empty() || scale.size() == bank.size(), "cs_bank_step.noise_scale", "expected empty or one per track");
+  require(scale.empty() || scale.size() == bank.size(), "cs_bank_step.noise_scale",
+          "expected empty or one per track");
   block::check_scan(scan, out, bank.size(), bank.spatial_dim(), "cs_bank_step.scan");
   const block::CsContext cx(o, dt);
   parallel_for_range(bank.num_blocks(), o.grain_blocks, [&](std::size_t b0, std::size_t b1) {

@@ -44,7 +44,8 @@ Eigen::Matrix3d cs_process_noise_shape(double alpha, double dt);
 
 // Advances all tracks of an order-3 bank by one scan: adaptive CS prediction, then the position
 // update of the detected tracks. noise_scale (empty = 1) multiplies each track's Q.
-FilterStepSummary cs_bank_step(KinematicBank& bank, double dt, const PositionScan& scan, const CsOptions& options,
-                               std::span<const double> noise_scale = {}, InnovationOutput out = {});
+FilterStepSummary cs_bank_step(KinematicBank& bank, double dt, const PositionScan& scan,
+                               const CsOptions& options, std::span<const double> noise_scale = {},
+                               InnovationOutput out = {});
 
 }  // namespace trackassoc

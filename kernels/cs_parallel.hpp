@@ -43,8 +43,8 @@ class CsParallelBank {
   CsParallelBank(int spatial_dim, std::size_t tracks, const BpNetwork& network)
       : f1(spatial_dim, 3, tracks), f2(spatial_dim, 3, tracks), scale(tracks, 1.0), network(network) {}
   std::size_t size() const { return f2.size(); }
-  KinematicBank f1, f2;        // F2 is the estimate
-  std::vector<double> scale;   // last network output per track (F2's noise scale)
+  KinematicBank f1, f2;       // F2 is the estimate
+  std::vector<double> scale;  // last network output per track (F2's noise scale)
   BpNetwork network;
 };
 

@@ -16,10 +16,12 @@ void FtaaOptions::validate() const {
   synthesis.validate(3);
   const std::string w = "FtaaOptions.";
   require(std::isfinite(gate) && gate > 0, w + "gate", "expected a gate radius > 0 [m]");
-  require(std::isfinite(threshold) && threshold >= 0 && threshold <= 1, w + "threshold", "expected a value in [0, 1]");
+  require(std::isfinite(threshold) && threshold >= 0 && threshold <= 1, w + "threshold",
+          "expected a value in [0, 1]");
   require(association_quality >= 1, w + "association_quality", "expected >= 1");
   require(separation_quality >= 1, w + "separation_quality", "expected >= 1");
-  require(std::isfinite(track_timeout) && track_timeout >= 0, w + "track_timeout", "expected >= 0 [s] (0 = never)");
+  require(std::isfinite(track_timeout) && track_timeout >= 0, w + "track_timeout",
+          "expected >= 0 [s] (0 = never)");
 }
 
 namespace {

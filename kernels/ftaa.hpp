@@ -30,12 +30,12 @@ namespace trackassoc {
 
 struct FtaaOptions {
   FactorScales scales;
-  SynthesisOptions synthesis;      // Eq. 11 with a = (0.55, 0.35, 0.1), as the proposed method
-  double gate = 800.0;             // [m], on u1
-  double threshold = 0.5;          // a scan's decision succeeds when S ≥ threshold
-  int association_quality = 6;     // M: consecutive successes to associate (seed 001 §1: m ≥ 6)
-  int separation_quality = 6;      // D_max: consecutive failures to separate (D ≥ 6)
-  double track_timeout = 0.0;      // [s]; local tracks silent for longer are ignored; 0 = never
+  SynthesisOptions synthesis;   // Eq. 11 with a = (0.55, 0.35, 0.1), as the proposed method
+  double gate = 800.0;          // [m], on u1
+  double threshold = 0.5;       // a scan's decision succeeds when S ≥ threshold
+  int association_quality = 6;  // M: consecutive successes to associate (seed 001 §1: m ≥ 6)
+  int separation_quality = 6;   // D_max: consecutive failures to separate (D ≥ 6)
+  double track_timeout = 0.0;   // [s]; local tracks silent for longer are ignored; 0 = never
   void validate() const;
 };
 

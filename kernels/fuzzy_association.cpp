@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 
@@ -18,21 +18,29 @@ double gaussian_membership(double u, double u_max) {
 
 const char* synthesis_name(SynthesisFunction f) {
   switch (f) {
-    case SynthesisFunction::kPowerMean: return "power-mean";
-    case SynthesisFunction::kGeometricMean: return "geometric-mean";
-    case SynthesisFunction::kWeightedMean: return "weighted-mean";
-    case SynthesisFunction::kWeightedPowerMean: return "weighted-power-mean";
-    case SynthesisFunction::kMinMaxMean: return "min-max-mean";
+    case SynthesisFunction::kPowerMean:
+      return "power-mean";
+    case SynthesisFunction::kGeometricMean:
+      return "geometric-mean";
+    case SynthesisFunction::kWeightedMean:
+      return "weighted-mean";
+    case SynthesisFunction::kWeightedPowerMean:
+      return "weighted-power-mean";
+    case SynthesisFunction::kMinMaxMean:
+      return "min-max-mean";
   }
   return "unknown";
 }
 
 SynthesisFunction parse_synthesis(const std::string& name) {
-  for (auto f : {SynthesisFunction::kPowerMean, SynthesisFunction::kGeometricMean, SynthesisFunction::kWeightedMean,
-                 SynthesisFunction::kWeightedPowerMean, SynthesisFunction::kMinMaxMean})
+  for (auto f :
+       {SynthesisFunction::kPowerMean, SynthesisFunction::kGeometricMean, SynthesisFunction::kWeightedMean,
+        SynthesisFunction::kWeightedPowerMean, SynthesisFunction::kMinMaxMean})
     if (name == synthesis_name(f)) return f;
-  throw InputError("synthesis: expected power-mean (Eq. 9), geometric-mean (Eq. 10), weighted-mean (Eq. 11), "
-                   "weighted-power-mean (Eq. 12) or min-max-mean (Eq. 13), got '" + name + "'");
+  throw InputError(
+      "synthesis: expected power-mean (Eq. 9), geometric-mean (Eq. 10), weighted-mean (Eq. 11), "
+      "weighted-power-mean (Eq. 12) or min-max-mean (Eq. 13), got '" +
+      name + "'");
 }
 
 void SynthesisOptions::validate(std::size_t n) const {
@@ -46,7 +54,8 @@ void SynthesisOptions::validate(std::size_t n) const {
       require(std::isfinite(a) && a >= 0.0 && a <= 1.0, w + "weights", "each weight must be in [0, 1]");
       sum += a;
     }
-    require(std::abs(sum - 1.0) < 1e-9, w + "weights", "must sum to 1 (Eq. 11), sum is " + std::to_string(sum));
+    require(std::abs(sum - 1.0) < 1e-9, w + "weights",
+            "must sum to 1 (Eq. 11), sum is " + std::to_string(sum));
   }
 }
 
@@ -86,7 +95,8 @@ std::vector<double> normalise_reliabilities(std::span<const double> w) {
   require(!w.empty(), "reliability", "expected at least one sensor");
   double mx = 0.0;
   for (double v : w) {
-    require(std::isfinite(v) && v >= 0.0, "reliability", "expected finite values >= 0, got " + std::to_string(v));
+    require(std::isfinite(v) && v >= 0.0, "reliability",
+            "expected finite values >= 0, got " + std::to_string(v));
     mx = std::max(mx, v);
   }
   require(mx > 0.0, "reliability", "at least one sensor must have a reliability > 0");
@@ -102,8 +112,8 @@ double heading_difference(double a, double b) {
 
 FuzzyFactors fuzzy_factors(const PlanarState& a, const PlanarState& b) {
   FuzzyFactors u;
-  u.position = std::hypot(a.x - b.x, a.y - b.y);                        // Eq. 2
-  u.speed = std::abs(std::hypot(a.vx, a.vy) - std::hypot(b.vx, b.vy));  // Eq. 3, speeds (erratum)
+  u.position = std::hypot(a.x - b.x, a.y - b.y);                                   // Eq. 2
+  u.speed = std::abs(std::hypot(a.vx, a.vy) - std::hypot(b.vx, b.vy));             // Eq. 3, speeds (erratum)
   u.heading = heading_difference(std::atan2(a.vy, a.vx), std::atan2(b.vy, b.vx));  // Eq. 4, atan2 (erratum)
   return u;
 }
@@ -147,10 +157,14 @@ void FusionOutput::resize(std::size_t n) {
 
 const char* weighting_name(ReliabilityWeighting w) {
   switch (w) {
-    case ReliabilityWeighting::kNone: return "none";
-    case ReliabilityWeighting::kTemporaryTrack: return "temporary";
-    case ReliabilityWeighting::kSystemTrack: return "system";
-    case ReliabilityWeighting::kProduct: return "product";
+    case ReliabilityWeighting::kNone:
+      return "none";
+    case ReliabilityWeighting::kTemporaryTrack:
+      return "temporary";
+    case ReliabilityWeighting::kSystemTrack:
+      return "system";
+    case ReliabilityWeighting::kProduct:
+      return "product";
   }
   return "unknown";
 }
@@ -174,15 +188,15 @@ void FuzzyAssociationOptions::validate() const {
   scales.validate();
   synthesis.validate(3);
   require(std::isfinite(gate) && gate > 0, "FuzzyAssociationOptions.gate", "expected a gate radius > 0 [m]");
-  require(std::isfinite(min_degree) && min_degree >= 0 && min_degree <= 1, "FuzzyAssociationOptions.min_degree",
-          "expected a value in [0, 1]");
+  require(std::isfinite(min_degree) && min_degree >= 0 && min_degree <= 1,
+          "FuzzyAssociationOptions.min_degree", "expected a value in [0, 1]");
   require(std::isfinite(track_timeout) && track_timeout >= 0, "FuzzyAssociationOptions.track_timeout",
           "expected >= 0 [s] (0 = never)");
   smoother.validate();
 }
 
-FuzzyAssociator::FuzzyAssociator(const FuzzyAssociationOptions& options, std::span<const double> reliabilities,
-                                 std::size_t num_local)
+FuzzyAssociator::FuzzyAssociator(const FuzzyAssociationOptions& options,
+                                 std::span<const double> reliabilities, std::size_t num_local)
     : options_(options), reliability_(normalise_reliabilities(reliabilities)), bank_(2, 0, options.smoother) {
   options_.validate();
   last_t_.assign(num_local, 0.0);
@@ -191,7 +205,8 @@ FuzzyAssociator::FuzzyAssociator(const FuzzyAssociationOptions& options, std::sp
   has_last_.assign(num_local, 0);
 }
 
-FuzzyAssociator::Decision FuzzyAssociator::process(int32_t sensor, int32_t local, double t, double x, double y) {
+FuzzyAssociator::Decision FuzzyAssociator::process(int32_t sensor, int32_t local, double t, double x,
+                                                   double y) {
   Decision d;
   const bool first = !has_last_[local];
   const double dt = t - last_t_[local];
@@ -206,10 +221,10 @@ FuzzyAssociator::Decision FuzzyAssociator::process(int32_t sensor, int32_t local
   // The temporary track (seed 001 §2).
   const PlanarState temp{x, y, (x - px) / dt, (y - py) / dt};
   const double w_temp = reliability_[sensor];
-  const bool weigh_temp =
-      options_.weighting == ReliabilityWeighting::kTemporaryTrack || options_.weighting == ReliabilityWeighting::kProduct;
-  const bool weigh_sys =
-      options_.weighting == ReliabilityWeighting::kSystemTrack || options_.weighting == ReliabilityWeighting::kProduct;
+  const bool weigh_temp = options_.weighting == ReliabilityWeighting::kTemporaryTrack ||
+                          options_.weighting == ReliabilityWeighting::kProduct;
+  const bool weigh_sys = options_.weighting == ReliabilityWeighting::kSystemTrack ||
+                         options_.weighting == ReliabilityWeighting::kProduct;
 
   int32_t best = -1;
   double best_mu = -1.0;
@@ -251,7 +266,8 @@ FuzzyAssociator::Decision FuzzyAssociator::process(int32_t sensor, int32_t local
     d.degree = best_mu;
   }
   d.system_track = best;
-  d.fused = {bank_.position[0][best], bank_.position[1][best], bank_.velocity[0][best], bank_.velocity[1][best]};
+  d.fused = {bank_.position[0][best], bank_.position[1][best], bank_.velocity[0][best],
+             bank_.velocity[1][best]};
   return d;
 }
 

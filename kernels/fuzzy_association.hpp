@@ -88,7 +88,7 @@ FuzzyFactors fuzzy_factors(const PlanarState& a, const PlanarState& b);
 // Absolute heading difference wrapped to [0, π].
 double heading_difference(double heading_a, double heading_b);
 
-struct FactorScales {  // u_max of Eq. 5: the largest tolerable difference of each factor
+struct FactorScales {       // u_max of Eq. 5: the largest tolerable difference of each factor
   double position = 400.0;  // [m]
   double speed = 40.0;      // [m/s]
   double heading = 0.35;    // [rad] (20°)
@@ -144,9 +144,9 @@ struct FuzzyAssociationOptions {
   FactorScales scales;
   SynthesisOptions synthesis;
   ReliabilityWeighting weighting = ReliabilityWeighting::kProduct;
-  double gate = 800.0;           // [m], on u1 (seed 001 §4: tracking gate radius 800 m)
-  double min_degree = 0.0;       // μ below this never associates
-  double track_timeout = 0.0;    // [s]; a system track not updated for longer is dropped; 0 = never
+  double gate = 800.0;         // [m], on u1 (seed 001 §4: tracking gate radius 800 m)
+  double min_degree = 0.0;     // μ below this never associates
+  double track_timeout = 0.0;  // [s]; a system track not updated for longer is dropped; 0 = never
   AlphaBetaOptions smoother = default_smoother();  // alpha-beta of the system tracks
   static AlphaBetaOptions default_smoother();      // Kalata, σ_w = 2 m/s², σ_v = 150 m
   void validate() const;
@@ -160,8 +160,8 @@ class FuzzyAssociator {
   struct Decision {
     int32_t system_track = -1;  // −1: a first plot, no temporary track yet
     bool new_track = false;
-    double degree = 0.0;        // μ of the chosen system track (0 for a new one)
-    PlanarState fused;          // the system track's smoothed state after the update
+    double degree = 0.0;  // μ of the chosen system track (0 for a new one)
+    PlanarState fused;    // the system track's smoothed state after the update
   };
   Decision process(int32_t sensor, int32_t local, double t, double x, double y);
 

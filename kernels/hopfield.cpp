@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <memory>
 #include <cmath>
+#include <memory>
 #include <numeric>
 
 #include "kernels/error.hpp"
@@ -17,10 +17,14 @@ namespace trackassoc {
 
 const char* hopfield_schedule_name(HopfieldSchedule s) {
   switch (s) {
-    case HopfieldSchedule::kSync: return "sync";
-    case HopfieldSchedule::kAsync: return "async";
-    case HopfieldSchedule::kDiagonal: return "diagonal";
-    case HopfieldSchedule::kContinuous: return "continuous";
+    case HopfieldSchedule::kSync:
+      return "sync";
+    case HopfieldSchedule::kAsync:
+      return "async";
+    case HopfieldSchedule::kDiagonal:
+      return "diagonal";
+    case HopfieldSchedule::kContinuous:
+      return "continuous";
   }
   return "?";
 }
@@ -32,10 +36,14 @@ HopfieldSchedule parse_hopfield_schedule(const std::string& s) {
 }
 const char* hopfield_init_name(HopfieldInit s) {
   switch (s) {
-    case HopfieldInit::kZero: return "zero";
-    case HopfieldInit::kRandom: return "random";
-    case HopfieldInit::kGreedy: return "greedy";
-    case HopfieldInit::kMeanField: return "mean_field";
+    case HopfieldInit::kZero:
+      return "zero";
+    case HopfieldInit::kRandom:
+      return "random";
+    case HopfieldInit::kGreedy:
+      return "greedy";
+    case HopfieldInit::kMeanField:
+      return "mean_field";
   }
   return "?";
 }
@@ -45,7 +53,8 @@ HopfieldInit parse_hopfield_init(const std::string& s) {
   throw InputError("init: expected zero, random, greedy or mean_field, found '" + s + "'");
 }
 const char* hopfield_order_name(HopfieldOrder s) {
-  return s == HopfieldOrder::kRandom ? "random" : (s == HopfieldOrder::kSliceRandom ? "slice_random" : "cost");
+  return s == HopfieldOrder::kRandom ? "random"
+                                     : (s == HopfieldOrder::kSliceRandom ? "slice_random" : "cost");
 }
 HopfieldOrder parse_hopfield_order(const std::string& s) {
   for (auto v : {HopfieldOrder::kRandom, HopfieldOrder::kSliceRandom, HopfieldOrder::kCost})
@@ -59,7 +68,8 @@ void SliceRandomOrder::draw(int32_t n1, int32_t n2, int32_t n3, CounterRng& rng)
     std::iota(slices.begin(), slices.end(), 0u);
     packed_jk.clear();
     for (int32_t j = 0; j < n2; ++j)
-      for (int32_t k = 0; k < n3; ++k) packed_jk.push_back(static_cast<uint32_t>(j) << 16 | static_cast<uint32_t>(k));
+      for (int32_t k = 0; k < n3; ++k)
+        packed_jk.push_back(static_cast<uint32_t>(j) << 16 | static_cast<uint32_t>(k));
     rotation.assign(n1, 0);
   }
   rng.shuffle(std::span<uint32_t>(slices));
@@ -121,7 +131,8 @@ std::vector<uint8_t> greedy_state(const NormalisedCost& c, double noise, Counter
   const int32_t m = std::min({c.n1, c.n2, c.n3});
   std::vector<std::pair<float, uint32_t>> keys(K);
   for (std::size_t a = 0; a < K; ++a)
-    keys[a] = {c.c[a] + (noise > 0 ? static_cast<float>(noise * rng.uniform()) : 0.f), static_cast<uint32_t>(a)};
+    keys[a] = {c.c[a] + (noise > 0 ? static_cast<float>(noise * rng.uniform()) : 0.f),
+               static_cast<uint32_t>(a)};
   std::vector<uint8_t> V(K, 0), ui(c.n1, 0), uj(c.n2, 0), uk(c.n3, 0);
   int32_t taken = 0;
   // Sort a cheap prefix first; the full sort only if the prefix does not complete the assignment.
@@ -145,21 +156,24 @@ std::vector<uint8_t> greedy_state(const NormalisedCost& c, double noise, Counter
   return V;
 }
 
-ContinuousNetwork anneal_continuous(const NormalisedCost& c, const HopfieldOptions& o, const HopfieldWeights& w,
-                                    CounterRng& rng, HopfieldRestart& rec);
+ContinuousNetwork anneal_continuous(const NormalisedCost& c, const HopfieldOptions& o,
+                                    const HopfieldWeights& w, CounterRng& rng, HopfieldRestart& rec);
 
-std::vector<uint8_t> initial_state(const HopfieldOptions& o, const NormalisedCost& c, const HopfieldWeights& w,
-                                   int32_t restart, CounterRng& rng, HopfieldRestart& rec) {
+std::vector<uint8_t> initial_state(const HopfieldOptions& o, const NormalisedCost& c,
+                                   const HopfieldWeights& w, int32_t restart, CounterRng& rng,
+                                   HopfieldRestart& rec) {
   const std::size_t K = c.size();
   switch (o.init) {
-    case HopfieldInit::kZero: return std::vector<uint8_t>(K, 0);
+    case HopfieldInit::kZero:
+      return std::vector<uint8_t>(K, 0);
     case HopfieldInit::kRandom: {
       const double p = std::min(1.0, o.init_density * std::min({c.n1, c.n2, c.n3}) / static_cast<double>(K));
       std::vector<uint8_t> V(K);
       for (auto& v : V) v = rng.uniform() < p;
       return V;
     }
-    case HopfieldInit::kGreedy: return greedy_state(c, restart == 0 ? 0.0 : o.greedy_noise, rng);
+    case HopfieldInit::kGreedy:
+      return greedy_state(c, restart == 0 ? 0.0 : o.greedy_noise, rng);
     case HopfieldInit::kMeanField: {
       HopfieldRestart mf;  // the mean-field phase: its steps are counted in rec.sweeps below
       HopfieldOptions co = o;
@@ -234,9 +248,9 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
       flips = dnet->sweep(order);
     } else if (o.schedule == HopfieldSchedule::kAsync) {
       net.w.E = E;
-      if (o.order == HopfieldOrder::kRandom)
-        rng.shuffle(std::span<uint32_t>(order));
-      const double T = s < o.anneal_sweeps ? o.temperature * (1.0 - static_cast<double>(s) / o.anneal_sweeps) : 0.0;
+      if (o.order == HopfieldOrder::kRandom) rng.shuffle(std::span<uint32_t>(order));
+      const double T =
+          s < o.anneal_sweeps ? o.temperature * (1.0 - static_cast<double>(s) / o.anneal_sweeps) : 0.0;
       if (o.order == HopfieldOrder::kSliceRandom && T == 0.0) {
         slice_order.draw(c.n1, c.n2, c.n3, rng);
         flips = async_sweep_slices(net, slice_order.slices, slice_order.packed_jk, slice_order.rotation);
@@ -277,8 +291,8 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
 
 // Anneals the continuous network of one restart (mean-field annealing of the gain); fills the
 // sweeps, termination and trace of `rec`.
-ContinuousNetwork anneal_continuous(const NormalisedCost& c, const HopfieldOptions& o, const HopfieldWeights& w,
-                                    CounterRng& rng, HopfieldRestart& rec) {
+ContinuousNetwork anneal_continuous(const NormalisedCost& c, const HopfieldOptions& o,
+                                    const HopfieldWeights& w, CounterRng& rng, HopfieldRestart& rec) {
   const double K = static_cast<double>(c.size());
   const double v_init = std::clamp(w.N / K, 1e-6, 0.5);
   ContinuousNetwork net(c);
@@ -296,7 +310,8 @@ ContinuousNetwork anneal_continuous(const NormalisedCost& c, const HopfieldOptio
   }
   rec.termination = Termination::kIterationLimit;
   for (int64_t s = 0; s < o.max_sweeps; ++s) {
-    const double f = o.gain_anneal_steps > 0 ? std::min(1.0, static_cast<double>(s) / o.gain_anneal_steps) : 1.0;
+    const double f =
+        o.gain_anneal_steps > 0 ? std::min(1.0, static_cast<double>(s) / o.gain_anneal_steps) : 1.0;
     p.u0 = static_cast<float>(o.u0_start * std::pow(o.u0_end / o.u0_start, f));
     float dmax;
     if (o.continuous_async) {
@@ -334,7 +349,8 @@ RestartOutput run_continuous(const CostTensor3& cost, const NormalisedCost& c, c
 HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& options, uint64_t seed) {
   options.validate();
   const auto t0 = Clock::now();
-  require(cost.n1 >= 0 && cost.n2 >= 0 && cost.n3 >= 0 && cost.size() == static_cast<std::size_t>(cost.n1) * cost.n2 * cost.n3,
+  require(cost.n1 >= 0 && cost.n2 >= 0 && cost.n3 >= 0 &&
+              cost.size() == static_cast<std::size_t>(cost.n1) * cost.n2 * cost.n3,
           "cost tensor", "size does not match n1·n2·n3");
   require(cost.size() < (std::size_t{1} << 32), "cost tensor", "more than 2^32 neurons; use the sparse form");
   for (float b : cost.cost) require(!std::isnan(b), "cost tensor", "NaN cost");
@@ -355,14 +371,16 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   if (options.schedule == HopfieldSchedule::kAsync && options.order == HopfieldOrder::kCost) {
     cost_order.resize(c.size());
     std::iota(cost_order.begin(), cost_order.end(), 0u);
-    std::stable_sort(cost_order.begin(), cost_order.end(), [&](uint32_t x, uint32_t y) { return c.c[x] < c.c[y]; });
+    std::stable_sort(cost_order.begin(), cost_order.end(),
+                     [&](uint32_t x, uint32_t y) { return c.c[x] < c.c[y]; });
   }
   std::vector<RestartOutput> outs(options.restarts);
   parallel_for_range(static_cast<std::size_t>(options.restarts), 1, [&](std::size_t rb, std::size_t re) {
     for (std::size_t r = rb; r < re; ++r)
-      outs[r] = options.schedule == HopfieldSchedule::kContinuous
-                    ? run_continuous(cost, c, options, result.weights, seed, static_cast<int32_t>(r))
-                    : run_discrete(cost, c, options, result.weights, cost_order, seed, static_cast<int32_t>(r));
+      outs[r] =
+          options.schedule == HopfieldSchedule::kContinuous
+              ? run_continuous(cost, c, options, result.weights, seed, static_cast<int32_t>(r))
+              : run_discrete(cost, c, options, result.weights, cost_order, seed, static_cast<int32_t>(r));
   });
   int32_t best = 0;
   int64_t total_sweeps = 0, raw = 0;
@@ -382,9 +400,9 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   sum.iterations = total_sweeps;
   for (auto& o : outs) result.restarts.push_back(std::move(o.record));
   sum.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  sum.message = std::string(hopfield_schedule_name(options.schedule)) + " " + hopfield_energy_name(options.energy) +
-                ": raw validity " + std::to_string(raw) + "/" + std::to_string(options.restarts) + ", best restart " +
-                std::to_string(best);
+  sum.message = std::string(hopfield_schedule_name(options.schedule)) + " " +
+                hopfield_energy_name(options.energy) + ": raw validity " + std::to_string(raw) + "/" +
+                std::to_string(options.restarts) + ", best restart " + std::to_string(best);
   return result;
 }
 

@@ -87,10 +87,10 @@ struct HopfieldOptions {
   double dt = 0.05, tau = 0.0;
   double u0_start = 0.5, u0_end = 0.02;  // gain 1/u₀ annealed geometrically over gain_anneal_steps
   int32_t gain_anneal_steps = 100;
-  double noise = 0.01;                   // initial u noise, in units of u0_start
-  double self_excitation = 0.1;          // λ of ContinuousParams (1 = multilinear energy)
-  double tolerance = 1e-4;               // continuous: stop when max |ΔV| < tolerance
-  int32_t mean_field_steps = 300;        // init mean_field: Euler steps (max) of the continuous phase
+  double noise = 0.01;             // initial u noise, in units of u0_start
+  double self_excitation = 0.1;    // λ of ContinuousParams (1 = multilinear energy)
+  double tolerance = 1e-4;         // continuous: stop when max |ΔV| < tolerance
+  int32_t mean_field_steps = 300;  // init mean_field: Euler steps (max) of the continuous phase
   HopfieldRepair repair = HopfieldRepair::kGreedy;
   // Polish every restart's repaired assignment by the dimension-wise LAP local search
   // (kernels/local_search.hpp, DESIGN §4.5) before choosing the best.
@@ -100,8 +100,8 @@ struct HopfieldOptions {
 };
 
 struct HopfieldRestart {
-  double energy = 0.0;     // final network energy (final weights)
-  double objective = 0.0;  // cost of the repaired (and, with polish, polished) assignment
+  double energy = 0.0;              // final network energy (final weights)
+  double objective = 0.0;           // cost of the repaired (and, with polish, polished) assignment
   double repaired_objective = 0.0;  // before polish
   bool raw_feasible = false;
   int64_t sweeps = 0;

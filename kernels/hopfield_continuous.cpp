@@ -34,9 +34,10 @@ __attribute__((always_inline, optimize("fast-math"))) inline float half_one_plus
 // only) lets GCC vectorise the row sums and the max; the order is fixed per row, so the result
 // still does not depend on the thread count.
 __attribute__((optimize("fast-math"))) float euler_row(int32_t n3, float base, const float* __restrict t,
-                                                       const float* __restrict cc, float E, float dt, float decay,
-                                                       float gain, float self, float* __restrict u,
-                                                       float* __restrict V, float* __restrict lik, float& dmax) {
+                                                       const float* __restrict cc, float E, float dt,
+                                                       float decay, float gain, float self,
+                                                       float* __restrict u, float* __restrict V,
+                                                       float* __restrict lik, float& dmax) {
   float lij = 0.f, m = dmax;
   for (int32_t k = 0; k < n3; ++k) {
     const float h = -(base + t[k] + E * cc[k]) + self * (V[k] - 0.5f);
@@ -117,8 +118,8 @@ float continuous_sync_step(ContinuousNetwork& net, const ContinuousParams& p) {
       for (int32_t j = 0; j < N2; ++j) {
         const std::size_t row = (i * N2 + j) * static_cast<std::size_t>(N3);
         const float base = Ri + static_cast<float>(w.B * (net.S[j] - 1.0)) + Dterm;
-        Lij[i * N2 + j] = euler_row(N3, base, tk.data(), c.c.data() + row, E, dt, dec, g, self, net.u.data() + row,
-                                    net.V.data() + row, lik, dmax);
+        Lij[i * N2 + j] = euler_row(N3, base, tk.data(), c.c.data() + row, E, dt, dec, g, self,
+                                    net.u.data() + row, net.V.data() + row, lik, dmax);
       }
       slice_max[i] = dmax;
     }
@@ -139,7 +140,8 @@ float continuous_sync_step(ContinuousNetwork& net, const ContinuousParams& p) {
   return *std::max_element(slice_max.begin(), slice_max.end());
 }
 
-float continuous_async_step(ContinuousNetwork& net, const ContinuousParams& p, std::span<const uint32_t> order) {
+float continuous_async_step(ContinuousNetwork& net, const ContinuousParams& p,
+                            std::span<const uint32_t> order) {
   const NormalisedCost& c = *net.c;
   const int32_t n2 = c.n2, n3 = c.n3;
   const HopfieldWeights& w = p.w;

@@ -7,8 +7,9 @@
 //   E(V) = A/2·Σ_i(R_i−1)² + B/2·Σ_j(S_j−1)² + C/2·Σ_k(T_k−1)² + D/2·(M−N)² + E·Σ ĉ V,
 // the net input h = −∂E/∂V_ijk = −[A(R_i−1) + B(S_j−1) + C(T_k−1) + D(M−N) + E·ĉ_ijk], and
 //   du/dt = −u/τ + h,   V = ½(1 + tanh(u/u₀)),
-// integrated by explicit Euler steps of size dt (optionally with self-excitation, see below). The gain 1/u₀ may be annealed geometrically
-// from u0_start to u0_end over `anneal_steps` steps (mean-field annealing). A step is O(n1n2n3).
+// integrated by explicit Euler steps of size dt (optionally with self-excitation, see below). The gain 1/u₀
+// may be annealed geometrically from u0_start to u0_end over `anneal_steps` steps (mean-field annealing). A
+// step is O(n1n2n3).
 //
 //   sync   Jacobi: every h from the previous V; parallel over i-slices. The plane sums are
 //          reduced through per-slice line sums in a fixed order, so results are bit-identical
@@ -54,6 +55,7 @@ struct ContinuousNetwork {
 // One Euler step over all neurons; returns max |ΔV|.
 float continuous_sync_step(ContinuousNetwork& net, const ContinuousParams& p);
 // One Euler step neuron by neuron in `order`; returns max |ΔV|.
-float continuous_async_step(ContinuousNetwork& net, const ContinuousParams& p, std::span<const uint32_t> order);
+float continuous_async_step(ContinuousNetwork& net, const ContinuousParams& p,
+                            std::span<const uint32_t> order);
 
 }  // namespace trackassoc

@@ -92,7 +92,8 @@ std::vector<Tuple3> repair_assignment(const CostTensor3& cost, std::span<const u
     const int32_t p = static_cast<int32_t>(pairs.size());
     std::vector<double> c3(static_cast<std::size_t>(p) * c);
     for (int32_t x = 0; x < p; ++x)
-      for (int32_t z = 0; z < c; ++z) c3[static_cast<std::size_t>(x) * c + z] = cost.at(pairs[x].first, pairs[x].second, fk[z]);
+      for (int32_t z = 0; z < c; ++z)
+        c3[static_cast<std::size_t>(x) * c + z] = cost.at(pairs[x].first, pairs[x].second, fk[z]);
     const LapResult second = solve_lap(c3, p, c);
     for (int32_t x = 0; x < p; ++x)
       if (second.row_to_col[x] >= 0) take(pairs[x].first, pairs[x].second, fk[second.row_to_col[x]]);

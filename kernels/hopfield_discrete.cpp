@@ -53,7 +53,8 @@ struct FastDivider {
 
 }  // namespace
 
-int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, double temperature, CounterRng* rng) {
+int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, double temperature,
+                    CounterRng* rng) {
   const NormalisedCost& c = *net.c;
   const HopfieldWeights& w = net.w;
   const bool printed = net.form == HopfieldEnergy::kPrinted;
@@ -173,7 +174,7 @@ SyncSweepResult sync_sweep(DiscreteNetwork& net, double fraction, uint64_t sweep
   const int32_t n1 = c.n1, n2 = c.n2, n3 = c.n3;
   const bool printed = net.form == HopfieldEnergy::kPrinted;
   const bool damped = fraction < 1.0;
-  const uint64_t threshold = damped ? static_cast<uint64_t>(std::ldexp(std::max(fraction, 0.0), 64) ) : ~0ULL;
+  const uint64_t threshold = damped ? static_cast<uint64_t>(std::ldexp(std::max(fraction, 0.0), 64)) : ~0ULL;
   const HopfieldMarginals& old = net.m;
   HopfieldMarginals nw;
   nw.R.assign(n1, 0);
@@ -202,7 +203,8 @@ SyncSweepResult sync_sweep(DiscreteNetwork& net, double fraction, uint64_t sweep
     // a pointer, which would stop the vectoriser.
     const int32_t N2 = n2, N3 = n3;
     const float A = w.A, B = w.B, C2 = 2.f * w.C, Ef = E, self_c = self, Dt = Dterm;
-    std::vector<int32_t> S_part(N2, 0), T_part(N3, 0), Ljk_part(printed ? static_cast<std::size_t>(N2) * N3 : 0, 0);
+    std::vector<int32_t> S_part(N2, 0), T_part(N3, 0),
+        Ljk_part(printed ? static_cast<std::size_t>(N2) * N3 : 0, 0);
     std::vector<float> lik(printed ? N3 : 0);
     std::vector<uint8_t> nvbuf(N3);
     int64_t flips = 0, M_local = 0;

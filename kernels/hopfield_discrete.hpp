@@ -31,7 +31,9 @@
 namespace trackassoc {
 
 // Zobrist key of neuron a (for 2-cycle detection of the sync schedule).
-inline uint64_t zobrist_key(std::size_t a) { return splitmix64_mix(a * 0x9e3779b97f4a7c15ULL + 0x5851f42d4c957f2dULL); }
+inline uint64_t zobrist_key(std::size_t a) {
+  return splitmix64_mix(a * 0x9e3779b97f4a7c15ULL + 0x5851f42d4c957f2dULL);
+}
 
 struct DiscreteNetwork {
   HopfieldEnergy form = HopfieldEnergy::kFullPlane;
@@ -85,8 +87,8 @@ class DiagonalNetwork {
   int64_t update_block(int32_t a, int32_t b);
   HopfieldWeights w_;
   int32_t n1_, n2_, n3_;
-  std::vector<float> c_;   // ĉ in block-major layout [(a·n3 + b)·n1 + i]
-  std::vector<uint8_t> V_; // state in block-major layout
+  std::vector<float> c_;          // ĉ in block-major layout [(a·n3 + b)·n1 + i]
+  std::vector<uint8_t> V_;        // state in block-major layout
   std::vector<float> R_, S_, T_;  // plane sums as exact small integers
 };
 

@@ -141,7 +141,8 @@ NaiveHopfieldNetwork::NaiveHopfieldNetwork(HopfieldEnergy form, const HopfieldWe
       }
       W_[a * K + b] = static_cast<float>(wab);
     }
-    theta_[a] = (full ? -0.5 * (w.A + w.B + w.C) : 0.0) + w.D * (0.5 - w.N) + static_cast<double>(w.E) * c.c[a];
+    theta_[a] =
+        (full ? -0.5 * (w.A + w.B + w.C) : 0.0) + w.D * (0.5 - w.N) + static_cast<double>(w.E) * c.c[a];
   }
   constant_ = 0.5 * w.D * static_cast<double>(w.N) * w.N;
   if (full) constant_ += 0.5 * (w.A * c.n1 + w.B * c.n2 + w.C * c.n3);

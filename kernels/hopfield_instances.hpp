@@ -23,8 +23,8 @@ namespace trackassoc {
 
 struct GeometricInstanceOptions {
   int32_t n = 20;
-  double side = 100e3;             // [m]
-  double noise_to_spacing = 0.5;   // σ₂ / (side / √n); sensors 1 and 3 use 0.8σ and 1.2σ
+  double side = 100e3;            // [m]
+  double noise_to_spacing = 0.5;  // σ₂ / (side / √n); sensors 1 and 3 use 0.8σ and 1.2σ
 };
 
 struct GeometricInstance {

@@ -25,7 +25,8 @@ void ImmOptions::validate() const {
               "entry (" + std::to_string(i) + "," + std::to_string(j) + ") is not a probability");
       row += p;
     }
-    require(std::fabs(row - 1.0) < 1e-9, "ImmOptions.transition", "row " + std::to_string(i) + " does not sum to 1");
+    require(std::fabs(row - 1.0) < 1e-9, "ImmOptions.transition",
+            "row " + std::to_string(i) + " does not sum to 1");
   }
   double total = 0.0;
   for (double p : initial_probabilities) {
@@ -88,7 +89,8 @@ void ImmBank::set_probabilities(std::size_t i, std::span<const double> mu) {
 }
 
 void ImmBank::initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1,
-                         const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt, double accel_variance) {
+                         const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt,
+                         double accel_variance) {
   for (auto& m : models_) {
     two_point_initialise(m.filter(), i, z1, R1, z2, R2, dt, accel_variance);
     if (m.parallel) {
@@ -115,9 +117,7 @@ struct Extended {
   int own_dim;
   const double* fill;
   int fill_dim;
-  double x(int c, int l) const {
-    return c < own_dim ? own[c * W + l] : fill[c * W + l];
-  }
+  double x(int c, int l) const { return c < own_dim ? own[c * W + l] : fill[c * W + l]; }
   double P(int r, int c, int l) const {
     if (r < own_dim && c < own_dim) return own[(own_dim + pk(own_dim, r, c)) * W + l];
     if (r >= own_dim && c >= own_dim) return fill[(fill_dim + pk(fill_dim, r, c)) * W + l];
@@ -170,7 +170,8 @@ FilterStepSummary imm_bank_step(ImmBank& bank, double dt, const PositionScan& sc
           for (int s = 0; s < M; ++s) cbar += o.transition[s * M + j] * bank.mu_[s * n + i];
           bank.cbar_[j * n + i] = cbar;
           for (int s = 0; s < M; ++s)
-            w[s] = cbar > 1e-300 ? o.transition[s * M + j] * bank.mu_[s * n + i] / cbar : (s == j ? 1.0 : 0.0);
+            w[s] =
+                cbar > 1e-300 ? o.transition[s * M + j] * bank.mu_[s * n + i] / cbar : (s == j ? 1.0 : 0.0);
           KinematicBank& f = bank.models_[j].filter();
           const int Dj = f.dim();
           // A larger source is truncated (its own prefix); a smaller one is extended by model j.
@@ -198,8 +199,12 @@ FilterStepSummary imm_bank_step(ImmBank& bank, double dt, const PositionScan& sc
         kalman_bank_step(m.bank, dt, scan, ko, mo);
         break;
       }
-      case ImmModelKind::kCurrentStatistical: cs_bank_step(m.bank, dt, scan, m.spec.cs, {}, mo); break;
-      case ImmModelKind::kCsParallel: cs_parallel_step(*m.parallel, dt, scan, m.spec.cs_parallel, mo); break;
+      case ImmModelKind::kCurrentStatistical:
+        cs_bank_step(m.bank, dt, scan, m.spec.cs, {}, mo);
+        break;
+      case ImmModelKind::kCsParallel:
+        cs_parallel_step(*m.parallel, dt, scan, m.spec.cs_parallel, mo);
+        break;
     }
   }
 

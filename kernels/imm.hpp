@@ -57,8 +57,8 @@ struct ImmOptions {
 
 struct ImmModel {
   ImmModelSpec spec;
-  KinematicBank bank;                         // the mixed filter (unused for kCsParallel)
-  std::unique_ptr<CsParallelBank> parallel;   // kCsParallel only; its f2 is the mixed filter
+  KinematicBank bank;                        // the mixed filter (unused for kCsParallel)
+  std::unique_ptr<CsParallelBank> parallel;  // kCsParallel only; its f2 is the mixed filter
   KinematicBank& filter() { return parallel ? parallel->f2 : bank; }
   const KinematicBank& filter() const { return parallel ? parallel->f2 : bank; }
 };
@@ -78,8 +78,8 @@ class ImmBank {
   const KinematicBank& combined() const { return combined_; }  // in the largest model's space
   // Two-point initialisation of track i in every model (acceleration prior variance for order 3),
   // probabilities reset to the initial ones.
-  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2,
-                  const Eigen::MatrixXd& R2, double dt, double accel_variance);
+  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1,
+                  const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt, double accel_variance);
 
  private:
   friend FilterStepSummary imm_bank_step(ImmBank&, double, const PositionScan&, InnovationOutput);
@@ -87,14 +87,15 @@ class ImmBank {
   std::size_t n_;
   ImmOptions options_;
   std::vector<ImmModel> models_;
-  std::vector<double> mu_, cbar_;          // M×N, model-major
-  std::vector<std::vector<double>> ll_;    // per model, N log-likelihoods of the last scan
+  std::vector<double> mu_, cbar_;        // M×N, model-major
+  std::vector<std::vector<double>> ll_;  // per model, N log-likelihoods of the last scan
   KinematicBank combined_;
-  int largest_ = 0;                        // index of the first model of the largest order
+  int largest_ = 0;  // index of the first model of the largest order
 };
 
 // Advances every track one scan (mixing, model-matched filtering, probability update,
 // combination). `out.log_likelihood` receives log Σ_j Λ_j c̄_j (the IMM's own likelihood).
-FilterStepSummary imm_bank_step(ImmBank& bank, double dt, const PositionScan& scan, InnovationOutput out = {});
+FilterStepSummary imm_bank_step(ImmBank& bank, double dt, const PositionScan& scan,
+                                InnovationOutput out = {});
 
 }  // namespace trackassoc

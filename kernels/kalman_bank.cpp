@@ -14,8 +14,10 @@ static_assert(kBankLanes == block::W);
 
 KinematicBank::KinematicBank(int spatial_dim, int order, std::size_t tracks)
     : d_(spatial_dim), n_(order), size_(tracks) {
-  require(spatial_dim == 2 || spatial_dim == 3, "KinematicBank.spatial_dim", "expected 2 or 3, got " + std::to_string(spatial_dim));
-  require(order == 2 || order == 3, "KinematicBank.order", "expected 2 (CV) or 3 (CA), got " + std::to_string(order));
+  require(spatial_dim == 2 || spatial_dim == 3, "KinematicBank.spatial_dim",
+          "expected 2 or 3, got " + std::to_string(spatial_dim));
+  require(order == 2 || order == 3, "KinematicBank.order",
+          "expected 2 (CV) or 3 (CA), got " + std::to_string(order));
   data_.assign(num_blocks() * block_stride(), 0.0);
   for (std::size_t b = 0; b < num_blocks(); ++b)
     for (int r = 0; r < dim(); ++r)
@@ -42,8 +44,8 @@ void KinematicBank::set(std::size_t i, const Eigen::VectorXd& x, const Eigen::Ma
 }
 
 void KalmanOptions::validate() const {
-  require(model == KalmanModel::kConstantVelocity || model == KalmanModel::kConstantAcceleration, "KalmanOptions.model",
-          "expected CV or CA");
+  require(model == KalmanModel::kConstantVelocity || model == KalmanModel::kConstantAcceleration,
+          "KalmanOptions.model", "expected CV or CA");
   require(std::isfinite(process_noise) && process_noise >= 0.0, "KalmanOptions.process_noise",
           "expected a finite σ ≥ 0 [m/s²], got " + std::to_string(process_noise));
   require(grain_blocks >= 1, "KalmanOptions.grain_blocks", "expected ≥ 1");
@@ -67,8 +69,9 @@ Eigen::MatrixXd kinematic_process_noise(int order, double dt, double sigma) {
   return sigma * sigma * g * g.transpose();
 }
 
-void two_point_initialise(KinematicBank& bank, std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1,
-                          const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt, double accel_variance) {
+void two_point_initialise(KinematicBank& bank, std::size_t i, const Eigen::VectorXd& z1,
+                          const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2,
+                          double dt, double accel_variance) {
   const int d = bank.spatial_dim(), D = bank.dim();
   require(dt > 0.0, "two_point_initialise.dt", "expected the two plots at distinct times");
   Eigen::VectorXd x = Eigen::VectorXd::Zero(D);
@@ -85,13 +88,15 @@ void two_point_initialise(KinematicBank& bank, std::size_t i, const Eigen::Vecto
 
 namespace block {
 
-void check_scan(const PositionScan& scan, const InnovationOutput& out, std::size_t n, int d, const char* where) {
+void check_scan(const PositionScan& scan, const InnovationOutput& out, std::size_t n, int d,
+                const char* where) {
   const std::string w(where);
   for (int a = 0; a < d; ++a)
     require(scan.z[a].size() == n, w + ".z", "expected " + std::to_string(n) + " entries per component");
   for (int k = 0; k < packed(d); ++k)
     require(scan.R[k].size() == n, w + ".R", "expected " + std::to_string(n) + " entries per component");
-  require(scan.detected.empty() || scan.detected.size() == n, w + ".detected", "expected empty or one flag per track");
+  require(scan.detected.empty() || scan.detected.size() == n, w + ".detected",
+          "expected empty or one flag per track");
   require(out.nis.empty() || out.nis.size() == n, w + ".nis", "expected empty or one entry per track");
   require(out.log_likelihood.empty() || out.log_likelihood.size() == n, w + ".log_likelihood",
           "expected empty or one entry per track");
@@ -102,8 +107,8 @@ void check_scan(const PositionScan& scan, const InnovationOutput& out, std::size
 namespace {
 
 template <int d, int n>
-void kalman_blocks(KinematicBank& bank, double dt, const PositionScan& scan, double sigma, const InnovationOutput& out,
-                   std::size_t begin, std::size_t end) {
+void kalman_blocks(KinematicBank& bank, double dt, const PositionScan& scan, double sigma,
+                   const InnovationOutput& out, std::size_t begin, std::size_t end) {
   block::LaneModel<d, n> model;
   const Eigen::MatrixXd F1 = kinematic_transition(n, dt);
   const Eigen::MatrixXd Q1 = kinematic_process_noise(n, dt, sigma);
@@ -142,15 +147,16 @@ FilterStepSummary kinematic_bank_update(KinematicBank& bank, const PositionScan&
   const bool want = !out.nis.empty() || !out.log_likelihood.empty();
   block::dispatch(bank.spatial_dim(), bank.order(), [&](auto dc, auto nc) {
     constexpr int d = decltype(dc)::value, n = decltype(nc)::value;
-    parallel_for_range(bank.num_blocks(), std::max<std::size_t>(1, grain_blocks), [&](std::size_t b0, std::size_t b1) {
-      block::LaneMeasurement<d> m;
-      block::LaneInnovation v;
-      for (std::size_t b = b0; b < b1; ++b) {
-        block::load_measurement<d>(scan, b, bank.size(), m);
-        block::update<d, n>(bank.block(b), m, want ? &v : nullptr);
-        if (want) block::store_innovation(out, b, bank.size(), v);
-      }
-    });
+    parallel_for_range(bank.num_blocks(), std::max<std::size_t>(1, grain_blocks),
+                       [&](std::size_t b0, std::size_t b1) {
+                         block::LaneMeasurement<d> m;
+                         block::LaneInnovation v;
+                         for (std::size_t b = b0; b < b1; ++b) {
+                           block::load_measurement<d>(scan, b, bank.size(), m);
+                           block::update<d, n>(bank.block(b), m, want ? &v : nullptr);
+                           if (want) block::store_innovation(out, b, bank.size(), v);
+                         }
+                       });
   });
   FilterStepSummary s;
   s.tracks = bank.size();
@@ -162,16 +168,25 @@ FilterStepSummary kinematic_bank_update(KinematicBank& bank, const PositionScan&
 FilterStepSummary kalman_bank_step(KinematicBank& bank, double dt, const PositionScan& scan,
                                    const KalmanOptions& options, InnovationOutput out) {
   options.validate();
-  require(std::isfinite(dt) && dt >= 0.0, "kalman_bank_step.dt", "expected a finite scan interval ≥ 0, got " + std::to_string(dt));
+  require(std::isfinite(dt) && dt >= 0.0, "kalman_bank_step.dt",
+          "expected a finite scan interval ≥ 0, got " + std::to_string(dt));
   require(bank.order() == static_cast<int>(options.model), "kalman_bank_step.model",
           "the bank's order does not match KalmanOptions.model");
   block::check_scan(scan, out, bank.size(), bank.spatial_dim(), "kalman_bank_step.scan");
   const int key = bank.spatial_dim() * 10 + bank.order();
   switch (key) {
-    case 22: kalman_parallel<2, 2>(bank, dt, scan, options, out); break;
-    case 23: kalman_parallel<2, 3>(bank, dt, scan, options, out); break;
-    case 32: kalman_parallel<3, 2>(bank, dt, scan, options, out); break;
-    default: kalman_parallel<3, 3>(bank, dt, scan, options, out); break;
+    case 22:
+      kalman_parallel<2, 2>(bank, dt, scan, options, out);
+      break;
+    case 23:
+      kalman_parallel<2, 3>(bank, dt, scan, options, out);
+      break;
+    case 32:
+      kalman_parallel<3, 2>(bank, dt, scan, options, out);
+      break;
+    default:
+      kalman_parallel<3, 3>(bank, dt, scan, options, out);
+      break;
   }
   FilterStepSummary s;
   s.tracks = bank.size();

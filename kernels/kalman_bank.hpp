@@ -47,7 +47,9 @@ class KinematicBank {
   int dim() const { return d_ * n_; }
   std::size_t size() const { return size_; }
   std::size_t num_blocks() const { return (size_ + kBankLanes - 1) / kBankLanes; }
-  std::size_t block_stride() const { return static_cast<std::size_t>(dim() + dim() * (dim() + 1) / 2) * kBankLanes; }
+  std::size_t block_stride() const {
+    return static_cast<std::size_t>(dim() + dim() * (dim() + 1) / 2) * kBankLanes;
+  }
   double* block(std::size_t b) { return data_.data() + b * block_stride(); }
   const double* block(std::size_t b) const { return data_.data() + b * block_stride(); }
 
@@ -93,9 +95,9 @@ enum class KalmanModel { kConstantVelocity = 2, kConstantAcceleration = 3 };
 
 struct KalmanOptions {
   KalmanModel model = KalmanModel::kConstantVelocity;
-  double process_noise = 1.0;       // σ of the (white-noise / Wiener-sequence) acceleration [m/s²]
-  std::size_t grain_blocks = 256;   // blocks of 8 tracks per TBB task, at least
-  void validate() const;            // throws InputError naming the field
+  double process_noise = 1.0;      // σ of the (white-noise / Wiener-sequence) acceleration [m/s²]
+  std::size_t grain_blocks = 256;  // blocks of 8 tracks per TBB task, at least
+  void validate() const;           // throws InputError naming the field
 };
 
 struct FilterStepSummary {
@@ -110,8 +112,8 @@ FilterStepSummary kalman_bank_step(KinematicBank& bank, double dt, const Positio
 
 // The update half alone (any order): updates the detected tracks of `bank` with `scan`. Used by
 // filters whose prediction is not a plain CV/CA model (CS, IMM).
-FilterStepSummary kinematic_bank_update(KinematicBank& bank, const PositionScan& scan, InnovationOutput out = {},
-                                        std::size_t grain_blocks = 256);
+FilterStepSummary kinematic_bank_update(KinematicBank& bank, const PositionScan& scan,
+                                        InnovationOutput out = {}, std::size_t grain_blocks = 256);
 
 // Per-axis transition F1 and process noise Q1 (n×n) of the CV (n = 2) and CA (n = 3) models above.
 Eigen::MatrixXd kinematic_transition(int order, double dt);
@@ -120,8 +122,8 @@ Eigen::MatrixXd kinematic_process_noise(int order, double dt, double sigma);
 // Two-point initialisation (Bar-Shalom et al. 2001, §5.5.3): x = [z2, (z2 − z1)/T],
 // P = [[R2, R2/T], [R2/T, (R1 + R2)/T²]]; for order 3 the acceleration starts at 0 with variance
 // accel_variance and no correlation. z and R are Cartesian position (d) and covariance (d×d).
-void two_point_initialise(KinematicBank& bank, std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1,
-                          const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt,
-                          double accel_variance = 0.0);
+void two_point_initialise(KinematicBank& bank, std::size_t i, const Eigen::VectorXd& z1,
+                          const Eigen::MatrixXd& R1, const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2,
+                          double dt, double accel_variance = 0.0);
 
 }  // namespace trackassoc

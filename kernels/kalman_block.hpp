@@ -34,9 +34,9 @@ constexpr int pidx(int D, int r, int c) { return r <= c ? r * D - r * (r - 1) / 
 
 template <int d, int n>
 struct Shape {
-  static constexpr int D = d * n;           // state dimension
-  static constexpr int NP = packed(D);      // packed covariance entries
-  static constexpr int NQ = packed(n);      // packed per-axis process-noise entries
+  static constexpr int D = d * n;              // state dimension
+  static constexpr int NP = packed(D);         // packed covariance entries
+  static constexpr int NQ = packed(n);         // packed per-axis process-noise entries
   static constexpr int stride = (D + NP) * W;  // doubles per block: state then covariance
 };
 
@@ -53,33 +53,34 @@ inline void predict_state(double* __restrict blk, const double (&F1)[n][n][W]) {
   constexpr int D = d * n;
   double* __restrict x = blk;
   double xn[D][W];
-  #pragma GCC unroll 64
+#pragma GCC unroll 64
   for (int r = 0; r < D; ++r) {
     const int ax = r % d, orr = r / d;
     for (int l = 0; l < W; ++l) xn[r][l] = 0.0;
-    #pragma GCC unroll 64
+#pragma GCC unroll 64
     for (int ok = orr; ok < n; ++ok)
       for (int l = 0; l < W; ++l) xn[r][l] += F1[orr][ok][l] * x[(ok * d + ax) * W + l];
   }
-  #pragma GCC unroll 64
+#pragma GCC unroll 64
   for (int r = 0; r < D; ++r)
     for (int l = 0; l < W; ++l) x[r * W + l] = xn[r][l];
 }
 
 // P ← F P Fᵀ + Q on one block (Bar-Shalom, Li, Kirubarajan 2001, Eq. 5.2.3-9), upper triangle.
 template <int d, int n>
-inline void predict_covariance(double* __restrict blk, const double (&F1)[n][n][W], const double (&Q1)[d][packed(n)][W]) {
+inline void predict_covariance(double* __restrict blk, const double (&F1)[n][n][W],
+                               const double (&Q1)[d][packed(n)][W]) {
   constexpr int D = d * n;
   double* __restrict p = blk + D * W;
   // FP[r][c] = Σ_k F[r][k] P[k][c], F[r][k] = F1[or][ok] when axis(r) = axis(k) and ok ≥ or.
   double fp[D][D][W];
-  #pragma GCC unroll 64
+#pragma GCC unroll 64
   for (int r = 0; r < D; ++r) {
     const int ax = r % d, orr = r / d;
-    #pragma GCC unroll 64
+#pragma GCC unroll 64
     for (int c = 0; c < D; ++c) {
       for (int l = 0; l < W; ++l) fp[r][c][l] = 0.0;
-      #pragma GCC unroll 64
+#pragma GCC unroll 64
       for (int ok = orr; ok < n; ++ok) {
         const int k = ok * d + ax;
         const double* pk = p + pidx(D, k, c) * W;
@@ -87,15 +88,15 @@ inline void predict_covariance(double* __restrict blk, const double (&F1)[n][n][
       }
     }
   }
-  // P'[r][c] = Σ_k FP[r][k] F[c][k] + Q[r][c].
-  #pragma GCC unroll 64
+// P'[r][c] = Σ_k FP[r][k] F[c][k] + Q[r][c].
+#pragma GCC unroll 64
   for (int r = 0; r < D; ++r) {
-    #pragma GCC unroll 64
+#pragma GCC unroll 64
     for (int c = r; c < D; ++c) {
       const int ax = c % d, oc = c / d;
       double acc[W];
       for (int l = 0; l < W; ++l) acc[l] = 0.0;
-      #pragma GCC unroll 64
+#pragma GCC unroll 64
       for (int ok = oc; ok < n; ++ok) {
         const int k = ok * d + ax;
         for (int l = 0; l < W; ++l) acc[l] += fp[r][k][l] * F1[oc][ok][l];
@@ -174,29 +175,29 @@ inline void update(double* __restrict blk, const LaneMeasurement<d>& m, LaneInno
   double* __restrict x = blk;
   double* __restrict p = blk + D * W;
   double s[NR][W], si[NR][W], det[W];
-  #pragma GCC unroll 64
+#pragma GCC unroll 64
   for (int a = 0; a < d; ++a)
-    #pragma GCC unroll 64
+#pragma GCC unroll 64
     for (int b = a; b < d; ++b)
       for (int l = 0; l < W; ++l) s[pidx(d, a, b)][l] = p[pidx(D, a, b) * W + l] + m.R[pidx(d, a, b)][l];
   invert_packed<d>(s, si, det);
   double nu[d][W];
-  #pragma GCC unroll 64
+#pragma GCC unroll 64
   for (int a = 0; a < d; ++a)
     for (int l = 0; l < W; ++l) nu[a][l] = m.z[a][l] - x[a * W + l];
   // g = S⁻¹ν, so that Kν = P Hᵀ g.
   double g[d][W];
-  #pragma GCC unroll 64
+#pragma GCC unroll 64
   for (int a = 0; a < d; ++a) {
     for (int l = 0; l < W; ++l) g[a][l] = 0.0;
-    #pragma GCC unroll 64
+#pragma GCC unroll 64
     for (int b = 0; b < d; ++b)
       for (int l = 0; l < W; ++l) g[a][l] += si[pidx(d, a, b)][l] * nu[b][l];
   }
   if (out) {
     for (int l = 0; l < W; ++l) {
       double q = 0.0;
-      #pragma GCC unroll 64
+#pragma GCC unroll 64
       for (int a = 0; a < d; ++a) q += nu[a][l] * g[a][l];
       out->nis[l] = q * m.detected[l];
       out->log_likelihood[l] =
@@ -205,23 +206,23 @@ inline void update(double* __restrict blk, const LaneMeasurement<d>& m, LaneInno
   }
   // K = P Hᵀ S⁻¹ (D×d), masked by the detection flag.
   double k[D][d][W];
-  #pragma GCC unroll 64
+#pragma GCC unroll 64
   for (int r = 0; r < D; ++r)
-    #pragma GCC unroll 64
+#pragma GCC unroll 64
     for (int a = 0; a < d; ++a) {
       for (int l = 0; l < W; ++l) k[r][a][l] = 0.0;
-      #pragma GCC unroll 64
+#pragma GCC unroll 64
       for (int b = 0; b < d; ++b) {
         const double* prb = p + pidx(D, r, b) * W;
         for (int l = 0; l < W; ++l) k[r][a][l] += prb[l] * si[pidx(d, b, a)][l];
       }
       for (int l = 0; l < W; ++l) k[r][a][l] *= m.detected[l];
     }
-  #pragma GCC unroll 64
+#pragma GCC unroll 64
   for (int r = 0; r < D; ++r) {
     double dx[W];
     for (int l = 0; l < W; ++l) dx[l] = 0.0;
-    #pragma GCC unroll 64
+#pragma GCC unroll 64
     for (int a = 0; a < d; ++a)
       for (int l = 0; l < W; ++l) dx[l] += k[r][a][l] * nu[a][l];
     for (int l = 0; l < W; ++l) x[r * W + l] += dx[l];
@@ -229,18 +230,18 @@ inline void update(double* __restrict blk, const LaneMeasurement<d>& m, LaneInno
   // P[r][c] -= Σ_a K[r][a] P[a][c]. The rows a < d of P are read while P is overwritten, so they
   // are copied first.
   double ph[d][D][W];
-  #pragma GCC unroll 64
+#pragma GCC unroll 64
   for (int a = 0; a < d; ++a)
-    #pragma GCC unroll 64
+#pragma GCC unroll 64
     for (int c = 0; c < D; ++c)
       for (int l = 0; l < W; ++l) ph[a][c][l] = p[pidx(D, a, c) * W + l];
-  #pragma GCC unroll 64
+#pragma GCC unroll 64
   for (int r = 0; r < D; ++r)
-    #pragma GCC unroll 64
+#pragma GCC unroll 64
     for (int c = r; c < D; ++c) {
       double acc[W];
       for (int l = 0; l < W; ++l) acc[l] = 0.0;
-      #pragma GCC unroll 64
+#pragma GCC unroll 64
       for (int a = 0; a < d; ++a)
         for (int l = 0; l < W; ++l) acc[l] += k[r][a][l] * ph[a][c][l];
       double* pd = p + pidx(D, r, c) * W;
@@ -251,7 +252,8 @@ inline void update(double* __restrict blk, const LaneMeasurement<d>& m, LaneInno
 // Gathers the scan entries of block b (tracks b·W .. b·W+W−1 of n_tracks) into lane arrays.
 // Padding lanes get z = 0, R = I and detected = 0.
 template <int d>
-inline void load_measurement(const PositionScan& scan, std::size_t b, std::size_t n_tracks, LaneMeasurement<d>& m) {
+inline void load_measurement(const PositionScan& scan, std::size_t b, std::size_t n_tracks,
+                             LaneMeasurement<d>& m) {
   constexpr int NR = packed(d);
   const std::size_t first = b * W;
   const bool all = scan.detected.empty();
@@ -277,13 +279,15 @@ inline void load_measurement(const PositionScan& scan, std::size_t b, std::size_
     const bool valid = i < n_tracks;
     for (int a = 0; a < d; ++a) m.z[a][l] = valid ? scan.z[a][i] : 0.0;
     for (int a = 0; a < d; ++a)
-      for (int c = a; c < d; ++c) m.R[pidx(d, a, c)][l] = valid ? scan.R[pidx(d, a, c)][i] : (a == c ? 1.0 : 0.0);
+      for (int c = a; c < d; ++c)
+        m.R[pidx(d, a, c)][l] = valid ? scan.R[pidx(d, a, c)][i] : (a == c ? 1.0 : 0.0);
     m.detected[l] = valid && (all || scan.detected[i]) ? 1.0 : 0.0;
   }
 }
 
 // Scatters the optional innovation outputs of block b.
-inline void store_innovation(const InnovationOutput& out, std::size_t b, std::size_t n_tracks, const LaneInnovation& v) {
+inline void store_innovation(const InnovationOutput& out, std::size_t b, std::size_t n_tracks,
+                             const LaneInnovation& v) {
   const std::size_t first = b * W;
   for (int l = 0; l < W && first + l < n_tracks; ++l) {
     if (!out.nis.empty()) out.nis[first + l] = v.nis[l];
@@ -297,10 +301,14 @@ template <class F>
 inline void dispatch(int d, int n, F&& f) {
   using I2 = std::integral_constant<int, 2>;
   using I3 = std::integral_constant<int, 3>;
-  if (d == 2 && n == 2) f(I2{}, I2{});
-  else if (d == 2) f(I2{}, I3{});
-  else if (n == 2) f(I3{}, I2{});
-  else f(I3{}, I3{});
+  if (d == 2 && n == 2)
+    f(I2{}, I2{});
+  else if (d == 2)
+    f(I2{}, I3{});
+  else if (n == 2)
+    f(I3{}, I2{});
+  else
+    f(I3{}, I3{});
 }
 
 // Checks the spans of a scan against the bank size and dimension (throws InputError).

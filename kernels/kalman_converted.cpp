@@ -21,9 +21,8 @@ ConvertedMeasurement convert_polar(int d, const Sensor& s, double r, double th, 
   const double ce = std::cos(el), se = std::sin(el);
   m.z = {s.position[0] + r * ce * ct, s.position[1] + r * ce * st, s.position[2] + r * se};
   // Columns of J: ∂/∂r, ∂/∂θ, ∂/∂φ.
-  const double J[3][3] = {{ce * ct, -r * ce * st, -r * se * ct},
-                          {ce * st, r * ce * ct, -r * se * st},
-                          {se, 0.0, r * ce}};
+  const double J[3][3] = {
+      {ce * ct, -r * ce * st, -r * se * ct}, {ce * st, r * ce * ct, -r * se * st}, {se, 0.0, r * ce}};
   const double v[3] = {sr2, sb2, se2};
   int k = 0;
   for (int a = 0; a < 3; ++a)

@@ -20,12 +20,13 @@
 namespace trackassoc {
 
 struct ConvertedMeasurement {
-  std::array<double, 3> z{0, 0, 0};     // Cartesian position, first d entries used
+  std::array<double, 3> z{0, 0, 0};           // Cartesian position, first d entries used
   std::array<double, 6> R{0, 0, 0, 0, 0, 0};  // packed upper triangle of the d×d covariance
 };
 
 // d = 2 or 3. elevation is ignored in 2-D.
-ConvertedMeasurement convert_polar(int d, const Sensor& sensor, double range, double bearing, double elevation);
+ConvertedMeasurement convert_polar(int d, const Sensor& sensor, double range, double bearing,
+                                   double elevation);
 
 // The inverse, noise-free: the polar coordinates of Cartesian point p seen from `sensor`.
 struct PolarPoint {

@@ -13,7 +13,8 @@ namespace trackassoc {
 
 class ReferenceKalmanFilter {
  public:
-  ReferenceKalmanFilter(int spatial_dim, int order, double sigma) : d_(spatial_dim), n_(order), sigma_(sigma) {
+  ReferenceKalmanFilter(int spatial_dim, int order, double sigma)
+      : d_(spatial_dim), n_(order), sigma_(sigma) {
     x = Eigen::VectorXd::Zero(d_ * n_);
     P = Eigen::MatrixXd::Identity(d_ * n_, d_ * n_);
   }
@@ -21,7 +22,8 @@ class ReferenceKalmanFilter {
   Eigen::MatrixXd expand(const Eigen::MatrixXd& A) const {
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(d_ * n_, d_ * n_);
     for (int i = 0; i < n_; ++i)
-      for (int j = 0; j < n_; ++j) M.block(i * d_, j * d_, d_, d_) = A(i, j) * Eigen::MatrixXd::Identity(d_, d_);
+      for (int j = 0; j < n_; ++j)
+        M.block(i * d_, j * d_, d_, d_) = A(i, j) * Eigen::MatrixXd::Identity(d_, d_);
     return M;
   }
   void predict(double dt) {

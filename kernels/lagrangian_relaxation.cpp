@@ -13,9 +13,12 @@ namespace trackassoc {
 
 const char* step_rule_name(StepRule r) {
   switch (r) {
-    case StepRule::kPolyak: return "polyak";
-    case StepRule::kDiminishing: return "diminishing";
-    case StepRule::kDeflected: return "deflected";
+    case StepRule::kPolyak:
+      return "polyak";
+    case StepRule::kDiminishing:
+      return "diminishing";
+    case StepRule::kDeflected:
+      return "deflected";
   }
   return "unknown";
 }
@@ -27,13 +30,15 @@ StepRule parse_step_rule(const std::string& name) {
 }
 
 void LagrangianOptions::validate() const {
-  require(max_iterations >= 1, "LagrangianOptions.max_iterations", "must be >= 1, got " + std::to_string(max_iterations));
+  require(max_iterations >= 1, "LagrangianOptions.max_iterations",
+          "must be >= 1, got " + std::to_string(max_iterations));
   require(relative_gap_tolerance >= 0.0 && std::isfinite(relative_gap_tolerance),
           "LagrangianOptions.relative_gap_tolerance", "must be finite and >= 0");
   require(absolute_gap_tolerance >= 0.0 && std::isfinite(absolute_gap_tolerance),
           "LagrangianOptions.absolute_gap_tolerance", "must be finite and >= 0");
   require(time_limit_s > 0.0 && !std::isnan(time_limit_s), "LagrangianOptions.time_limit_s", "must be > 0");
-  require(theta > 0.0 && theta <= 2.0, "LagrangianOptions.theta", "must be in (0, 2], got " + std::to_string(theta));
+  require(theta > 0.0 && theta <= 2.0, "LagrangianOptions.theta",
+          "must be in (0, 2], got " + std::to_string(theta));
   require(theta_patience >= 1, "LagrangianOptions.theta_patience", "must be >= 1");
   require(min_theta > 0.0 && min_theta <= theta, "LagrangianOptions.min_theta", "must be in (0, theta]");
   local_search_options.validate();
@@ -102,7 +107,8 @@ LagrangianRun run_lagrangian(const CanonicalProblem3& p, const LagrangianOptions
   const bool equality = p.k_equality();
   std::vector<double> mu(n3, 0.0);
   if (!initial_multipliers.empty()) {
-    require(static_cast<int32_t>(initial_multipliers.size()) == n3, "run_lagrangian", "multiplier size mismatch");
+    require(static_cast<int32_t>(initial_multipliers.size()) == n3, "run_lagrangian",
+            "multiplier size mismatch");
     mu = initial_multipliers;
   }
   run.best_multipliers = mu;
@@ -186,7 +192,8 @@ LagrangianRun run_lagrangian(const CanonicalProblem3& p, const LagrangianOptions
       return run;
     }
     // Target: the best upper bound (if none yet, 5 % above the bound).
-    const double target = std::isfinite(run.upper_bound) ? run.upper_bound : bound + 0.05 * std::max(1.0, std::abs(bound));
+    const double target =
+        std::isfinite(run.upper_bound) ? run.upper_bound : bound + 0.05 * std::max(1.0, std::abs(bound));
     const double gap = std::max(target - bound, 1e-12 * std::max(1.0, std::abs(bound)));
     if (delta0 < 0.0) delta0 = gap;
     double step = 0.0;

@@ -47,21 +47,21 @@ StepRule parse_step_rule(const std::string& name);  // InputError on unknown nam
 
 struct LagrangianOptions {
   int max_iterations = 300;
-  double relative_gap_tolerance = 1e-3;   // stop when (UB − LB) / max(|UB|, 1e-9) ≤ this
-  double absolute_gap_tolerance = 1e-9;   // or when UB − LB ≤ this (then termination = optimal)
+  double relative_gap_tolerance = 1e-3;  // stop when (UB − LB) / max(|UB|, 1e-9) ≤ this
+  double absolute_gap_tolerance = 1e-9;  // or when UB − LB ≤ this (then termination = optimal)
   double time_limit_s = std::numeric_limits<double>::infinity();
   StepRule step_rule = StepRule::kPolyak;
-  double theta = 2.0;                     // initial step scale θ ∈ (0, 2]
-  int theta_patience = 8;                 // halve θ after this many iterations without a better bound
-  double min_theta = 1e-6;                // stop (iteration limit) when θ falls below this
-  bool local_search = false;              // polish each recovered solution (the lr+ls solver)
+  double theta = 2.0;         // initial step scale θ ∈ (0, 2]
+  int theta_patience = 8;     // halve θ after this many iterations without a better bound
+  double min_theta = 1e-6;    // stop (iteration limit) when θ falls below this
+  bool local_search = false;  // polish each recovered solution (the lr+ls solver)
   LocalSearchOptions local_search_options;
   void validate() const;
 };
 
 // Canonical-level state, reused by branch and bound.
 struct LagrangianRun {
-  std::vector<Tuple3> best_tuples;   // canonical, complete (empty if none found)
+  std::vector<Tuple3> best_tuples;  // canonical, complete (empty if none found)
   double upper_bound = std::numeric_limits<double>::infinity();
   double lower_bound = -std::numeric_limits<double>::infinity();
   std::vector<double> best_multipliers;  // μ at the best bound (size n3)

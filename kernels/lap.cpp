@@ -41,8 +41,14 @@ struct LapWorkspace {
   std::vector<char> row_scanned;
 
   LapWorkspace(int32_t nr, int32_t nc)
-      : u(nr, 0.0), v(nc, 0.0), shortest(nc), path(nc, -1), col4row(nr, -1), row4col(nc, -1),
-        remaining(nc), row_scanned(nr, 0) {
+      : u(nr, 0.0),
+        v(nc, 0.0),
+        shortest(nc),
+        path(nc, -1),
+        col4row(nr, -1),
+        row4col(nc, -1),
+        remaining(nc),
+        row_scanned(nr, 0) {
     scanned_rows.reserve(nr);
     scanned_cols.reserve(nc);
   }
@@ -138,11 +144,12 @@ bool solve_rectangular(const double* cost, int32_t nr, int32_t nc, std::vector<i
 
 LapResult solve_lap(std::span<const double> cost, int32_t rows, int32_t cols, const LapOptions& options) {
   options.validate();
-  require(rows >= 0 && cols >= 0, "solve_lap", "negative matrix size " + std::to_string(rows) + "x" +
-                                                   std::to_string(cols));
+  require(rows >= 0 && cols >= 0, "solve_lap",
+          "negative matrix size " + std::to_string(rows) + "x" + std::to_string(cols));
   const std::size_t n_entries = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
   require(cost.size() == n_entries, "solve_lap",
-          "cost has " + std::to_string(cost.size()) + " entries, expected rows*cols = " + std::to_string(n_entries));
+          "cost has " + std::to_string(cost.size()) +
+              " entries, expected rows*cols = " + std::to_string(n_entries));
   for (std::size_t e = 0; e < n_entries; ++e)
     if (std::isnan(cost[e]) || cost[e] == -kInf)
       throw InputError("solve_lap: cost entry (" + std::to_string(e / (cols ? cols : 1)) + ", " +
@@ -159,7 +166,8 @@ LapResult solve_lap(std::span<const double> cost, int32_t rows, int32_t cols, co
   const int32_t nr = transpose ? cols : rows;
   const int32_t nc = transpose ? rows : cols;
   auto at = [&](int32_t r, int32_t c) {  // entry of the (possibly transposed) nr×nc problem
-    return transpose ? cost[static_cast<std::size_t>(c) * cols + r] : cost[static_cast<std::size_t>(r) * cols + c];
+    return transpose ? cost[static_cast<std::size_t>(c) * cols + r]
+                     : cost[static_cast<std::size_t>(r) * cols + c];
   };
 
   // Build the working matrix only when it differs from the input (transpose or unassigned shift).

@@ -9,13 +9,15 @@
 namespace trackassoc {
 
 void LocalSearchOptions::validate() const {
-  require(max_rounds >= 1, "LocalSearchOptions.max_rounds", "must be >= 1, got " + std::to_string(max_rounds));
+  require(max_rounds >= 1, "LocalSearchOptions.max_rounds",
+          "must be >= 1, got " + std::to_string(max_rounds));
 }
 
 namespace {
 
 // Re-solves dimension `free_dim` with the other two fixed. Returns true if the cost decreased.
-bool reassign_dimension(const CostTensor3& b, std::vector<Tuple3>& tuples, int free_dim, std::vector<double>& matrix) {
+bool reassign_dimension(const CostTensor3& b, std::vector<Tuple3>& tuples, int free_dim,
+                        std::vector<double>& matrix) {
   const int32_t m = static_cast<int32_t>(tuples.size());
   const int32_t n = free_dim == 0 ? b.n1 : (free_dim == 1 ? b.n2 : b.n3);
   matrix.resize(static_cast<std::size_t>(m) * n);

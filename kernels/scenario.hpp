@@ -22,7 +22,7 @@ enum class MotionModel {
 
 struct MotionSegment {
   MotionModel model = MotionModel::kConstantVelocity;
-  double duration = 0.0;                       // [s]
+  double duration = 0.0;                        // [s]
   std::array<double, 3> acceleration{0, 0, 0};  // [m/s²], CA and acceleration step
   double turn_rate = 0.0;                       // [rad/s], coordinated turn
   double manoeuvre_period = 1.0;                // [s], random manoeuvre
@@ -45,22 +45,22 @@ struct TargetSpec {
 struct RandomTargetSpec {
   int32_t count = 0;
   std::array<double, 3> area_min{0, 0, 0}, area_max{0, 0, 0};  // [m]
-  double speed_min = 0.0, speed_max = 0.0;                      // [m/s]
-  double heading_min = 0.0, heading_max = 6.283185307179586;    // [rad]
-  double process_noise = 0.0;  // σ of the white-noise acceleration [m/s²]
+  double speed_min = 0.0, speed_max = 0.0;                     // [m/s]
+  double heading_min = 0.0, heading_max = 6.283185307179586;   // [rad]
+  double process_noise = 0.0;                                  // σ of the white-noise acceleration [m/s²]
   friend bool operator==(const RandomTargetSpec&, const RandomTargetSpec&) = default;
 };
 
 // The local tracker each sensor runs to turn its measurements into local tracks.
 struct LocalTrackerSpec {
-  std::string filter = "cv";    // cv | ca | ab | cs | cs-nn | imm (DESIGN §4.2)
+  std::string filter = "cv";   // cv | ca | ab | cs | cs-nn | imm (DESIGN §4.2)
   double process_noise = 1.0;  // σ of the white-noise acceleration [m/s²]
   friend bool operator==(const LocalTrackerSpec&, const LocalTrackerSpec&) = default;
 };
 
 struct Scenario {
   std::string name = "unnamed";
-  std::string description;  // free text: where the numbers come from and why
+  std::string description;                     // free text: where the numbers come from and why
   StateLayout layout = StateLayout::kXY_VXVY;  // 2-D or 3-D
   double duration = 100.0;                     // [s]
   double truth_step = 1.0;                     // truth sampling step [s]

@@ -4,10 +4,10 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
-#include <utility>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "kernels/error.hpp"
 #include "kernels/parallel.hpp"
@@ -49,7 +49,8 @@ TrackIndexKeys track_index_keys(const AlignedTracks& x) {
     es.computeDirect(A, Eigen::EigenvaluesOnly);
     return es.eigenvalues().maxCoeff();
   };
-  require(m >= 1 && m <= 3, "track_index_keys", "spatial dimension must be 1, 2 or 3, got " + std::to_string(m));
+  require(m >= 1 && m <= 3, "track_index_keys",
+          "spatial dimension must be 1, 2 or 3, got " + std::to_string(m));
   parallel_for_range(n, 64, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
       double* mean = &keys.mean_position[i * m];
@@ -69,7 +70,8 @@ TrackIndexKeys track_index_keys(const AlignedTracks& x) {
         const std::size_t cell = i * K + k;
         if (!x.valid[cell]) continue;
         double d2 = 0.0;
-        for (int c = 0; c < m; ++c) d2 += (x.state[cell * D + c] - mean[c]) * (x.state[cell * D + c] - mean[c]);
+        for (int c = 0; c < m; ++c)
+          d2 += (x.state[cell * D + c] - mean[c]) * (x.state[cell * D + c] - mean[c]);
         r2 = std::max(r2, d2);
       }
       keys.trajectory_radius[i] = std::sqrt(r2);
@@ -85,7 +87,8 @@ namespace {
 // ρ(K') = χ²_p(D·K') / K' for K' = 0..K (index 0 unused), scaled by radius_scale².
 std::vector<double> radius_factors(int D, int32_t K, const CandidateOptions& o) {
   std::vector<double> f(K + 1, 0.0);
-  for (int32_t k = 1; k <= K; ++k) f[k] = chi_square_quantile(o.gate_probability, D * k) / k * o.radius_scale * o.radius_scale;
+  for (int32_t k = 1; k <= K; ++k)
+    f[k] = chi_square_quantile(o.gate_probability, D * k) / k * o.radius_scale * o.radius_scale;
   return f;
 }
 
@@ -112,7 +115,8 @@ bool within_bound(const TrackIndexKeys& ka, std::size_t i, const TrackIndexKeys&
 // valid set V (K' = |V|), |m̄_a(V) − m̄_b(V)|² ≤ (σ²_a + σ²_b)·ρ(K'). O(K·m) per pair, against
 // O(K·D³) for λ: it removes most of the conservative radius' extra candidates before λ.
 bool within_pair_bound(const AlignedTracks& a, std::size_t i, const AlignedTracks& b, std::size_t j,
-                       const TrackIndexKeys& ka, const TrackIndexKeys& kb, const std::vector<double>& factor) {
+                       const TrackIndexKeys& ka, const TrackIndexKeys& kb,
+                       const std::vector<double>& factor) {
   const int D = a.dim, m = ka.spatial_dim;
   const std::size_t K = a.n_times;
   std::array<double, 3> diff{0.0, 0.0, 0.0};
@@ -136,7 +140,8 @@ void check_pair_inputs(const AlignedTracks& a, const AlignedTracks& b) {
     const std::size_t cells = static_cast<std::size_t>(x->n_tracks()) * x->n_times;
     require(x->valid.size() == cells && x->state.size() == cells * x->dim &&
                 x->cov.size() == cells * packed_size(x->dim),
-            "gated_candidate_pairs", "aligned tracks of sensor " + std::to_string(x->sensor) + " are inconsistent");
+            "gated_candidate_pairs",
+            "aligned tracks of sensor " + std::to_string(x->sensor) + " are inconsistent");
   }
 }
 
@@ -176,7 +181,8 @@ void grid_pass(const AlignedTracks& a, const TrackIndexKeys& ka, const std::vect
         for (int64_t dy = -span_y; dy <= span_y; ++dy)
           for (int64_t dz = -span_z; dz <= span_z; ++dz) {
             const Cell key{c[0] + dx, c[1] + dy, c[2] + dz};
-            auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, std::numeric_limits<int32_t>::min()));
+            auto it = std::lower_bound(cells.begin(), cells.end(),
+                                       std::make_pair(key, std::numeric_limits<int32_t>::min()));
             for (; it != cells.end() && it->first == key; ++it)
               if (within_bound(ka, i, kb, it->second, factor, scale) &&
                   within_pair_bound(a, i, b, it->second, ka, kb, factor))
@@ -188,7 +194,8 @@ void grid_pass(const AlignedTracks& a, const TrackIndexKeys& ka, const std::vect
 
 }  // namespace
 
-CandidatePairs gated_candidate_pairs(const AlignedTracks& a, const AlignedTracks& b, const CandidateOptions& options) {
+CandidatePairs gated_candidate_pairs(const AlignedTracks& a, const AlignedTracks& b,
+                                     const CandidateOptions& options) {
   options.validate();
   check_pair_inputs(a, b);
   CandidatePairs out;
@@ -252,7 +259,8 @@ CandidatePairs gated_candidate_pairs_all_pairs(const AlignedTracks& a, const Ali
   const std::vector<double> factor = radius_factors(a.dim, a.n_times, options);
   for (int32_t i = 0; i < out.n_a; ++i)
     for (int32_t j = 0; j < out.n_b; ++j)
-      if (within_bound(ka, i, kb, j, factor, options.radius_scale) && within_pair_bound(a, i, b, j, ka, kb, factor)) {
+      if (within_bound(ka, i, kb, j, factor, options.radius_scale) &&
+          within_pair_bound(a, i, b, j, ka, kb, factor)) {
         out.a.push_back(i);
         out.b.push_back(j);
       }
@@ -298,7 +306,8 @@ void copy_rows(const AlignedTracks& x, std::span<const int32_t> rows, AlignedTra
 }  // namespace
 
 SparsePairStatistic sparse_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
-                                                const CandidatePairs& pairs, const StatisticOptions& options) {
+                                                const CandidatePairs& pairs,
+                                                const StatisticOptions& options) {
   options.validate();
   check_pair_inputs(a, b);
   require(pairs.n_a == a.n_tracks() && pairs.n_b == b.n_tracks() && pairs.a.size() == pairs.b.size(),
@@ -315,7 +324,8 @@ SparsePairStatistic sparse_sequential_statistic(const AlignedTracks& a, const Al
   for (std::size_t q = 0; q < n; ++q) {
     require(pairs.a[q] >= 0 && pairs.a[q] < pairs.n_a && pairs.b[q] >= 0 && pairs.b[q] < pairs.n_b,
             "sparse_sequential_statistic", "pair " + std::to_string(q) + " is out of range");
-    require(q == 0 || pairs.a[q] > pairs.a[q - 1] || (pairs.a[q] == pairs.a[q - 1] && pairs.b[q] > pairs.b[q - 1]),
+    require(q == 0 || pairs.a[q] > pairs.a[q - 1] ||
+                (pairs.a[q] == pairs.a[q - 1] && pairs.b[q] > pairs.b[q - 1]),
             "sparse_sequential_statistic", "pairs must be sorted by (a, b) without repeats");
   }
   // Gate thresholds χ²_p(D·k) once for all rows (the sub-problems run with the gate off).

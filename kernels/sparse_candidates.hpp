@@ -13,13 +13,13 @@
 //   2. |d_{k,p}|² ≤ μ_max(C_{k,pp}) · d_{k,p}ᵀ C_{k,pp}⁻¹ d_{k,p},  μ_max(C_pp) ≤ σ²_a + σ²_b, where σ²_x
 //      is the largest eigenvalue of track x's position covariance over its valid times;
 //   3. |m̄_a − m̄_b|² = |mean_k d_{k,p}|² ≤ mean_k |d_{k,p}|²      (Jensen), m̄ = time-averaged position.
-// Together: λ ≤ T  ⇒  |m̄_a − m̄_b|² ≤ (σ²_a + σ²_b) · T / K' = (σ²_a + σ²_b) · ρ(K').  T/K' is about D (1 + z·√(2/(D K'))), so the
-// search radius is about √D standard deviations instead of the √T of a single-time gate.
-// Tracks valid at only some common times (births, deaths, asynchronous coverage): a pair's common
-// valid set V (K' = |V| ≥ 1 for any gated-in pair) may differ from each track's own valid set, whose
-// mean the index holds. The mean over V is a convex combination of the track's valid positions, so it
-// lies within the track's trajectory radius r_x = max_k |x_p(k) − m̄_x| of m̄_x; and ρ(K') ≤ ρ(1). So
-// for any pair that is not "full" (both valid at all K times) the index uses the conservative
+// Together: λ ≤ T  ⇒  |m̄_a − m̄_b|² ≤ (σ²_a + σ²_b) · T / K' = (σ²_a + σ²_b) · ρ(K').  T/K' is about D (1 +
+// z·√(2/(D K'))), so the search radius is about √D standard deviations instead of the √T of a single-time
+// gate. Tracks valid at only some common times (births, deaths, asynchronous coverage): a pair's common valid
+// set V (K' = |V| ≥ 1 for any gated-in pair) may differ from each track's own valid set, whose mean the index
+// holds. The mean over V is a convex combination of the track's valid positions, so it lies within the
+// track's trajectory radius r_x = max_k |x_p(k) − m̄_x| of m̄_x; and ρ(K') ≤ ρ(1). So for any pair that is not
+// "full" (both valid at all K times) the index uses the conservative
 //   |m̄_a − m̄_b| ≤ √((σ²_a + σ²_b)·ρ(1)) + r_a + r_b,
 // which no gated-in pair can violate either. The bound is therefore lossless for every validity
 // pattern; the price is a larger radius, and more candidates, for the partial tracks only.
@@ -43,11 +43,11 @@ namespace trackassoc {
 
 // What the index needs of each aligned track.
 struct TrackIndexKeys {
-  int32_t spatial_dim = 2;                 // m
-  std::vector<double> mean_position;       // [track·m + c], averaged over the track's valid times
+  int32_t spatial_dim = 2;                    // m
+  std::vector<double> mean_position;          // [track·m + c], averaged over the track's valid times
   std::vector<double> max_position_variance;  // σ²: largest eigenvalue of the position covariance
-  std::vector<int32_t> valid_times;        // number of common times where the track is valid
-  std::vector<double> trajectory_radius;   // r: largest distance of a valid position from the mean
+  std::vector<int32_t> valid_times;           // number of common times where the track is valid
+  std::vector<double> trajectory_radius;      // r: largest distance of a valid position from the mean
 };
 
 // O(n·K·m³). Tracks never valid get valid_times = 0 and are never candidates.
@@ -68,7 +68,8 @@ struct CandidatePairs {
 
 // The pairs that satisfy the bound above, found through the grid. Parallel over rows of `a`
 // (TBB), deterministic order.
-CandidatePairs gated_candidate_pairs(const AlignedTracks& a, const AlignedTracks& b, const CandidateOptions& options);
+CandidatePairs gated_candidate_pairs(const AlignedTracks& a, const AlignedTracks& b,
+                                     const CandidateOptions& options);
 
 // The same pairs by the O(n_a·n_b) scan (the naive peer for tests and benchmarks).
 CandidatePairs gated_candidate_pairs_all_pairs(const AlignedTracks& a, const AlignedTracks& b,

@@ -35,9 +35,9 @@ inline int packed_index(int d, int r, int c) {
 // Local tracks reported by the sensors: one row per (sensor, local track, time).
 struct TrackTable {
   StateLayout layout = StateLayout::kXY_VXVY;
-  std::vector<int32_t> sensor;  // a Sensor::id
-  std::vector<int32_t> track;   // local track number within its sensor
-  std::vector<double> t;        // report time [s]
+  std::vector<int32_t> sensor;             // a Sensor::id
+  std::vector<int32_t> track;              // local track number within its sensor
+  std::vector<double> t;                   // report time [s]
   std::vector<std::vector<double>> state;  // [D][rows]
   std::vector<std::vector<double>> cov;    // [D(D+1)/2][rows], packed upper triangle
   std::vector<int32_t> truth;              // target id, -1 where unknown
@@ -45,14 +45,20 @@ struct TrackTable {
   explicit TrackTable(StateLayout l = StateLayout::kXY_VXVY) { reset(l); }
   void reset(StateLayout l) {
     layout = l;
-    sensor.clear(); track.clear(); t.clear(); truth.clear();
+    sensor.clear();
+    track.clear();
+    t.clear();
+    truth.clear();
     state.assign(state_dim(l), {});
     cov.assign(packed_size(state_dim(l)), {});
   }
   int dim() const { return state_dim(layout); }
   std::size_t size() const { return t.size(); }
   void reserve(std::size_t n) {
-    sensor.reserve(n); track.reserve(n); t.reserve(n); truth.reserve(n);
+    sensor.reserve(n);
+    track.reserve(n);
+    t.reserve(n);
+    truth.reserve(n);
     for (auto& c : state) c.reserve(n);
     for (auto& c : cov) c.reserve(n);
   }
@@ -60,7 +66,10 @@ struct TrackTable {
   void push_back(int32_t s, int32_t trk, double time, const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                  int32_t truth_id) {
     const int d = dim();
-    sensor.push_back(s); track.push_back(trk); t.push_back(time); truth.push_back(truth_id);
+    sensor.push_back(s);
+    track.push_back(trk);
+    t.push_back(time);
+    truth.push_back(truth_id);
     for (int r = 0; r < d; ++r) state[r].push_back(x[r]);
     for (int r = 0, k = 0; r < d; ++r)
       for (int c = r; c < d; ++c, ++k) cov[k].push_back(P(r, c));

@@ -24,8 +24,8 @@ class CliFixture : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = std::filesystem::temp_directory_path() /
-           ("trackassoc_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-            std::to_string(::getpid()));
+           ("trackassoc_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+            "_" + std::to_string(::getpid()));
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
   }
@@ -33,7 +33,8 @@ class CliFixture : public ::testing::Test {
 
   CliResult run(const std::string& args) {
     const std::string out = path("stdout.txt"), err = path("stderr.txt");
-    const int raw = std::system((std::string(TRACKASSOC_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
+    const int raw =
+        std::system((std::string(TRACKASSOC_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
     return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
   }
   static std::string slurp(const std::string& p) {

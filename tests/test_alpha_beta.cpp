@@ -64,8 +64,10 @@ TEST(AlphaBeta, ExpandingMemoryStartIsTheLeastSquaresLineFit) {
   std::vector<double> ts, zs;
   for (int k = 0; k < 12; ++k) {
     const double t = k * T, zx = 5.0 + 3.0 * t + rng.normal(0, 4);
-    if (k > 0) bank.predict(T);
-    else bank.step[0] = T;  // the first measurement: no prediction, but a defined step
+    if (k > 0)
+      bank.predict(T);
+    else
+      bank.step[0] = T;  // the first measurement: no prediction, but a defined step
     const double z[2] = {zx, -zx};
     bank.update_track(0, z);
     ts.push_back(t);

@@ -103,7 +103,8 @@ Solution3 brute_force_exact(const CostTensor3& b, uint64_t) {
 std::set<std::vector<int32_t>> tuple_set(const AssociationRecord& r) {
   std::set<std::vector<int32_t>> s;
   for (std::size_t q = 0; q < r.num_tuples(); ++q)
-    s.insert(std::vector<int32_t>(r.tuples.begin() + q * r.num_sensors, r.tuples.begin() + (q + 1) * r.num_sensors));
+    s.insert(std::vector<int32_t>(r.tuples.begin() + q * r.num_sensors,
+                                  r.tuples.begin() + (q + 1) * r.num_sensors));
   return s;
 }
 

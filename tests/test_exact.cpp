@@ -69,7 +69,8 @@ TEST(Exact, DecompLibSolutionFilesAgreeWithOptima) {
 
 CostTensor3 random_tensor(CounterRng& rng, int n1, int n2, int n3, bool integer) {
   CostTensor3 b(n1, n2, n3);
-  for (auto& x : b.cost) x = integer ? static_cast<float>(rng.uniform_int(20)) : static_cast<float>(rng.uniform(0.0, 10.0));
+  for (auto& x : b.cost)
+    x = integer ? static_cast<float>(rng.uniform_int(20)) : static_cast<float>(rng.uniform(0.0, 10.0));
   return b;
 }
 
@@ -142,7 +143,8 @@ TEST(Exact, TimeLimitReportsValidBound) {
   expect_consistent(b, s);
   EXPECT_LE(s.summary.lower_bound, optima.at("bs.12.1") + 1e-9);
   EXPECT_GE(s.summary.objective, optima.at("bs.12.1"));
-  if (s.summary.termination != Termination::kOptimal) EXPECT_EQ(s.summary.termination, Termination::kIterationLimit);
+  if (s.summary.termination != Termination::kOptimal)
+    EXPECT_EQ(s.summary.termination, Termination::kIterationLimit);
 }
 
 TEST(Exact, OptionsAreValidated) {

@@ -40,9 +40,11 @@ TEST(FuzzyMembership, GaussianHandValues) {
 
 TEST(FuzzySynthesis, HandValuesOfEq9To13) {
   const std::vector<double> M{0.9, 0.5, 0.2};
-  EXPECT_NEAR(synthesise(M, synth(SynthesisFunction::kPowerMean, 2.0)), 0.6055300708194984, 1e-14);   // √(1.1/3)
-  EXPECT_NEAR(synthesise(M, synth(SynthesisFunction::kPowerMean, 1.0)), 1.6 / 3.0, 1e-14);           // mean
-  EXPECT_NEAR(synthesise(M, synth(SynthesisFunction::kGeometricMean)), 0.4481404746557165, 1e-14);  // 0.09^(1/3)
+  EXPECT_NEAR(synthesise(M, synth(SynthesisFunction::kPowerMean, 2.0)), 0.6055300708194984,
+              1e-14);                                                                       // √(1.1/3)
+  EXPECT_NEAR(synthesise(M, synth(SynthesisFunction::kPowerMean, 1.0)), 1.6 / 3.0, 1e-14);  // mean
+  EXPECT_NEAR(synthesise(M, synth(SynthesisFunction::kGeometricMean)), 0.4481404746557165,
+              1e-14);                                                                // 0.09^(1/3)
   EXPECT_NEAR(synthesise(M, synth(SynthesisFunction::kWeightedMean)), 0.69, 1e-14);  // .495+.175+.02
   EXPECT_NEAR(synthesise(M, synth(SynthesisFunction::kWeightedPowerMean, 2.0)), 0.7328028384224504,
               1e-14);  // √(.4455+.0875+.004)
@@ -53,8 +55,9 @@ TEST(FuzzySynthesis, HandValuesOfEq9To13) {
 
 TEST(FuzzySynthesis, MonotoneAndBetweenMinAndMax) {
   CounterRng rng(7);
-  for (auto f : {SynthesisFunction::kPowerMean, SynthesisFunction::kGeometricMean, SynthesisFunction::kWeightedMean,
-                 SynthesisFunction::kWeightedPowerMean, SynthesisFunction::kMinMaxMean}) {
+  for (auto f :
+       {SynthesisFunction::kPowerMean, SynthesisFunction::kGeometricMean, SynthesisFunction::kWeightedMean,
+        SynthesisFunction::kWeightedPowerMean, SynthesisFunction::kMinMaxMean}) {
     for (double q : {0.5, 1.0, 2.0, 5.0}) {
       SynthesisOptions o = synth(f, q);
       for (int trial = 0; trial < 2000; ++trial) {
@@ -192,7 +195,8 @@ TEST(FuzzyAssociatorTest, SeparatedTargetsAreNeverMerged) {
       std::map<int32_t, std::set<int32_t>> targets_of;
       for (std::size_t i = 0; i < scene.size(); ++i)
         if (out.system_track[i] >= 0) targets_of[out.system_track[i]].insert(scene.target[i]);
-      for (const auto& [trk, tgts] : targets_of) EXPECT_EQ(tgts.size(), 1u) << "run " << run << " track " << trk;
+      for (const auto& [trk, tgts] : targets_of)
+        EXPECT_EQ(tgts.size(), 1u) << "run " << run << " track " << trk;
       EXPECT_EQ(out.num_system_tracks, 2) << "run " << run;
     }
   }

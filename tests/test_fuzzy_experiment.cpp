@@ -16,9 +16,9 @@ TEST(Seed001Experiment, ScenarioIsThePapers) {
   ASSERT_EQ(s.sensors.size(), 4u);
   ASSERT_EQ(s.targets.size(), 2u);
   EXPECT_EQ(s.targets[0].initial_state[0], -29500.0);
-  EXPECT_EQ(s.targets[0].initial_state[3], 290.0);   // vx
+  EXPECT_EQ(s.targets[0].initial_state[3], 290.0);    // vx
   EXPECT_EQ(s.targets[1].initial_state[1], 32500.0);  // y
-  EXPECT_EQ(s.targets[1].initial_state[4], -400.0);  // vy
+  EXPECT_EQ(s.targets[1].initial_state[4], -400.0);   // vy
   EXPECT_EQ(s.sensors[3].sigma_range, 120.0);
   EXPECT_NEAR(s.sensors[0].sigma_bearing, std::numbers::pi / 180.0, 1e-15);
   EXPECT_EQ(s.sensors[3].reliability, 0.6);

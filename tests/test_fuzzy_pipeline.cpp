@@ -101,7 +101,8 @@ TEST(FuzzyPipeline, SystemTracksRoundTripThroughHdf5) {
   associate_fuzzy(f, ftaa, "ftaa");
   associate_fuzzy(f, FuzzyPipelineOptions{}, "fuzzy");  // replaces, does not duplicate
   ASSERT_EQ(f.system_tracks.size(), 2u);
-  const std::string path = (std::filesystem::temp_directory_path() / "trackassoc_test_fuzzy_pipeline.h5").string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "trackassoc_test_fuzzy_pipeline.h5").string();
   write_track_file(path, f);
   const TrackFile g = read_track_file(path);
   std::remove(path.c_str());
@@ -133,10 +134,12 @@ TEST(FuzzyPipeline, OptionsFromJson) {
   EXPECT_EQ(o.fuzzy.weighting, ReliabilityWeighting::kNone);
   EXPECT_EQ(o.fuzzy.smoother.gains, AlphaBetaGainMode::kFixed);
   EXPECT_EQ(o.packet_period, 4.0);
-  EXPECT_THROW(fuzzy_pipeline_options(FusionMethod::kFuzzy, nlohmann::json::parse(R"({"gaet": 1})")), InputError);
+  EXPECT_THROW(fuzzy_pipeline_options(FusionMethod::kFuzzy, nlohmann::json::parse(R"({"gaet": 1})")),
+               InputError);
   EXPECT_THROW(fuzzy_pipeline_options(FusionMethod::kFuzzy, nlohmann::json::parse(R"({"threshold": 0.5})")),
                InputError);  // an FTAA key
-  EXPECT_THROW(fuzzy_pipeline_options(FusionMethod::kFtaa, nlohmann::json::parse(R"({"weights": [1, 1, 1]})")),
-               InputError);
+  EXPECT_THROW(
+      fuzzy_pipeline_options(FusionMethod::kFtaa, nlohmann::json::parse(R"({"weights": [1, 1, 1]})")),
+      InputError);
   EXPECT_THROW(parse_fusion_method("hopfield"), InputError);
 }

@@ -142,7 +142,8 @@ TEST(HopfieldDiscrete, AsyncFlipNeverRaisesEnergy) {
         }
         EXPECT_GT(flips, 0);
         // The incrementally kept marginals equal recomputed ones.
-        const HopfieldMarginals m = compute_marginals(net.V, d.n1, d.n2, d.n3, form == HopfieldEnergy::kPrinted);
+        const HopfieldMarginals m =
+            compute_marginals(net.V, d.n1, d.n2, d.n3, form == HopfieldEnergy::kPrinted);
         EXPECT_EQ(m.R, net.m.R);
         EXPECT_EQ(m.S, net.m.S);
         EXPECT_EQ(m.T, net.m.T);
@@ -171,7 +172,8 @@ TEST(HopfieldDiscrete, MarginalSweepsEqualNaiveReference) {
           sync_sweep(net, 1.0, 0);
           ASSERT_EQ(net.V, ref) << "sync sweep " << s << " " << hopfield_energy_name(form);
         }
-        const HopfieldMarginals m = compute_marginals(net.V, d.n1, d.n2, d.n3, form == HopfieldEnergy::kPrinted);
+        const HopfieldMarginals m =
+            compute_marginals(net.V, d.n1, d.n2, d.n3, form == HopfieldEnergy::kPrinted);
         EXPECT_EQ(m.S, net.m.S);
         EXPECT_EQ(m.T, net.m.T);
         EXPECT_EQ(m.Ljk, net.m.Ljk);
@@ -221,7 +223,8 @@ TEST(HopfieldDiscrete, SliceAsyncEqualsNaiveInTheSameOrder) {
         async_sweep_slices(net, slices, packed, rotation);
         ASSERT_EQ(net.V, ref) << hopfield_energy_name(form) << " sweep " << s;
       }
-      const HopfieldMarginals m = compute_marginals(net.V, d.n1, d.n2, d.n3, form == HopfieldEnergy::kPrinted);
+      const HopfieldMarginals m =
+          compute_marginals(net.V, d.n1, d.n2, d.n3, form == HopfieldEnergy::kPrinted);
       EXPECT_EQ(m.R, net.m.R);
       EXPECT_EQ(m.S, net.m.S);
       EXPECT_EQ(m.Lij, net.m.Lij);

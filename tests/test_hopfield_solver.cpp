@@ -2,11 +2,11 @@
 // whose objective is its recomputed cost, determinism across thread counts, optimality on small
 // instances solved by brute force, and option errors.
 #include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <oneapi/tbb/global_control.h>
 
 #include "engine/hopfield_json.hpp"
 #include "engine/solver_registry.hpp"
@@ -52,7 +52,8 @@ std::vector<Config> all_configs() {
   for (HopfieldSchedule s : {HopfieldSchedule::kSync, HopfieldSchedule::kAsync, HopfieldSchedule::kDiagonal,
                              HopfieldSchedule::kContinuous})
     for (HopfieldEnergy e : {HopfieldEnergy::kFullPlane, HopfieldEnergy::kPrinted}) {
-      if (e == HopfieldEnergy::kPrinted && (s == HopfieldSchedule::kDiagonal || s == HopfieldSchedule::kContinuous))
+      if (e == HopfieldEnergy::kPrinted &&
+          (s == HopfieldSchedule::kDiagonal || s == HopfieldSchedule::kContinuous))
         continue;
       HopfieldOptions o;
       o.schedule = s;

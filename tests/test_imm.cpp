@@ -2,10 +2,10 @@
 // probabilities, mixing of models of different state dimension checked against a hand-written
 // Eigen implementation, thread-count determinism, option validation.
 #include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
 
 #include <Eigen/Dense>
 #include <cmath>
-#include <oneapi/tbb/global_control.h>
 
 #include "kernels/error.hpp"
 #include "kernels/imm.hpp"
@@ -75,10 +75,12 @@ TEST(Imm, IdentityTransitionWithCertainStartIsExactlyTheSingleModel) {
   for (std::size_t i = 0; i < N; ++i) {
     EXPECT_EQ(imm.probability(i, 0), 1.0);
     EXPECT_EQ(imm.probability(i, 1), 0.0);
-    for (int c = 0; c < 4; ++c) EXPECT_NEAR(imm.combined().state(i, c), cv.state(i, c), 1e-12 * (1 + std::fabs(cv.state(i, c))));
+    for (int c = 0; c < 4; ++c)
+      EXPECT_NEAR(imm.combined().state(i, c), cv.state(i, c), 1e-12 * (1 + std::fabs(cv.state(i, c))));
     for (int r = 0; r < 4; ++r)
       for (int c = r; c < 4; ++c)
-        EXPECT_NEAR(imm.combined().cov(i, r, c), cv.cov(i, r, c), 1e-12 * std::sqrt(cv.cov(i, r, r) * cv.cov(i, c, c)));
+        EXPECT_NEAR(imm.combined().cov(i, r, c), cv.cov(i, r, c),
+                    1e-12 * std::sqrt(cv.cov(i, r, r) * cv.cov(i, c, c)));
   }
 }
 
@@ -110,7 +112,8 @@ TEST(Imm, IdentityTransitionFollowsBayesRule) {
     // Combined = Σ μ_j x_j, CV extended by CA's acceleration (so the acceleration is CA's).
     const double m = imm.probability(i, 0);
     for (int c = 0; c < 4; ++c)
-      EXPECT_NEAR(imm.combined().state(i, c), m * cv.state(i, c) + (1 - m) * ca.state(i, c), 1e-9 * (1 + std::fabs(ca.state(i, c))));
+      EXPECT_NEAR(imm.combined().state(i, c), m * cv.state(i, c) + (1 - m) * ca.state(i, c),
+                  1e-9 * (1 + std::fabs(ca.state(i, c))));
     EXPECT_NEAR(imm.combined().state(i, 4), ca.state(i, 4), 1e-9 * (1 + std::fabs(ca.state(i, 4))));
   }
   // The accelerating target makes the CA model the more probable one.
@@ -143,8 +146,9 @@ TEST(Imm, MixingOfUnequalDimensionsMatchesHandComputation) {
   // Into CV (4-D): CA truncated.
   const double w11 = pi[0][0] * mu[0] / c1, w21 = pi[1][0] * mu[1] / c1;
   const Eigen::VectorXd m1 = w11 * x1 + w21 * x2.head(4);
-  const Eigen::MatrixXd M1 = w11 * (P1 + (x1 - m1) * (x1 - m1).transpose()) +
-                             w21 * (P2.topLeftCorner(4, 4) + (x2.head(4) - m1) * (x2.head(4) - m1).transpose());
+  const Eigen::MatrixXd M1 =
+      w11 * (P1 + (x1 - m1) * (x1 - m1).transpose()) +
+      w21 * (P2.topLeftCorner(4, 4) + (x2.head(4) - m1) * (x2.head(4) - m1).transpose());
   // Into CA (6-D): CV extended by CA's own acceleration and its covariance block.
   Eigen::VectorXd x1e(6);
   x1e << x1, x2.tail(2);
@@ -153,7 +157,8 @@ TEST(Imm, MixingOfUnequalDimensionsMatchesHandComputation) {
   P1e.bottomRightCorner(2, 2) = P2.bottomRightCorner(2, 2);
   const double w12 = pi[0][1] * mu[0] / c2, w22 = pi[1][1] * mu[1] / c2;
   const Eigen::VectorXd m2 = w12 * x1e + w22 * x2;
-  const Eigen::MatrixXd M2 = w12 * (P1e + (x1e - m2) * (x1e - m2).transpose()) + w22 * (P2 + (x2 - m2) * (x2 - m2).transpose());
+  const Eigen::MatrixXd M2 =
+      w12 * (P1e + (x1e - m2) * (x1e - m2).transpose()) + w22 * (P2 + (x2 - m2) * (x2 - m2).transpose());
   EXPECT_LT((imm.model(0).filter().state_vector(0) - m1).norm(), 1e-12 * m1.norm());
   EXPECT_LT((imm.model(0).filter().covariance(0) - M1).norm(), 1e-12 * M1.norm());
   EXPECT_LT((imm.model(1).filter().state_vector(0) - m2).norm(), 1e-12 * m2.norm());

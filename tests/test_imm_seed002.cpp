@@ -1,9 +1,9 @@
 // The seed 002 study at a small scale: deterministic for 1 and 2 threads, finite curves, and the
 // qualitative claims the paper makes that hold by construction of the IMM.
 #include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
 
 #include <cmath>
-#include <oneapi/tbb/global_control.h>
 
 #include "engine/experiment_seed002.hpp"
 #include "kernels/error.hpp"

@@ -136,7 +136,8 @@ TEST(InstanceText, EverySharedBenchmarkInstanceParsesAndItsSolutionCostsTheKnown
   if (!fs::is_directory(root)) GTEST_SKIP() << "no " << root;
   int instances = 0, solutions = 0;
   for (const char* set : {"decomplib", "balas-saltzman"}) {
-    const auto optima = read_known_optima((root / set / (std::string(set)[0] == 'd' ? "ap3.opt" : "bs.opt")).string());
+    const auto optima =
+        read_known_optima((root / set / (std::string(set)[0] == 'd' ? "ap3.opt" : "bs.opt")).string());
     for (const auto& [name, optimum] : optima) {
       const fs::path txt = root / set / (name + ".txt");
       const CostTensor3 b = read_3dap_instance(txt.string());

@@ -161,9 +161,12 @@ TEST(ScenarioJson, ErrorsNameTheKeyPathAndWhatWasFound) {
   const std::string sensor = R"({"sensors": [{}, {)";
   EXPECT_PRED2(has, error_of(sensor + R"("sigma_rang": 3}]})"), "sensors[1].sigma_rang: unknown key");
   EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "durration": 3})"), "durration: unknown key");
-  EXPECT_PRED2(has, error_of(sensor + R"("sigma_range": -3}]})"), "sensors[1].sigma_range: expected a finite number > 0, found number -3");
-  EXPECT_PRED2(has, error_of(sensor + R"("sigma_range": "170"}]})"), "sensors[1].sigma_range: expected a number > 0, found string");
-  EXPECT_PRED2(has, error_of(sensor + R"("sigma_bearing_deg": 0}]})"), "sensors[1].sigma_bearing_deg: expected a number > 0");
+  EXPECT_PRED2(has, error_of(sensor + R"("sigma_range": -3}]})"),
+               "sensors[1].sigma_range: expected a finite number > 0, found number -3");
+  EXPECT_PRED2(has, error_of(sensor + R"("sigma_range": "170"}]})"),
+               "sensors[1].sigma_range: expected a number > 0, found string");
+  EXPECT_PRED2(has, error_of(sensor + R"("sigma_bearing_deg": 0}]})"),
+               "sensors[1].sigma_bearing_deg: expected a number > 0");
   EXPECT_PRED2(has, error_of(sensor + R"("sigma_bearing_deg": 1, "sigma_bearing_rad": 1}]})"), "not both");
   EXPECT_PRED2(has, error_of(sensor + R"("p_detect": 0}]})"), "p_detect: expected a finite number in (0, 1]");
   EXPECT_PRED2(has, error_of(sensor + R"("p_detect": 1.5}]})"), "p_detect");
@@ -171,7 +174,8 @@ TEST(ScenarioJson, ErrorsNameTheKeyPathAndWhatWasFound) {
   EXPECT_PRED2(has, error_of(sensor + R"("id": 1.5}]})"), "sensors[1].id: expected an integer");
   EXPECT_PRED2(has, error_of(sensor + R"("id": -1}]})"), "sensors[1].id: expected an integer in [0,");
   EXPECT_PRED2(has, error_of(sensor + R"("id": 0}]})"), "sensors[1].id: sensor id 0 is used twice");
-  EXPECT_PRED2(has, error_of(sensor + R"("position": [1]}]})"), "position: expected an array of 2 or 3 numbers");
+  EXPECT_PRED2(has, error_of(sensor + R"("position": [1]}]})"),
+               "position: expected an array of 2 or 3 numbers");
   EXPECT_PRED2(has, error_of(sensor + R"("position": [1, "a"]}]})"), "position[1]: expected a finite number");
   EXPECT_PRED2(has, error_of(sensor + R"("position": [1, 1e999]}]})"), "number overflow");
   EXPECT_PRED2(has, error_of(sensor + R"("reliability": true}]})"), "found boolean true");
@@ -179,22 +183,32 @@ TEST(ScenarioJson, ErrorsNameTheKeyPathAndWhatWasFound) {
   EXPECT_PRED2(has, error_of(R"({"sensors": {}})"), "sensors: expected an array");
   EXPECT_PRED2(has, error_of(R"({"sensors": [3]})"), "sensors[0]: expected an object");
   EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "layout": "4d"})"), "layout: expected \"2d\" or \"3d\"");
-  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "layout": "3d"})"), "sensors[0].sigma_elevation_deg: a 3-D scenario");
+  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "layout": "3d"})"),
+               "sensors[0].sigma_elevation_deg: a 3-D scenario");
   EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "seed": -1})"), "seed: expected a non-negative integer");
   EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "duration": 0})"), "duration");
-  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "duration": 10, "truth_step": 20})"), "truth_step: expected <= duration");
+  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "duration": 10, "truth_step": 20})"),
+               "truth_step: expected <= duration");
   EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "duration": 1e9, "truth_step": 1})"), "1e7");
   EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "targets": [{"segments": [{"model": "zigzag"}]}]})"),
-               "targets[0].segments[0].model: expected one of cv, ca, ct, accel_step, random_manoeuvre, found string \"zigzag\"");
-  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "targets": [{"segments": [{"speed_min": 5, "speed_max": 4}]}]})"),
-               "targets[0].segments[0].speed_max: expected >= speed_min");
-  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "targets": [{"id": 1}, {"id": 1}]})"), "targets[1].id: target id 1 is used twice");
-  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "random_targets": {"count": 20000000}})"), "random_targets.count");
-  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "random_targets": {"area_min": [0, 5], "area_max": [1, 4]}})"),
+               "targets[0].segments[0].model: expected one of cv, ca, ct, accel_step, random_manoeuvre, "
+               "found string \"zigzag\"");
+  EXPECT_PRED2(
+      has, error_of(R"({"sensors": [{}], "targets": [{"segments": [{"speed_min": 5, "speed_max": 4}]}]})"),
+      "targets[0].segments[0].speed_max: expected >= speed_min");
+  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "targets": [{"id": 1}, {"id": 1}]})"),
+               "targets[1].id: target id 1 is used twice");
+  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "random_targets": {"count": 20000000}})"),
+               "random_targets.count");
+  EXPECT_PRED2(has,
+               error_of(R"({"sensors": [{}], "random_targets": {"area_min": [0, 5], "area_max": [1, 4]}})"),
                "random_targets.area_max");
-  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "random_targets": {"process_noise": -1}})"), "random_targets.process_noise");
-  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "tracker": {"filter": "ekf"}})"), "tracker.filter: expected one of cv, ca, ab, cs, cs-nn, imm");
-  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "tracker": {"filtre": "cv"}})"), "tracker.filtre: unknown key");
+  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "random_targets": {"process_noise": -1}})"),
+               "random_targets.process_noise");
+  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "tracker": {"filter": "ekf"}})"),
+               "tracker.filter: expected one of cv, ca, ab, cs, cs-nn, imm");
+  EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "tracker": {"filtre": "cv"}})"),
+               "tracker.filtre: unknown key");
   EXPECT_PRED2(has, error_of(R"({"sensors": [{}], "name": "a", "name": "b"})"), "key 'name' appears twice");
   EXPECT_PRED2(has, error_of(R"({"sensors": [{}], )"), "invalid JSON");
   EXPECT_PRED2(has, error_of(""), "invalid JSON");

@@ -124,12 +124,13 @@ TEST(TrackFileLayout, AssociationsAndMetricsKeepTheirOrder) {
 // The file is readable without C++: scripts/check_h5.py opens it with h5py and asserts the schema
 // (shapes, dtypes, ids, positive-definite covariances unpacked with numpy).
 TEST(TrackFileLayout, ReadableWithH5pyAndFollowsTheSchema) {
-  if (std::system("/usr/bin/python3 -c 'import h5py' >/dev/null 2>&1") != 0) GTEST_SKIP() << "no python3-h5py";
+  if (std::system("/usr/bin/python3 -c 'import h5py' >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "no python3-h5py";
   TempDir dir;
   for (StateLayout layout : {StateLayout::kXY_VXVY, StateLayout::kXYZ_VXVYVZ}) {
     write_track_file(dir.file("f.h5"), test::full_track_file(layout));
-    const std::string cmd = "/usr/bin/python3 " + std::string(TRACKASSOC_SOURCE_DIR) + "/scripts/check_h5.py " +
-                            dir.file("f.h5") + " --quiet >/dev/null";
+    const std::string cmd = "/usr/bin/python3 " + std::string(TRACKASSOC_SOURCE_DIR) +
+                            "/scripts/check_h5.py " + dir.file("f.h5") + " --quiet >/dev/null";
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
   // And it fails on a file that breaks the schema.
@@ -182,7 +183,8 @@ TEST(TrackFileAtomic, UnwritableDestinationIsAnInputErrorAndLeavesNothing) {
   // A folder the writer cannot create files in (only meaningful when not running as root).
   if (::geteuid() != 0) {
     std::filesystem::create_directory(dir.file("ro"));
-    std::filesystem::permissions(dir.file("ro"), std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+    std::filesystem::permissions(dir.file("ro"),
+                                 std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
     EXPECT_THROW(write_track_file(dir.file("ro/out.h5"), f), InputError);
     std::filesystem::permissions(dir.file("ro"), std::filesystem::perms::owner_all);
     EXPECT_TRUE(std::filesystem::is_empty(dir.file("ro")));
@@ -204,15 +206,18 @@ TEST(TrackFileAtomic, WriterRejectsInvalidContentAndWritesNothing) {
        [](TrackFile& f) { f.tracks.state[1][3] = std::numeric_limits<double>::infinity(); }},
       {"/tracks/cov: row 2: covariance is not positive definite: diagonal element (0,0) = -1",
        [](TrackFile& f) { f.tracks.cov[0][2] = -1; }},
-      {"/tracks/sensor: row 0: sensor 99 is not in /sensors/id", [](TrackFile& f) { f.tracks.sensor[0] = 99; }},
+      {"/tracks/sensor: row 0: sensor 99 is not in /sensors/id",
+       [](TrackFile& f) { f.tracks.sensor[0] = 99; }},
       {"/tracks/t: expected 24 rows", [](TrackFile& f) { f.tracks.t.pop_back(); }},
       {"/sensors/id: row 1: sensor id 10 appears twice", [](TrackFile& f) { f.sensors[1].id = 10; }},
-      {"/sensors/p_detect: row 0: expected a value in [0, 1]", [](TrackFile& f) { f.sensors[0].p_detect = 2; }},
+      {"/sensors/p_detect: row 0: expected a value in [0, 1]",
+       [](TrackFile& f) { f.sensors[0].p_detect = 2; }},
       {"/truth/state: row 0: expected a finite value, found nan",
        [](TrackFile& f) { f.truth->state[0][0] = std::nan(""); }},
       {"/associations/hopfield-sync/tuples: row 0: column 2 (sensor 30): expected -1 or a track number",
        [](TrackFile& f) { f.associations[0].tuples[2] = 0; }},
-      {"/associations/greedy/tuples: expected 3 columns", [](TrackFile& f) { f.associations[1].num_sensors = 2; }},
+      {"/associations/greedy/tuples: expected 3 columns",
+       [](TrackFile& f) { f.associations[1].num_sensors = 2; }},
       {"/associations: invalid name 'a/b'", [](TrackFile& f) { f.associations[0].name = "a/b"; }},
       {"/associations/greedy: name used twice", [](TrackFile& f) { f.associations[0].name = "greedy"; }},
       {"/metrics: invalid name ''", [](TrackFile& f) { f.metrics[0].name = ""; }},

@@ -6,7 +6,6 @@
 #include <thread>
 
 #include "io/isolated_run.hpp"
-
 #include "io_test_files.hpp"
 
 namespace trackassoc {
@@ -68,8 +67,8 @@ TEST_F(BadTrackFile, RandomBytesAfterAnHdf5Signature) {
 TEST_F(BadTrackFile, TruncatedFiles) {
   const std::string whole = test::file_bytes(path_);
   // Every cut point would be slow; these cover the superblock, object headers and raw data.
-  for (std::size_t cut : {std::size_t{8}, std::size_t{100}, whole.size() / 4, whole.size() / 2, whole.size() - 100,
-                          whole.size() - 1}) {
+  for (std::size_t cut : {std::size_t{8}, std::size_t{100}, whole.size() / 4, whole.size() / 2,
+                          whole.size() - 100, whole.size() - 1}) {
     test::write_bytes(path_, whole.substr(0, cut));
     const std::string msg = test::read_error(path_);
     EXPECT_NE(msg, "no error") << "cut at " << cut;
@@ -140,7 +139,8 @@ TEST_F(BadTrackFile, ColumnLengthsDisagree) {
         std::vector<double> v(n - 1, 1.0);
         test::put_dataset(f, "/tracks/t", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {n - 1}, v.data());
       },
-      "/tracks/t: expected " + std::to_string(n) + " rows (as /tracks/sensor), found " + std::to_string(n - 1));
+      "/tracks/t: expected " + std::to_string(n) + " rows (as /tracks/sensor), found " +
+          std::to_string(n - 1));
 }
 
 TEST_F(BadTrackFile, TwoDimensionalWhereOneIsExpected) {
@@ -249,8 +249,9 @@ TEST_F(BadTrackFile, NaNInSensorPosition) {
 
 TEST_F(BadTrackFile, NegativeCovarianceDiagonal) {
   // Packed 4×4 upper triangle: (1,1) is column 4.
-  expect_error(set_element("/tracks/cov", 6 * 10 + 4, -2.0),
-               "/tracks/cov: row 6: covariance is not positive definite: diagonal element (1,1) = -2 is not positive");
+  expect_error(
+      set_element("/tracks/cov", 6 * 10 + 4, -2.0),
+      "/tracks/cov: row 6: covariance is not positive definite: diagonal element (1,1) = -2 is not positive");
 }
 
 TEST_F(BadTrackFile, IndefiniteCovarianceWithPositiveDiagonal) {
@@ -292,7 +293,8 @@ TEST_F(BadTrackFile, AssociationReferringToAMissingTrack) {
   expect_error(
       [](hid_t f) {
         const int32_t t[] = {0, 2, -1, 1, 7, -1, 2, -1, -1};
-        test::put_dataset(f, "/associations/hopfield-sync/tuples", H5T_STD_I32LE, H5T_NATIVE_INT32, {3, 3}, t);
+        test::put_dataset(f, "/associations/hopfield-sync/tuples", H5T_STD_I32LE, H5T_NATIVE_INT32, {3, 3},
+                          t);
       },
       "/associations/hopfield-sync/tuples: row 1: column 1 (sensor 20): expected -1 or a track number");
 }
@@ -326,25 +328,30 @@ namespace {
 
 // io/isolated_run.hpp: a crash, a hang or an InputError in the child becomes an InputError here.
 TEST(IsolatedRun, CrashHangAndErrorInTheChildBecomeInputErrors) {
-  EXPECT_NO_THROW(run_isolated("f.h5", [] {}, 10.0));
+  EXPECT_NO_THROW(run_isolated(
+      "f.h5", [] {}, 10.0));
   try {
-    run_isolated("f.h5", [] { throw InputError("f.h5: /tracks/t: row 3: bad"); }, 10.0);
+    run_isolated(
+        "f.h5", [] { throw InputError("f.h5: /tracks/t: row 3: bad"); }, 10.0);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "f.h5: /tracks/t: row 3: bad");
   }
   try {
-    run_isolated("f.h5", [] { std::abort(); }, 10.0);
+    run_isolated(
+        "f.h5", [] { std::abort(); }, 10.0);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("f.h5: the file is corrupt"), std::string::npos) << e.what();
   }
   const auto start = std::chrono::steady_clock::now();
   try {
-    run_isolated("f.h5", [] { std::this_thread::sleep_for(std::chrono::seconds(30)); }, 0.5);
+    run_isolated(
+        "f.h5", [] { std::this_thread::sleep_for(std::chrono::seconds(30)); }, 0.5);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("f.h5: reading did not finish within"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("f.h5: reading did not finish within"), std::string::npos)
+        << e.what();
   }
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
 }
@@ -354,8 +361,8 @@ TEST(IsolatedRun, CrashHangAndErrorInTheChildBecomeInputErrors) {
 // through the guard, each is an InputError naming the file; nothing crashes or hangs.
 TEST(IsolatedRun, FilesThatBreakLibhdf5AreInputErrors) {
   const std::string dir = std::string(TRACKASSOC_SOURCE_DIR) + "/tests/fuzz/regressions/";
-  for (const char* name : {"hdf5_hang_global_heap.h5", "hdf5_overlap_global_heap.h5",
-                           "hdf5_overflow_attribute_header.h5"}) {
+  for (const char* name :
+       {"hdf5_hang_global_heap.h5", "hdf5_overlap_global_heap.h5", "hdf5_overflow_attribute_header.h5"}) {
     const std::string path = dir + name;
     try {
       read_track_file(path, 3.0);

@@ -1,11 +1,11 @@
 // Batched Kalman bank: hand-computed example, equality with the per-track Eigen reference, NEES
 // consistency on a linear-Gaussian CV scenario, thread-count determinism, option validation.
 #include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <oneapi/tbb/global_control.h>
 
 #include "kernels/association_statistic.hpp"
 #include "kernels/error.hpp"
@@ -141,7 +141,8 @@ TEST_P(BankVsReference, EqualsPerTrackEigenTo1e12) {
 }
 
 INSTANTIATE_TEST_SUITE_P(CvCa2d3d, BankVsReference,
-                         ::testing::Values(std::pair{2, 2}, std::pair{3, 2}, std::pair{2, 3}, std::pair{3, 3}));
+                         ::testing::Values(std::pair{2, 2}, std::pair{3, 2}, std::pair{2, 3},
+                                           std::pair{3, 3}));
 
 // Linear-Gaussian CV scenario: truth follows exactly the filter's model (discrete white-noise
 // acceleration, σ = 1 m/s², T = 1 s), Cartesian measurements with R = diag(50², 80²), and the

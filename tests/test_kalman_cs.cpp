@@ -15,12 +15,12 @@ namespace trackassoc {
 namespace {
 
 TEST(CsFilter, AccelerationVarianceIsSeed002Eq2WithTheSquare) {
-  CsOptions o;  // a_max = 50, a_−max = −50
+  CsOptions o;                                                   // a_max = 50, a_−max = −50
   const double k = (4.0 - std::numbers::pi) / std::numbers::pi;  // 0.27323954...
   EXPECT_NEAR(k, 0.2732395447351627, 1e-15);
-  EXPECT_NEAR(cs_accel_variance(10.0, o), k * 40.0 * 40.0, 1e-12);   // 437.18...
+  EXPECT_NEAR(cs_accel_variance(10.0, o), k * 40.0 * 40.0, 1e-12);  // 437.18...
   EXPECT_NEAR(cs_accel_variance(0.0, o), k * 2500.0, 1e-12);
-  EXPECT_NEAR(cs_accel_variance(-10.0, o), k * 1600.0, 1e-12);       // (a_−max − ā)² = (−40)²
+  EXPECT_NEAR(cs_accel_variance(-10.0, o), k * 1600.0, 1e-12);  // (a_−max − ā)² = (−40)²
   o.a_neg_max = -20.0;
   EXPECT_NEAR(cs_accel_variance(-10.0, o), k * 100.0, 1e-12);
   // The floor holds when ā reaches a_max.
@@ -45,7 +45,8 @@ TEST(CsFilter, SingerProcessNoiseMatchesNumericalIntegral) {
       const Eigen::Matrix3d q = cs_process_noise_shape(alpha, T);
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c)
-          EXPECT_NEAR(q(r, c), acc(r, c), 1e-8 * std::sqrt(acc(r, r) * acc(c, c))) << alpha << " " << T << " " << r << c;
+          EXPECT_NEAR(q(r, c), acc(r, c), 1e-8 * std::sqrt(acc(r, r) * acc(c, c)))
+              << alpha << " " << T << " " << r << c;
     }
   }
 }
@@ -57,8 +58,10 @@ struct ReferenceCs {
   int d;
   void step(double T, const CsOptions& o, const Eigen::VectorXd& z, const Eigen::MatrixXd& R, bool detected) {
     const int D = 3 * d;
-    Eigen::MatrixXd Phi = Eigen::MatrixXd::Zero(D, D), Fca = Eigen::MatrixXd::Zero(D, D), Q = Eigen::MatrixXd::Zero(D, D);
-    const Eigen::Matrix3d phi = cs_transition(o.manoeuvre_frequency, T), q = cs_process_noise_shape(o.manoeuvre_frequency, T);
+    Eigen::MatrixXd Phi = Eigen::MatrixXd::Zero(D, D), Fca = Eigen::MatrixXd::Zero(D, D),
+                    Q = Eigen::MatrixXd::Zero(D, D);
+    const Eigen::Matrix3d phi = cs_transition(o.manoeuvre_frequency, T),
+                          q = cs_process_noise_shape(o.manoeuvre_frequency, T);
     const Eigen::MatrixXd fca = kinematic_transition(3, T);
     for (int a = 0; a < d; ++a) {
       const double sw2 = 2.0 * o.manoeuvre_frequency * cs_accel_variance(x[2 * d + a], o);
@@ -121,9 +124,11 @@ TEST(CsFilter, BankEqualsPerTrackEigenReference) {
           for (int b = a; b < d; ++b, ++k) Ri(a, b) = Ri(b, a) = R[k][i];
         ref[i].step(1.0, o, zi, Ri, det[i]);
         for (int r = 0; r < D; ++r) {
-          ASSERT_NEAR(bank.state(i, r), ref[i].x[r], 1e-12 * std::max({1.0, std::fabs(ref[i].x[r]), std::sqrt(ref[i].P(r, r))}));
+          ASSERT_NEAR(bank.state(i, r), ref[i].x[r],
+                      1e-12 * std::max({1.0, std::fabs(ref[i].x[r]), std::sqrt(ref[i].P(r, r))}));
           for (int c = r; c < D; ++c)
-            ASSERT_NEAR(bank.cov(i, r, c), ref[i].P(r, c), 1e-12 * std::max(1.0, std::sqrt(ref[i].P(r, r) * ref[i].P(c, c))));
+            ASSERT_NEAR(bank.cov(i, r, c), ref[i].P(r, c),
+                        1e-12 * std::max(1.0, std::sqrt(ref[i].P(r, r) * ref[i].P(c, c))));
         }
       }
     }

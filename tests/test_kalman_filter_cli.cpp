@@ -64,7 +64,8 @@ TEST_F(FilterCli, EveryFilterWritesReadableTracks) {
   for (const std::string f : {"cv", "ca", "cs", "cs-nn", "imm"}) {
     const std::string out = path("out_" + f + ".h5");
     std::string err;
-    ASSERT_EQ(run("filter --input " + input_ + " --filter " + f + " --output " + out, &err), 0) << f << ": " << err;
+    ASSERT_EQ(run("filter --input " + input_ + " --filter " + f + " --output " + out, &err), 0)
+        << f << ": " << err;
     const TrackFile file = read_track_file(out);
     EXPECT_GT(file.tracks.size(), 100u) << f;
     EXPECT_TRUE(file.associations.empty());
@@ -97,7 +98,8 @@ TEST_F(FilterCli, BadOptionsAreRejectedWithoutOutput) {
   EXPECT_NE(err.find("--filter"), std::string::npos) << err;
   EXPECT_EQ(run("filter --input " + input_ + " --filter ab --output " + path("x.h5"), &err), 2);
   EXPECT_NE(err.find("ab"), std::string::npos) << err;
-  EXPECT_EQ(run("filter --input " + input_ + " --filter cv --process-noise -3 --output " + path("x.h5"), &err), 2);
+  EXPECT_EQ(
+      run("filter --input " + input_ + " --filter cv --process-noise -3 --output " + path("x.h5"), &err), 2);
   EXPECT_NE(err.find("--process-noise"), std::string::npos) << err;
   EXPECT_EQ(run("filter --input " + path("missing.h5") + " --filter cv --output " + path("x.h5"), &err), 2);
   EXPECT_FALSE(fs::exists(path("x.h5")));

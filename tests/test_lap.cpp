@@ -42,7 +42,8 @@ struct BruteForce {
     }
     // Leave row r unassigned: always allowed with allow_unassigned; otherwise only when rows > cols
     // and enough rows remain to fill the columns.
-    if (allow_unassigned || (rows - r - 1) >= (std::min(rows, cols) - assigned)) recurse(r + 1, acc, assigned);
+    if (allow_unassigned || (rows - r - 1) >= (std::min(rows, cols) - assigned))
+      recurse(r + 1, acc, assigned);
     for (int col = 0; col < cols; ++col) {
       if (used[col]) continue;
       const double x = c[static_cast<std::size_t>(r) * cols + col];
@@ -54,14 +55,16 @@ struct BruteForce {
   }
 };
 
-double brute_force(const std::vector<double>& c, int rows, int cols, bool allow_unassigned = false, double u = 0.0) {
+double brute_force(const std::vector<double>& c, int rows, int cols, bool allow_unassigned = false,
+                   double u = 0.0) {
   BruteForce bf{c, rows, cols, allow_unassigned, u, {}};
   bf.run();
   return bf.best;
 }
 
 // The returned matching is consistent, and its recomputed cost equals result.cost.
-void check_consistent(const LapResult& r, const std::vector<double>& c, int rows, int cols, const LapOptions& o) {
+void check_consistent(const LapResult& r, const std::vector<double>& c, int rows, int cols,
+                      const LapOptions& o) {
   ASSERT_EQ(static_cast<int>(r.row_to_col.size()), rows);
   ASSERT_EQ(static_cast<int>(r.col_to_row.size()), cols);
   double sum = 0.0;
@@ -232,7 +235,8 @@ TEST(Lap, PlantedPermutation) {
   rng.shuffle(std::span<int32_t>(perm));
   std::vector<double> c(static_cast<std::size_t>(n) * n);
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) c[static_cast<std::size_t>(i) * n + j] = (perm[i] == j) ? 0.0 : 1.0 + rng.uniform();
+    for (int j = 0; j < n; ++j)
+      c[static_cast<std::size_t>(i) * n + j] = (perm[i] == j) ? 0.0 : 1.0 + rng.uniform();
   const auto r = solve_lap(c, n, n);
   EXPECT_EQ(r.cost, 0.0);
   EXPECT_EQ(r.row_to_col, perm);

@@ -2,13 +2,13 @@
 // track numbers with truth kept, detection / clutter / noise statistics, exact truth kinematics,
 // and consistency of the local tracks.
 #include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
-#include <oneapi/tbb/global_control.h>
 #include <set>
 
 #include "engine/simulation.hpp"
@@ -121,7 +121,8 @@ TEST(Simulation, DetectionClutterAndNoiseStatistics) {
     }
     ++detections;
     const int id = r.measurements.target[i];
-    const auto& tr = *std::find_if(trajectories.begin(), trajectories.end(), [&](auto& x) { return x.id == id; });
+    const auto& tr =
+        *std::find_if(trajectories.begin(), trajectories.end(), [&](auto& x) { return x.id == id; });
     const PolarPoint q = cartesian_to_polar(2, sc.sensors[0], tr.at(r.measurements.t[i]).p);
     const double er = r.measurements.range[i] - q.range;
     const double eb = std::remainder(r.measurements.bearing[i] - q.bearing, 2 * std::numbers::pi);
@@ -136,7 +137,8 @@ TEST(Simulation, DetectionClutterAndNoiseStatistics) {
   EXPECT_NEAR(clutter / scans, 3.0, 4 * std::sqrt(3.0 / scans));
   EXPECT_NEAR(sum_r / detections, 0.0, 4 * 100.0 / std::sqrt(detections));
   EXPECT_NEAR(std::sqrt(sum_r2 / detections), 100.0, 5.0);
-  EXPECT_NEAR(std::sqrt(sum_b2 / detections), sc.sensors[0].sigma_bearing, 0.05 * sc.sensors[0].sigma_bearing);
+  EXPECT_NEAR(std::sqrt(sum_b2 / detections), sc.sensors[0].sigma_bearing,
+              0.05 * sc.sensors[0].sigma_bearing);
   // Clutter is not used for track formation: tracks only carry real target ids.
   for (int32_t t : r.tracks.truth) EXPECT_GE(t, 0);
 }

@@ -1,6 +1,7 @@
 // `trackassoc solve3d` end to end: known optima through the CLI, the JSON contract (valid
 // assignment, recomputed cost = objective), HDF5 tensor input, and rejection of bad instances.
 #include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
 
 #include "io/cost_tensor_file.hpp"
@@ -20,10 +21,12 @@ class Solve3d : public CliFixture {
     const CliResult r = run("solve3d --instance " + instance + " --solver " + solver + " --json --threads 2");
     EXPECT_EQ(r.status, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
-    for (const char* key : {"objective", "lower_bound", "gap", "feasible", "runtime_s", "termination", "assignment"})
+    for (const char* key :
+         {"objective", "lower_bound", "gap", "feasible", "runtime_s", "termination", "assignment"})
       EXPECT_TRUE(j.contains(key)) << key;
     std::vector<Tuple3> t;
-    for (const auto& x : j.at("assignment")) t.push_back({x.at(0).get<int32_t>(), x.at(1).get<int32_t>(), x.at(2).get<int32_t>()});
+    for (const auto& x : j.at("assignment"))
+      t.push_back({x.at(0).get<int32_t>(), x.at(1).get<int32_t>(), x.at(2).get<int32_t>()});
     EXPECT_TRUE(is_valid_assignment(b, t));
     EXPECT_DOUBLE_EQ(assignment_cost(b, t), j.at("objective").get<double>());
     EXPECT_TRUE(j.at("feasible").get<bool>());
@@ -69,7 +72,8 @@ TEST_F(Solve3d, Hdf5CostTensorWithUnequalSizesAndDummies) {
 }
 
 TEST_F(Solve3d, TimeLimitIsPassedAndReported) {
-  const CliResult r = run("solve3d -i " + balas_saltzman("bs.8.2.txt") + " --solver exact --time-limit 5 --json");
+  const CliResult r =
+      run("solve3d -i " + balas_saltzman("bs.8.2.txt") + " --solver exact --time-limit 5 --json");
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(nlohmann::json::parse(r.out).at("objective").get<double>(), 32.0);  // bs.8.2 optimum
   const CliResult g = run("solve3d -i " + balas_saltzman("bs.8.2.txt") + " --solver greedy --time-limit 5");
@@ -96,8 +100,12 @@ TEST_F(Solve3d, BadInstancesAreRejectedWithOneLine) {
   }
   EXPECT_EQ(run("solve3d --instance " + path("missing.txt")).status, 2);
   EXPECT_EQ(run("solve3d --instance " + balas_saltzman("bs.4.1.txt") + " --solver nope").status, 2);
-  EXPECT_EQ(run("solve3d --instance " + balas_saltzman("bs.4.1.txt") + " --options '{\"theta\": 5}'").status, 2);
-  EXPECT_EQ(run("solve3d --instance " + balas_saltzman("bs.4.1.txt") + " --solver lr --options '{\"bogus\": 1}'").status, 2);
+  EXPECT_EQ(run("solve3d --instance " + balas_saltzman("bs.4.1.txt") + " --options '{\"theta\": 5}'").status,
+            2);
+  EXPECT_EQ(
+      run("solve3d --instance " + balas_saltzman("bs.4.1.txt") + " --solver lr --options '{\"bogus\": 1}'")
+          .status,
+      2);
   // HDF5: a truncated file and a NaN entry.
   const std::string trunc = write("trunc.h5", std::string("\211HDF\r\n\032\n", 8) + "xx");
   EXPECT_EQ(run("solve3d --instance " + trunc).status, 2);

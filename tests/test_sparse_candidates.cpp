@@ -80,7 +80,8 @@ TEST_P(SparseCandidates, GridEqualsScanAndLosesNoGatedPair) {
 }
 
 INSTANTIATE_TEST_SUITE_P(RandomScenarios, SparseCandidates,
-                         ::testing::Combine(::testing::Bool(), ::testing::Values(1u, 2u, 3u), ::testing::Bool()));
+                         ::testing::Combine(::testing::Bool(), ::testing::Values(1u, 2u, 3u),
+                                            ::testing::Bool()));
 
 TEST(SparseCandidates, OneAndTwoThreadsIdentical) {
   testing::SyntheticSpec spec;

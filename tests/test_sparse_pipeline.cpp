@@ -2,17 +2,16 @@
 // same registered solver gives the same associations (tuple sets) where both fit; clear errors for
 // what the sparse form refuses.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
-#include <string>
 #include <limits>
 #include <set>
+#include <sstream>
+#include <string>
 
 #include "engine/metrics.hpp"
 #include "engine/pipeline.hpp"
@@ -26,7 +25,8 @@ namespace {
 std::set<std::vector<int32_t>> tuple_set(const AssociationRecord& r) {
   std::set<std::vector<int32_t>> s;
   for (std::size_t q = 0; q < r.num_tuples(); ++q)
-    s.insert(std::vector<int32_t>(r.tuples.begin() + q * r.num_sensors, r.tuples.begin() + (q + 1) * r.num_sensors));
+    s.insert(std::vector<int32_t>(r.tuples.begin() + q * r.num_sensors,
+                                  r.tuples.begin() + (q + 1) * r.num_sensors));
   return s;
 }
 
@@ -69,7 +69,8 @@ TEST_P(SparseEqualsDense, SameAssociationsOnRandomScenarios) {
     for (const PairStatistic* s : {&dp.s12, &dp.s23, &dp.s13})
       for (uint8_t g : s->in_gate) dense_in += g;
     EXPECT_EQ(dense_in, sp.s12.size() + sp.s23.size() + sp.s13.size()) << "seed " << seed;
-    const AssociationRecord dense = solve_association(dp, cs.solver, nlohmann::json::object(), 3, so.pipeline);
+    const AssociationRecord dense =
+        solve_association(dp, cs.solver, nlohmann::json::object(), 3, so.pipeline);
     const AssociationRecord sparse = solve_sparse_association(sp, cs.solver, nlohmann::json::object(), 3, so);
     EXPECT_EQ(sparse.num_sensors, dense.num_sensors);
     // Every local track appears exactly once in the sparse output.
@@ -122,7 +123,8 @@ TEST_P(UnequalCounts, KeepEveryTrackAndGroupTargets) {
       if (t >= 0) EXPECT_TRUE(seen.insert({s, t}).second) << "track output twice";
     }
   std::set<std::pair<int32_t, int32_t>> in_file;
-  for (std::size_t row = 0; row < f.tracks.size(); ++row) in_file.insert({f.tracks.sensor[row] - 1, f.tracks.track[row]});
+  for (std::size_t row = 0; row < f.tracks.size(); ++row)
+    in_file.insert({f.tracks.sensor[row] - 1, f.tracks.track[row]});
   EXPECT_EQ(seen.size(), in_file.size());
   const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, r);
   EXPECT_GT(m.targets, 150);
@@ -169,8 +171,9 @@ namespace {
 // and exit status 2 with one line on bad input.
 TEST(ExperimentScaleCli, WritesTableAndCsvAndRejectsBadSizes) {
   const std::string dir = ::testing::TempDir() + "/trackassoc_scale_cli";
-  const std::string cmd = std::string(TRACKASSOC_CLI) + " experiment scale --sizes 60 --dense-max 60 --no-plot --threads 1 --out " +
-                          dir + " > " + dir + ".out 2>&1";
+  const std::string cmd = std::string(TRACKASSOC_CLI) +
+                          " experiment scale --sizes 60 --dense-max 60 --no-plot --threads 1 --out " + dir +
+                          " > " + dir + ".out 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   std::ifstream csv(dir + "/scale.csv");
   std::string header, row;

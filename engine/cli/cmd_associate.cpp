@@ -20,10 +20,12 @@ void register_associate(CLI::App& app) {
   auto args = std::make_shared<Args>();
   std::string solver_help = "3-D assignment solver:";
   for (const auto& e : solver_registry()) solver_help += " " + e.name;
-  solver_help += "; or a seed 001 fusion centre over all sensors: fuzzy, ftaa (also writes /system_tracks/NAME)";
+  solver_help +=
+      "; or a seed 001 fusion centre over all sensors: fuzzy, ftaa (also writes /system_tracks/NAME)";
   auto* cmd = app.add_subcommand("associate", "Associate the local tracks of three sensors");
   cmd->add_option("--input,-i", args->input, "Input HDF5 track file (schema v1)")->required();
-  cmd->add_option("--output,-o", args->output, "Output HDF5 file (input content + the association)")->required();
+  cmd->add_option("--output,-o", args->output, "Output HDF5 file (input content + the association)")
+      ->required();
   cmd->add_option("--solver", args->solver, solver_help)->capture_default_str();
   cmd->add_option("--name", args->name, "Group name under /associations (default: the solver name)");
   add_pipeline_options(cmd, args->pipeline);
@@ -40,23 +42,24 @@ void register_associate(CLI::App& app) {
       const FuzzyPipelineResult res = associate_fuzzy(file, fuzzy, name);
       write_track_file(args->output, file);
       std::cout << "associated " << res.packets.num_local() << " local tracks (" << res.packets.size()
-                << " packets) with '" << args->solver << "': " << res.fusion.num_system_tracks << " system tracks, "
-                << res.association.num_tuples() << " tuples, " << fmt(1e3 * res.fusion.summary.wall_time_s, "%.2f")
-                << " ms -> " << args->output << "\n";
+                << " packets) with '" << args->solver << "': " << res.fusion.num_system_tracks
+                << " system tracks, " << res.association.num_tuples() << " tuples, "
+                << fmt(1e3 * res.fusion.summary.wall_time_s, "%.2f") << " ms -> " << args->output << "\n";
       return;
     }
     find_solver(args->solver);  // fail on an unknown name before reading anything
     TrackFile file = read_track_file(args->input);
     const AssociationProblem problem = build_association_problem(file, options);
-    AssociationRecord rec = solve_association(problem, args->solver, solver_options, args->common.seed, options);
+    AssociationRecord rec =
+        solve_association(problem, args->solver, solver_options, args->common.seed, options);
     if (!args->name.empty()) rec.name = args->name;
     std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == rec.name; });
     file.associations.push_back(rec);
     write_track_file(args->output, file);
     std::cout << "associated " << problem.tensor.n1 << "x" << problem.tensor.n2 << "x" << problem.tensor.n3
               << " tracks with '" << args->solver << "': objective " << fmt(rec.objective) << ", "
-              << rec.num_tuples() << " tuples, " << fmt(1e3 * rec.runtime_s, "%.2f") << " ms -> " << args->output
-              << "\n";
+              << rec.num_tuples() << " tuples, " << fmt(1e3 * rec.runtime_s, "%.2f") << " ms -> "
+              << args->output << "\n";
   });
 }
 

@@ -27,24 +27,33 @@ void register_experiment_scale(CLI::App& experiment) {
   };
   auto args = std::make_shared<Args>();
   auto* cmd = experiment.add_subcommand(
-      "scale", "Sparse association from 10^2 to 10^4 targets per sensor: time and peak memory per stage, "
-               "correct rate, dense path beside it where it fits");
+      "scale",
+      "Sparse association from 10^2 to 10^4 targets per sensor: time and peak memory per stage, "
+      "correct rate, dense path beside it where it fits");
   auto& o = args->options;
-  cmd->add_option("--sizes", o.sizes, "Targets per sensor, comma-separated")->delimiter(',')->capture_default_str();
-  cmd->add_option("--dense-max", o.dense_max, "Run the dense path too up to this size")->capture_default_str();
-  cmd->add_option("--solver", o.solver, "Solver for every component (and the dense path)")->capture_default_str();
-  cmd->add_option("--options", args->solver_options, "Solver options as a JSON object")->capture_default_str();
+  cmd->add_option("--sizes", o.sizes, "Targets per sensor, comma-separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--dense-max", o.dense_max, "Run the dense path too up to this size")
+      ->capture_default_str();
+  cmd->add_option("--solver", o.solver, "Solver for every component (and the dense path)")
+      ->capture_default_str();
+  cmd->add_option("--options", args->solver_options, "Solver options as a JSON object")
+      ->capture_default_str();
   cmd->add_option("--density", o.density, "Targets per 100 km^2 of ground")->capture_default_str();
   cmd->add_option("--gate", o.gate_probability, "Chi-square gate probability")->capture_default_str();
   cmd->add_option("--duration", o.tracks.duration, "Track set duration [s]")->capture_default_str();
-  cmd->add_option("--sigma-pos", o.tracks.sigma_pos, "Local track position error sigma [m]")->capture_default_str();
+  cmd->add_option("--sigma-pos", o.tracks.sigma_pos, "Local track position error sigma [m]")
+      ->capture_default_str();
   cmd->add_option("--p-seen", o.tracks.p_seen, "Probability that a sensor holds a track of a target")
       ->capture_default_str();
   cmd->add_option("--min-lifetime", o.tracks.min_lifetime_fraction,
                   "Each local track covers a random part of the duration, at least this fraction (1 = all)")
       ->capture_default_str();
-  cmd->add_flag_function("--two-d", [args](int64_t) { args->options.tracks.three_d = false; }, "2-D targets (default 3-D)");
-  cmd->add_flag("--no-isolate", args->no_isolate, "Run every size in this process (peak memory is then cumulative)");
+  cmd->add_flag_function(
+      "--two-d", [args](int64_t) { args->options.tracks.three_d = false; }, "2-D targets (default 3-D)");
+  cmd->add_flag("--no-isolate", args->no_isolate,
+                "Run every size in this process (peak memory is then cumulative)");
   cmd->add_flag("--no-plot", args->no_plot, "Do not call scripts/plot_scale.py");
   cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
   add_common_options(cmd, args->common);
@@ -66,16 +75,26 @@ void register_experiment_scale(CLI::App& experiment) {
               << (o.threads ? std::to_string(o.threads) : std::string("all")) << "\n\n"
               << scale_table(rows);
     const double slope = scaling_exponent(rows, 1000);
-    std::printf("\nlog-log slope of total time vs n for n >= 1000: %.2f (n log n gives about 1.1 here, n^2 gives 2)\n",
-                slope);
+    std::printf(
+        "\nlog-log slope of total time vs n for n >= 1000: %.2f (n log n gives about 1.1 here, n^2 gives "
+        "2)\n",
+        slope);
     const std::string csv = args->out + "/scale.csv", json = args->out + "/scale.json";
     write_atomically(csv, [&](const std::string& tmp) { std::ofstream(tmp) << scale_csv(rows); });
     nlohmann::json j = {{"options",
-                         {{"sizes", o.sizes}, {"dense_max", o.dense_max}, {"solver", o.solver},
-                          {"solver_options", o.solver_options}, {"density_per_100km2", o.density},
-                          {"gate_probability", o.gate_probability}, {"duration", o.tracks.duration},
-                          {"sigma_pos", o.tracks.sigma_pos}, {"p_seen", o.tracks.p_seen}, {"min_lifetime_fraction", o.tracks.min_lifetime_fraction},
-                          {"three_d", o.tracks.three_d}, {"seed", o.seed}, {"threads", o.threads}}},
+                         {{"sizes", o.sizes},
+                          {"dense_max", o.dense_max},
+                          {"solver", o.solver},
+                          {"solver_options", o.solver_options},
+                          {"density_per_100km2", o.density},
+                          {"gate_probability", o.gate_probability},
+                          {"duration", o.tracks.duration},
+                          {"sigma_pos", o.tracks.sigma_pos},
+                          {"p_seen", o.tracks.p_seen},
+                          {"min_lifetime_fraction", o.tracks.min_lifetime_fraction},
+                          {"three_d", o.tracks.three_d},
+                          {"seed", o.seed},
+                          {"threads", o.threads}}},
                         {"loglog_slope_n_ge_1000", slope},
                         {"rows", nlohmann::json::array()}};
     for (const auto& r : rows) j["rows"].push_back(r.to_json());

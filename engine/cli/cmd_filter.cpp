@@ -21,7 +21,8 @@ namespace trackassoc::cli {
 
 namespace {
 
-void add_model_probabilities(const std::string& path, const LocalTrackingResult& r, const std::string& models) {
+void add_model_probabilities(const std::string& path, const LocalTrackingResult& r,
+                             const std::string& models) {
   h5::silence_library_errors();
   h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
   if (!f.valid()) throw InputError(path + ": cannot reopen the new file to add /tracks/model_prob");
@@ -44,12 +45,14 @@ void register_filter(CLI::App& app) {
     int run = 0;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("filter", "Turn /measurements into /tracks with a filter bank (HDF5 in, HDF5 out)");
+  auto* cmd =
+      app.add_subcommand("filter", "Turn /measurements into /tracks with a filter bank (HDF5 in, HDF5 out)");
   cmd->add_option("--input,-i", args->input, "Input HDF5 file with /sensors and /measurements")->required();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file")->required();
-  cmd->add_option("--filter", args->filter,
-                  "cv | ca (Kalman), cs (current statistical), cs-nn (parallel CS + network), imm (seed 002), "
-                  "ab (alpha-beta, not yet available)")
+  cmd->add_option(
+         "--filter", args->filter,
+         "cv | ca (Kalman), cs (current statistical), cs-nn (parallel CS + network), imm (seed 002), "
+         "ab (alpha-beta, not yet available)")
       ->check(CLI::IsMember({"cv", "ca", "ab", "cs", "cs-nn", "imm"}))
       ->capture_default_str();
   cmd->add_option("--process-noise", args->process_noise,
@@ -61,13 +64,16 @@ void register_filter(CLI::App& app) {
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     if (args->filter == "ab")
-      throw InputError("--filter ab: the alpha-beta bank is not wired into `filter` yet (it comes with the fuzzy "
-                       "association kernels); use cv, ca, cs, cs-nn or imm");
+      throw InputError(
+          "--filter ab: the alpha-beta bank is not wired into `filter` yet (it comes with the fuzzy "
+          "association kernels); use cv, ca, cs, cs-nn or imm");
     if (args->process_noise != -1.0 && !(args->process_noise >= 0.0 && std::isfinite(args->process_noise)))
-      throw InputError("--process-noise: expected a finite σ ≥ 0 [m/s²], got " + std::to_string(args->process_noise));
+      throw InputError("--process-noise: expected a finite σ ≥ 0 [m/s²], got " +
+                       std::to_string(args->process_noise));
     TrackFile file = read_track_file(args->input);
     if (!file.measurements || file.measurements->size() == 0)
-      throw InputError(args->input + ": /measurements: missing or empty; `filter` needs measurements to track");
+      throw InputError(args->input +
+                       ": /measurements: missing or empty; `filter` needs measurements to track");
     LocalTrackerSpec spec;
     StateLayout layout = file.tracks.layout;
     if (!file.scenario_json.empty()) {
@@ -87,8 +93,8 @@ void register_filter(CLI::App& app) {
       if (r.num_models > 0) add_model_probabilities(tmp, r, "cs-nn,ca");
     });
     std::cout << "filtered " << file.measurements->size() << " measurements of " << file.sensors.size()
-              << " sensors with '" << args->filter << "': " << r.tracks.size() << " track reports -> " << args->output
-              << "\n";
+              << " sensors with '" << args->filter << "': " << r.tracks.size() << " track reports -> "
+              << args->output << "\n";
   });
 }
 

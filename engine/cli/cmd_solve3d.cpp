@@ -24,7 +24,9 @@ bool looks_like_hdf5(const std::string& path) {
   return in.gcount() == 8 && std::string(sig, 8) == std::string("\211HDF\r\n\032\n", 8);
 }
 
-nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+nlohmann::json number_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
 
 }  // namespace
 
@@ -46,18 +48,24 @@ void register_solve3d(CLI::App& app) {
       "solve3d",
       "Solve one 3-D assignment instance. Input: the text format of benchmarks/3dap (line 1: S = 3; line 2: "
       "n1 n2 n3; then n1*n2*n3 costs, first index slowest), or an HDF5 file with a dataset /cost of shape "
-      "n1 x n2 x n3 (any numeric type; optional attribute /cost miss_cost = cost per missing index, default inf)");
-  cmd->add_option("--instance,-i", args->instance, "Instance file (text or HDF5, detected by content)")->required();
+      "n1 x n2 x n3 (any numeric type; optional attribute /cost miss_cost = cost per missing index, default "
+      "inf)");
+  cmd->add_option("--instance,-i", args->instance, "Instance file (text or HDF5, detected by content)")
+      ->required();
   cmd->add_option("--solver", args->solver, solver_help)->capture_default_str();
-  cmd->add_flag("--json", args->json,
-                "Print one JSON object: objective, lower_bound, gap, abs_gap, feasible, runtime_s, termination, "
-                "iterations, assignment (list of 0-based [i, j, k]; -1 = no index of that dimension)");
-  cmd->add_option("--time-limit", args->time_limit, "Time limit in seconds for lr, lr+ls and exact (0 = solver default)")
+  cmd->add_flag(
+      "--json", args->json,
+      "Print one JSON object: objective, lower_bound, gap, abs_gap, feasible, runtime_s, termination, "
+      "iterations, assignment (list of 0-based [i, j, k]; -1 = no index of that dimension)");
+  cmd->add_option("--time-limit", args->time_limit,
+                  "Time limit in seconds for lr, lr+ls and exact (0 = solver default)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--options", args->options, "Solver options as a JSON object, e.g. '{\"step_rule\": \"deflected\"}'")
+  cmd->add_option("--options", args->options,
+                  "Solver options as a JSON object, e.g. '{\"step_rule\": \"deflected\"}'")
       ->capture_default_str();
   cmd->add_option("--schedule", args->schedule, "Hopfield solvers: sync, async, diagonal or continuous");
-  cmd->add_option("--restarts", args->restarts, "Hopfield solvers: number of restarts")->check(CLI::PositiveNumber);
+  cmd->add_option("--restarts", args->restarts, "Hopfield solvers: number of restarts")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--polish", args->polish, "Hopfield solvers: polish every restart by the LAP local search");
   add_common_options(cmd, args->common);
   cmd->callback([args] {
@@ -79,8 +87,8 @@ void register_solve3d(CLI::App& app) {
       if (options.is_null()) options = nlohmann::json::object();
       options["time_limit_s"] = args->time_limit;
     }
-    const CostTensor3 tensor =
-        looks_like_hdf5(args->instance) ? read_cost_tensor_hdf5(args->instance) : read_3dap_instance(args->instance);
+    const CostTensor3 tensor = looks_like_hdf5(args->instance) ? read_cost_tensor_hdf5(args->instance)
+                                                               : read_3dap_instance(args->instance);
     const auto t0 = std::chrono::steady_clock::now();
     const Solution3 s = solver.solve(tensor, options, args->common.seed);
     const double runtime = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -104,7 +112,8 @@ void register_solve3d(CLI::App& app) {
       std::cout << out.dump() << "\n";
       return;
     }
-    std::cout << "instance    " << args->instance << " (" << tensor.n1 << "x" << tensor.n2 << "x" << tensor.n3 << ")\n"
+    std::cout << "instance    " << args->instance << " (" << tensor.n1 << "x" << tensor.n2 << "x" << tensor.n3
+              << ")\n"
               << "solver      " << solver.name << "\n"
               << "objective   " << m.objective << "\n";
     if (!std::isnan(m.lower_bound))

@@ -2,10 +2,11 @@
 // --threads), the thread-count scope, and the registration hooks of each command file.
 #pragma once
 
+#include <oneapi/tbb/global_control.h>
+
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <memory>
-#include <oneapi/tbb/global_control.h>
 
 namespace trackassoc::cli {
 
@@ -54,7 +55,8 @@ struct PipelineFlags {
 };
 
 inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
-  cmd->add_option("--sensors", f.options.sensors, "The three /sensors ids to associate (default: the first three)")
+  cmd->add_option("--sensors", f.options.sensors,
+                  "The three /sensors ids to associate (default: the first three)")
       ->expected(3);
   cmd->add_option("--gate", f.options.statistic.gate_probability,
                   "Chi-square gate probability of the sequential statistic (1 disables gating)")
@@ -62,8 +64,9 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
   cmd->add_option("--cost-form", f.cost_form, "Cost tensor: chain (b=λij+λjk, seed 000 Eq. 3) or all-pairs")
       ->check(CLI::IsMember({"chain", "all-pairs"}))
       ->capture_default_str();
-  cmd->add_option("--correlated", f.correlated,
-                  "Use the correlated-error statistic (Bar-Shalom–Campo) with cross-correlation RHO in [0,1)");
+  cmd->add_option(
+      "--correlated", f.correlated,
+      "Use the correlated-error statistic (Bar-Shalom–Campo) with cross-correlation RHO in [0,1)");
   cmd->add_option("--common-period", f.options.common_period,
                   "Step of the common time grid [s] (0 = the largest scan period)")
       ->capture_default_str();
