@@ -20,7 +20,8 @@ bool all_dummy(std::span<const int32_t> t) {
 
 }  // namespace
 
-CostTensorSD::CostTensorSD(std::vector<int32_t> sizes, float fill, std::size_t max_entries) : n(std::move(sizes)) {
+CostTensorSD::CostTensorSD(std::vector<int32_t> sizes, float fill, std::size_t max_entries)
+    : n(std::move(sizes)) {
   require(n.size() >= 2, "CostTensorSD", "needs at least 2 sensors, got " + std::to_string(n.size()));
   std::size_t total = 1;
   stride.assign(n.size(), 0);
@@ -43,8 +44,8 @@ void CostTensorSD::validate() const {
     require(stride[s] == total, "CostTensorSD", "inconsistent strides");
     total *= static_cast<std::size_t>(n[s]) + 1;
   }
-  require(cost.size() == total, "CostTensorSD", "cost has " + std::to_string(cost.size()) + " entries, expected " +
-                                                    std::to_string(total));
+  require(cost.size() == total, "CostTensorSD",
+          "cost has " + std::to_string(cost.size()) + " entries, expected " + std::to_string(total));
   for (std::size_t e = 0; e < cost.size(); ++e)
     require(!std::isnan(cost[e]), "CostTensorSD", "NaN cost at entry " + std::to_string(e));
 }
@@ -82,7 +83,8 @@ void finish_summary_sd(const CostTensorSD& c, std::span<const int32_t> tuples, d
   set_bound_and_gap(summary, lower_bound);
 }
 
-DimensionMatch match_dimension(std::span<const double> e, std::span<const double> e_new, int32_t m, int32_t n) {
+DimensionMatch match_dimension(std::span<const double> e, std::span<const double> e_new, int32_t m,
+                               int32_t n) {
   DimensionMatch out;
   out.tuple_index.assign(m, kNoTrack);
   const int32_t size = m + n;

@@ -45,7 +45,8 @@ struct CostTensorSD {
   // Entry offset of a tuple; kNoTrack (or n_s) selects the dummy of sensor s.
   std::size_t offset(std::span<const int32_t> t) const {
     std::size_t o = 0;
-    for (std::size_t s = 0; s < n.size(); ++s) o += static_cast<std::size_t>(t[s] < 0 ? n[s] : t[s]) * stride[s];
+    for (std::size_t s = 0; s < n.size(); ++s)
+      o += static_cast<std::size_t>(t[s] < 0 ? n[s] : t[s]) * stride[s];
     return o;
   }
   float at(std::span<const int32_t> t) const { return cost[offset(t)]; }
@@ -81,7 +82,8 @@ struct DimensionMatch {
   double cost = 0.0;
   bool feasible = true;
 };
-DimensionMatch match_dimension(std::span<const double> e, std::span<const double> e_new, int32_t m, int32_t n);
+DimensionMatch match_dimension(std::span<const double> e, std::span<const double> e_new, int32_t m,
+                               int32_t n);
 
 // Local search (the S-D form of "fix two dimensions and re-solve the third"): for each sensor s in
 // turn, take s out of every tuple and re-assign its indices to the remaining partial tuples by
@@ -89,7 +91,8 @@ DimensionMatch match_dimension(std::span<const double> e, std::span<const double
 // is optimal given the others, so the cost never rises. O(passes · S · (K+n)³).
 // options.max_rounds bounds the passes. Returns the number of improving moves; `tuples` must be
 // valid and stays valid.
-int64_t polish_sd(const CostTensorSD& c, std::vector<int32_t>& tuples, const LocalSearchOptions& options = {});
+int64_t polish_sd(const CostTensorSD& c, std::vector<int32_t>& tuples,
+                  const LocalSearchOptions& options = {});
 
 // Exact depth-first branch and bound. A node branches on the lowest free index of the first sensor
 // with a free index, over every tuple that holds it together with free indices or dummies of the

@@ -125,7 +125,8 @@ struct Search {
     used[s][i] = 1;  // so that enumerate() does not offer i again in a later sensor (it cannot: s differs)
     enumerate(s, t, s + 1, cost_so_far, lb_rest, children);
     used[s][i] = 0;
-    std::sort(children.begin(), children.end(), [](const Child& a, const Child& b) { return a.bound < b.bound; });
+    std::sort(children.begin(), children.end(),
+              [](const Child& a, const Child& b) { return a.bound < b.bound; });
     for (const Child& ch : children) {
       if (ch.bound >= best_cost - 1e-12 * std::max(1.0, std::abs(best_cost))) break;
       double members_share = 0.0;
@@ -146,7 +147,8 @@ struct Search {
 
 }  // namespace
 
-SolutionSD solve_exact_sd(const CostTensorSD& c, const ExactSDOptions& options, const std::vector<int32_t>* incumbent) {
+SolutionSD solve_exact_sd(const CostTensorSD& c, const ExactSDOptions& options,
+                          const std::vector<int32_t>* incumbent) {
   options.validate();
   c.validate();
   const auto t0 = std::chrono::steady_clock::now();
@@ -174,7 +176,8 @@ SolutionSD solve_exact_sd(const CostTensorSD& c, const ExactSDOptions& options, 
     sol.summary.termination = proven ? Termination::kOptimal : Termination::kTimeLimit;
   }
   finish_summary_sd(c, sol.tuples, proven ? search.best_cost : root, sol.summary);
-  sol.summary.message = std::to_string(search.nodes) + " nodes" + (proven ? "" : "; stopped at the node/time limit");
+  sol.summary.message =
+      std::to_string(search.nodes) + " nodes" + (proven ? "" : "; stopped at the node/time limit");
   sol.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return sol;
 }

@@ -65,7 +65,8 @@ std::vector<int32_t> recover(const CostTensorSD& c, const std::vector<std::vecto
     const int32_t m = static_cast<int32_t>(partial.size() / S), ns = c.n[s];
     auto block = [&](const int32_t* prefix, int32_t i) {
       std::size_t off = static_cast<std::size_t>(i) * c.stride[s];
-      for (int32_t q = 0; q < s; ++q) off += static_cast<std::size_t>(prefix[q] < 0 ? c.n[q] : prefix[q]) * c.stride[q];
+      for (int32_t q = 0; q < s; ++q)
+        off += static_cast<std::size_t>(prefix[q] < 0 ? c.n[q] : prefix[q]) * c.stride[q];
       std::size_t arg;
       return block_min(c.cost.data() + off, p.data(), len, arg);
     };
@@ -93,7 +94,8 @@ SolutionSD solve_two_sensors(const CostTensorSD& c) {
   const int32_t n0 = c.n[0], n1 = c.n[1];
   std::vector<double> e(static_cast<std::size_t>(n0) * (n1 + 1)), e_new(n1);
   for (int32_t i = 0; i < n0; ++i)
-    for (int32_t j = 0; j <= n1; ++j) e[static_cast<std::size_t>(i) * (n1 + 1) + j] = c.cost[i * c.stride[0] + j];
+    for (int32_t j = 0; j <= n1; ++j)
+      e[static_cast<std::size_t>(i) * (n1 + 1) + j] = c.cost[i * c.stride[0] + j];
   for (int32_t j = 0; j < n1; ++j) e_new[j] = c.cost[n0 * c.stride[0] + j];
   const DimensionMatch match = match_dimension(e, e_new, n0, n1);
   SolutionSD sol;
@@ -142,7 +144,8 @@ SolutionSD solve_lagrangian_sd(const CostTensorSD& c, const LagrangianOptions& o
   auto converged = [&]() {
     const double abs_gap = upper - lower;
     if (abs_gap <= options.absolute_gap_tolerance) return Termination::kOptimal;
-    if (abs_gap / std::max(std::abs(upper), 1e-9) <= options.relative_gap_tolerance) return Termination::kGapTolerance;
+    if (abs_gap / std::max(std::abs(upper), 1e-9) <= options.relative_gap_tolerance)
+      return Termination::kGapTolerance;
     return Termination::kIterationLimit;
   };
 
@@ -158,7 +161,8 @@ SolutionSD solve_lagrangian_sd(const CostTensorSD& c, const LagrangianOptions& o
         }
     });
     // Tuples whose first two indices are dummies are unconstrained in the relaxed problem.
-    const float* dd = c.cost.data() + static_cast<std::size_t>(n0) * c.stride[0] + static_cast<std::size_t>(n1) * c.stride[1];
+    const float* dd = c.cost.data() + static_cast<std::size_t>(n0) * c.stride[0] +
+                      static_cast<std::size_t>(n1) * c.stride[1];
     double free_sum = 0.0;
     std::vector<std::size_t> free_chosen;
     for (std::size_t r = 0; r + 1 < R; ++r) {  // r = R−1 is the all-dummy tuple
@@ -170,7 +174,8 @@ SolutionSD solve_lagrangian_sd(const CostTensorSD& c, const LagrangianOptions& o
     }
     e.assign(static_cast<std::size_t>(n0) * (n1 + 1), 0.0);
     std::copy(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(e.size()), e.begin());
-    e_new.assign(d.begin() + static_cast<std::ptrdiff_t>(e.size()), d.begin() + static_cast<std::ptrdiff_t>(e.size()) + n1);
+    e_new.assign(d.begin() + static_cast<std::ptrdiff_t>(e.size()),
+                 d.begin() + static_cast<std::ptrdiff_t>(e.size()) + n1);
     const DimensionMatch lap = match_dimension(e, e_new, n0, n1);
     if (!lap.feasible) {
       termination = Termination::kInfeasible;
@@ -265,11 +270,13 @@ SolutionSD solve_lagrangian_sd(const CostTensorSD& c, const LagrangianOptions& o
     for (int32_t s = 2; s < S; ++s)
       for (int32_t i = 0; i < c.n[s]; ++i) mu[s][i] += step * direction[s][i];
   }
-  if (termination == Termination::kIterationLimit && !std::isfinite(upper)) termination = Termination::kInfeasible;
+  if (termination == Termination::kIterationLimit && !std::isfinite(upper))
+    termination = Termination::kInfeasible;
   sol.tuples = std::move(best);
   sol.summary.iterations = iterations;
   sol.summary.termination = termination;
-  finish_summary_sd(c, sol.tuples, std::isfinite(lower) || lower > 0 ? lower : std::numeric_limits<double>::quiet_NaN(),
+  finish_summary_sd(c, sol.tuples,
+                    std::isfinite(lower) || lower > 0 ? lower : std::numeric_limits<double>::quiet_NaN(),
                     sol.summary);
   if (!sol.summary.feasible) sol.summary.termination = Termination::kInfeasible;
   sol.summary.message = std::string("S-D relaxation, step rule ") + step_rule_name(options.step_rule);

@@ -32,7 +32,8 @@
 namespace trackassoc {
 
 // Options as for the 3-D relaxation (LagrangianOptions; lr+ls = local_search, with
-// local_search_options.max_rounds passes of polish_sd). S = 2 is solved exactly by one LAP (termination optimal); S ≥ 3 by the relaxation above.
+// local_search_options.max_rounds passes of polish_sd). S = 2 is solved exactly by one LAP (termination
+// optimal); S ≥ 3 by the relaxation above.
 SolutionSD solve_lagrangian_sd(const CostTensorSD& c, const LagrangianOptions& options = {});
 
 }  // namespace trackassoc
