@@ -82,7 +82,7 @@ ChnnPseudoOptions chnn_options(const nlohmann::json& o, uint64_t seed, bool& gat
                                int32_t& reference) {
   reject_unknown_keys(o,
                       {"A", "B", "C", "D", "dt", "tau", "u0", "max_steps", "tolerance", "noise", "gated",
-                       "lambda_margin", "reference"},
+                       "lambda_margin", "reference", "leftover_passes"},
                       "chnn-pseudo");
   ChnnPseudoOptions c;
   c.seed = seed;
@@ -97,6 +97,7 @@ ChnnPseudoOptions chnn_options(const nlohmann::json& o, uint64_t seed, bool& gat
   read_option_number(o, "max_steps", c.max_steps, name);
   read_option_number(o, "tolerance", c.tolerance, name);
   read_option_number(o, "noise", c.noise, name);
+  read_option_number(o, "leftover_passes", c.leftover_passes, name);
   read_option_number(o, "lambda_margin", margin, name);
   read_option_number(o, "reference", reference, name);
   if (!o.is_null() && o.contains("gated")) {

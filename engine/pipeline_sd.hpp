@@ -19,9 +19,10 @@
 // Solvers (sd_solver_names()): lr, lr+ls (kernels/lagrangian_sd.hpp, options as for the 3-D lr),
 // exact (kernels/assignment_sd.hpp; options time_limit_s, max_nodes; started from lr+ls), and
 // chnn-pseudo (seed 004's CHNN with pseudo-tracks, kernels/chnn_pseudo.hpp; options A, B, C, D, dt,
-// tau, u0, max_steps, tolerance, noise, gated (Eq. 12, default true), lambda_margin (λ = (1 +
-// margin)·γ, default 0.1), and reference (a sensor position; default: the sensor with the most
-// tracks)). Every solver's tuples are scored on the same tensor, so objectives compare.
+// tau, u0, max_steps, tolerance, noise, leftover_passes (−1 = S − 2, 0 = the paper's single pass), gated (Eq.
+// 12, default true), lambda_margin (λ = (1 + margin)·γ, default 0.1), and reference (a sensor position;
+// default: the sensor with the most tracks)). Every solver's tuples are scored on the same tensor, so
+// objectives compare.
 #pragma once
 
 #include <cstdint>

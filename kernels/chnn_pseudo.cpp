@@ -40,6 +40,7 @@ void ChnnPseudoOptions::validate() const {
   require(max_steps >= 1, "ChnnPseudoOptions.max_steps", "must be >= 1");
   require(tolerance > 0, "ChnnPseudoOptions.tolerance", "must be > 0");
   require(noise >= 0 && std::isfinite(noise), "ChnnPseudoOptions.noise", "must be >= 0");
+  require(leftover_passes >= -1, "ChnnPseudoOptions.leftover_passes", "must be >= -1");
 }
 
 namespace {
@@ -97,8 +98,9 @@ PseudoNeurons enumerate_pseudo_neurons(const PseudoTrackInput& in) {
   return out;
 }
 
-ChnnPseudoResult solve_chnn_pseudo(const PseudoTrackInput& in, const ChnnPseudoOptions& o) {
-  o.validate();
+namespace {
+
+ChnnPseudoResult solve_once(const PseudoTrackInput& in, const ChnnPseudoOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const PseudoNeurons net = enumerate_pseudo_neurons(in);
   const int32_t S = net.S;
@@ -208,6 +210,90 @@ ChnnPseudoResult solve_chnn_pseudo(const PseudoTrackInput& in, const ChnnPseudoO
   res.solution.summary.wall_time_s = res.wall_time_s;
   res.solution.summary.message =
       std::to_string(K) + " neurons, " + std::to_string(res.steps) + " Euler steps";
+  return res;
+}
+
+}  // namespace
+
+ChnnPseudoResult solve_chnn_pseudo(const PseudoTrackInput& in, const ChnnPseudoOptions& o) {
+  o.validate();
+  in.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  const int32_t S = static_cast<int32_t>(in.n.size());
+  ChnnPseudoResult res = solve_once(in, o);
+  res.passes = 1;
+  const int passes = o.leftover_passes < 0 ? std::max(0, S - 2) : o.leftover_passes;
+  for (int pass = 0; pass < passes; ++pass) {
+    // Tracks alone in their tuple, per sensor 1 … S−1 (the reference's singletons had their chance).
+    std::vector<std::vector<int32_t>> alone(S);
+    std::vector<char> keep(res.solution.tuples.size() / S, 1);
+    for (std::size_t k = 0; k < keep.size(); ++k) {
+      const int32_t* t = res.solution.tuples.data() + k * S;
+      int32_t members = 0, sensor = -1;
+      for (int32_t s = 0; s < S; ++s)
+        if (t[s] >= 0) {
+          ++members;
+          sensor = s;
+        }
+      if (members == 1 && sensor > 0) {
+        alone[sensor].push_back(t[sensor]);
+        keep[k] = 0;
+      }
+    }
+    std::vector<int32_t> sensors;  // sub-problem sensors, the one with most leftovers first
+    for (int32_t s = 1; s < S; ++s)
+      if (!alone[s].empty()) sensors.push_back(s);
+    if (sensors.size() < 2) break;
+    std::stable_sort(sensors.begin(), sensors.end(),
+                     [&](int32_t a, int32_t b) { return alone[a].size() > alone[b].size(); });
+    const int32_t m = static_cast<int32_t>(sensors.size());
+    PseudoTrackInput sub;
+    sub.n.resize(m);
+    sub.distance.resize(static_cast<std::size_t>(m) * m);
+    sub.pseudo_cost.assign(sub.distance.size(), 1.0);
+    for (int32_t a = 0; a < m; ++a) sub.n[a] = static_cast<int32_t>(alone[sensors[a]].size());
+    for (int32_t a = 0; a < m; ++a)
+      for (int32_t b = a + 1; b < m; ++b) {
+        const int32_t sa = sensors[a], sb = sensors[b];
+        const bool swap = sa > sb;
+        const std::size_t slot = PseudoTrackInput::pair(std::min(sa, sb), std::max(sa, sb), S);
+        const int32_t nb_full = in.n[std::max(sa, sb)];
+        auto& d = sub.distance[PseudoTrackInput::pair(a, b, m)];
+        d.resize(static_cast<std::size_t>(sub.n[a]) * sub.n[b]);
+        for (int32_t i = 0; i < sub.n[a]; ++i)
+          for (int32_t k = 0; k < sub.n[b]; ++k) {
+            const int32_t ti = alone[sa][i], tk = alone[sb][k];
+            d[static_cast<std::size_t>(i) * sub.n[b] + k] =
+                swap ? in.distance[slot][static_cast<std::size_t>(tk) * nb_full + ti]
+                     : in.distance[slot][static_cast<std::size_t>(ti) * nb_full + tk];
+          }
+        sub.pseudo_cost[PseudoTrackInput::pair(a, b, m)] = in.pseudo_cost[slot];
+      }
+    const ChnnPseudoResult more = solve_once(sub, o);
+    res.neurons += more.neurons;
+    res.steps += more.steps;
+    res.converged = res.converged && more.converged;
+    ++res.passes;
+    std::vector<int32_t> tuples;
+    for (std::size_t k = 0; k < keep.size(); ++k)
+      if (keep[k])
+        tuples.insert(tuples.end(), res.solution.tuples.begin() + k * S,
+                      res.solution.tuples.begin() + (k + 1) * S);
+    for (std::size_t k = 0; k < more.solution.tuples.size(); k += m) {
+      std::vector<int32_t> row(S, kNoTrack);
+      for (int32_t a = 0; a < m; ++a)
+        if (more.solution.tuples[k + a] >= 0)
+          row[sensors[a]] = alone[sensors[a]][more.solution.tuples[k + a]];
+      tuples.insert(tuples.end(), row.begin(), row.end());
+    }
+    res.solution.tuples.swap(tuples);
+  }
+  res.solution.summary.termination = res.converged ? Termination::kConverged : Termination::kIterationLimit;
+  res.solution.summary.sweeps = res.steps;
+  res.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  res.solution.summary.wall_time_s = res.wall_time_s;
+  res.solution.summary.message = std::to_string(res.neurons) + " neurons, " + std::to_string(res.steps) +
+                                 " Euler steps, " + std::to_string(res.passes) + " pass(es)";
   return res;
 }
 

@@ -32,9 +32,10 @@
 // It stops when max |Δu|/u₀ < tolerance (converged) or at max_steps. Decoding: neurons by V
 // descending, each accepted when its reference track and extended indices are still free; a
 // reference track left over takes its all-copies tuple (always finite and free). Tracks of sensors
-// 2 … S in no accepted tuple stay alone. Limitation of the formulation: two tracks that the
-// reference sensor did not see cannot be grouped (choose the sensor with the most tracks as the
-// reference; the S-D relaxation has no such limit).
+// 2 … S in no accepted tuple stay alone. Limitation of the paper's formulation: two tracks that the
+// reference sensor did not see cannot be grouped. Our extension (leftover_passes): the tracks left
+// alone on sensors 2 … S form a smaller problem of the same kind, with the sensor holding most of
+// them as the reference, solved again, up to S − 2 times (0 = the paper's single pass).
 //
 // b_ref is the costliest all-pseudo chain, Σ_s max λ. Cost per step O(K·S) for K stored neurons.
 #pragma once
@@ -66,14 +67,16 @@ struct ChnnPseudoOptions {
   double tolerance = 1e-3;  // converged when max |Δu|/u₀ of a step falls below this
   double noise = 0.01;      // initial u = u0·atanh(2V₀ − 1) + noise·N(0,1), V₀ = 1/(row size)
   uint64_t seed = 1;
+  int leftover_passes = -1;  // extra passes over the tracks left alone; −1 = S − 2, 0 = the paper's
   void validate() const;
 };
 
 struct ChnnPseudoResult {
   SolutionSD solution;  // tuples over the real tracks (kNoTrack = missing); objective unset
-  int64_t neurons = 0;  // stored (finite-cost) neurons
-  int64_t steps = 0;
-  bool converged = false;
+  int64_t neurons = 0;  // stored (finite-cost) neurons, summed over passes
+  int64_t steps = 0;    // Euler steps, summed over passes
+  int32_t passes = 0;
+  bool converged = false;  // every pass converged
   double wall_time_s = 0.0;
 };
 

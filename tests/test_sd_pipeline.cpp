@@ -99,6 +99,30 @@ TEST(PseudoTracks, NetworkGroupsAClearInstance) {
   EXPECT_EQ(got, (std::set<std::vector<int32_t>>{{0, 0, 0}, {1, 1, 1}, {2, kNoTrack, 2}}));
 }
 
+TEST(PseudoTracks, LeftoverPassGroupsTargetsTheReferenceMissed) {
+  // A sees target 0 only; B and C see targets 0 and 1 (B1–C1 at distance 1).
+  PseudoTrackInput in;
+  in.n = {1, 2, 2};
+  in.distance.assign(9, {});
+  in.pseudo_cost.assign(9, 5.0);
+  in.distance[PseudoTrackInput::pair(0, 1, 3)] = {1, kInf};
+  in.distance[PseudoTrackInput::pair(0, 2, 3)] = {1, kInf};
+  in.distance[PseudoTrackInput::pair(1, 2, 3)] = {1, kInf, kInf, 1};
+  auto tuples = [&](int passes) {
+    ChnnPseudoOptions o;
+    o.leftover_passes = passes;
+    const ChnnPseudoResult r = solve_chnn_pseudo(in, o);
+    std::set<std::vector<int32_t>> got;
+    for (std::size_t k = 0; k < r.solution.tuples.size(); k += 3)
+      got.insert({r.solution.tuples[k], r.solution.tuples[k + 1], r.solution.tuples[k + 2]});
+    return got;
+  };
+  // The paper's single pass leaves B1 and C1 alone; the leftover pass groups them.
+  EXPECT_EQ(tuples(0),
+            (std::set<std::vector<int32_t>>{{0, 0, 0}, {kNoTrack, 1, kNoTrack}, {kNoTrack, kNoTrack, 1}}));
+  EXPECT_EQ(tuples(-1), (std::set<std::vector<int32_t>>{{0, 0, 0}, {kNoTrack, 1, 1}}));
+}
+
 TEST(PseudoTracks, BitIdenticalForOneAndTwoThreads) {
   PseudoTrackInput in;
   in.n = {12, 11, 12, 10};

@@ -24,7 +24,7 @@ void register_experiment_seed004(CLI::App& experiment) {
   cmd->add_option("--p-miss", args->o.p_miss,
                   "Chance that a sensor has no track of a target (unequal counts)")
       ->capture_default_str();
-  cmd->add_option("--solvers", args->o.solvers, "chnn-eq12, chnn-eq7, lr, lr+ls, exact")
+  cmd->add_option("--solvers", args->o.solvers, "chnn-eq12-single, chnn-eq12, chnn-eq7, lr, lr+ls, exact")
       ->capture_default_str();
   cmd->add_option("--exact-time-limit", args->o.exact_time_limit_s,
                   "Time limit of the exact search per run [s]")
