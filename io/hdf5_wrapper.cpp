@@ -209,6 +209,14 @@ void Group::write_dataset(const std::string& name, std::span<const float> data,
                           std::vector<hsize_t> dims) const {
   write_numeric(name, H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, data.data(), std::move(dims), data.size());
 }
+void Group::write_dataset(const std::string& name, std::span<const int64_t> data,
+                          std::vector<hsize_t> dims) const {
+  write_numeric(name, H5T_STD_I64LE, H5T_NATIVE_INT64, data.data(), std::move(dims), data.size());
+}
+void Group::write_dataset(const std::string& name, std::span<const uint8_t> data,
+                          std::vector<hsize_t> dims) const {
+  write_numeric(name, H5T_STD_U8LE, H5T_NATIVE_UINT8, data.data(), std::move(dims), data.size());
+}
 
 // ---------------------------------------------------------------- Group: reading
 

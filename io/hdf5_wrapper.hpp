@@ -73,6 +73,8 @@ class Group {
   void write_dataset(const std::string& name, std::span<const int32_t> data, std::vector<hsize_t> dims) const;
   void write_dataset(const std::string& name, std::span<const double> data, std::vector<hsize_t> dims) const;
   void write_dataset(const std::string& name, std::span<const float> data, std::vector<hsize_t> dims) const;
+  void write_dataset(const std::string& name, std::span<const int64_t> data, std::vector<hsize_t> dims) const;
+  void write_dataset(const std::string& name, std::span<const uint8_t> data, std::vector<hsize_t> dims) const;
 
   // Reading.
   bool has(const std::string& name) const;  // a link of that name exists

@@ -9,7 +9,7 @@
 #include "engine/cli/table.hpp"
 #include "engine/experiment_seed003.hpp"
 #include "io/atomic_file.hpp"
-#include "io/siamese_hdf5.hpp"
+#include "io/hdf5_wrapper.hpp"
 #include "io/siamese_model_file.hpp"
 #include "kernels/association_statistic.hpp"
 #include "kernels/siamese_training.hpp"
@@ -146,28 +146,29 @@ void register_experiment_seed003(CLI::App& experiment) {
            "low density and falling; NN close to TTCSN at low density, falling fast; LSTM/BiLSTM\n"
            "robust to density, their time approaching TTCSN's at n = 80.\n";
     write_atomically(args->output, [&](const std::string& tmp) {
-      siamese_h5::File f = siamese_h5::File::create(tmp);
-      f.write_attribute("/", "format", std::string("trackassoc"));
-      f.write_attribute("/", "schema_version", int64_t{1});
-      f.create_group("/experiment/seed003");
-      const std::string g = "/experiment/seed003";
+      h5::File f = h5::File::create(tmp);
+      const h5::Group root = f.root();
+      root.write_attribute("format", std::string("trackassoc"));
+      root.write_attribute("schema_version", int32_t{1});
+      const h5::Group g = root.create_group("experiment").create_group("seed003");
       nlohmann::json jo = {{"runs", o.runs},
                            {"seed", o.seed},
                            {"threshold", o.probability_threshold},
                            {"scenario", nlohmann::json::parse(o.scenario.to_json())},
                            {"model", args->model}};
-      f.write_attribute(g, "options", jo.dump());
-      f.write_attribute(g, "model_training", loaded.training_json);
-      f.write_attribute(g, "pair_test_metrics", pair_metrics.dump());
-      f.write_attribute(g, "wall_time_s", r.wall_time_s);
-      std::vector<int32_t> dens(r.densities.begin(), r.densities.end());
-      f.write(g + "/densities", dens.data(), dens.size());
+      g.write_attribute("options", jo.dump());
+      g.write_attribute("model_training", loaded.training_json);
+      g.write_attribute("pair_test_metrics", pair_metrics.dump());
+      g.write_attribute("wall_time_s", r.wall_time_s);
+      const std::vector<int32_t> dens(r.densities.begin(), r.densities.end());
+      g.write_dataset("densities", std::span<const int32_t>(dens), {dens.size()});
       const hsize_t D = r.densities.size(), R = static_cast<hsize_t>(o.runs);
       for (const auto& c : r.methods) {
-        f.write(g + "/" + c.method + "/accuracy", flatten(c.accuracy).data(), D, R);
-        f.write(g + "/" + c.method + "/recall", flatten(c.recall).data(), D, R);
-        f.write(g + "/" + c.method + "/precision", flatten(c.precision).data(), D, R);
-        f.write(g + "/" + c.method + "/seconds", flatten(c.seconds).data(), D, R);
+        const h5::Group m = g.create_group(c.method);
+        m.write_dataset("accuracy", std::span<const double>(flatten(c.accuracy)), {D, R});
+        m.write_dataset("recall", std::span<const double>(flatten(c.recall)), {D, R});
+        m.write_dataset("precision", std::span<const double>(flatten(c.precision)), {D, R});
+        m.write_dataset("seconds", std::span<const double>(flatten(c.seconds)), {D, R});
       }
       f.close();
     });
