@@ -7,11 +7,12 @@
 // different" negative pairs, shuffled and split 70/30.
 //
 // What the paper leaves out, and what we chose (all in Seed003Options, written into the file):
-// - Manoeuvres: at every whole second n = 1..49 the heading changes by U(−Δψ, Δψ) and the speed by
-//   U(−Δv, Δv), clipped to [300, 600] m/s; constant velocity in between. Δψ = 0.1 rad (at 600 m/s a
-//   mean lateral acceleration of 60 m/s² ≈ 6 g), Δv = 20 m/s (2 g).
-//   (engine/simulation.hpp's MotionModel::kRandomManoeuvre was not on main when this was written;
-//   this generator has its own 20-line integrator — switch to the shared one when it lands.)
+// - Manoeuvres: the simulator's MotionModel::kRandomManoeuvre (engine/simulation_truth.hpp) with a
+//   1 s manoeuvre period: at every whole second n = 0..49 the heading changes by U(−Δψ, Δψ) and the
+//   speed by U(−Δv, Δv), clipped to [300, 600] m/s, and the target flies the constant acceleration
+//   that takes it to the new velocity within the second (position and velocity continuous, truth
+//   exact at any plot time). Δψ = 0.1 rad (at 600 m/s a mean lateral acceleration of 60 m/s² ≈ 6 g),
+//   Δv = 20 m/s (2 g). This fits the paper's "changes every second within kinematic limits".
 // - Radars: radar 1 at (0, 0), radar 2 at (100 km, 0), the two southern corners of the area;
 //   Gaussian range (σ = 100 m) and bearing (σ = 1°) errors; plots converted to Cartesian (x, y).
 // - Asynchrony: each radar sees each target at its own scan phase φ ~ U[0, period), so the plot
@@ -34,6 +35,9 @@
 
 namespace trackassoc {
 
+// How "close" is measured for a close negative (see the header comment).
+enum class CloseMeasure { kMeanDistance, kStartDistance };
+
 struct Seed003Options {
   int targets = 10000;
   double area = 100000.0;                                                      // side of the square area [m]
@@ -48,7 +52,8 @@ struct Seed003Options {
   int positives = 10000;                                                       // ≤ targets
   int random_negatives = 10000;
   int close_negatives = 6695;
-  double close_distance = 3000.0;  // [m], mean true distance of a close negative
+  double close_distance = 3000.0;  // [m], distance below which a different target is "close"
+  CloseMeasure close_measure = CloseMeasure::kMeanDistance;
   double train_fraction = 0.7;
   uint64_t seed = 3;
   void validate() const;  // throws InputError naming the field
