@@ -172,6 +172,36 @@ std::string Seed003Options::to_json() const {
   return j.dump();
 }
 
+Seed003Options seed003_scene_of(const std::string& generator_json, Seed003Options o,
+                                const std::string& source) {
+  const auto j = nlohmann::json::parse(generator_json, nullptr, false);
+  require(j.is_object(), source, "the seed 003 generator options are not a JSON object");
+  try {
+    auto number = [&](const char* key, double& v) {
+      if (j.contains(key)) v = j.at(key).get<double>();
+    };
+    auto point = [&](const char* key, double& x, double& y) {
+      if (j.contains(key)) x = j.at(key).at(0).get<double>(), y = j.at(key).at(1).get<double>();
+    };
+    point("radar1", o.radar1_x, o.radar1_y);
+    point("radar2", o.radar2_x, o.radar2_y);
+    number("sigma_range_m", o.sigma_range);
+    number("sigma_bearing_deg", o.sigma_bearing_deg);
+    number("period1_s", o.period1);
+    number("period2_s", o.period2);
+    number("area_m", o.area);
+    number("speed_min", o.speed_min);
+    number("speed_max", o.speed_max);
+    number("duration_s", o.duration);
+    number("max_heading_change_rad", o.max_heading_change);
+    number("max_speed_change_mps", o.max_speed_change);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(source + ": malformed seed 003 generator options: " + e.what());
+  }
+  o.validate();
+  return o;
+}
+
 Seed003Scene simulate_seed003_scene(const Seed003Options& options, int count, uint64_t run) {
   options.validate();
   require(count >= 1, "count", "must be >= 1");

@@ -27,7 +27,8 @@ Seed003Options small_options() {
   o.random_negatives = 400;
   o.close_negatives = 100;
   o.area = 20000.0;  // 400 targets on 20 × 20 km: the density of 10 000 on 100 × 100 km
-  o.radar2_x = 20000.0;
+  o.radar1_x = 5000.0, o.radar1_y = 10000.0;  // inside the area, as the defaults
+  o.radar2_x = 15000.0, o.radar2_y = 10000.0;
   o.seed = 17;
   return o;
 }
@@ -155,6 +156,28 @@ TEST(Seed003Dataset, FileWithAnOutOfRangeLabelGivesAClearError) {
         << e.what();
   }
   std::filesystem::remove(path);
+}
+
+TEST(Seed003Dataset, SceneOfAGeneratorJsonTakesItsRadarsAndMotion) {
+  Seed003Options o = small_options();
+  o.sigma_bearing_deg = 0.5;
+  o.period2 = 5.0;
+  o.max_speed_change = 7.0;
+  Seed003Options base;
+  base.seed = 99;
+  const Seed003Options s = seed003_scene_of(o.to_json(), base, "model.h5");
+  EXPECT_EQ(s.radar1_x, 5000.0);
+  EXPECT_EQ(s.radar2_y, 10000.0);
+  EXPECT_EQ(s.sigma_bearing_deg, 0.5);
+  EXPECT_EQ(s.period2, 5.0);
+  EXPECT_EQ(s.max_speed_change, 7.0);
+  EXPECT_EQ(s.area, 20000.0);
+  EXPECT_EQ(s.seed, 99u);  // the scene's own seed, not the training data's
+  EXPECT_EQ(s.targets, base.targets);
+  EXPECT_EQ(seed003_scene_of("{}", base, "m").radar1_x, base.radar1_x);
+  EXPECT_THROW(seed003_scene_of("[1, 2]", base, "m"), InputError);
+  EXPECT_THROW(seed003_scene_of(R"({"radar1": "north"})", base, "m"), InputError);
+  EXPECT_THROW(seed003_scene_of(R"({"period1_s": -4})", base, "m"), InputError);
 }
 
 TEST(Seed003Dataset, RejectsBadOptions) {

@@ -18,8 +18,8 @@ void register_dataset(CLI::App& app) {
     CommonOptions common;
     std::string name, output;
     Seed003Options options;
-    std::vector<double> radar1{0.0, 0.0}, radar2{100000.0, 0.0};
-    std::string close_measure = "mean";
+    std::vector<double> radar1, radar2;
+    std::string close_measure = "start";
   };
   auto args = std::make_shared<Args>();
   args->common.seed = args->options.seed;
@@ -37,15 +37,16 @@ void register_dataset(CLI::App& app) {
   cmd->add_option("--close-negatives", args->options.close_negatives, "Close-but-different negative pairs")
       ->capture_default_str();
   cmd->add_option("--close-distance", args->options.close_distance,
-                  "Mean true distance of a close negative [m]")
+                  "Distance below which a different target is close [m] (see --close-measure)")
       ->capture_default_str();
   cmd->add_option("--max-heading-change", args->options.max_heading_change,
                   "Heading change bound per second [rad]")
       ->capture_default_str();
   cmd->add_option("--max-speed-change", args->options.max_speed_change, "Speed change bound per second [m/s]")
       ->capture_default_str();
-  cmd->add_option("--close-measure", args->close_measure,
-                  "Close negatives: mean (mean true distance over the flight) or start (distance at t = 0)")
+  cmd->add_option(
+         "--close-measure", args->close_measure,
+         "Close negatives: start (true distance at t = 0) or mean (mean true distance over the flight)")
       ->check(CLI::IsMember({"mean", "start"}))
       ->capture_default_str();
   cmd->add_option("--radar1", args->radar1, "Radar 1 position x y [m]")->expected(2)->capture_default_str();
@@ -188,6 +189,7 @@ void register_train_siamese(CLI::App& app) {
     const PairEvaluation close_ev = evaluate_pairs(model, d.radar1, d.radar2, close);
     const PairEvaluation val_close_ev = evaluate_pairs(model, d.radar1, d.radar2, validation_close);
     nlohmann::json j = {{"data", args->data},
+                        {"generator", nlohmann::json::parse(d.generator_json, nullptr, false)},
                         {"architecture", args->architecture},
                         {"hidden", model.shape.hidden},
                         {"fc", model.shape.fc},

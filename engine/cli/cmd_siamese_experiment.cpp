@@ -7,6 +7,7 @@
 
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
+#include "engine/dataset_seed003.hpp"
 #include "engine/experiment_seed003.hpp"
 #include "io/atomic_file.hpp"
 #include "io/hdf5_wrapper.hpp"
@@ -85,6 +86,11 @@ void register_experiment_seed003(CLI::App& experiment) {
         if (!path.empty()) extra.push_back({name, &baselines[k++].model});
     }
     Seed003ExperimentOptions o = args->options;
+    // The scenes are flown and observed as the model's training data were (radars, errors,
+    // periods), when its training JSON records the generator (train-siamese does).
+    const auto training = nlohmann::json::parse(loaded.training_json, nullptr, false);
+    if (training.is_object() && training.contains("generator"))
+      o.scenario = seed003_scene_of(training["generator"].dump(), o.scenario, args->model);
     o.seed = args->common.seed;
     o.validate();
     nlohmann::json pair_metrics = nlohmann::json::object();
@@ -92,7 +98,9 @@ void register_experiment_seed003(CLI::App& experiment) {
       const Seed003Dataset d = read_seed003_dataset(args->data);
       const PairEvaluation s =
           evaluate_pairs(loaded.model, d.radar1, d.radar2, d.test, o.probability_threshold);
-      const auto lam = weighted_statistic_pairs(d.radar1, d.radar2, d.test, baseline_options_for(o.scenario));
+      // The weighted test needs the radars that made the data set's plots (its generator JSON).
+      const Seed003Options made_by = seed003_scene_of(d.generator_json, o.scenario, args->data);
+      const auto lam = weighted_statistic_pairs(d.radar1, d.radar2, d.test, baseline_options_for(made_by));
       const double gate = chi_square_quantile(0.99, 2);
       PairEvaluation w;
       for (std::size_t k = 0; k < lam.size(); ++k) {
@@ -117,6 +125,15 @@ void register_experiment_seed003(CLI::App& experiment) {
           {{"ttcsn", {{"accuracy", s.accuracy()}, {"recall", s.recall()}, {"precision", s.precision()}}},
            {"weighted", {{"accuracy", w.accuracy()}, {"recall", w.recall()}, {"precision", w.precision()}}}});
     }
+    char scene[256];
+    std::snprintf(
+        scene, sizeof scene,
+        "scenes: radars at (%.0f, %.0f) and (%.0f, %.0f) km, %.0f m / %.2f deg, periods %.0f / %.0f s "
+        "(as the model's training data when its file records them)\n\n",
+        o.scenario.radar1_x / 1e3, o.scenario.radar1_y / 1e3, o.scenario.radar2_x / 1e3,
+        o.scenario.radar2_y / 1e3, o.scenario.sigma_range, o.scenario.sigma_bearing_deg, o.scenario.period1,
+        o.scenario.period2);
+    std::cout << scene;
     const Seed003ExperimentResult r = run_seed003_experiment(loaded.model, o, extra);
     for (const char* what : {"accuracy", "recall", "precision", "time"}) {
       std::vector<std::string> head{std::string(what) + (std::string(what) == "time" ? " [ms]" : " [%]")};
