@@ -398,4 +398,19 @@ std::vector<int64_t> Group::read_integers(const std::string& name, int rank,
   return read_typed<int64_t>(name, NumberClass::kInteger, H5T_NATIVE_INT64, rank, dims);
 }
 
+void require_format(const Group& root, const std::string& path, const std::string& format, int64_t version,
+                    const std::string& what) {
+  if (!root.has_attribute("format"))
+    throw InputError(path + ": not a " + what + " (the root has no 'format' attribute; expected '" + format +
+                     "')");
+  const std::string found = root.read_string_attribute("format");
+  if (found != format)
+    throw InputError(path + ": / attribute format is '" + found + "', expected '" + format + "' (a " + what +
+                     ")");
+  const int64_t v = root.read_integer_attribute("schema_version");
+  if (v != version)
+    throw InputError(path + ": schema_version " + std::to_string(v) + " is not supported (expected " +
+                     std::to_string(version) + ")");
+}
+
 }  // namespace trackassoc::h5

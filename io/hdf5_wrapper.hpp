@@ -132,6 +132,12 @@ class File {
   Handle handle_;
 };
 
+// Checks that the root of `path` has the string attribute format = `format` and the integer
+// attribute schema_version = `version`; otherwise an InputError naming the file and saying that it
+// is not a `what` (e.g. "Siamese model file").
+void require_format(const Group& root, const std::string& path, const std::string& format, int64_t version,
+                    const std::string& what);
+
 // Largest number of elements a reader allocates for one dataset (2^28: 2 GiB of doubles). A
 // corrupt header claiming more is reported instead of exhausting memory.
 inline constexpr std::size_t kMaxDatasetElements = std::size_t{1} << 28;

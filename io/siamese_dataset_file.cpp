@@ -1,7 +1,6 @@
 // Seed 003 pair data set files (see siamese_dataset_file.hpp).
 #include "io/siamese_dataset_file.hpp"
 
-#include <filesystem>
 #include <limits>
 #include <span>
 
@@ -94,15 +93,7 @@ void read_pairs(const Group& g, PairSet& p, std::vector<uint8_t>& kind) {
 Seed003Dataset read_in_process(const std::string& path) {
   h5::File f = h5::File::open_read_only(path);
   const Group root = f.root();
-  if (!root.has_attribute("format"))
-    throw InputError(path + ": not a seed 003 data set (the root has no 'format' attribute; expected '" +
-                     kFormat + "')");
-  const std::string format = root.read_string_attribute("format");
-  if (format != kFormat)
-    throw InputError(path + ": / attribute format is '" + format + "', expected '" + kFormat + "'");
-  const int64_t version = root.read_integer_attribute("schema_version");
-  if (version != kSchemaVersion)
-    throw InputError(path + ": schema_version " + std::to_string(version) + " is not supported");
+  h5::require_format(root, path, kFormat, kSchemaVersion, "seed 003 data set");
   Seed003Dataset d;
   d.generator_json = root.read_string_attribute("generator");
   read_tracks(path, root.open_group("radar1"), d.radar1, d.target1);
@@ -138,12 +129,8 @@ void write_seed003_dataset(const std::string& path, const Seed003Dataset& d) {
 }
 
 Seed003Dataset read_seed003_dataset(const std::string& path) {
-  // A forked child reads the file first (io/isolated_run.hpp), as read_track_file does.
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  run_isolated(
-      path, [&] { read_in_process(path); }, 60.0 + (ec ? 0.0 : static_cast<double>(size) / 10e6));
-  return read_in_process(path);
+  // A damaged file can hang or crash libhdf5 1.10: read it in a forked child first.
+  return read_isolated(path, read_in_process);
 }
 
 }  // namespace trackassoc

@@ -2,7 +2,6 @@
 #include "io/siamese_model_file.hpp"
 
 #include <cmath>
-#include <filesystem>
 
 #include "io/atomic_file.hpp"
 #include "io/hdf5_wrapper.hpp"
@@ -55,16 +54,7 @@ Group block_group(const Group& root, const Block& b, bool create) {
 LoadedSiameseModel read_in_process(const std::string& path) {
   h5::File f = h5::File::open_read_only(path);
   const Group root = f.root();
-  if (!root.has_attribute("format"))
-    throw InputError(path + ": not a Siamese model file (the root has no 'format' attribute; expected '" +
-                     kFormat + "')");
-  const std::string format = root.read_string_attribute("format");
-  if (format != kFormat)
-    throw InputError(path + ": / attribute format is '" + format + "', expected '" + kFormat + "'");
-  const int64_t version = root.read_integer_attribute("schema_version");
-  if (version != kSchemaVersion)
-    throw InputError(path + ": schema_version " + std::to_string(version) + " is not supported (expected " +
-                     std::to_string(kSchemaVersion) + ")");
+  h5::require_format(root, path, kFormat, kSchemaVersion, "Siamese model file");
   LoadedSiameseModel out;
   SiameseModel<float>& m = out.model;
   auto dim = [&](const char* name) {
@@ -157,13 +147,8 @@ void write_siamese_model(const std::string& path, const SiameseModel<float>& mod
 }
 
 LoadedSiameseModel read_siamese_model(const std::string& path) {
-  // As read_track_file: a damaged file can hang or crash libhdf5 1.10, so a forked child reads it
-  // first (io/isolated_run.hpp); only a file the child read completely is read in process.
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  run_isolated(
-      path, [&] { read_in_process(path); }, 60.0 + (ec ? 0.0 : static_cast<double>(size) / 10e6));
-  return read_in_process(path);
+  // A damaged file can hang or crash libhdf5 1.10: read it in a forked child first.
+  return read_isolated(path, read_in_process);
 }
 
 }  // namespace trackassoc

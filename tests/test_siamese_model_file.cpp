@@ -204,6 +204,12 @@ TEST(SiameseModelFile, MissingDatasetWrongShapeNaNAndWrongFormat) {
     f.close();
   }
   EXPECT_NE(error_of(path).find("expected 'trackassoc-siamese-model'"), std::string::npos) << error_of(path);
+  // An HDF5 file without the format attribute.
+  const std::string bare = (temp_dir() / "bare.h5").string();
+  h5::File::create(bare).close();
+  EXPECT_NE(error_of(bare).find("not a Siamese model file (the root has no 'format' attribute"),
+            std::string::npos)
+      << error_of(bare);
 }
 
 TEST(SiameseModelFile, FailedWriteLeavesTheOldFileIntact) {
