@@ -103,7 +103,9 @@ TEST(Seed003Dataset, SameForOneAndTwoThreadsAndRoundTrips) {
   EXPECT_EQ(one.radar2.t, two.radar2.t);
   EXPECT_EQ(one.train.left, two.train.left);
   EXPECT_EQ(one.test.label, two.test.label);
-  const auto path = (std::filesystem::temp_directory_path() / "trackassoc_seed003_test.h5").string();
+  const auto path = (std::filesystem::temp_directory_path() /
+                     ("trackassoc_seed003_test_" + std::to_string(::getpid()) + ".h5"))
+                        .string();
   write_seed003_dataset(path, one);
   const Seed003Dataset back = read_seed003_dataset(path);
   EXPECT_EQ(back.radar1.x, one.radar1.x);
