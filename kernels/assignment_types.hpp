@@ -98,6 +98,18 @@ struct Solution3 {
   std::vector<float> energy_trace;
 };
 
+// Fills lower_bound, abs_gap and gap from summary.objective and a bound (NaN gaps when the bound is
+// NaN or the result infeasible). Shared by the 3-D and S-D solvers.
+inline void set_bound_and_gap(SolverSummary& summary, double lower_bound) {
+  summary.lower_bound = lower_bound;
+  if (std::isnan(lower_bound) || !summary.feasible) {
+    summary.abs_gap = summary.gap = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  summary.abs_gap = std::max(0.0, summary.objective - lower_bound);
+  summary.gap = summary.abs_gap / std::max(std::abs(summary.objective), 1e-9);
+}
+
 // Σ over tuples of b_ijk, with miss_cost per kNoTrack index. Double accumulation.
 inline double assignment_cost(const CostTensor3& b, const std::vector<Tuple3>& tuples) {
   double sum = 0.0;

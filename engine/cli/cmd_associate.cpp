@@ -6,12 +6,14 @@
 // (--sparse): gated candidate tuples and connected components, each solved by the same solver
 // (engine/sparse_pipeline.hpp); the same /associations/<name>/ record, its options attribute
 // carrying "sparse": true.
+#include <algorithm>
 #include <iostream>
 
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
 #include "engine/fuzzy_pipeline.hpp"
 #include "engine/pipeline.hpp"
+#include "engine/pipeline_sd.hpp"
 #include "engine/solver_registry.hpp"
 #include "engine/sparse_pipeline.hpp"
 #include "engine/workflow.hpp"
@@ -23,6 +25,7 @@ void register_associate(CLI::App& app) {
     CommonOptions common;
     PipelineFlags pipeline;
     std::string input, output, solver = "pairwise", name;
+    bool sd = false;
   };
   auto args = std::make_shared<Args>();
   std::string solver_help = "3-D assignment solver:";
@@ -35,6 +38,9 @@ void register_associate(CLI::App& app) {
       ->required();
   cmd->add_option("--solver", args->solver, solver_help)->capture_default_str();
   cmd->add_option("--name", args->name, "Group name under /associations (default: the solver name)");
+  cmd->add_flag("--sd", args->sd,
+                "S-D formulation with a dummy per sensor (any number of sensors; solvers lr, lr+ls, exact, "
+                "chnn-pseudo). Implied by more than three --sensors");
   add_pipeline_options(cmd, args->pipeline);
   add_common_options(cmd, args->common);
   cmd->callback([args] {
@@ -54,6 +60,26 @@ void register_associate(CLI::App& app) {
                 << " packets) with '" << args->solver << "': " << res.fusion.num_system_tracks
                 << " system tracks, " << res.association.num_tuples() << " tuples, "
                 << fmt(1e3 * res.fusion.summary.wall_time_s, "%.2f") << " ms -> " << args->output << "\n";
+      return;
+    }
+    if (args->sd || options.sensors.size() > 3) {
+      if (args->pipeline.sparse)
+        throw InputError("--sparse: applies to the three-sensor pipeline, not to the S-D formulation (--sd)");
+      require_sd_solver(args->solver);  // fail on an unknown name before reading anything
+      TrackFile file = read_track_file(args->input);
+      const SDProblem problem = build_sd_problem(file, options);
+      AssociationRecord rec =
+          solve_sd_association(problem, args->solver, solver_options, args->common.seed, options);
+      if (!args->name.empty()) rec.name = args->name;
+      std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == rec.name; });
+      file.associations.push_back(rec);
+      write_track_file(args->output, file);
+      std::string dims;
+      for (const auto& a : problem.aligned) dims += (dims.empty() ? "" : "x") + std::to_string(a.n_tracks());
+      std::cout << "associated " << dims << " tracks of " << problem.S() << " sensors (S-D) with '"
+                << args->solver << "': objective " << fmt(rec.objective) << ", lower bound "
+                << fmt(rec.lower_bound) << ", " << rec.num_tuples() << " tuples, "
+                << fmt(1e3 * rec.runtime_s, "%.2f") << " ms -> " << args->output << "\n";
       return;
     }
     find_solver(args->solver);  // fail on an unknown name before reading anything
