@@ -15,10 +15,10 @@
 #include <set>
 #include <sstream>
 
+#include "engine/experiments.hpp"
 #include "engine/metrics.hpp"
 #include "engine/pipeline.hpp"
 #include "engine/sparse_pipeline.hpp"
-#include "engine/version.hpp"
 #include "io/atomic_file.hpp"
 #include "io/hdf5_wrapper.hpp"
 #include "kernels/error.hpp"
@@ -448,9 +448,7 @@ void write_scale_h5(const std::string& path, const std::vector<ScaleRow>& rows, 
     h5::File f = h5::File::create(tmp);
     {
       const h5::Group root = f.root();
-      root.write_attribute("format", std::string("trackassoc-experiment"));
-      root.write_attribute("experiment", std::string("scale"));
-      root.write_attribute("created_by", created_by());
+      write_experiment_header(root, "scale");
       root.write_attribute("options", options.dump());
       root.write_attribute("loglog_slope_n_ge_1000", loglog_slope);
       const h5::Group g = root.create_group("scale");

@@ -13,7 +13,6 @@
 #include "engine/cli/table.hpp"
 #include "engine/experiments.hpp"
 #include "engine/simulation_truth.hpp"
-#include "engine/version.hpp"
 #include "io/atomic_file.hpp"
 #include "io/hdf5_wrapper.hpp"
 #include "kernels/bp_network.hpp"
@@ -203,9 +202,7 @@ void write_seed002(const std::string& path, const Seed002Result& res) {
     h5::File f = h5::File::create(tmp);
     {
       const h5::Group root = f.root();
-      root.write_attribute("format", std::string("trackassoc-experiment"));
-      root.write_attribute("experiment", std::string("seed002"));
-      root.write_attribute("created_by", created_by());
+      write_experiment_header(root, "seed002");
       root.write_attribute("runs", static_cast<int32_t>(res.options.runs));
       root.write_attribute("seed", res.options.seed);
       root.write_attribute("network_total_error", res.network_error);
