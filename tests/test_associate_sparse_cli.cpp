@@ -87,6 +87,8 @@ TEST_F(AssociateSparseCli, SparseAndDenseGiveTheSameAssociation) {
       }
     }
   EXPECT_GE(compared, 6) << unbalanced << " runs had unbalanced components";
+  RecordProperty("compared", compared);
+  RecordProperty("unbalanced", unbalanced);
 }
 
 TEST_F(AssociateSparseCli, DenseOverTheMemoryBudgetPointsToSparse) {
