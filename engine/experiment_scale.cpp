@@ -9,14 +9,18 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <set>
 #include <sstream>
 
+#include "engine/experiments.hpp"
 #include "engine/metrics.hpp"
 #include "engine/pipeline.hpp"
 #include "engine/sparse_pipeline.hpp"
+#include "io/atomic_file.hpp"
+#include "io/hdf5_wrapper.hpp"
 #include "kernels/error.hpp"
 #include "kernels/random.hpp"
 
@@ -399,6 +403,89 @@ std::string scale_csv(const std::vector<ScaleRow>& rows) {
     os << "," << err << "\n";
   }
   return os.str();
+}
+
+void write_scale_h5(const std::string& path, const std::vector<ScaleRow>& rows, const nlohmann::json& options,
+                    double loglog_slope) {
+  static const char* const kStages[5] = {"alignment", "candidates", "statistics", "clusters", "solve"};
+  const hsize_t K = rows.size();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<int32_t> n, tracks, components, largest, dense_run, dense_identical, ok;
+  std::vector<double> candidates, gated, stage_s, stage_peak, stage_data, total, peak, correct, false_rate,
+      missed, dense_total, dense_peak, dense_correct, dense_gated;
+  nlohmann::json errors = nlohmann::json::array();
+  for (const ScaleRow& r : rows) {
+    const bool good = r.error.empty();
+    n.push_back(r.n);
+    for (int d = 0; d < 3; ++d) tracks.push_back(d < static_cast<int>(r.tracks.size()) ? r.tracks[d] : 0);
+    components.push_back(r.components);
+    largest.push_back(r.largest_component);
+    candidates.push_back(good ? static_cast<double>(r.candidate_pairs) : nan);
+    gated.push_back(good ? static_cast<double>(r.gated_pairs) : nan);
+    for (const char* name : kStages) {
+      double t = nan, pk = nan, dm = nan;
+      for (std::size_t q = 0; q < r.stage.size(); ++q)
+        if (r.stage[q] == name) t = r.stage_s[q], pk = r.stage_peak_mib[q], dm = r.stage_data_mib[q];
+      stage_s.push_back(t);
+      stage_peak.push_back(pk);
+      stage_data.push_back(dm);
+    }
+    total.push_back(good ? r.total_s : nan);
+    peak.push_back(good ? r.peak_mib : nan);
+    correct.push_back(good ? r.correct_rate : nan);
+    false_rate.push_back(good ? r.false_rate : nan);
+    missed.push_back(good ? r.missed_rate : nan);
+    dense_run.push_back(r.dense_run ? 1 : 0);
+    dense_total.push_back(r.dense_run ? r.dense_total_s : nan);
+    dense_peak.push_back(r.dense_run ? r.dense_peak_mib : nan);
+    dense_correct.push_back(r.dense_run ? r.dense_correct_rate : nan);
+    dense_gated.push_back(r.dense_run ? static_cast<double>(r.dense_gated_pairs) : nan);
+    dense_identical.push_back(r.dense_run ? (r.dense_identical ? 1 : 0) : -1);
+    ok.push_back(good ? 1 : 0);
+    errors.push_back(r.error);
+  }
+  write_atomically(path, [&](const std::string& tmp) {
+    h5::File f = h5::File::create(tmp);
+    {
+      const h5::Group root = f.root();
+      write_experiment_header(root, "scale");
+      root.write_attribute("options", options.dump());
+      root.write_attribute("loglog_slope_n_ge_1000", loglog_slope);
+      const h5::Group g = root.create_group("scale");
+      auto ints = [&](const char* name, const std::vector<int32_t>& v, hsize_t cols = 1) {
+        g.write_dataset(name, std::span<const int32_t>(v),
+                        cols == 1 ? std::vector<hsize_t>{K} : std::vector<hsize_t>{K, cols});
+      };
+      auto doubles = [&](const char* name, const std::vector<double>& v, hsize_t cols = 1) {
+        g.write_dataset(name, std::span<const double>(v),
+                        cols == 1 ? std::vector<hsize_t>{K} : std::vector<hsize_t>{K, cols});
+      };
+      ints("n", n);
+      ints("tracks", tracks, 3);
+      ints("components", components);
+      ints("largest_component", largest);
+      doubles("candidate_pairs", candidates);
+      doubles("gated_pairs", gated);
+      doubles("stage_s", stage_s, 5);
+      doubles("stage_peak_mib", stage_peak, 5);
+      doubles("stage_data_mib", stage_data, 5);
+      doubles("total_s", total);
+      doubles("peak_mib", peak);
+      doubles("correct_rate", correct);
+      doubles("false_rate", false_rate);
+      doubles("missed_rate", missed);
+      ints("dense_run", dense_run);
+      doubles("dense_total_s", dense_total);
+      doubles("dense_peak_mib", dense_peak);
+      doubles("dense_correct_rate", dense_correct);
+      doubles("dense_gated_pairs", dense_gated);
+      ints("dense_identical", dense_identical);
+      ints("ok", ok);
+      g.write_attribute("stages", std::string("alignment,candidates,statistics,clusters,solve"));
+      g.write_attribute("errors", errors.dump());
+    }
+    f.close();
+  });
 }
 
 }  // namespace trackassoc

@@ -92,6 +92,23 @@ std::vector<ScaleRow> run_scale_experiment(const ScaleExperimentOptions& options
 std::string scale_table(const std::vector<ScaleRow>& rows);
 std::string scale_csv(const std::vector<ScaleRow>& rows);
 
+// Writes the rows as HDF5, atomically (io/atomic_file.hpp), for h5py / MATLAB:
+//   /            attrs format = "trackassoc-experiment", experiment = "scale", created_by,
+//                options (JSON text), loglog_slope_n_ge_1000
+//   /scale/      one entry per size (K rows, ascending n):
+//     n (K int32), tracks (K×3 int32, tracks per sensor), components, largest_component (K int32),
+//     candidate_pairs, gated_pairs (K float64, counts; exact below 2^53),
+//     stage_s, stage_peak_mib, stage_data_mib (K×5 float64, columns = attr `stages`:
+//       alignment, candidates, statistics, clusters, solve),
+//     total_s, peak_mib, correct_rate, false_rate, missed_rate (K float64),
+//     dense_run (K int32, 1 = the dense path also ran), dense_total_s, dense_peak_mib,
+//     dense_correct_rate, dense_gated_pairs (K float64, NaN where the dense path did not run),
+//     dense_identical (K int32: 1 same tuple set, 0 different, −1 not run),
+//     ok (K int32, 0 = the size failed); attr errors = JSON array of K strings ("" when ok).
+//   Values of a failed size are NaN / 0.
+void write_scale_h5(const std::string& path, const std::vector<ScaleRow>& rows, const nlohmann::json& options,
+                    double loglog_slope);
+
 // Least-squares slope of log(total time) against log(n) over rows with n ≥ n_min: ≈1 for
 // n log n at these sizes (the log factor adds ≈0.1), 2 for n².
 double scaling_exponent(const std::vector<ScaleRow>& rows, int32_t n_min);

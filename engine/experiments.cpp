@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <iostream>
 
+#include "engine/version.hpp"
+
 namespace trackassoc {
 
 std::string find_plot_script() {
@@ -37,6 +39,12 @@ bool run_plot_script(const std::string& args) {
     return false;
   }
   return true;
+}
+
+void write_experiment_header(const h5::Group& root, const std::string& experiment) {
+  root.write_attribute("format", std::string("trackassoc-experiment"));
+  root.write_attribute("experiment", experiment);
+  root.write_attribute("created_by", created_by());
 }
 
 }  // namespace trackassoc

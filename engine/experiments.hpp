@@ -6,6 +6,8 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "io/hdf5_wrapper.hpp"
+
 namespace trackassoc {
 
 void add_experiment_seed002(CLI::App* experiment);  // engine/experiment_seed002.cpp
@@ -18,5 +20,9 @@ std::string find_plot_script();
 // warning on stderr, when the script or matplotlib is missing or the plot fails: plots are a
 // convenience, the HDF5 file is the result.
 bool run_plot_script(const std::string& args);
+
+// The root attributes every experiment file starts with: format = "trackassoc-experiment",
+// experiment = NAME, created_by (engine/version.hpp).
+void write_experiment_header(const h5::Group& root, const std::string& experiment);
 
 }  // namespace trackassoc

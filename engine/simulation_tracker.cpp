@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "engine/simulation_truth.hpp"
+#include "kernels/alpha_beta.hpp"
 #include "kernels/bp_network.hpp"
 #include "kernels/cs_filter.hpp"
 #include "kernels/cs_parallel.hpp"
@@ -87,6 +88,112 @@ class CsParallelLocalBank final : public LocalFilterBank {
  private:
   CsParallelBank bank_;
   CsParallelOptions options_;
+};
+
+// Alpha-beta bank (kernels/alpha_beta.hpp) with Kalata steady-state gains for the DWNA model of
+// σ_w = spec.process_noise and, per track, σ_v² = tr(R)/d of its latest converted plot (the mean
+// per-axis variance: the α-β filter has one scalar gain pair for all axes), after an expanding-
+// memory (least-squares) start from the two-point initialisation.
+// Covariance. An α-β filter carries none; we propagate the true error covariance of its estimate
+// under the tracking model for the gains actually applied: predict P ← F P Fᵀ + Q (DWNA, as the
+// CV Kalman bank), and at an update with gain K = [α, β/T]ᵀ ⊗ I_d the Joseph form
+// P ← (I − K H) P (I − K H)ᵀ + K R Kᵀ, valid for any gain (Bar-Shalom et al. 2001, Eq. 5.2.3-18),
+// with the plot's full converted-measurement R. It starts from the two-point covariance. So:
+//   - during the expanding-memory start (least-squares gains) it is the least-squares line fit's
+//     covariance (plus the process noise); for n plots of variance σ² at step T and σ_w = 0,
+//     P_pp = 2(2n−1)/(n(n+1))·σ², P_pv = 6/(n(n+1)T)·σ², P_vv = 12/(n(n²−1)T²)·σ² (Brookner §1.2.6);
+//   - in steady state with isotropic R = σ_v² I it converges to the Kalata relation
+//     P_pp = α σ_v², P_pv = β σ_v²/T, P_vv = β(α − β/2)/(1 − α)·σ_v²/T² (Kalata 1984; Bar-Shalom
+//     et al. 2001 §6.5.3), i.e. the steady-state Kalman covariance, as the gains are Kalman's;
+//   - with anisotropic R (range vs cross-range) the gains are not Kalman's, and P is still the
+//     error covariance of the estimate actually produced, not the (smaller) Kalman one.
+// The covariance update is per track and scalar (Eigen on 4×4 / 6×6); the bank itself is SoA.
+class AlphaBetaLocalBank final : public LocalFilterBank {
+ public:
+  AlphaBetaLocalBank(double sigma, int d, std::size_t n)
+      : d_(d), sigma_(sigma), bank_(d, n, options(sigma)), P_(n), initialised_(n, 0) {}
+  static AlphaBetaOptions options(double sigma) {
+    AlphaBetaOptions o;  // Kalata gains, expanding-memory start
+    require(sigma > 0.0, "tracker.process_noise",
+            "the alpha-beta filter (Kalata gains) needs a white-noise acceleration σ > 0 [m/s²], got " +
+                std::to_string(sigma));
+    o.process_noise = sigma;
+    return o;
+  }
+  void step(double dt, const PositionScan& scan) override {
+    const std::size_t n = bank_.size();
+    for (std::size_t i = 0; i < n; ++i)
+      if (scan.detected[i]) {
+        double trace = 0.0;
+        for (int a = 0, k = 0; a < d_; k += d_ - a, ++a) trace += scan.R[k][i];
+        bank_.measurement_noise[i] = std::sqrt(trace / d_);
+      }
+    if (dt > 0.0) bank_.predict(dt);
+    std::vector<AlphaBetaGains> gains(n);
+    for (std::size_t i = 0; i < n; ++i)
+      if (scan.detected[i] && initialised_[i]) gains[i] = bank_.next_update_gains(i);
+    std::span<const double> z[3] = {scan.z[0], scan.z[1], scan.z[2]};
+    bank_.update(std::span<const std::span<const double>>(z, d_), scan.detected);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!initialised_[i]) continue;
+      if (dt > 0.0) predict_covariance(P_[i], dt);
+      if (gains[i].alpha > 0.0) update_covariance(P_[i], gains[i], bank_.step[i], scan, i);
+    }
+  }
+  void initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1,
+                  const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt) override {
+    Eigen::VectorXd v = (z2 - z1) / dt;
+    bank_.initialise(i, std::span<const double>(z2.data(), d_), std::span<const double>(v.data(), d_), 2);
+    bank_.measurement_noise[i] = std::sqrt(R2.trace() / d_);
+    // Two-point initialisation (Bar-Shalom et al. 2001 §5.5.3): p = z2, v = (z2 − z1)/dt.
+    Eigen::MatrixXd& P = P_[i];
+    P.resize(2 * d_, 2 * d_);
+    P.topLeftCorner(d_, d_) = R2;
+    P.topRightCorner(d_, d_) = R2 / dt;
+    P.bottomLeftCorner(d_, d_) = R2 / dt;
+    P.bottomRightCorner(d_, d_) = (R1 + R2) / (dt * dt);
+    initialised_[i] = 1;
+  }
+  void position_velocity(std::size_t i, Eigen::VectorXd& x, Eigen::MatrixXd& P) const override {
+    x.resize(2 * d_);
+    for (int a = 0; a < d_; ++a) x(a) = bank_.position[a][i], x(d_ + a) = bank_.velocity[a][i];
+    P = P_[i];
+  }
+
+ private:
+  // P ← F P Fᵀ + Q, F = [[1, T], [0, 1]] ⊗ I_d, Q = σ_w²[[T⁴/4, T³/2], [T³/2, T²]] ⊗ I_d (DWNA).
+  void predict_covariance(Eigen::MatrixXd& P, double T) const {
+    Eigen::MatrixXd F = Eigen::MatrixXd::Identity(2 * d_, 2 * d_);
+    F.topRightCorner(d_, d_).diagonal().setConstant(T);
+    const double q = sigma_ * sigma_;
+    P = F * P * F.transpose();
+    for (int a = 0; a < d_; ++a) {
+      P(a, a) += q * T * T * T * T / 4.0;
+      P(a, d_ + a) += q * T * T * T / 2.0;
+      P(d_ + a, a) += q * T * T * T / 2.0;
+      P(d_ + a, d_ + a) += q * T * T;
+    }
+  }
+  // Joseph form for the applied gain K = [α, β/T]ᵀ ⊗ I_d and the plot's R.
+  void update_covariance(Eigen::MatrixXd& P, AlphaBetaGains g, double T, const PositionScan& scan,
+                         std::size_t i) const {
+    Eigen::MatrixXd R(d_, d_);
+    for (int a = 0, k = 0; a < d_; ++a)
+      for (int b = a; b < d_; ++b, ++k) R(a, b) = R(b, a) = scan.R[k][i];
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(2 * d_, d_);
+    K.topRows(d_).diagonal().setConstant(g.alpha);
+    K.bottomRows(d_).diagonal().setConstant(g.beta / T);
+    Eigen::MatrixXd A = Eigen::MatrixXd::Identity(2 * d_, 2 * d_);
+    A.leftCols(d_) -= K;  // I − K H with H = [I_d 0]
+    P = A * P * A.transpose() + K * R * K.transpose();
+    P = 0.5 * (P + P.transpose());
+  }
+
+  int d_;
+  double sigma_;
+  AlphaBetaBank bank_;
+  std::vector<Eigen::MatrixXd> P_;
+  std::vector<uint8_t> initialised_;
 };
 
 // The seed 002 IMM {CS-parallel with network, CA σ = 5 m/s²} (kernels/imm.hpp).
@@ -246,11 +353,8 @@ std::unique_ptr<LocalFilterBank> make_local_filter_bank(const LocalTrackerSpec& 
   if (spec.filter == "cs") return std::make_unique<CsLocalBank>(d, n);
   if (spec.filter == "cs-nn") return std::make_unique<CsParallelLocalBank>(d, n);
   if (spec.filter == "imm") return std::make_unique<ImmLocalBank>(d, n);
-  if (spec.filter == "ab")
-    throw InputError(
-        "tracker.filter: 'ab' (alpha-beta) is not wired into the local tracker yet; use cv, ca, cs, cs-nn or "
-        "imm");
-  throw InputError("tracker.filter: expected cv, ca, cs, cs-nn or imm, got '" + spec.filter + "'");
+  if (spec.filter == "ab") return std::make_unique<AlphaBetaLocalBank>(spec.process_noise, d, n);
+  throw InputError("tracker.filter: expected cv, ca, ab, cs, cs-nn or imm, got '" + spec.filter + "'");
 }
 
 LocalTrackingResult track_measurements(const Measurements& meas, const std::vector<Sensor>& sensors,

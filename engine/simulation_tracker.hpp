@@ -51,7 +51,9 @@ class LocalFilterBank {
 //   cs      "current" statistical model, CsOptions defaults (kernels/cs_filter.hpp)
 //   cs-nn   two parallel CS filters tuned by the trained 3-7-1 network (kernels/cs_parallel.hpp)
 //   imm     seed 002's IMM {cs-nn, CA σ = 5 m/s²} (kernels/imm.hpp)
-//   ab      not yet: the alpha-beta kernel belongs to the fuzzy-association work.
+//   ab      alpha-beta, Kalata gains for σ = spec.process_noise (> 0) and each plot's R, with the
+//           true error covariance of its estimate propagated alongside (kernels/alpha_beta.hpp;
+//           derivation in simulation_tracker.cpp)
 std::unique_ptr<LocalFilterBank> make_local_filter_bank(const LocalTrackerSpec& spec, int spatial_dim,
                                                         std::size_t tracks);
 

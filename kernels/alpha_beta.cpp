@@ -45,9 +45,13 @@ AlphaBetaGains expanding_memory_gains(int64_t n) {
   return {2.0 * (2.0 * m + 1.0) / ((m + 2.0) * (m + 1.0)), 6.0 / ((m + 2.0) * (m + 1.0))};
 }
 
-AlphaBetaGains alpha_beta_gains(const AlphaBetaOptions& o, double step) {
+AlphaBetaGains alpha_beta_gains(const AlphaBetaOptions& o, double step, double measurement_noise) {
   if (o.gains == AlphaBetaGainMode::kFixed) return {o.alpha, o.beta};
-  return kalata_gains(tracking_index(o.process_noise, o.measurement_noise, step));
+  return kalata_gains(tracking_index(o.process_noise, measurement_noise, step));
+}
+
+AlphaBetaGains alpha_beta_gains(const AlphaBetaOptions& o, double step) {
+  return alpha_beta_gains(o, step, o.measurement_noise);
 }
 
 std::array<double, 3> alpha_beta_steady_covariance(AlphaBetaGains g, double T, double sw, double sv) {
@@ -96,6 +100,7 @@ AlphaBetaBank::AlphaBetaBank(int spatial_dim, std::size_t n, const AlphaBetaOpti
   beta.assign(n, 0.0);
   step.assign(n, 0.0);
   measurements.assign(n, 0);
+  measurement_noise.assign(n, options_.measurement_noise);
 }
 
 void AlphaBetaBank::initialise(std::size_t i, std::span<const double> pos, std::span<const double> vel,
@@ -122,6 +127,7 @@ std::size_t AlphaBetaBank::add_track(std::span<const double> pos, std::span<cons
   beta.push_back(0.0);
   step.push_back(0.0);
   measurements.push_back(0);
+  measurement_noise.push_back(options_.measurement_noise);
   initialise(size() - 1, pos, vel, count);
   return size() - 1;
 }
@@ -152,7 +158,7 @@ inline void update_element(double* p, double* v, std::size_t i, double z, double
 void AlphaBetaBank::predict(double T) {
   require(T >= 0.0 && std::isfinite(T), "AlphaBetaBank.predict", "expected a finite step >= 0");
   if (T == 0.0) return;
-  const AlphaBetaGains g = alpha_beta_gains(options_, T);
+  const AlphaBetaGains g0 = alpha_beta_gains(options_, T);
   parallel_for_range(size(), options_.grain, [&](std::size_t b, std::size_t e) {
     for (int a = 0; a < spatial_dim_; ++a) {
       double* p = position[a].data();
@@ -160,6 +166,9 @@ void AlphaBetaBank::predict(double T) {
       for (std::size_t i = b; i < e; ++i) predict_element(p, v, i, T);
     }
     for (std::size_t i = b; i < e; ++i) {
+      const AlphaBetaGains g = measurement_noise[i] == options_.measurement_noise
+                                   ? g0
+                                   : alpha_beta_gains(options_, T, measurement_noise[i]);
       alpha[i] = g.alpha;
       beta[i] = g.beta;
       step[i] = T;
@@ -179,7 +188,7 @@ void AlphaBetaBank::predict(std::span<const double> steps) {
 void AlphaBetaBank::predict_track(std::size_t i, double T) {
   if (!(T > 0.0)) return;  // T = 0: keep the previous gains and step
   for (int a = 0; a < spatial_dim_; ++a) predict_element(position[a].data(), velocity[a].data(), i, T);
-  const AlphaBetaGains g = alpha_beta_gains(options_, T);
+  const AlphaBetaGains g = alpha_beta_gains(options_, T, measurement_noise[i]);
   alpha[i] = g.alpha;
   beta[i] = g.beta;
   step[i] = T;
@@ -217,6 +226,11 @@ void AlphaBetaBank::update(std::span<const std::span<const double>> z, std::span
       }
     }
   });
+}
+
+AlphaBetaGains AlphaBetaBank::next_update_gains(std::size_t i) const {
+  if (!(step[i] > 0.0)) return {};
+  return effective_gains(alpha[i], beta[i], measurements[i], options_.expanding_memory_start);
 }
 
 void AlphaBetaBank::update_track(std::size_t i, std::span<const double> z) {

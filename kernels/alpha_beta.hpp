@@ -12,6 +12,8 @@
 //       α = −(λ² + 8λ − (λ + 4)·√(λ² + 8λ))/8,   β = (λ² + 4λ − λ·√(λ² + 8λ))/4
 //     (Kalata, "The tracking index", IEEE T-AES 20(2), 1984, Eq. 27–28). These are the gains of
 //     the steady-state Kalman filter of the same model, so the filter is optimal in steady state.
+//     σ_v is per track (measurement_noise[i], initialised to the option), so a bank can hold
+//     tracks measured with different accuracy (e.g. converted radar plots at different ranges).
 //   Expanding-memory start (default on): a track that has absorbed n measurements (n = 2 after a
 //   two-point initialisation) updates with the least-squares straight-line gains
 //     g_n = 2(2n + 1)/((n + 2)(n + 1)),   h_n = 6/((n + 2)(n + 1))
@@ -71,8 +73,10 @@ double tracking_index(double process_noise, double measurement_noise, double ste
 AlphaBetaGains expanding_memory_gains(int64_t n);
 // Steady-state α, β for a tracking index λ ≥ 0 (Kalata 1984 Eq. 27–28).
 AlphaBetaGains kalata_gains(double lambda);
-// The gains the bank uses for a step T > 0 under `options`.
+// The gains the bank uses for a step T > 0 under `options` (σ_v = options.measurement_noise),
+// and the same for a track with its own measurement σ_v.
 AlphaBetaGains alpha_beta_gains(const AlphaBetaOptions& options, double step);
+AlphaBetaGains alpha_beta_gains(const AlphaBetaOptions& options, double step, double measurement_noise);
 
 // Steady-state covariance (per axis) of the filtered estimate, packed (pp, pv, vv), for gains g,
 // step T, white acceleration σ_w (0 = none) and measurement σ_v: the fixed point of
@@ -109,10 +113,17 @@ class AlphaBetaBank {
   void predict_track(std::size_t i, double step);
   void update_track(std::size_t i, std::span<const double> z);
 
+  // The (α, β) the next update of track i applies (expanding-memory or steady; zero when the
+  // track has not been predicted since initialise). The velocity gain is β / step[i]. Lets a
+  // caller propagate the estimate's covariance for the gains actually used.
+  AlphaBetaGains next_update_gains(std::size_t i) const;
+
   // State, SoA: position[a][i], velocity[a][i]; gains and step of the current step.
   std::array<std::vector<double>, 3> position, velocity;
   std::vector<double> alpha, beta, step;
   std::vector<int64_t> measurements;  // measurements absorbed per track (expanding-memory start)
+  // σ_v per track [m] for the Kalata gains (options.measurement_noise when added); read at predict.
+  std::vector<double> measurement_noise;
 
  private:
   int spatial_dim_;

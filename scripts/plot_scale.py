@@ -1,20 +1,42 @@
 #!/usr/bin/env python3
 """Log-log plot of `trackassoc experiment scale` (issue 6).
 
-Usage: plot_scale.py SCALE_CSV OUTPUT_PNG
+Usage: plot_scale.py SCALE_H5|SCALE_CSV OUTPUT_PNG
 
 Left: wall time per stage and in total against targets per sensor, with n and n log n guides
 through the largest size, and the dense path where it ran. Right: peak resident memory of the
-sparse path (and the dense path) against n. Reads the CSV written by the experiment.
+sparse path (and the dense path) against n. Reads the HDF5 file written by the experiment
+(/scale/..., layout in engine/experiment_scale.hpp; needs h5py, e.g. /usr/bin/python3 on Debian)
+or, for files of older runs, its CSV.
 """
 import csv
 import math
 import sys
 
+STAGES = ("alignment", "candidates", "statistics", "clusters", "solve")
+
 
 def read_rows(path):
-    with open(path, newline="") as f:
-        rows = [r for r in csv.DictReader(f) if not r.get("error")]
+    """Successful rows as dicts of column name -> value (CSV column names)."""
+    if path.endswith(".csv"):
+        with open(path, newline="") as f:
+            rows = [r for r in csv.DictReader(f) if not r.get("error")]
+    else:
+        import h5py
+        with h5py.File(path, "r") as f:
+            g = f["scale"]
+            stages = g.attrs["stages"]
+            stages = (stages.decode() if isinstance(stages, bytes) else stages).split(",")
+            rows = []
+            for k in range(g["n"].shape[0]):
+                if not g["ok"][k]:
+                    continue
+                r = {"n": g["n"][k]}
+                for name in ("total_s", "peak_mib", "dense_total_s", "dense_peak_mib"):
+                    r[name] = g[name][k]
+                for q, stage in enumerate(stages):
+                    r[f"{stage}_s"] = g["stage_s"][k, q]
+                rows.append(r)
     if not rows:
         sys.exit(f"plot_scale.py: {path} holds no successful rows")
     return rows
@@ -38,7 +60,7 @@ def main(argv):
     rows = read_rows(argv[1])
     n = column(rows, "n")
     fig, (ax_t, ax_m) = plt.subplots(1, 2, figsize=(11, 4.5))
-    for stage in ("alignment", "candidates", "statistics", "clusters", "solve"):
+    for stage in STAGES:
         ax_t.loglog(n, column(rows, f"{stage}_s"), "o-", ms=3, lw=1, label=stage)
     total = column(rows, "total_s")
     ax_t.loglog(n, total, "ks-", lw=2, label="sparse total")

@@ -1,5 +1,6 @@
 // `trackassoc filter` end to end: every filter turns /measurements into readable /tracks, the IMM
-// adds /tracks/model_prob, bad options are rejected with one clear line and no output file.
+// adds /tracks/model_prob, the alpha-beta tracks are plausible beside the Kalman ones, bad options
+// are rejected with one clear line and no output file.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <sys/wait.h>
@@ -61,7 +62,7 @@ class FilterCli : public ::testing::Test {
 };
 
 TEST_F(FilterCli, EveryFilterWritesReadableTracks) {
-  for (const std::string f : {"cv", "ca", "cs", "cs-nn", "imm"}) {
+  for (const std::string f : {"cv", "ca", "ab", "cs", "cs-nn", "imm"}) {
     const std::string out = path("out_" + f + ".h5");
     std::string err;
     ASSERT_EQ(run("filter --input " + input_ + " --filter " + f + " --output " + out, &err), 0)
@@ -84,6 +85,35 @@ TEST_F(FilterCli, EveryFilterWritesReadableTracks) {
   }
 }
 
+// The alpha-beta tracks report the same (sensor, track, t, truth) rows as the CV Kalman filter, and
+// their estimates differ from the Kalman ones by less than their own reported position σ: the
+// Kalman error is (nearly) orthogonal to the difference, so E|ab − cv|² ≈ E|e_ab|² − E|e_cv|² ≤
+// tr P_ab,pos when the α-β covariance is honest.
+TEST_F(FilterCli, AlphaBetaTracksArePlausible) {
+  const std::string ab = path("ab.h5"), cv = path("cv.h5");
+  std::string err;
+  ASSERT_EQ(run("filter --input " + input_ + " --filter ab --process-noise 2 --output " + ab, &err), 0)
+      << err;
+  ASSERT_EQ(run("filter --input " + input_ + " --filter cv --process-noise 2 --output " + cv, &err), 0)
+      << err;
+  const TrackFile a = read_track_file(ab), c = read_track_file(cv);
+  ASSERT_EQ(a.tracks.size(), c.tracks.size());
+  EXPECT_EQ(a.tracks.sensor, c.tracks.sensor);
+  EXPECT_EQ(a.tracks.track, c.tracks.track);
+  EXPECT_EQ(a.tracks.t, c.tracks.t);
+  EXPECT_EQ(a.tracks.truth, c.tracks.truth);
+  EXPECT_NE(a.tracks.state, c.tracks.state);
+  double diff2 = 0.0, trace = 0.0;
+  for (std::size_t i = 0; i < a.tracks.size(); ++i) {
+    const Eigen::VectorXd d = a.tracks.state_at(i) - c.tracks.state_at(i);
+    const Eigen::MatrixXd P = a.tracks.cov_at(i);
+    diff2 += d.head(2).squaredNorm();
+    trace += P(0, 0) + P(1, 1);
+  }
+  EXPECT_LT(diff2, trace);
+  EXPECT_GT(diff2, 0.0);
+}
+
 TEST_F(FilterCli, SameTracksForOneAndTwoThreads) {
   ASSERT_EQ(run("filter --threads 1 --input " + input_ + " --filter imm --output " + path("a.h5")), 0);
   ASSERT_EQ(run("filter --threads 2 --input " + input_ + " --filter imm --output " + path("b.h5")), 0);
@@ -96,8 +126,10 @@ TEST_F(FilterCli, BadOptionsAreRejectedWithoutOutput) {
   std::string err;
   EXPECT_EQ(run("filter --input " + input_ + " --filter kalman --output " + path("x.h5"), &err), 2);
   EXPECT_NE(err.find("--filter"), std::string::npos) << err;
-  EXPECT_EQ(run("filter --input " + input_ + " --filter ab --output " + path("x.h5"), &err), 2);
-  EXPECT_NE(err.find("ab"), std::string::npos) << err;
+  // The alpha-beta filter's Kalata gains need a process noise σ > 0.
+  EXPECT_EQ(run("filter --input " + input_ + " --filter ab --process-noise 0 --output " + path("x.h5"), &err),
+            2);
+  EXPECT_NE(err.find("--process-noise"), std::string::npos) << err;
   EXPECT_EQ(
       run("filter --input " + input_ + " --filter cv --process-noise -3 --output " + path("x.h5"), &err), 2);
   EXPECT_NE(err.find("--process-noise"), std::string::npos) << err;

@@ -1,6 +1,11 @@
-// trackassoc associate --input F.h5 --output G.h5 --solver NAME
+// trackassoc associate --input F.h5 --output G.h5 --solver NAME [--sparse]
 // The input is a simulation file or a recorded track file (schema v1). The output holds the
 // input's content plus /associations/<name>/.
+// Dense path (default): the n1·n2·n3 cost tensor (engine/pipeline.hpp); a track set whose tensor
+// exceeds --memory-budget is refused before any work, with a pointer to --sparse. Sparse path
+// (--sparse): gated candidate tuples and connected components, each solved by the same solver
+// (engine/sparse_pipeline.hpp); the same /associations/<name>/ record, its options attribute
+// carrying "sparse": true.
 #include <algorithm>
 #include <iostream>
 
@@ -11,6 +16,8 @@
 #include "engine/pipeline_sd.hpp"
 #include "engine/siamese_track_file.hpp"
 #include "engine/solver_registry.hpp"
+#include "engine/sparse_pipeline.hpp"
+#include "engine/workflow.hpp"
 #include "io/siamese_model_file.hpp"
 
 namespace trackassoc::cli {
@@ -48,6 +55,8 @@ void register_associate(CLI::App& app) {
     const PipelineOptions options = resolve(args->pipeline);
     const nlohmann::json solver_options = parse_solver_options(args->pipeline.solver_options);
     if (args->solver == "fuzzy" || args->solver == "ftaa") {  // not a 3-D tensor solver (seed 001)
+      if (args->pipeline.sparse)
+        throw InputError("--sparse: applies to the 3-D assignment solvers, not to '" + args->solver + "'");
       const FuzzyPipelineOptions fuzzy =
           fuzzy_pipeline_options(parse_fusion_method(args->solver), solver_options);
       TrackFile file = read_track_file(args->input);
@@ -61,6 +70,8 @@ void register_associate(CLI::App& app) {
       return;
     }
     if (args->sd || options.sensors.size() > 3) {
+      if (args->pipeline.sparse)
+        throw InputError("--sparse: applies to the three-sensor pipeline, not to the S-D formulation (--sd)");
       require_sd_solver(args->solver);  // fail on an unknown name before reading anything
       TrackFile file = read_track_file(args->input);
       const SDProblem problem = build_sd_problem(file, options);
@@ -101,17 +112,32 @@ void register_associate(CLI::App& app) {
     }
     find_solver(args->solver);  // fail on an unknown name before reading anything
     TrackFile file = read_track_file(args->input);
-    const AssociationProblem problem = build_association_problem(file, options);
-    AssociationRecord rec =
-        solve_association(problem, args->solver, solver_options, args->common.seed, options);
+    AssociationRecord rec;
+    std::string summary;
+    if (args->pipeline.sparse) {
+      SparsePipelineOptions sparse_options;
+      sparse_options.pipeline = options;
+      const SparseAssociationProblem problem = build_sparse_association_problem(file, sparse_options);
+      rec =
+          solve_sparse_association(problem, args->solver, solver_options, args->common.seed, sparse_options);
+      summary = std::to_string(problem.aligned[0].n_tracks()) + "x" +
+                std::to_string(problem.aligned[1].n_tracks()) + "x" +
+                std::to_string(problem.aligned[2].n_tracks()) +
+                " tracks (sparse: " + std::to_string(problem.components.count) + " components)";
+    } else {
+      require_dense_tensor_fits(file, options);
+      const AssociationProblem problem = build_association_problem(file, options);
+      rec = solve_association(problem, args->solver, solver_options, args->common.seed, options);
+      summary = std::to_string(problem.tensor.n1) + "x" + std::to_string(problem.tensor.n2) + "x" +
+                std::to_string(problem.tensor.n3) + " tracks";
+    }
     if (!args->name.empty()) rec.name = args->name;
     std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == rec.name; });
     file.associations.push_back(rec);
     write_track_file(args->output, file);
-    std::cout << "associated " << problem.tensor.n1 << "x" << problem.tensor.n2 << "x" << problem.tensor.n3
-              << " tracks with '" << args->solver << "': objective " << fmt(rec.objective) << ", "
-              << rec.num_tuples() << " tuples, " << fmt(1e3 * rec.runtime_s, "%.2f") << " ms -> "
-              << args->output << "\n";
+    std::cout << "associated " << summary << " with '" << args->solver << "': objective "
+              << fmt(rec.objective) << ", " << rec.num_tuples() << " tuples, "
+              << fmt(1e3 * rec.runtime_s, "%.2f") << " ms -> " << args->output << "\n";
   });
 }
 

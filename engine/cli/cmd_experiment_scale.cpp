@@ -1,7 +1,8 @@
 // trackassoc experiment scale (issue 6): the sparse path from 10² to 10⁴ targets per sensor.
 // Prints the table (time per stage, peak memory, correct rate, dense beside it where it fits),
-// writes DIR/scale.csv and DIR/scale.json atomically, and draws DIR/scale.png with
-// scripts/plot_scale.py when python3 with matplotlib is available.
+// writes DIR/scale.h5 (the result, layout in engine/experiment_scale.hpp) and, for a quick look,
+// DIR/scale.csv and DIR/scale.json, all atomically, and draws DIR/scale.png from the HDF5 file
+// with scripts/plot_scale.py (/usr/bin/python3 with h5py and matplotlib).
 #include <unistd.h>
 
 #include <cstdio>
@@ -79,7 +80,8 @@ void register_experiment_scale(CLI::App& experiment) {
         "\nlog-log slope of total time vs n for n >= 1000: %.2f (n log n gives about 1.1 here, n^2 gives "
         "2)\n",
         slope);
-    const std::string csv = args->out + "/scale.csv", json = args->out + "/scale.json";
+    const std::string csv = args->out + "/scale.csv", json = args->out + "/scale.json",
+                      h5 = args->out + "/scale.h5";
     write_atomically(csv, [&](const std::string& tmp) { std::ofstream(tmp) << scale_csv(rows); });
     nlohmann::json j = {{"options",
                          {{"sizes", o.sizes},
@@ -99,13 +101,14 @@ void register_experiment_scale(CLI::App& experiment) {
                         {"rows", nlohmann::json::array()}};
     for (const auto& r : rows) j["rows"].push_back(r.to_json());
     write_atomically(json, [&](const std::string& tmp) { std::ofstream(tmp) << j.dump(1) << "\n"; });
-    std::cout << "wrote " << csv << ", " << json << "\n";
+    write_scale_h5(h5, rows, j["options"], slope);
+    std::cout << "wrote " << h5 << ", " << csv << ", " << json << "\n";
     if (!args->no_plot) {
       const std::string script = std::string(TRACKASSOC_DATA_DIR) + "/../scripts/plot_scale.py";
       const std::string png = args->out + "/scale.png";
       // The Debian interpreter has python3-matplotlib (scripts/setup.sh); a python3 earlier on PATH may not.
       const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-      const std::string command = python + " '" + script + "' '" + csv + "' '" + png + "'";
+      const std::string command = python + " '" + script + "' '" + h5 + "' '" + png + "'";
       if (std::filesystem::exists(script) && std::system(command.c_str()) == 0)
         std::cout << "wrote " << png << "\n";
       else

@@ -51,22 +51,20 @@ void register_filter(CLI::App& app) {
   cmd->add_option("--output,-o", args->output, "Output HDF5 file")->required();
   cmd->add_option(
          "--filter", args->filter,
-         "cv | ca (Kalman), cs (current statistical), cs-nn (parallel CS + network), imm (seed 002), "
-         "ab (alpha-beta, not yet available)")
+         "cv | ca (Kalman), ab (alpha-beta, Kalata gains), cs (current statistical), cs-nn (parallel CS + "
+         "network), imm (seed 002)")
       ->check(CLI::IsMember({"cv", "ca", "ab", "cs", "cs-nn", "imm"}))
       ->capture_default_str();
-  cmd->add_option("--process-noise", args->process_noise,
-                  "σ of the white-noise acceleration of cv/ca [m/s²] (default: the file's scenario, else 1)");
+  cmd->add_option(
+      "--process-noise", args->process_noise,
+      "σ of the white-noise acceleration of cv/ca/ab [m/s²] (default: the file's scenario, else 1; "
+      "ab needs > 0)");
   cmd->add_option("--run", args->run, "Monte Carlo run number (selects the track-number shuffle)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    if (args->filter == "ab")
-      throw InputError(
-          "--filter ab: the alpha-beta bank is not wired into `filter` yet (it comes with the fuzzy "
-          "association kernels); use cv, ca, cs, cs-nn or imm");
     if (args->process_noise != -1.0 && !(args->process_noise >= 0.0 && std::isfinite(args->process_noise)))
       throw InputError("--process-noise: expected a finite σ ≥ 0 [m/s²], got " +
                        std::to_string(args->process_noise));
@@ -83,6 +81,9 @@ void register_filter(CLI::App& app) {
     }
     spec.filter = args->filter;
     if (args->process_noise >= 0.0) spec.process_noise = args->process_noise;
+    if (spec.filter == "ab" && !(spec.process_noise > 0.0))
+      throw InputError("--process-noise: the alpha-beta filter's Kalata gains need σ > 0 [m/s²], got " +
+                       std::to_string(spec.process_noise));
     const LocalTrackingResult r =
         track_measurements(*file.measurements, file.sensors, layout, spec, args->common.seed, args->run);
     file.tracks = r.tracks;

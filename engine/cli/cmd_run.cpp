@@ -1,7 +1,9 @@
 // trackassoc run: the main job. Simulates a scenario (default: the embedded seed 000 three-radar
 // scenario), associates with every available solver, evaluates, prints a table and writes
 // trackassoc-run.h5.
+#include <array>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "engine/cli/common.hpp"
@@ -9,6 +11,7 @@
 #include "engine/metrics.hpp"
 #include "engine/pipeline.hpp"
 #include "engine/solver_registry.hpp"
+#include "engine/sparse_pipeline.hpp"
 #include "engine/workflow.hpp"
 
 namespace trackassoc::cli {
@@ -39,15 +42,41 @@ void register_run(CLI::App& app) {
     const Scenario scenario = load_scenario(args->scenario);
     const SimulationResult sim = simulate(scenario, args->common.seed, 0);
     TrackFile file = simulation_to_track_file(scenario, sim);
-    const AssociationProblem problem = build_association_problem(file, options);
-    const int32_t n = std::max({problem.tensor.n1, problem.tensor.n2, problem.tensor.n3});
+    // Dense (default) or sparse (--sparse) association problem, shared by all solvers.
+    std::optional<AssociationProblem> dense;
+    std::optional<SparseAssociationProblem> sparse;
+    SparsePipelineOptions sparse_options;
+    sparse_options.pipeline = options;
+    std::array<int32_t, 3> n_tracks{}, ids{};
+    std::size_t n_common = 0;
+    int32_t n = 0;  // the size that picks the default solvers (largest component when sparse)
+    if (args->pipeline.sparse) {
+      sparse = build_sparse_association_problem(file, sparse_options);
+      for (int d = 0; d < 3; ++d) n_tracks[d] = sparse->aligned[d].n_tracks();
+      ids = sparse->sensor_ids;
+      n_common = sparse->common_times.size();
+      for (int32_t c = 0; c < sparse->components.count; ++c) {
+        const auto counts = component_track_counts(*sparse, c);
+        n = std::max({n, counts[0], counts[1], counts[2]});
+      }
+    } else {
+      require_dense_tensor_fits(file, options);
+      dense = build_association_problem(file, options);
+      n_tracks = {dense->tensor.n1, dense->tensor.n2, dense->tensor.n3};
+      ids = dense->sensor_ids;
+      n_common = dense->common_times.size();
+      n = std::max({n_tracks[0], n_tracks[1], n_tracks[2]});
+    }
 
-    std::cout << "scenario '" << scenario.name << "', seed " << args->common.seed << ": " << problem.tensor.n1
-              << " x " << problem.tensor.n2 << " x " << problem.tensor.n3 << " local tracks on sensors "
-              << problem.sensor_ids[0] << ", " << problem.sensor_ids[1] << ", " << problem.sensor_ids[2]
-              << "; " << problem.common_times.size() << " common times; statistics "
-              << fmt(1e3 * problem.statistics_time_s, "%.2f") << " ms, cost tensor "
-              << fmt(1e3 * problem.tensor_time_s, "%.2f") << " ms\n\n";
+    std::cout << "scenario '" << scenario.name << "', seed " << args->common.seed << ": " << n_tracks[0]
+              << " x " << n_tracks[1] << " x " << n_tracks[2] << " local tracks on sensors " << ids[0] << ", "
+              << ids[1] << ", " << ids[2] << "; " << n_common << " common times; ";
+    if (dense)
+      std::cout << "statistics " << fmt(1e3 * dense->statistics_time_s, "%.2f") << " ms, cost tensor "
+                << fmt(1e3 * dense->tensor_time_s, "%.2f") << " ms\n\n";
+    else
+      std::cout << "sparse: " << sparse->components.count << " components, largest " << n
+                << " tracks per sensor\n\n";
     TextTable table({"solver", "objective", "lower bound", "gap", "correct", "false", "missed", "time [ms]",
                      "termination"});
     for (const auto& entry : solver_registry()) {
@@ -55,10 +84,12 @@ void register_run(CLI::App& app) {
                                                 : std::find(args->solvers.begin(), args->solvers.end(),
                                                             entry.name) != args->solvers.end();
       if (!chosen) continue;
-      AssociationRecord rec = solve_association(
-          problem, entry.name,
-          solver_options.contains(entry.name) ? solver_options[entry.name] : nlohmann::json::object(),
-          args->common.seed, options);
+      const nlohmann::json entry_options =
+          solver_options.contains(entry.name) ? solver_options[entry.name] : nlohmann::json::object();
+      AssociationRecord rec =
+          dense ? solve_association(*dense, entry.name, entry_options, args->common.seed, options)
+                : solve_sparse_association(*sparse, entry.name, entry_options, args->common.seed,
+                                           sparse_options);
       const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
       file.metrics.push_back(to_metrics_record(rec.name, m));
       table.add({rec.name, fmt(rec.objective, "%.6g"), fmt(rec.lower_bound, "%.6g"), percent(rec.gap),

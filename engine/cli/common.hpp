@@ -5,6 +5,7 @@
 #include <oneapi/tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 
@@ -52,6 +53,8 @@ struct PipelineFlags {
   std::string cost_form = "chain";
   double correlated = -1.0;  // < 0: independent errors
   std::string solver_options = "{}";
+  double memory_budget_mib = 0.0;  // 0 = CostTensorOptions' default
+  bool sparse = false;             // engine/sparse_pipeline.hpp instead of the dense tensor
 };
 
 inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
@@ -76,12 +79,23 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
       ->capture_default_str();
   cmd->add_option("--options", f.solver_options, "Solver options as a JSON object, e.g. '{\"restarts\": 8}'")
       ->capture_default_str();
+  cmd->add_option("--memory-budget", f.memory_budget_mib,
+                  "Largest dense cost tensor [MiB] (default 2048); larger track sets need --sparse");
+  cmd->add_flag("--sparse", f.sparse,
+                "Sparse path: gated candidate tuples, connected components solved in parallel by the "
+                "solver (for track sets too large for the dense tensor)");
 }
 
 // Resolves the string flags into PipelineOptions; throws InputError on bad values.
 inline PipelineOptions resolve(PipelineFlags& f) {
   PipelineOptions o = f.options;
   o.cost.form = f.cost_form == "all-pairs" ? CostForm::kAllPairs : CostForm::kChain;
+  if (f.memory_budget_mib != 0.0) {
+    if (!(f.memory_budget_mib > 0.0 && f.memory_budget_mib < 1e12))
+      throw InputError("--memory-budget: expected a size > 0 [MiB], got " +
+                       std::to_string(f.memory_budget_mib));
+    o.cost.memory_budget_bytes = static_cast<std::size_t>(std::max(1.0, f.memory_budget_mib * 1048576.0));
+  }
   if (f.correlated >= 0.0) {
     o.statistic.correlated = true;
     o.statistic.cross_correlation = f.correlated;
