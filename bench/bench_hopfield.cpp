@@ -10,11 +10,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <memory>
 #include <numeric>
 #include <vector>
 
 #include "kernels/hopfield.hpp"
 #include "kernels/hopfield_continuous.hpp"
+#include "kernels/hopfield_diagonal.hpp"
 #include "kernels/hopfield_discrete.hpp"
 #include "kernels/hopfield_instances.hpp"
 #include "kernels/parallel.hpp"
@@ -154,8 +156,13 @@ void BM_AsyncPermutation(benchmark::State& state) {
 }
 BENCHMARK(BM_AsyncPermutation)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// Diagonal sweep (random block order drawn per sweep, as in the solver). Arg 1: 0 = the vector
+// path (DiagonalNetwork::sweep), 1 = the scalar segment loop it replaced (sweep_reference), the
+// peer in the same run. The layout of the cost is built once per solve: BM_DiagonalLayout.
 void BM_DiagonalSweep(benchmark::State& state) {
   const int32_t n = static_cast<int32_t>(state.range(0));
+  const bool reference = state.range(1) == 1;
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
   Fixture f(n);
   DiagonalNetwork net(f.w, f.c);
   net.set_state(f.V0);
@@ -164,10 +171,35 @@ void BM_DiagonalSweep(benchmark::State& state) {
   CounterRng rng(1);
   run_with_floor(state, f.c.size(), 1, [&] {
     rng.shuffle(std::span<uint32_t>(order));
-    benchmark::DoNotOptimize(net.sweep(order));
+    benchmark::DoNotOptimize(reference ? net.sweep_reference(order) : net.sweep(order));
   });
 }
-BENCHMARK(BM_DiagonalSweep)->Arg(50)->Arg(100)->Arg(200)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DiagonalSweep)
+    ->ArgsProduct({{50, 100, 200}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The once-per-solve re-layout of ĉ into blocks (parallel over a), and the per-restart set_state.
+void BM_DiagonalLayout(benchmark::State& state) {
+  const int32_t n = static_cast<int32_t>(state.range(0));
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, state.range(1));
+  Fixture f(n);
+  for (auto _ : state) {
+    auto layout = std::make_shared<const DiagonalCost>(f.c);
+    benchmark::DoNotOptimize(layout->c.data());
+  }
+  state.counters["neurons/s"] =
+      benchmark::Counter(static_cast<double>(f.c.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_DiagonalLayout)->ArgsProduct({{100, 200}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_DiagonalSetState(benchmark::State& state) {
+  const int32_t n = static_cast<int32_t>(state.range(0));
+  Fixture f(n);
+  DiagonalNetwork net(f.w, f.c);
+  for (auto _ : state) net.set_state(f.V0);
+}
+BENCHMARK(BM_DiagonalSetState)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_ContinuousSyncStep(benchmark::State& state) {
   const int32_t n = static_cast<int32_t>(state.range(0));

@@ -3,14 +3,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <numeric>
+#include <utility>
+
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
 
 #include "kernels/error.hpp"
 #include "kernels/hopfield_continuous.hpp"
+#include "kernels/hopfield_diagonal.hpp"
 #include "kernels/hopfield_discrete.hpp"
 #include "kernels/local_search.hpp"
-#include "kernels/parallel.hpp"
 #include "kernels/random.hpp"
 
 namespace trackassoc {
@@ -105,6 +110,39 @@ void HopfieldOptions::validate() const {
   }
   if (schedule == HopfieldSchedule::kContinuous)
     require(energy == HopfieldEnergy::kFullPlane, "schedule 'continuous'", "needs the full-plane energy");
+}
+
+std::vector<uint32_t> ascending_cost_order(std::span<const float> c) {
+  const std::size_t K = c.size();
+  require(K < (std::size_t{1} << 32), "cost order", "more than 2^32 entries");
+  // Keys whose unsigned order is the float order (sign flip for ≥ 0, complement for < 0; −0 as +0).
+  std::vector<uint32_t> key(K), idx(K), key2(K), idx2(K);
+  for (std::size_t a = 0; a < K; ++a) {
+    uint32_t bits;
+    std::memcpy(&bits, &c[a], sizeof bits);
+    if (bits == 0x80000000u) bits = 0;
+    key[a] = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
+    idx[a] = static_cast<uint32_t>(a);
+  }
+  // LSD radix sort, 11-bit digits: each pass is stable, so ties keep ascending index order.
+  constexpr int kBits = 11;
+  constexpr uint32_t kMask = (1u << kBits) - 1;
+  std::vector<std::size_t> count(std::size_t{1} << kBits);
+  for (int shift = 0; shift < 32; shift += kBits) {
+    std::fill(count.begin(), count.end(), 0);
+    for (std::size_t a = 0; a < K; ++a) ++count[(key[a] >> shift) & kMask];
+    if (std::find(count.begin(), count.end(), K) != count.end()) continue;  // one digit value: no-op pass
+    std::size_t sum = 0;
+    for (auto& x : count) sum += std::exchange(x, sum);
+    for (std::size_t a = 0; a < K; ++a) {
+      const std::size_t pos = count[(key[a] >> shift) & kMask]++;
+      key2[pos] = key[a];
+      idx2[pos] = idx[a];
+    }
+    key.swap(key2);
+    idx.swap(idx2);
+  }
+  return idx;
 }
 
 HopfieldWeights hopfield_weights(const HopfieldOptions& o, const NormalisedCost& c) {
@@ -212,8 +250,8 @@ void finish_restart(const CostTensor3& cost, const HopfieldOptions& o, std::span
 }
 
 RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, const HopfieldOptions& o,
-                           const HopfieldWeights& w, const std::vector<uint32_t>& cost_order, uint64_t seed,
-                           int32_t restart) {
+                           const HopfieldWeights& w, const std::vector<uint32_t>& cost_order,
+                           const std::shared_ptr<const DiagonalCost>& diagonal_cost, uint64_t seed, int32_t restart) {
   CounterRng rng(seed, 0, static_cast<uint64_t>(restart));
   RestartOutput out;
   HopfieldRestart& rec = out.record;
@@ -225,7 +263,7 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
   std::vector<uint32_t> order;
   SliceRandomOrder slice_order;
   if (diag) {
-    dnet = std::make_unique<DiagonalNetwork>(w, c);
+    dnet = std::make_unique<DiagonalNetwork>(w, diagonal_cost);
     dnet->set_state(V0);
     order.resize(dnet->num_blocks());
     std::iota(order.begin(), order.end(), 0u);
@@ -367,21 +405,24 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   }
   if (options.schedule == HopfieldSchedule::kDiagonal)
     require(cost.n1 <= cost.n2 && cost.n1 <= cost.n3, "schedule 'diagonal'", "needs n1 <= n2 and n1 <= n3");
+  // Shared by every restart, built once (the serial part of the solve: keep it O(n1n2n3) and small).
   std::vector<uint32_t> cost_order;
-  if (options.schedule == HopfieldSchedule::kAsync && options.order == HopfieldOrder::kCost) {
-    cost_order.resize(c.size());
-    std::iota(cost_order.begin(), cost_order.end(), 0u);
-    std::stable_sort(cost_order.begin(), cost_order.end(),
-                     [&](uint32_t x, uint32_t y) { return c.c[x] < c.c[y]; });
-  }
+  if (options.schedule == HopfieldSchedule::kAsync && options.order == HopfieldOrder::kCost)
+    cost_order = ascending_cost_order(c.c);
+  std::shared_ptr<const DiagonalCost> diagonal_cost;
+  if (options.schedule == HopfieldSchedule::kDiagonal) diagonal_cost = std::make_shared<const DiagonalCost>(c);
   std::vector<RestartOutput> outs(options.restarts);
-  parallel_for_range(static_cast<std::size_t>(options.restarts), 1, [&](std::size_t rb, std::size_t re) {
-    for (std::size_t r = rb; r < re; ++r)
-      outs[r] =
-          options.schedule == HopfieldSchedule::kContinuous
-              ? run_continuous(cost, c, options, result.weights, seed, static_cast<int32_t>(r))
-              : run_discrete(cost, c, options, result.weights, cost_order, seed, static_cast<int32_t>(r));
-  });
+  // One task per restart, balanced dynamically (restarts differ in their number of sweeps; a
+  // static split of 8 restarts into 4 + 4 leaves one thread idle at the end). Each restart reads
+  // only its own stream CounterRng(seed, 0, r), so the schedule does not change any result.
+  tbb::parallel_for(
+      0, options.restarts,
+      [&](int32_t r) {
+        outs[r] = options.schedule == HopfieldSchedule::kContinuous
+                      ? run_continuous(cost, c, options, result.weights, seed, r)
+                      : run_discrete(cost, c, options, result.weights, cost_order, diagonal_cost, seed, r);
+      },
+      tbb::simple_partitioner());
   int32_t best = 0;
   int64_t total_sweeps = 0, raw = 0;
   for (int32_t r = 0; r < options.restarts; ++r) {
