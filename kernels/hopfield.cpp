@@ -447,4 +447,19 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   return result;
 }
 
+RestartTable hopfield_restart_table(const HopfieldResult& result) {
+  RestartTable t;
+  for (std::size_t r = 0; r < result.restarts.size(); ++r) {
+    const HopfieldRestart& rr = result.restarts[r];
+    t.restart.push_back(static_cast<int32_t>(r));
+    t.valid_raw.push_back(rr.raw_feasible ? 1 : 0);
+    t.sweeps.push_back(static_cast<int32_t>(rr.sweeps));
+    t.mean_field_steps.push_back(static_cast<int32_t>(rr.mean_field_steps));
+    t.energy.push_back(rr.energy);
+    t.repaired_objective.push_back(rr.repaired_objective);
+    t.objective.push_back(rr.objective);
+  }
+  return t;
+}
+
 }  // namespace trackassoc

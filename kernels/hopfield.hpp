@@ -128,4 +128,8 @@ HopfieldWeights hopfield_weights(const HopfieldOptions& options, const Normalise
 
 HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& options, uint64_t seed);
 
+// The per-restart table of a result (restart, raw validity, sweeps, mean-field steps, energy,
+// repaired and final objective), as /associations/<name>/restarts/ stores it.
+RestartTable hopfield_restart_table(const HopfieldResult& result);
+
 }  // namespace trackassoc
