@@ -10,6 +10,7 @@
 
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include "kernels/error.hpp"
 #include "kernels/hopfield_continuous.hpp"
@@ -391,7 +392,8 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
               cost.size() == static_cast<std::size_t>(cost.n1) * cost.n2 * cost.n3,
           "cost tensor", "size does not match n1·n2·n3");
   require(cost.size() < (std::size_t{1} << 32), "cost tensor", "more than 2^32 neurons; use the sparse form");
-  for (float b : cost.cost) require(!std::isnan(b), "cost tensor", "NaN cost");
+  require(std::none_of(cost.cost.begin(), cost.cost.end(), [](float b) { return std::isnan(b); }), "cost tensor",
+          "NaN cost");
   HopfieldResult result;
   const NormalisedCost c = normalise_cost(cost);
   result.weights = hopfield_weights(options, c);
@@ -415,12 +417,16 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   // One task per restart, balanced dynamically (restarts differ in their number of sweeps; a
   // static split of 8 restarts into 4 + 4 leaves one thread idle at the end). Each restart reads
   // only its own stream CounterRng(seed, 0, r), so the schedule does not change any result.
+  // A restart's own parallel loops (continuous and sync steps) run isolated: a thread waiting for
+  // them must not pick up another whole restart meanwhile, which would hold up this one.
   tbb::parallel_for(
       0, options.restarts,
       [&](int32_t r) {
-        outs[r] = options.schedule == HopfieldSchedule::kContinuous
-                      ? run_continuous(cost, c, options, result.weights, seed, r)
-                      : run_discrete(cost, c, options, result.weights, cost_order, diagonal_cost, seed, r);
+        tbb::this_task_arena::isolate([&] {
+          outs[r] = options.schedule == HopfieldSchedule::kContinuous
+                        ? run_continuous(cost, c, options, result.weights, seed, r)
+                        : run_discrete(cost, c, options, result.weights, cost_order, diagonal_cost, seed, r);
+        });
       },
       tbb::simple_partitioner());
   int32_t best = 0;
