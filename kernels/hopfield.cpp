@@ -17,6 +17,7 @@
 #include "kernels/hopfield_diagonal.hpp"
 #include "kernels/hopfield_discrete.hpp"
 #include "kernels/local_search.hpp"
+#include "kernels/parallel.hpp"
 #include "kernels/random.hpp"
 
 namespace trackassoc {
@@ -116,30 +117,56 @@ void HopfieldOptions::validate() const {
 std::vector<uint32_t> ascending_cost_order(std::span<const float> c) {
   const std::size_t K = c.size();
   require(K < (std::size_t{1} << 32), "cost order", "more than 2^32 entries");
-  // Keys whose unsigned order is the float order (sign flip for ≥ 0, complement for < 0; −0 as +0).
-  std::vector<uint32_t> key(K), idx(K), key2(K), idx2(K);
-  for (std::size_t a = 0; a < K; ++a) {
-    uint32_t bits;
-    std::memcpy(&bits, &c[a], sizeof bits);
-    if (bits == 0x80000000u) bits = 0;
-    key[a] = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
-    idx[a] = static_cast<uint32_t>(a);
-  }
-  // LSD radix sort, 11-bit digits: each pass is stable, so ties keep ascending index order.
+  // LSD radix sort of (key, index), 11-bit digits. Every pass is stable, so ties keep ascending
+  // index order, and a stable sort's output is unique: the chunking below cannot change it.
+  // Each pass: per-chunk digit counts, offsets in (digit, chunk) order, per-chunk scatter; the
+  // chunks run in parallel (this is part of the serial prologue of the restarts).
   constexpr int kBits = 11;
-  constexpr uint32_t kMask = (1u << kBits) - 1;
-  std::vector<std::size_t> count(std::size_t{1} << kBits);
-  for (int shift = 0; shift < 32; shift += kBits) {
-    std::fill(count.begin(), count.end(), 0);
-    for (std::size_t a = 0; a < K; ++a) ++count[(key[a] >> shift) & kMask];
-    if (std::find(count.begin(), count.end(), K) != count.end()) continue;  // one digit value: no-op pass
-    std::size_t sum = 0;
-    for (auto& x : count) sum += std::exchange(x, sum);
-    for (std::size_t a = 0; a < K; ++a) {
-      const std::size_t pos = count[(key[a] >> shift) & kMask]++;
-      key2[pos] = key[a];
-      idx2[pos] = idx[a];
+  constexpr std::size_t kDigits = std::size_t{1} << kBits;
+  constexpr uint32_t kMask = kDigits - 1;
+  const std::size_t chunks = std::clamp<std::size_t>(K / 16384, 1, 16), chunk = (K + chunks - 1) / chunks;
+  std::vector<uint32_t> key(K), idx(K), key2(K), idx2(K);
+  // Keys whose unsigned order is the float order (sign flip for ≥ 0, complement for < 0; −0 as +0).
+  parallel_for_range(K, 16384, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t a = lo; a < hi; ++a) {
+      uint32_t bits;
+      std::memcpy(&bits, &c[a], sizeof bits);
+      if (bits == 0x80000000u) bits = 0;
+      key[a] = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
+      idx[a] = static_cast<uint32_t>(a);
     }
+  });
+  std::vector<std::size_t> count(chunks * kDigits);  // count[chunk·kDigits + digit]
+  for (int shift = 0; shift < 32; shift += kBits) {
+    parallel_for_range(chunks, 1, [&](std::size_t tb, std::size_t te) {
+      for (std::size_t t = tb; t < te; ++t) {
+        std::size_t* cnt = count.data() + t * kDigits;
+        std::fill(cnt, cnt + kDigits, 0);
+        for (std::size_t a = t * chunk, e = std::min(K, a + chunk); a < e; ++a) ++cnt[(key[a] >> shift) & kMask];
+      }
+    });
+    std::size_t sum = 0, largest = 0;
+    for (std::size_t d = 0; d < kDigits; ++d) {
+      std::size_t total = 0;
+      for (std::size_t t = 0; t < chunks; ++t) {
+        const std::size_t n = count[t * kDigits + d];
+        count[t * kDigits + d] = sum;
+        sum += n;
+        total += n;
+      }
+      largest = std::max(largest, total);
+    }
+    if (largest == K) continue;  // one digit value: the pass would not move anything
+    parallel_for_range(chunks, 1, [&](std::size_t tb, std::size_t te) {
+      for (std::size_t t = tb; t < te; ++t) {
+        std::size_t* off = count.data() + t * kDigits;
+        for (std::size_t a = t * chunk, e = std::min(K, a + chunk); a < e; ++a) {
+          const std::size_t pos = off[(key[a] >> shift) & kMask]++;
+          key2[pos] = key[a];
+          idx2[pos] = idx[a];
+        }
+      }
+    });
     key.swap(key2);
     idx.swap(idx2);
   }
