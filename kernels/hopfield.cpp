@@ -278,7 +278,7 @@ void finish_restart(const CostTensor3& cost, const HopfieldOptions& o, std::span
 }
 
 RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, const HopfieldOptions& o,
-                           const HopfieldWeights& w, const std::vector<uint32_t>& cost_order,
+                           const HopfieldWeights& w, const OrderedSweepPlan* cost_plan,
                            const std::shared_ptr<const DiagonalCost>& diagonal_cost, uint64_t seed, int32_t restart) {
   CounterRng rng(seed, 0, static_cast<uint64_t>(restart));
   RestartOutput out;
@@ -296,8 +296,8 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
     order.resize(dnet->num_blocks());
     std::iota(order.begin(), order.end(), 0u);
   } else if (o.schedule == HopfieldSchedule::kAsync) {
-    if (o.order == HopfieldOrder::kCost)
-      order = cost_order;
+    if (o.order == HopfieldOrder::kCost && o.temperature > 0)
+      order = cost_plan->neuron;
     else if (o.order == HopfieldOrder::kRandom || o.temperature > 0) {
       order.resize(c.size());
       std::iota(order.begin(), order.end(), 0u);
@@ -320,6 +320,8 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
       if (o.order == HopfieldOrder::kSliceRandom && T == 0.0) {
         slice_order.draw(c.n1, c.n2, c.n3, rng);
         flips = async_sweep_slices(net, slice_order.slices, slice_order.packed_jk, slice_order.rotation);
+      } else if (o.order == HopfieldOrder::kCost && T == 0.0) {
+        flips = async_sweep_planned(net, *cost_plan);
       } else {
         if (o.order == HopfieldOrder::kSliceRandom) rng.shuffle(std::span<uint32_t>(order));
         flips = async_sweep(net, order, T, &rng);
@@ -435,9 +437,9 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   if (options.schedule == HopfieldSchedule::kDiagonal)
     require(cost.n1 <= cost.n2 && cost.n1 <= cost.n3, "schedule 'diagonal'", "needs n1 <= n2 and n1 <= n3");
   // Shared by every restart, built once (the serial part of the solve: keep it O(n1n2n3) and small).
-  std::vector<uint32_t> cost_order;
+  std::unique_ptr<const OrderedSweepPlan> cost_plan;
   if (options.schedule == HopfieldSchedule::kAsync && options.order == HopfieldOrder::kCost)
-    cost_order = ascending_cost_order(c.c);
+    cost_plan = std::make_unique<const OrderedSweepPlan>(ascending_cost_order(c.c), c);
   std::shared_ptr<const DiagonalCost> diagonal_cost;
   if (options.schedule == HopfieldSchedule::kDiagonal) diagonal_cost = std::make_shared<const DiagonalCost>(c);
   std::vector<RestartOutput> outs(options.restarts);
@@ -452,7 +454,7 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
         tbb::this_task_arena::isolate([&] {
           outs[r] = options.schedule == HopfieldSchedule::kContinuous
                         ? run_continuous(cost, c, options, result.weights, seed, r)
-                        : run_discrete(cost, c, options, result.weights, cost_order, diagonal_cost, seed, r);
+                        : run_discrete(cost, c, options, result.weights, cost_plan.get(), diagonal_cost, seed, r);
         });
       },
       tbb::simple_partitioner());

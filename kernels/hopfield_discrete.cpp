@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "kernels/error.hpp"
 #include "kernels/parallel.hpp"
 
 namespace trackassoc {
@@ -52,13 +53,57 @@ struct FastDivider {
 
 }  // namespace
 
+namespace {
+
+// One Gauss–Seidel update of neuron a = (i, j, k) with normalised cost ca: the exact ΔE_on from
+// the marginals (primes exclude the neuron), the rule of seed 000 Eq. 10 (or Glauber's at
+// temperature T > 0), then the marginals and the hash. Returns 1 on a flip.
+inline int64_t update_neuron(DiscreteNetwork& net, uint32_t a, int32_t i, int32_t j, int32_t k, float ca,
+                             double temperature, CounterRng* rng) {
+  const NormalisedCost& c = *net.c;
+  const HopfieldWeights& w = net.w;
+  HopfieldMarginals& m = net.m;
+  const bool printed = net.form == HopfieldEnergy::kPrinted;
+  const std::size_t ij = static_cast<std::size_t>(i) * c.n2 + j, ik = static_cast<std::size_t>(i) * c.n3 + k,
+                    jk = static_cast<std::size_t>(j) * c.n3 + k;
+  const int32_t v = net.V[a];
+  double dE;
+  if (!printed) {
+    dE = full_plane_delta_on(w, m.R[i] - v, m.S[j] - v, m.T[k] - v, m.M - v, ca);
+  } else {
+    dE = printed_delta_on(w, m.R[i] - v, m.S[j] - v, m.T[k] - v, m.Lij[ij] - v, m.Lik[ik] - v, m.Ljk[jk] - v,
+                          m.M - v, ca);
+  }
+  int32_t nv;
+  if (temperature > 0.0) {
+    // Glauber dynamics: P(on) = 1/(1+exp(ΔE_on/T)).
+    const double x = std::clamp(dE / temperature, -50.0, 50.0);
+    nv = rng->uniform() * (1.0 + std::exp(x)) < 1.0 ? 1 : 0;
+  } else {
+    nv = dE < 0 ? 1 : (dE > 0 ? 0 : v);  // seed 000 Eq. 10
+  }
+  if (nv == v) return 0;
+  const int32_t d = nv - v;
+  net.V[a] = static_cast<uint8_t>(nv);
+  m.R[i] += d;
+  m.S[j] += d;
+  m.T[k] += d;
+  m.M += d;
+  if (printed) {
+    m.Lij[ij] += d;
+    m.Lik[ik] += d;
+    m.Ljk[jk] += d;
+  }
+  net.hash ^= zobrist_key(a);
+  return 1;
+}
+
+}  // namespace
+
 int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, double temperature,
                     CounterRng* rng) {
   const NormalisedCost& c = *net.c;
-  const HopfieldWeights& w = net.w;
-  const bool printed = net.form == HopfieldEnergy::kPrinted;
-  const bool glauber = temperature > 0.0 && rng != nullptr;
-  HopfieldMarginals& m = net.m;
+  const double T = temperature > 0.0 && rng != nullptr ? temperature : 0.0;
   const FastDivider div3(static_cast<uint32_t>(c.n3)), div2(static_cast<uint32_t>(c.n2));
   int64_t flips = 0;
   for (uint32_t a : order) {
@@ -66,37 +111,36 @@ int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, doubl
     const int32_t k = static_cast<int32_t>(a - ij * static_cast<uint32_t>(c.n3));
     const int32_t i = static_cast<int32_t>(div2.div(ij));
     const int32_t j = static_cast<int32_t>(ij - static_cast<uint32_t>(i) * c.n2);
-    const int32_t v = net.V[a];
-    double dE;
-    if (!printed) {
-      dE = full_plane_delta_on(w, m.R[i] - v, m.S[j] - v, m.T[k] - v, m.M - v, c.c[a]);
-    } else {
-      dE = printed_delta_on(w, m.R[i] - v, m.S[j] - v, m.T[k] - v, m.Lij[ij] - v,
-                            m.Lik[static_cast<std::size_t>(i) * c.n3 + k] - v,
-                            m.Ljk[static_cast<std::size_t>(j) * c.n3 + k] - v, m.M - v, c.c[a]);
+    flips += update_neuron(net, a, i, j, k, c.c[a], T, rng);
+  }
+  return flips;
+}
+
+OrderedSweepPlan::OrderedSweepPlan(std::span<const uint32_t> order, const NormalisedCost& c)
+    : neuron(order.begin(), order.end()), i(order.size()), j(order.size()), k(order.size()), cost(order.size()) {
+  require(c.n1 < 65536 && c.n2 < 65536 && c.n3 < 65536, "async order", "needs n1, n2, n3 < 65536");
+  const FastDivider div3(static_cast<uint32_t>(c.n3)), div2(static_cast<uint32_t>(c.n2));
+  parallel_for_range(order.size(), 65536, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t p = lo; p < hi; ++p) {
+      const uint32_t a = order[p];
+      if (a >= c.size()) throw InputError("async order: neuron index out of range");
+      const uint32_t ij = div3.div(a), ii = div2.div(ij);
+      i[p] = static_cast<uint16_t>(ii);
+      j[p] = static_cast<uint16_t>(ij - ii * static_cast<uint32_t>(c.n2));
+      k[p] = static_cast<uint16_t>(a - ij * static_cast<uint32_t>(c.n3));
+      cost[p] = c.c[a];
     }
-    int32_t nv;
-    if (glauber) {
-      // Glauber dynamics: P(on) = 1/(1+exp(ΔE_on/T)).
-      const double x = std::clamp(dE / temperature, -50.0, 50.0);
-      nv = rng->uniform() * (1.0 + std::exp(x)) < 1.0 ? 1 : 0;
-    } else {
-      nv = dE < 0 ? 1 : (dE > 0 ? 0 : v);  // seed 000 Eq. 10
-    }
-    if (nv == v) continue;
-    const int32_t d = nv - v;
-    net.V[a] = static_cast<uint8_t>(nv);
-    m.R[i] += d;
-    m.S[j] += d;
-    m.T[k] += d;
-    m.M += d;
-    if (printed) {
-      m.Lij[ij] += d;
-      m.Lik[static_cast<std::size_t>(i) * c.n3 + k] += d;
-      m.Ljk[static_cast<std::size_t>(j) * c.n3 + k] += d;
-    }
-    net.hash ^= zobrist_key(a);
-    ++flips;
+  });
+}
+
+int64_t async_sweep_planned(DiscreteNetwork& net, const OrderedSweepPlan& plan) {
+  const std::size_t K = plan.neuron.size();
+  const uint32_t* neuron = plan.neuron.data();
+  constexpr std::size_t kAhead = 32;  // the state is read at random: prefetch it
+  int64_t flips = 0;
+  for (std::size_t p = 0; p < K; ++p) {
+    if (p + kAhead < K) __builtin_prefetch(net.V.data() + neuron[p + kAhead], 1);
+    flips += update_neuron(net, neuron[p], plan.i[p], plan.j[p], plan.k[p], plan.cost[p], 0.0, nullptr);
   }
   return flips;
 }

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "kernels/error.hpp"
+#include "kernels/hopfield.hpp"
 #include "kernels/hopfield_diagonal.hpp"
 #include "kernels/hopfield_discrete.hpp"
 #include "kernels/hopfield_energy.hpp"
@@ -210,6 +211,40 @@ TEST(HopfieldDiscrete, SliceAsyncEqualsNaiveInTheSameOrder) {
 
 // E·ĉ_max < (A+B+C+D)/2 makes every valid assignment a fixed point of the full-plane network
 // (DESIGN §4.4), under every schedule; above the bound the most expensive one is not.
+// The planned sweep (order, indices and costs laid out once) makes the same updates as async_sweep
+// in the same order: identical states, marginals and flip counts, sweep by sweep, both energies,
+// for the cost order and for random orders, on square and rectangular shapes.
+TEST(HopfieldDiscrete, PlannedAsyncEqualsAsyncInTheSameOrder) {
+  CounterRng rng(31, 2);
+  for (const Dims& d : {Dims{5, 5, 5}, Dims{3, 4, 5}, Dims{12, 9, 14}, Dims{20, 20, 20}})
+    for (HopfieldEnergy form : kForms) {
+      const NormalisedCost c = normalise_cost(random_tensor(d.n1, d.n2, d.n3, 77));
+      HopfieldWeights w = some_weights(rng, std::min({d.n1, d.n2, d.n3}));
+      for (int variant = 0; variant < 2; ++variant) {
+        std::vector<uint32_t> order = ascending_cost_order(c.c);
+        if (variant == 1) rng.shuffle(std::span<uint32_t>(order));
+        const OrderedSweepPlan plan(order, c);
+        DiscreteNetwork a(form, w, c), b(form, w, c);
+        const std::vector<uint8_t> V0 = random_state(c.size(), 0.2, rng);
+        a.set_state(V0);
+        b.set_state(V0);
+        int64_t flips = 0;
+        for (int sweep = 0; sweep < 4; ++sweep) {
+          const int64_t fa = async_sweep_planned(a, plan), fb = async_sweep(b, order);
+          ASSERT_EQ(fa, fb);
+          ASSERT_EQ(a.V, b.V);
+          ASSERT_EQ(a.m.R, b.m.R);
+          ASSERT_EQ(a.m.S, b.m.S);
+          ASSERT_EQ(a.m.T, b.m.T);
+          ASSERT_EQ(a.m.Ljk, b.m.Ljk);
+          ASSERT_EQ(a.hash, b.hash);
+          flips += fa;
+        }
+        EXPECT_GT(flips, 0);
+      }
+    }
+}
+
 TEST(HopfieldDiscrete, EveryValidAssignmentIsAFixedPointBelowTheBound) {
   CounterRng rng(11, 2);
   const int32_t n = 5;
