@@ -171,7 +171,7 @@ inline void store(float* p, vfloat x) { std::memcpy(p, &x, sizeof x); }
 inline vfloat select(vint m, vfloat x, vfloat y) { return (vfloat)(((vint)x & m) | ((vint)y & ~m)); }
 
 // Steps i = i0 .. i0+L−1 of one block; lanes where `keep` is set stay unchanged (they were done
-// by the previous step). S and T point at the read window (S_ext + n2 + a); the copies n2 before
+// by an earlier step of the block). S and T point at the read window (S_ext + n2 + a); the copies n2 before
 // and after are written with the same values. Returns the flip mask (−1 per flipped lane).
 inline vint block_step(const float* c, uint8_t* V, float* R, float* S, float* T, int32_t n2, int32_t n3,
                        float A, float B, float C, float E, float half, float self, vint keep) {
@@ -207,9 +207,12 @@ int64_t DiagonalNetwork::sweep(std::span<const uint32_t> block_order) {
   const float half = 0.5f * (A + B + C), self = A + B + C;
   const int32_t n1 = n1_, n2 = n2_, n3 = n3_;
   const int32_t full = n1 / L * L, rest = n1 - full;
-  // The last step covers [n1 − L, n1): its first L − rest lanes are done already.
-  vint keep_tail = vint{};
-  for (int32_t l = 0; l < L; ++l) keep_tail[l] = l < L - rest ? -1 : 0;
+  // With n1 not a multiple of L, the partial end [full, n1) is done first by a step over
+  // [n1 − L, n1); the last full step [full − L, full) then keeps its lanes ≥ rest, which that
+  // step did. (Tail first: a step that reloads what the step just before it stored would wait for
+  // those stores to leave the store buffer.)
+  vint keep_last = vint{};
+  for (int32_t l = 0; l < L; ++l) keep_last[l] = l >= rest ? -1 : 0;
   const vint keep_none = vint{};
   const float* cost = cost_->c.data();
   float* R = R_.data();
@@ -229,12 +232,13 @@ int64_t DiagonalNetwork::sweep(std::span<const uint32_t> block_order) {
     uint8_t* V = V_.data() + base;
     float* S = S_.data() + n2 + a;
     float* T = T_.data() + n3 + b;
-    for (int32_t i = 0; i < full; i += L)
-      flips -= block_step(c + i, V + i, R + i, S + i, T + i, n2, n3, A, B, C, E, half, self, keep_none);
     if (rest) {
       const int32_t i = n1 - L;
-      flips -= block_step(c + i, V + i, R + i, S + i, T + i, n2, n3, A, B, C, E, half, self, keep_tail);
+      flips -= block_step(c + i, V + i, R + i, S + i, T + i, n2, n3, A, B, C, E, half, self, keep_none);
     }
+    for (int32_t i = 0; i < full; i += L)
+      flips -= block_step(c + i, V + i, R + i, S + i, T + i, n2, n3, A, B, C, E, half, self,
+                          rest && i + L == full ? keep_last : keep_none);
   }
   int64_t total = 0;
   for (int32_t l = 0; l < L; ++l) total += flips[l];

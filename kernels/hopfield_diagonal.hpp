@@ -16,9 +16,9 @@
 // window without wrap-around segments, S and T are kept as three consecutive copies
 // (S_ext[n2 + x] = S[x mod n2] on the window that blocks read), and every update writes the copy
 // it read and the copies n2 before and after it. The block then runs as kDiagonalLanes-wide
-// vector steps (GCC/Clang vector extensions: portable, AVX-512 or AVX2 or SSE as compiled); a
-// last partial step re-covers the end of the block with the lanes already done masked to
-// "unchanged", which is exact. The next blocks' cost and state are prefetched (the block order is
+// vector steps (GCC/Clang vector extensions: portable, AVX-512 or AVX2 or SSE as compiled); when
+// L does not divide n1, one step covers the last L neurons first and the overlapping full step
+// keeps the lanes already done unchanged, which is exact. The next blocks' cost and state are prefetched (the block order is
 // random). Blocks with n1 < kDiagonalLanes run a scalar loop over the (at most three) wrap-free
 // segments of the block — the original implementation, kept as sweep_reference(), which tests
 // compare the vector path against neuron for neuron.
