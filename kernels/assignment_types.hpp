@@ -106,6 +106,7 @@ struct RestartTable {
     return valid_raw.size() == n && sweeps.size() == n && mean_field_steps.size() == n && energy.size() == n &&
            repaired_objective.size() == n && objective.size() == n;
   }
+  bool operator==(const RestartTable&) const = default;
 };
 
 struct Solution3 {

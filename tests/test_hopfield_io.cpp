@@ -74,17 +74,8 @@ TEST(HopfieldTrackFile, RestartTableRoundTripsAndMatchesAnIndependentSolve) {
   write_track_file(path, file);
   const TrackFile back = read_track_file(path);
   ASSERT_EQ(back.associations.size(), file.associations.size());
-  for (std::size_t a = 0; a < file.associations.size(); ++a) {
-    const RestartTable& x = file.associations[a].restarts;
-    const RestartTable& y = back.associations[a].restarts;
-    EXPECT_EQ(y.restart, x.restart);
-    EXPECT_EQ(y.valid_raw, x.valid_raw);
-    EXPECT_EQ(y.sweeps, x.sweeps);
-    EXPECT_EQ(y.mean_field_steps, x.mean_field_steps);
-    EXPECT_EQ(y.energy, x.energy);
-    EXPECT_EQ(y.repaired_objective, x.repaired_objective);
-    EXPECT_EQ(y.objective, x.objective);
-  }
+  for (std::size_t a = 0; a < file.associations.size(); ++a)
+    EXPECT_TRUE(back.associations[a].restarts == file.associations[a].restarts) << file.associations[a].name;
 }
 
 TEST(HopfieldTrackFile, InconsistentRestartTablesAreInputErrors) {
