@@ -9,6 +9,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "engine/simulation_truth.hpp"
 #include "kernels/error.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/random.hpp"
@@ -19,36 +20,45 @@ namespace {
 // Random streams (the third key of CounterRng).
 constexpr uint64_t kStreamMotion = 1, kStreamRadar1 = 2, kStreamRadar2 = 3, kStreamPairs = 4;
 
-// Truth of one target at whole seconds n = 0..N: position and the velocity held on [n, n+1).
+// Truth of one target: the simulator's closed-form trajectory (engine/simulation_truth.hpp), and its
+// positions at the whole seconds n = 0..N for the close-negative distance.
 struct Trajectory {
-  std::vector<double> x, y, vx, vy;
+  TargetTrajectory path;
+  std::vector<double> x, y;  // at whole seconds
   void position(double t, double& px, double& py) const {
-    const int last = static_cast<int>(x.size()) - 1;
-    const int n = std::clamp(static_cast<int>(std::floor(t)), 0, last);
-    px = x[n] + vx[n] * (t - n);
-    py = y[n] + vy[n] * (t - n);
+    const Kinematics k = path.at(t);
+    px = k.p[0];
+    py = k.p[1];
   }
 };
 
+// seed 003 §3.1: random initial position, speed and heading, then a random heading and speed change
+// every second, flown by the simulator's MotionModel::kRandomManoeuvre (one constant-acceleration
+// piece per second taking the old velocity to the new one, so position and velocity are continuous).
 Trajectory fly(const Seed003Options& o, uint64_t run, int target) {
   CounterRng rng(o.seed, run, static_cast<uint64_t>(target), kStreamMotion);
-  const int seconds = static_cast<int>(std::ceil(o.duration));
+  TargetSpec spec;
+  spec.id = target;
+  const double x = rng.uniform(0, o.area), y = rng.uniform(0, o.area);
+  const double speed = rng.uniform(o.speed_min, o.speed_max);
+  const double heading = rng.uniform(0, 2 * std::numbers::pi);
+  spec.initial_state = {x, y, 0.0, speed * std::cos(heading), speed * std::sin(heading), 0.0};
+  MotionSegment seg;
+  seg.model = MotionModel::kRandomManoeuvre;
+  seg.duration = o.duration;
+  seg.manoeuvre_period = 1.0;
+  seg.max_turn_rate = o.max_heading_change;  // [rad/s] × 1 s period = Δψ per manoeuvre
+  seg.max_speed_change = o.max_speed_change;
+  seg.speed_min = o.speed_min;
+  seg.speed_max = o.speed_max;
+  spec.segments.push_back(seg);
   Trajectory tr;
-  double x = rng.uniform(0, o.area), y = rng.uniform(0, o.area);
-  double speed = rng.uniform(o.speed_min, o.speed_max);
-  double heading = rng.uniform(0, 2 * std::numbers::pi);
+  tr.path = scripted_trajectory(spec, o.duration, 2, rng);
+  const int seconds = static_cast<int>(std::ceil(o.duration));
   for (int n = 0; n <= seconds; ++n) {
-    if (n > 0) {  // the random manoeuvre at every whole second
-      heading += rng.uniform(-o.max_heading_change, o.max_heading_change);
-      speed =
-          std::clamp(speed + rng.uniform(-o.max_speed_change, o.max_speed_change), o.speed_min, o.speed_max);
-    }
-    tr.x.push_back(x);
-    tr.y.push_back(y);
-    tr.vx.push_back(speed * std::cos(heading));
-    tr.vy.push_back(speed * std::sin(heading));
-    x += tr.vx.back();
-    y += tr.vy.back();
+    const Kinematics k = tr.path.at(n);
+    tr.x.push_back(k.p[0]);
+    tr.y.push_back(k.p[1]);
   }
   return tr;
 }
@@ -156,9 +166,40 @@ std::string Seed003Options::to_json() const {
                       {"random_negatives", random_negatives},
                       {"close_negatives", close_negatives},
                       {"close_distance_m", close_distance},
+                      {"close_measure", close_measure == CloseMeasure::kMeanDistance ? "mean" : "start"},
                       {"train_fraction", train_fraction},
                       {"seed", seed}};
   return j.dump();
+}
+
+Seed003Options seed003_scene_of(const std::string& generator_json, Seed003Options o,
+                                const std::string& source) {
+  const auto j = nlohmann::json::parse(generator_json, nullptr, false);
+  require(j.is_object(), source, "the seed 003 generator options are not a JSON object");
+  try {
+    auto number = [&](const char* key, double& v) {
+      if (j.contains(key)) v = j.at(key).get<double>();
+    };
+    auto point = [&](const char* key, double& x, double& y) {
+      if (j.contains(key)) x = j.at(key).at(0).get<double>(), y = j.at(key).at(1).get<double>();
+    };
+    point("radar1", o.radar1_x, o.radar1_y);
+    point("radar2", o.radar2_x, o.radar2_y);
+    number("sigma_range_m", o.sigma_range);
+    number("sigma_bearing_deg", o.sigma_bearing_deg);
+    number("period1_s", o.period1);
+    number("period2_s", o.period2);
+    number("area_m", o.area);
+    number("speed_min", o.speed_min);
+    number("speed_max", o.speed_max);
+    number("duration_s", o.duration);
+    number("max_heading_change_rad", o.max_heading_change);
+    number("max_speed_change_mps", o.max_speed_change);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(source + ": malformed seed 003 generator options: " + e.what());
+  }
+  o.validate();
+  return o;
 }
 
 Seed003Scene simulate_seed003_scene(const Seed003Options& options, int count, uint64_t run) {
@@ -194,21 +235,26 @@ Seed003Dataset generate_seed003_dataset(const Seed003Options& o) {
     if (j >= i) ++j;
     pairs.push_back({i, j, 0, 1});
   }
-  // Close negatives: grid of cell close_distance on the positions at mid-flight.
-  const int mid = static_cast<int>(sim.truth[0].x.size()) / 2;
+  // Close negatives: candidates from a grid of cell close_distance on the positions at the grid time
+  // (mid-flight for the mean distance, the start for the start distance). Every target is checked,
+  // so close_candidates is the number of targets that have a close partner at all.
+  const bool by_mean = o.close_measure == CloseMeasure::kMeanDistance;
+  const int at = by_mean ? static_cast<int>(sim.truth[0].x.size()) / 2 : 0;
   const double cell = o.close_distance;
   auto key = [](int64_t cx, int64_t cy) { return (cx << 32) ^ (cy & 0xffffffff); };
+  auto cell_of = [&](int32_t i) {
+    return std::pair{static_cast<int64_t>(std::floor(sim.truth[i].x[at] / cell)),
+                     static_cast<int64_t>(std::floor(sim.truth[i].y[at] / cell))};
+  };
   std::unordered_map<int64_t, std::vector<int32_t>> grid;
-  for (int32_t i = 0; i < o.targets; ++i)
-    grid[key(static_cast<int64_t>(std::floor(sim.truth[i].x[mid] / cell)),
-             static_cast<int64_t>(std::floor(sim.truth[i].y[mid] / cell)))]
-        .push_back(i);
+  for (int32_t i = 0; i < o.targets; ++i) {
+    const auto [cx, cy] = cell_of(i);
+    grid[key(cx, cy)].push_back(i);
+  }
   rng.shuffle(std::span<int32_t>(order));
-  int found = 0;
+  int found = 0, candidates = 0;
   for (int32_t i : order) {
-    if (found >= o.close_negatives) break;
-    const int64_t cx = static_cast<int64_t>(std::floor(sim.truth[i].x[mid] / cell));
-    const int64_t cy = static_cast<int64_t>(std::floor(sim.truth[i].y[mid] / cell));
+    const auto [cx, cy] = cell_of(i);
     double best = o.close_distance;
     int32_t best_j = -1;
     for (int64_t dx = -1; dx <= 1; ++dx)
@@ -217,11 +263,15 @@ Seed003Dataset generate_seed003_dataset(const Seed003Options& o) {
         if (it == grid.end()) continue;
         for (int32_t j : it->second) {
           if (j == i) continue;
-          const double dist = mean_distance(sim.truth[i], sim.truth[j]);
+          const double dist = by_mean ? mean_distance(sim.truth[i], sim.truth[j])
+                                      : std::hypot(sim.truth[i].x[0] - sim.truth[j].x[0],
+                                                   sim.truth[i].y[0] - sim.truth[j].y[0]);
           if (dist < best) best = dist, best_j = j;
         }
       }
-    if (best_j >= 0) {
+    if (best_j < 0) continue;
+    ++candidates;
+    if (found < o.close_negatives) {
       pairs.push_back({i, best_j, 0, 2});
       ++found;
     }
@@ -239,6 +289,7 @@ Seed003Dataset generate_seed003_dataset(const Seed003Options& o) {
   }
   nlohmann::json j = nlohmann::json::parse(o.to_json());
   j["close_negatives_found"] = found;
+  j["close_candidates"] = candidates;
   j["pairs_total"] = pairs.size();
   j["note"] =
       "tracks are sequences of converted plots (x, y, t) per radar per target; see "

@@ -21,11 +21,12 @@ const char* cost_form_name(CostForm f) { return f == CostForm::kChain ? "chain" 
 }  // namespace
 
 void PipelineOptions::validate() const {
-  require(sensors.empty() || sensors.size() == 3, "PipelineOptions.sensors",
-          "expected 0 or 3 sensor ids, got " + std::to_string(sensors.size()));
-  if (sensors.size() == 3)
-    require(sensors[0] != sensors[1] && sensors[1] != sensors[2] && sensors[0] != sensors[2],
-            "PipelineOptions.sensors", "the three sensor ids must differ");
+  require(sensors.empty() || sensors.size() >= 2, "PipelineOptions.sensors",
+          "expected no sensor ids or at least 2, got " + std::to_string(sensors.size()));
+  for (std::size_t a = 0; a < sensors.size(); ++a)
+    for (std::size_t b = a + 1; b < sensors.size(); ++b)
+      require(sensors[a] != sensors[b], "PipelineOptions.sensors",
+              "sensor id " + std::to_string(sensors[a]) + " is given twice");
   require(std::isfinite(common_period) && common_period >= 0.0, "PipelineOptions.common_period",
           "must be finite and >= 0, got " + std::to_string(common_period));
   alignment.validate();
@@ -45,18 +46,18 @@ nlohmann::json PipelineOptions::to_json() const {
           {"gated_pair_cost", cost.gated_pair_cost}};
 }
 
-std::vector<double> common_time_grid(const TrackTable& tracks, const std::array<int32_t, 3>& sensor_ids,
+std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const int32_t> sensor_ids,
                                      double period) {
-  std::array<double, 3> first, last;
-  first.fill(std::numeric_limits<double>::infinity());
-  last.fill(-std::numeric_limits<double>::infinity());
+  const std::size_t S = sensor_ids.size();
+  std::vector<double> first(S, std::numeric_limits<double>::infinity()),
+      last(S, -std::numeric_limits<double>::infinity());
   for (std::size_t r = 0; r < tracks.size(); ++r)
-    for (int d = 0; d < 3; ++d)
+    for (std::size_t d = 0; d < S; ++d)
       if (tracks.sensor[r] == sensor_ids[d]) {
         first[d] = std::min(first[d], tracks.t[r]);
         last[d] = std::max(last[d], tracks.t[r]);
       }
-  for (int d = 0; d < 3; ++d)
+  for (std::size_t d = 0; d < S; ++d)
     if (!std::isfinite(first[d]))
       throw InputError("/tracks: sensor " + std::to_string(sensor_ids[d]) + " has no local tracks");
   const double start = *std::max_element(first.begin(), first.end()) + period;
@@ -68,11 +69,13 @@ std::vector<double> common_time_grid(const TrackTable& tracks, const std::array<
     if (t > end + eps) break;
     grid.push_back(t);
   }
-  if (grid.empty())
-    throw InputError("/tracks: sensors " + std::to_string(sensor_ids[0]) + ", " +
-                     std::to_string(sensor_ids[1]) + ", " + std::to_string(sensor_ids[2]) +
-                     " never report at a common time (common interval [" + std::to_string(start) + ", " +
-                     std::to_string(end) + "] s with period " + std::to_string(period) + " s)");
+  if (grid.empty()) {
+    std::string ids;
+    for (std::size_t d = 0; d < S; ++d) ids += (d ? ", " : "") + std::to_string(sensor_ids[d]);
+    throw InputError("/tracks: sensors " + ids + " never report at a common time (common interval [" +
+                     std::to_string(start) + ", " + std::to_string(end) + "] s with period " +
+                     std::to_string(period) + " s)");
+  }
   return grid;
 }
 
@@ -84,6 +87,10 @@ SensorSelection select_sensors(const TrackFile& file, const PipelineOptions& opt
                      std::to_string(sel.num_sensors));
   std::map<int32_t, int32_t> column;
   for (int32_t s = 0; s < sel.num_sensors; ++s) column[file.sensors[s].id] = s;
+  if (!options.sensors.empty() && options.sensors.size() != 3)
+    throw InputError("--sensors: the 3-D pipeline takes exactly 3 sensor ids, got " +
+                     std::to_string(options.sensors.size()) + "; " + std::to_string(options.sensors.size()) +
+                     " sensors use the S-D formulation (associate --sd, engine/pipeline_sd.hpp)");
   sel.period = options.common_period;
   for (int d = 0; d < 3; ++d) {
     sel.ids[d] = options.sensors.empty() ? file.sensors[d].id : options.sensors[d];

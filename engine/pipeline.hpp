@@ -17,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -71,7 +72,7 @@ struct SensorSelection {
 SensorSelection select_sensors(const TrackFile& file, const PipelineOptions& options);
 
 // Common time grid (exposed for tests): see the header comment.
-std::vector<double> common_time_grid(const TrackTable& tracks, const std::array<int32_t, 3>& sensor_ids,
+std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const int32_t> sensor_ids,
                                      double period);
 
 }  // namespace trackassoc

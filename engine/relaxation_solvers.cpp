@@ -9,20 +9,6 @@
 #include "kernels/local_search.hpp"
 
 namespace trackassoc {
-namespace {
-
-// Reads an optional number; a wrong type is an InputError naming solver and key.
-template <class T>
-void read_number(const nlohmann::json& o, const char* key, T& target, const std::string& solver) {
-  if (o.is_null() || !o.contains(key)) return;
-  const auto& v = o.at(key);
-  if (!v.is_number()) throw InputError("solver '" + solver + "' options: '" + key + "' must be a number");
-  if constexpr (std::is_integral_v<T>) {
-    if (!v.is_number_integer())
-      throw InputError("solver '" + solver + "' options: '" + key + "' must be an integer");
-  }
-  target = v.get<T>();
-}
 
 LagrangianOptions lagrangian_options(const nlohmann::json& o, const std::string& solver, bool with_ls) {
   std::vector<std::string> keys{"max_iterations",
@@ -36,25 +22,23 @@ LagrangianOptions lagrangian_options(const nlohmann::json& o, const std::string&
   if (with_ls) keys.push_back("max_rounds");
   reject_unknown_keys(o, keys, solver);
   LagrangianOptions lo;
-  read_number(o, "max_iterations", lo.max_iterations, solver);
-  read_number(o, "relative_gap_tolerance", lo.relative_gap_tolerance, solver);
-  read_number(o, "absolute_gap_tolerance", lo.absolute_gap_tolerance, solver);
-  read_number(o, "time_limit_s", lo.time_limit_s, solver);
-  read_number(o, "theta", lo.theta, solver);
-  read_number(o, "theta_patience", lo.theta_patience, solver);
-  read_number(o, "min_theta", lo.min_theta, solver);
+  read_option_number(o, "max_iterations", lo.max_iterations, solver);
+  read_option_number(o, "relative_gap_tolerance", lo.relative_gap_tolerance, solver);
+  read_option_number(o, "absolute_gap_tolerance", lo.absolute_gap_tolerance, solver);
+  read_option_number(o, "time_limit_s", lo.time_limit_s, solver);
+  read_option_number(o, "theta", lo.theta, solver);
+  read_option_number(o, "theta_patience", lo.theta_patience, solver);
+  read_option_number(o, "min_theta", lo.min_theta, solver);
   if (!o.is_null() && o.contains("step_rule")) {
     if (!o.at("step_rule").is_string())
       throw InputError("solver '" + solver + "' options: 'step_rule' must be a string");
     lo.step_rule = parse_step_rule(o.at("step_rule").get<std::string>());
   }
   lo.local_search = with_ls;
-  read_number(o, "max_rounds", lo.local_search_options.max_rounds, solver);
+  read_option_number(o, "max_rounds", lo.local_search_options.max_rounds, solver);
   lo.validate();
   return lo;
 }
-
-}  // namespace
 
 void register_relaxation_solvers(std::vector<SolverEntry>& r) {
   r.push_back({"lr", "Lagrangian relaxation (subgradient, LAP recovery) with lower bound and gap", 1 << 30,
@@ -65,19 +49,19 @@ void register_relaxation_solvers(std::vector<SolverEntry>& r) {
                [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
                  return solve_lagrangian3(b, lagrangian_options(o, "lr+ls", true));
                }});
-  r.push_back({"exact", "branch and bound with Lagrangian bounds (proven optimum or time limit)", 30,
-               [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
-                 reject_unknown_keys(
-                     o, {"time_limit_s", "max_nodes", "node_subgradient_iterations", "root_max_iterations"},
-                     "exact");
-                 BranchAndBoundOptions bo;
-                 read_number(o, "time_limit_s", bo.time_limit_s, "exact");
-                 read_number(o, "max_nodes", bo.max_nodes, "exact");
-                 read_number(o, "node_subgradient_iterations", bo.node_subgradient_iterations, "exact");
-                 read_number(o, "root_max_iterations", bo.root.max_iterations, "exact");
-                 bo.validate();
-                 return solve_branch_and_bound3(b, bo);
-               }});
+  r.push_back(
+      {"exact", "branch and bound with Lagrangian bounds (proven optimum or time limit)", 30,
+       [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
+         reject_unknown_keys(
+             o, {"time_limit_s", "max_nodes", "node_subgradient_iterations", "root_max_iterations"}, "exact");
+         BranchAndBoundOptions bo;
+         read_option_number(o, "time_limit_s", bo.time_limit_s, "exact");
+         read_option_number(o, "max_nodes", bo.max_nodes, "exact");
+         read_option_number(o, "node_subgradient_iterations", bo.node_subgradient_iterations, "exact");
+         read_option_number(o, "root_max_iterations", bo.root.max_iterations, "exact");
+         bo.validate();
+         return solve_branch_and_bound3(b, bo);
+       }});
 }
 
 void register_local_search_variants(std::vector<SolverEntry>& r) {
@@ -93,7 +77,7 @@ void register_local_search_variants(std::vector<SolverEntry>& r) {
                  [base, name](const CostTensor3& b, const nlohmann::json& o, uint64_t seed) {
                    reject_unknown_keys(o, {"max_rounds", "base"}, name);
                    LocalSearchOptions lo;
-                   read_number(o, "max_rounds", lo.max_rounds, name);
+                   read_option_number(o, "max_rounds", lo.max_rounds, name);
                    lo.validate();
                    const auto t0 = std::chrono::steady_clock::now();
                    const Solution3 start = base.solve(

@@ -15,8 +15,13 @@
 #include <vector>
 
 #include "engine/solver_registry.hpp"
+#include "kernels/lagrangian_relaxation.hpp"
 
 namespace trackassoc {
+
+// JSON → LagrangianOptions for lr (and lr+ls when with_ls, adding max_rounds); validated. Shared
+// with the S-D solvers (engine/pipeline_sd.hpp).
+LagrangianOptions lagrangian_options(const nlohmann::json& o, const std::string& solver, bool with_ls);
 
 // Appends lr, lr+ls and exact.
 void register_relaxation_solvers(std::vector<SolverEntry>& registry);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "kernels/assignment_types.hpp"
+#include "kernels/error.hpp"
 
 namespace trackassoc {
 
@@ -29,6 +30,19 @@ struct SolverEntry {
 const std::vector<SolverEntry>& solver_registry();
 // Throws InputError listing the known names when `name` is unknown.
 const SolverEntry& find_solver(const std::string& name);
+
+// Reads an optional number; a wrong type is an InputError naming solver and key.
+template <class T>
+void read_option_number(const nlohmann::json& o, const char* key, T& target, const std::string& solver) {
+  if (o.is_null() || !o.contains(key)) return;
+  const auto& v = o.at(key);
+  if (!v.is_number()) throw InputError("solver '" + solver + "' options: '" + key + "' must be a number");
+  if constexpr (std::is_integral_v<T>) {
+    if (!v.is_number_integer())
+      throw InputError("solver '" + solver + "' options: '" + key + "' must be an integer");
+  }
+  target = v.get<T>();
+}
 
 // Helper for solver adapters: throws InputError if `options` has a key not in `known`.
 void reject_unknown_keys(const nlohmann::json& options, const std::vector<std::string>& known,

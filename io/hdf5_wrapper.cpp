@@ -209,6 +209,14 @@ void Group::write_dataset(const std::string& name, std::span<const float> data,
                           std::vector<hsize_t> dims) const {
   write_numeric(name, H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, data.data(), std::move(dims), data.size());
 }
+void Group::write_dataset(const std::string& name, std::span<const int64_t> data,
+                          std::vector<hsize_t> dims) const {
+  write_numeric(name, H5T_STD_I64LE, H5T_NATIVE_INT64, data.data(), std::move(dims), data.size());
+}
+void Group::write_dataset(const std::string& name, std::span<const uint8_t> data,
+                          std::vector<hsize_t> dims) const {
+  write_numeric(name, H5T_STD_U8LE, H5T_NATIVE_UINT8, data.data(), std::move(dims), data.size());
+}
 
 // ---------------------------------------------------------------- Group: reading
 
@@ -388,6 +396,21 @@ std::vector<float> Group::read_floats(const std::string& name, int rank, std::ve
 std::vector<int64_t> Group::read_integers(const std::string& name, int rank,
                                           std::vector<hsize_t>& dims) const {
   return read_typed<int64_t>(name, NumberClass::kInteger, H5T_NATIVE_INT64, rank, dims);
+}
+
+void require_format(const Group& root, const std::string& path, const std::string& format, int64_t version,
+                    const std::string& what) {
+  if (!root.has_attribute("format"))
+    throw InputError(path + ": not a " + what + " (the root has no 'format' attribute; expected '" + format +
+                     "')");
+  const std::string found = root.read_string_attribute("format");
+  if (found != format)
+    throw InputError(path + ": / attribute format is '" + found + "', expected '" + format + "' (a " + what +
+                     ")");
+  const int64_t v = root.read_integer_attribute("schema_version");
+  if (v != version)
+    throw InputError(path + ": schema_version " + std::to_string(v) + " is not supported (expected " +
+                     std::to_string(version) + ")");
 }
 
 }  // namespace trackassoc::h5

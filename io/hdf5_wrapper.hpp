@@ -73,6 +73,8 @@ class Group {
   void write_dataset(const std::string& name, std::span<const int32_t> data, std::vector<hsize_t> dims) const;
   void write_dataset(const std::string& name, std::span<const double> data, std::vector<hsize_t> dims) const;
   void write_dataset(const std::string& name, std::span<const float> data, std::vector<hsize_t> dims) const;
+  void write_dataset(const std::string& name, std::span<const int64_t> data, std::vector<hsize_t> dims) const;
+  void write_dataset(const std::string& name, std::span<const uint8_t> data, std::vector<hsize_t> dims) const;
 
   // Reading.
   bool has(const std::string& name) const;  // a link of that name exists
@@ -129,6 +131,12 @@ class File {
   std::string path_;
   Handle handle_;
 };
+
+// Checks that the root of `path` has the string attribute format = `format` and the integer
+// attribute schema_version = `version`; otherwise an InputError naming the file and saying that it
+// is not a `what` (e.g. "Siamese model file").
+void require_format(const Group& root, const std::string& path, const std::string& format, int64_t version,
+                    const std::string& what);
 
 // Largest number of elements a reader allocates for one dataset (2^28: 2 GiB of doubles). A
 // corrupt header claiming more is reported instead of exhausting memory.

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 
 #include "kernels/error.hpp"
 
@@ -102,6 +103,12 @@ void run_isolated(const std::string& subject, const std::function<void()>& check
                                ": the file is corrupt: the HDF5 library failed reading it (exit status " +
                                std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")"
                          : message);
+}
+
+double isolated_read_timeout(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  return 60.0 + (ec ? 0.0 : static_cast<double>(size) / 10e6);
 }
 
 }  // namespace trackassoc

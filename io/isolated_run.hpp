@@ -20,4 +20,16 @@ namespace trackassoc {
 // is unavailable it calls `check` in process.
 void run_isolated(const std::string& subject, const std::function<void()>& check, double timeout_s);
 
+// The child's time limit for reading `path`: 60 s plus 1 s per 10 MB of file.
+double isolated_read_timeout(const std::string& path);
+
+// The pattern of read_track_file for any reader: `read(path)` first in a forked child (time limit
+// isolated_read_timeout), then, when the child finished, in process.
+template <class Read>
+auto read_isolated(const std::string& path, Read read) -> decltype(read(path)) {
+  run_isolated(
+      path, [&] { read(path); }, isolated_read_timeout(path));
+  return read(path);
+}
+
 }  // namespace trackassoc

@@ -8,7 +8,8 @@
 //          1 = same target), kind (uint8: 0 positive, 1 random negative, 2 close negative)
 //   /pairs/test/  the same
 //
-// Reading checks format, version, shapes, dtypes, finite values, offsets and pair indices.
+// Built on io/hdf5_wrapper.hpp. Reading (in a forked child first, as read_track_file) checks format,
+// version, shapes, dtypes, value ranges, finite values, offsets, time order and pair indices.
 #pragma once
 
 #include <cstdint>

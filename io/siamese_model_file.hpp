@@ -10,8 +10,11 @@
 //                                                       its two biases summed into b)
 //   /head/W1 (fc×2H), b1 (fc), w2 (fc), b2 (1)
 //
-// Loading checks the format and version, every dataset's presence, dtype and shape, and that all
-// values are finite; errors name the file and the dataset. Writing is atomic (io/atomic_file.hpp).
+// Built on io/hdf5_wrapper.hpp (as the track files): integers and floats of any width are read
+// and converted, strings are variable-length UTF-8. Loading reads the file in a forked child first
+// (io/isolated_run.hpp, as read_track_file), then checks the format and version, every dataset's
+// presence, dtype class and shape, and that all values are finite; errors name the file and the
+// dataset. Writing is atomic (io/atomic_file.hpp).
 #pragma once
 
 #include <string>

@@ -16,6 +16,8 @@ void AdamOptions::validate() const {
   require(beta2 >= 0 && beta2 < 1, "AdamOptions.beta2", "must be in [0, 1), got " + std::to_string(beta2));
   require(std::isfinite(epsilon) && epsilon > 0, "AdamOptions.epsilon", "must be finite and > 0");
   require(std::isfinite(clip_norm) && clip_norm >= 0, "AdamOptions.clip_norm", "must be finite and >= 0");
+  require(std::isfinite(weight_decay) && weight_decay >= 0, "AdamOptions.weight_decay",
+          "must be finite and >= 0, got " + std::to_string(weight_decay));
 }
 
 template <class S>
@@ -37,11 +39,12 @@ double adam_step(std::span<S> params, std::span<const S> grad, AdamState<S>& sta
   const S b1 = static_cast<S>(o.beta1), b2 = static_cast<S>(o.beta2);
   const S step = static_cast<S>(o.learning_rate / c1), inv_sqrt_c2 = static_cast<S>(1.0 / std::sqrt(c2));
   const S eps = static_cast<S>(o.epsilon), sc = static_cast<S>(scale);
+  const S decay = static_cast<S>(o.learning_rate * o.weight_decay);  // α·λ (AdamW)
   for (std::size_t k = 0; k < n; ++k) {
     const S g = grad[k] * sc;
     state.m[k] = b1 * state.m[k] + (S(1) - b1) * g;
     state.v[k] = b2 * state.v[k] + (S(1) - b2) * g * g;
-    params[k] -= step * state.m[k] / (std::sqrt(state.v[k]) * inv_sqrt_c2 + eps);
+    params[k] -= step * state.m[k] / (std::sqrt(state.v[k]) * inv_sqrt_c2 + eps) + decay * params[k];
   }
   return norm;
 }

@@ -3,7 +3,10 @@
 //
 //   g ← g·min(1, clip_norm/‖g‖)      (when clip_norm > 0)
 //   m ← β1·m + (1−β1)·g,   v ← β2·v + (1−β2)·g²
-//   θ ← θ − α·(m/(1−β1^k)) / (√(v/(1−β2^k)) + ε)
+//   θ ← θ − α·(m/(1−β1^k)) / (√(v/(1−β2^k)) + ε) − α·λ·θ
+// The last term is decoupled weight decay (AdamW: Loshchilov & Hutter, "Decoupled weight decay
+// regularization", ICLR 2019, Algorithm 2 with schedule multiplier 1), applied to every parameter;
+// λ = 0 is plain Adam.
 // O(P) per step for P parameters; serial, so bit-identical for any thread count.
 #pragma once
 
@@ -19,6 +22,7 @@ struct AdamOptions {
   double beta2 = 0.999;         // β2 ∈ [0, 1)
   double epsilon = 1e-8;        // ε > 0
   double clip_norm = 5.0;       // clip the global gradient norm to this; 0 = no clipping
+  double weight_decay = 0.0;    // λ ≥ 0, decoupled (AdamW); 0 = none
   void validate() const;        // throws InputError naming the field
 };
 

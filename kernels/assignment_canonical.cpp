@@ -101,13 +101,7 @@ void finish_summary(const CostTensor3& original, const std::vector<Tuple3>& tupl
   // (forbidden) makes the assignment infeasible too.
   summary.objective = assignment_cost(original, tuples);
   if (!std::isfinite(summary.objective)) summary.feasible = false;
-  summary.lower_bound = lower_bound;
-  if (std::isnan(lower_bound) || !summary.feasible) {
-    summary.abs_gap = summary.gap = std::numeric_limits<double>::quiet_NaN();
-    return;
-  }
-  summary.abs_gap = std::max(0.0, summary.objective - lower_bound);
-  summary.gap = summary.abs_gap / std::max(std::abs(summary.objective), 1e-9);
+  set_bound_and_gap(summary, lower_bound);
 }
 
 }  // namespace trackassoc

@@ -119,15 +119,35 @@ struct Solution3 {
   RestartTable restarts;  // optional, see RestartTable
 };
 
-// Σ over tuples of b_ijk, with miss_cost per kNoTrack index. Double accumulation.
+// Fills lower_bound, abs_gap and gap from summary.objective and a bound (NaN gaps when the bound is
+// NaN or the result infeasible). Shared by the 3-D and S-D solvers.
+inline void set_bound_and_gap(SolverSummary& summary, double lower_bound) {
+  summary.lower_bound = lower_bound;
+  if (std::isnan(lower_bound) || !summary.feasible) {
+    summary.abs_gap = summary.gap = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  summary.abs_gap = std::max(0.0, summary.objective - lower_bound);
+  summary.gap = summary.abs_gap / std::max(std::abs(summary.objective), 1e-9);
+}
+
+// Σ over tuples of b_ijk, with miss_cost per kNoTrack index. With a finite miss_cost every index
+// belongs to some tuple: an index in none counts as a tuple of its own, 2·miss_cost (so leaving an
+// index out is never cheaper than saying so). Double accumulation.
 inline double assignment_cost(const CostTensor3& b, const std::vector<Tuple3>& tuples) {
   double sum = 0.0;
+  int64_t covered = 0;
   for (const auto& t : tuples) {
     const int missing = (t[0] < 0) + (t[1] < 0) + (t[2] < 0);
+    covered += 3 - missing;
     if (missing == 0)
       sum += b.at(t[0], t[1], t[2]);
     else
       sum += static_cast<double>(b.miss_cost) * missing;
+  }
+  if (std::isfinite(b.miss_cost)) {
+    const int64_t uncovered = static_cast<int64_t>(b.n1) + b.n2 + b.n3 - covered;
+    sum += 2.0 * static_cast<double>(b.miss_cost) * static_cast<double>(uncovered);
   }
   return sum;
 }

@@ -4,12 +4,12 @@
 // * miss_cost = +inf (the pipeline's default): both solvers return min(n1, n2, n3) complete
 //   tuples, or report Termination::kInfeasible when +inf entries (forbidden tuples) leave them
 //   short.
-// * finite miss_cost m ≥ 0: the solvers return complete tuples only. Leaving an index unassigned
-//   costs m, so a complete tuple is worth taking only when b_ijk < 3m (the three indices it covers);
-//   indices in no tuple are simply not listed (the pipeline turns them into one-track tuples).
-//   summary.objective = assignment_cost() of the listed tuples, as for every solver, and
-//   summary.message also gives the total with m per unassigned index. Partial tuples (i, j, –)
-//   are never produced: the dense tensor has no cost for a pair without its third index.
+// * finite miss_cost m ≥ 0: the solvers return complete tuples only. An index in no tuple counts as
+//   a tuple of its own, 2m (assignment_types.hpp, the same for every solver), so greedy takes a
+//   complete tuple only when b_ijk < 6m (the three singletons it replaces); indices in no tuple are
+//   simply not listed (the pipeline turns them into one-track tuples). summary.objective =
+//   assignment_cost(), as for every solver. Partial tuples (i, j, –) are never produced: the dense
+//   tensor has no cost for a pair without its third index.
 // Ties are broken by the linear index (i·n2 + j)·n3 + k, so the result is deterministic.
 #include "kernels/heuristic_solvers.hpp"
 
@@ -50,8 +50,7 @@ void finish(const CostTensor3& b, Solution3& sol, std::chrono::steady_clock::tim
   if (std::isfinite(b.miss_cost)) {
     const int64_t unassigned = int64_t{b.n1} + b.n2 + b.n3 - 3 * static_cast<int64_t>(sol.tuples.size());
     s.message = std::to_string(sol.tuples.size()) + " tuples, " + std::to_string(unassigned) +
-                " unassigned indices; objective with miss_cost per unassigned index = " +
-                std::to_string(s.objective + static_cast<double>(b.miss_cost) * unassigned);
+                " indices alone (2·miss_cost each in the objective)";
   } else if (!complete) {
     s.message = "only " + std::to_string(sol.tuples.size()) + " of " + std::to_string(m) +
                 " tuples have a finite cost";
@@ -81,9 +80,9 @@ Solution3 solve_greedy3(const CostTensor3& b, const GreedyOptions& options) {
       "tensor of " + std::to_string(b.size()) + " entries is too large for the dense greedy (limit 2^32)");
   Solution3 sol;
   const int32_t m = std::min({b.n1, b.n2, b.n3});
-  // With a finite miss cost, a tuple is only worth taking below the cost of its three misses.
+  // With a finite miss cost, a tuple is only worth taking below the three singletons it replaces.
   const double take_below =
-      std::isfinite(b.miss_cost) ? 3.0 * b.miss_cost : std::numeric_limits<double>::infinity();
+      std::isfinite(b.miss_cost) ? 6.0 * b.miss_cost : std::numeric_limits<double>::infinity();
   std::vector<Candidate> live;
   live.reserve(b.size());
   for (std::size_t p = 0; p < b.size(); ++p)

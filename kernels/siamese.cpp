@@ -58,6 +58,10 @@ void TrackSequences::validate(const char* name) const {
   for (std::size_t i = 0; i < x.size(); ++i)
     require(std::isfinite(x[i]) && std::isfinite(y[i]) && std::isfinite(t[i]), where,
             "point " + std::to_string(i) + " is not finite");
+  for (std::size_t k = 0; k + 1 < offset.size(); ++k)  // a track is a time-ordered sequence
+    for (int64_t i = offset[k] + 1; i < offset[k + 1]; ++i)
+      require(t[i] >= t[i - 1], where + ".t",
+              "track " + std::to_string(k) + ": time goes backwards at point " + std::to_string(i));
 }
 
 template <class S>

@@ -72,7 +72,7 @@ struct TrackSequences {
   std::vector<int64_t> offset{0};
   int32_t size() const { return static_cast<int32_t>(offset.size()) - 1; }
   int32_t length(int32_t k) const { return static_cast<int32_t>(offset[k + 1] - offset[k]); }
-  void validate(const char* name) const;  // non-empty tracks, finite values, consistent sizes
+  void validate(const char* name) const;  // non-empty tracks, finite values, sizes, times non-decreasing
 };
 
 // Pairs (left track of set 1, right track of set 2) with labels 1 = same target, 0 = different.

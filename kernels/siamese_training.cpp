@@ -232,7 +232,7 @@ SiameseTrainingSummary train_siamese(SiameseModel<S>& model, const TrackSequence
       summary.best_validation = report.validation;
     }
     since_best = significant ? 0 : since_best + 1;
-    if (since_best >= options.patience) {
+    if (since_best >= options.patience && epoch < options.epochs) {  // at the limit it is the limit
       summary.termination = TrainingTermination::kPlateau;
       break;
     }

@@ -22,6 +22,7 @@ def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     out = sys.argv[2] if len(sys.argv) > 2 else os.path.dirname(os.path.abspath(sys.argv[1]))
+    os.makedirs(out, exist_ok=True)
     with h5py.File(sys.argv[1], "r") as f:
         g = f["experiment/seed003"]
         dens = g["densities"][:]

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "io/instance_text.hpp"
+#include "kernels/assignment_sd.hpp"
 #include "kernels/assignment_types.hpp"
 
 namespace trackassoc::testing_support {
@@ -81,6 +82,60 @@ inline double brute_force_optimum(const CostTensor3& b) {
     }
   };
   rec(0, 0.0, 0);
+  return best;
+}
+
+// Brute force, written independently of the solvers: the lowest free index of the first sensor
+// with a free index joins every possible combination of free indices or dummies of the others.
+inline double brute_force_sd(const CostTensorSD& c) {
+  const int32_t S = c.dims();
+  std::vector<std::vector<char>> used(S);
+  for (int32_t s = 0; s < S; ++s) used[s].assign(c.n[s], 0);
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<int32_t> t(S);
+  std::function<void(double)> rec = [&](double acc) {
+    int32_t s0 = -1, i0 = -1;
+    for (int32_t s = 0; s < S && s0 < 0; ++s)
+      for (int32_t i = 0; i < c.n[s]; ++i)
+        if (!used[s][i]) {
+          s0 = s;
+          i0 = i;
+          break;
+        }
+    if (s0 < 0) {
+      best = std::min(best, acc);
+      return;
+    }
+    std::vector<int32_t> choice(S, kNoTrack);
+    std::function<void(int32_t)> pick = [&](int32_t q) {
+      if (q == S) {
+        const double v = c.at(choice);
+        if (!std::isfinite(v)) return;
+        for (int32_t r = 0; r < S; ++r)
+          if (choice[r] >= 0) used[r][choice[r]] = 1;
+        rec(acc + v);
+        for (int32_t r = 0; r < S; ++r)
+          if (choice[r] >= 0) used[r][choice[r]] = 0;
+        return;
+      }
+      if (q == s0) {
+        choice[q] = i0;
+        pick(q + 1);
+        return;
+      }
+      choice[q] = kNoTrack;
+      pick(q + 1);
+      if (q < s0) return;  // sensors before s0 are fully used
+      for (int32_t i = 0; i < c.n[q]; ++i)
+        if (!used[q][i]) {
+          choice[q] = i;
+          pick(q + 1);
+        }
+      choice[q] = kNoTrack;
+    };
+    pick(0);
+  };
+  rec(0.0);
   return best;
 }
 

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <limits>
 
-#include "io/siamese_hdf5.hpp"
+#include "io/hdf5_wrapper.hpp"
 #include "io/siamese_model_file.hpp"
 #include "kernels/error.hpp"
 #include "kernels/random.hpp"
@@ -20,6 +20,13 @@ fs::path temp_dir() {
   fs::create_directories(d);
   return d;
 }
+
+// Removes temp_dir() when the test program ends.
+class RemoveTempDir : public ::testing::Environment {
+ public:
+  void TearDown() override { fs::remove_all(temp_dir()); }
+};
+::testing::Environment* const kRemoveTempDir = ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
 
 SiameseModel<float> model_for_test() {
   SiameseModel<float> m;
@@ -75,17 +82,21 @@ TEST(SiameseModelFile, ConcatenatedLstmBaselineRoundTrips) {
   EXPECT_EQ(back.model.shape.architecture, PairArchitecture::kConcatLstm);
   ASSERT_EQ(back.model.params.size(), m.params.size());
   for (std::size_t k = 0; k < m.params.size(); ++k) ASSERT_EQ(back.model.params[k], m.params[k]);
-  EXPECT_FALSE(siamese_h5::File::open_read(path).exists("/branch/backward/Wx"));
+  const h5::File f = h5::File::open_read_only(path);
+  EXPECT_TRUE(f.root().open_group("branch").has("forward"));
+  EXPECT_FALSE(f.root().open_group("branch").has("backward"));
 }
 
 TEST(SiameseModelFile, WeightsAreStoredRowMajorInPyTorchOrientation) {
   // Element (r, c) of Wx is params[c·4H + r] in memory; the file holds it at [r][c].
   const SiameseModel<float> m = model_for_test();
   const std::string path = write_valid("layout.h5");
-  const siamese_h5::File f = siamese_h5::File::open_read(path);
-  const auto wx = f.read_float("/branch/forward/Wx", {20, 3});
+  const h5::File f = h5::File::open_read_only(path);
+  std::vector<hsize_t> dims;
+  const auto wx = f.root().open_group("branch").open_group("forward").read_floats("Wx", 2, dims);
+  EXPECT_EQ(dims, (std::vector<hsize_t>{20, 3}));
   EXPECT_EQ(wx[2 * 3 + 1], m.params[1 * 20 + 2]);
-  const auto b2 = f.read_float("/head/b2", {1});
+  const auto b2 = f.root().open_group("head").read_floats("b2", 1, dims);
   EXPECT_EQ(b2[0], m.params.back());
 }
 
@@ -109,68 +120,96 @@ TEST(SiameseModelFile, TruncatedFileGivesAClearError) {
 TEST(SiameseModelFile, EmptyAndMissingFiles) {
   const std::string empty = (temp_dir() / "empty.h5").string();
   std::ofstream(empty).close();
-  EXPECT_NE(error_of(empty).find("not an HDF5 file"), std::string::npos);
-  EXPECT_NE(error_of((temp_dir() / "nope.h5").string()).find("no such file"), std::string::npos);
+  EXPECT_NE(error_of(empty).find("empty file"), std::string::npos) << error_of(empty);
+  EXPECT_NE(error_of((temp_dir() / "nope.h5").string()).find("does not exist"), std::string::npos);
 }
 
 TEST(SiameseModelFile, MissingDatasetWrongShapeNaNAndWrongFormat) {
   const SiameseModel<float> m = model_for_test();
+  // A model file written by hand through io/hdf5_wrapper.hpp; `tweak` adds /head/b2 (or not).
   auto make = [&](const std::string& name, auto&& tweak) {
     const std::string path = (temp_dir() / name).string();
-    siamese_h5::File f = siamese_h5::File::create(path);
-    f.write_attribute("/", "format", std::string("trackassoc-siamese-model"));
-    f.write_attribute("/", "schema_version", int64_t{1});
-    f.write_attribute("/", "input", int64_t{3});
-    f.write_attribute("/", "hidden", int64_t{5});
-    f.write_attribute("/", "fc", int64_t{7});
-    f.write_attribute("/", "architecture", std::string("siamese"));
-    for (const char* a : {"x0", "y0", "position_scale", "t0", "time_scale"}) f.write_attribute("/", a, 1.0);
-    f.write_attribute("/", "training", std::string("{}"));
+    h5::File f = h5::File::create(path);
+    const h5::Group root = f.root();
+    root.write_attribute("format", std::string("trackassoc-siamese-model"));
+    root.write_attribute("schema_version", int32_t{1});
+    root.write_attribute("input", int32_t{3});
+    root.write_attribute("hidden", int32_t{5});
+    root.write_attribute("fc", int32_t{7});
+    root.write_attribute("architecture", std::string("siamese"));
+    for (const char* a : {"x0", "y0", "position_scale", "t0", "time_scale"}) root.write_attribute(a, 1.0);
+    root.write_attribute("training", std::string("{}"));
     std::vector<float> zeros(1000, 0.0f);
-    for (const char* d : {"/branch/forward/", "/branch/backward/"}) {
-      f.write(std::string(d) + "Wx", zeros.data(), 20, 3);
-      f.write(std::string(d) + "Wh", zeros.data(), 20, 5);
-      f.write(std::string(d) + "b", zeros.data(), 20);
+    auto part = [&](std::size_t n) { return std::span<const float>(zeros.data(), n); };
+    const h5::Group branch = root.create_group("branch");
+    for (const char* d : {"forward", "backward"}) {
+      const h5::Group g = branch.create_group(d);
+      g.write_dataset("Wx", part(60), {20, 3});
+      g.write_dataset("Wh", part(100), {20, 5});
+      g.write_dataset("b", part(20), {20});
     }
-    f.write("/head/W1", zeros.data(), 7, 10);
-    f.write("/head/b1", zeros.data(), 7);
-    f.write("/head/w2", zeros.data(), 7);
-    tweak(f, zeros);
+    const h5::Group head = root.create_group("head");
+    head.write_dataset("W1", part(70), {7, 10});
+    head.write_dataset("b1", part(7), {7});
+    head.write_dataset("w2", part(7), {7});
+    tweak(head, zeros);
     f.close();
     return path;
   };
   // Valid as built plus b2: loads.
-  EXPECT_EQ(error_of(make("ok.h5", [](siamese_h5::File& f,
-                                      std::vector<float>& z) { f.write("/head/b2", z.data(), 1); })),
+  EXPECT_EQ(error_of(make("ok.h5",
+                          [](const h5::Group& g, std::vector<float>& z) {
+                            g.write_dataset("b2", std::span<const float>(z.data(), 1), {1});
+                          })),
             "");
   // Missing /head/b2.
-  const std::string e1 = error_of(make("missing.h5", [](siamese_h5::File&, std::vector<float>&) {}));
+  const std::string e1 = error_of(make("missing.h5", [](const h5::Group&, std::vector<float>&) {}));
   EXPECT_NE(e1.find("/head/b2"), std::string::npos) << e1;
   EXPECT_NE(e1.find("missing"), std::string::npos) << e1;
   // Wrong shape.
-  const std::string e2 = error_of(
-      make("shape.h5", [](siamese_h5::File& f, std::vector<float>& z) { f.write("/head/b2", z.data(), 2); }));
-  EXPECT_NE(e2.find("/head/b2 has shape (2), expected (1)"), std::string::npos) << e2;
+  const std::string e2 = error_of(make("shape.h5", [](const h5::Group& g, std::vector<float>& z) {
+    g.write_dataset("b2", std::span<const float>(z.data(), 2), {2});
+  }));
+  EXPECT_NE(e2.find("/head/b2: has shape 2, expected 1"), std::string::npos) << e2;
   // NaN.
-  const std::string e3 = error_of(make("nan.h5", [](siamese_h5::File& f, std::vector<float>& z) {
+  const std::string e3 = error_of(make("nan.h5", [](const h5::Group& g, std::vector<float>& z) {
     z[0] = std::numeric_limits<float>::quiet_NaN();
-    f.write("/head/b2", z.data(), 1);
+    g.write_dataset("b2", std::span<const float>(z.data(), 1), {1});
   }));
-  EXPECT_NE(e3.find("/head/b2 has a non-finite value"), std::string::npos) << e3;
-  // Wrong dtype (integers where floats belong).
-  const std::string e4 = error_of(make("dtype.h5", [](siamese_h5::File& f, std::vector<float>&) {
-    const int32_t one = 1;
-    f.write("/head/b2", &one, 1);
+  EXPECT_NE(e3.find("/head/b2: has a non-finite value"), std::string::npos) << e3;
+  // Integers where floats belong are converted, as every reader of io/hdf5_wrapper.hpp does; a
+  // non-numeric dtype is refused.
+  EXPECT_EQ(error_of(make("int.h5",
+                          [](const h5::Group& g, std::vector<float>&) {
+                            const int32_t one = 1;
+                            g.write_dataset("b2", std::span<const int32_t>(&one, 1), {1});
+                          })),
+            "");
+  const std::string e4 = error_of(make("dtype.h5", [](const h5::Group& g, std::vector<float>&) {
+    const hsize_t one = 1;
+    h5::Handle space(H5Screate_simple(1, &one, nullptr), H5Sclose);
+    h5::Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(type.get(), 4);
+    h5::Handle set(H5Dcreate2(g.id(), "b2", type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                   H5Dclose);
+    ASSERT_TRUE(set.valid());
+    ASSERT_GE(H5Dwrite(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, "abc"), 0);
   }));
-  EXPECT_NE(e4.find("wrong type"), std::string::npos) << e4;
+  EXPECT_NE(e4.find("/head/b2: expected numeric"), std::string::npos) << e4;
   // A different kind of HDF5 file.
   const std::string path = (temp_dir() / "other.h5").string();
   {
-    siamese_h5::File f = siamese_h5::File::create(path);
-    f.write_attribute("/", "format", std::string("trackassoc"));
+    h5::File f = h5::File::create(path);
+    f.root().write_attribute("format", std::string("trackassoc"));
     f.close();
   }
   EXPECT_NE(error_of(path).find("expected 'trackassoc-siamese-model'"), std::string::npos) << error_of(path);
+  // An HDF5 file without the format attribute.
+  const std::string bare = (temp_dir() / "bare.h5").string();
+  h5::File::create(bare).close();
+  EXPECT_NE(error_of(bare).find("not a Siamese model file (the root has no 'format' attribute"),
+            std::string::npos)
+      << error_of(bare);
 }
 
 TEST(SiameseModelFile, FailedWriteLeavesTheOldFileIntact) {

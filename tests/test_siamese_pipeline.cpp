@@ -1,9 +1,11 @@
 // Seed 003 data set generator, data set file, and the Siamese association pipeline.
 #include <gtest/gtest.h>
 #include <oneapi/tbb/global_control.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "engine/dataset_seed003.hpp"
@@ -25,7 +27,8 @@ Seed003Options small_options() {
   o.random_negatives = 400;
   o.close_negatives = 100;
   o.area = 20000.0;  // 400 targets on 20 × 20 km: the density of 10 000 on 100 × 100 km
-  o.radar2_x = 20000.0;
+  o.radar1_x = 5000.0, o.radar1_y = 10000.0;  // inside the area, as the defaults
+  o.radar2_x = 15000.0, o.radar2_y = 10000.0;
   o.seed = 17;
   return o;
 }
@@ -100,7 +103,9 @@ TEST(Seed003Dataset, SameForOneAndTwoThreadsAndRoundTrips) {
   EXPECT_EQ(one.radar2.t, two.radar2.t);
   EXPECT_EQ(one.train.left, two.train.left);
   EXPECT_EQ(one.test.label, two.test.label);
-  const auto path = (std::filesystem::temp_directory_path() / "trackassoc_seed003_test.h5").string();
+  const auto path = (std::filesystem::temp_directory_path() /
+                     ("trackassoc_seed003_test_" + std::to_string(::getpid()) + ".h5"))
+                        .string();
   write_seed003_dataset(path, one);
   const Seed003Dataset back = read_seed003_dataset(path);
   EXPECT_EQ(back.radar1.x, one.radar1.x);
@@ -110,6 +115,71 @@ TEST(Seed003Dataset, SameForOneAndTwoThreadsAndRoundTrips) {
   EXPECT_EQ(back.test_kind, one.test_kind);
   EXPECT_EQ(back.generator_json, one.generator_json);
   std::filesystem::remove(path);
+}
+
+TEST(Seed003Dataset, StartDistanceCloseNegativesStartClose) {
+  // close_measure start: the partner is the nearest other target at t = 0, within close_distance.
+  // Checked on the plots: the first radar-1 plot (t < 4 s, ≤ 2.4 km flown at 600 m/s) and the first
+  // radar-2 plot of the partner (t < 6 s, ≤ 3.6 km) have true positions within 1.5 + 2.4 + 3.6 =
+  // 7.5 km; the 1° bearing noise at ≤ 28 km range is σ ≤ 0.5 km per plot, so < 12 km with margin.
+  Seed003Options o = small_options();
+  o.close_measure = CloseMeasure::kStartDistance;
+  o.close_distance = 1500.0;
+  const Seed003Dataset d = generate_seed003_dataset(o);
+  const auto j = nlohmann::json::parse(d.generator_json);
+  EXPECT_EQ(j["close_measure"], "start");
+  EXPECT_EQ(j["close_negatives_found"], 100);
+  EXPECT_GE(j["close_candidates"].get<int>(), 100);
+  int close = 0, near = 0;
+  for (std::size_t k = 0; k < d.train.size(); ++k) {
+    if (d.train_kind[k] != static_cast<uint8_t>(PairKind::kCloseNegative)) continue;
+    ++close;
+    EXPECT_NE(d.train.left[k], d.train.right[k]);
+    const int64_t a = d.radar1.offset[d.train.left[k]], b = d.radar2.offset[d.train.right[k]];
+    near += std::hypot(d.radar1.x[a] - d.radar2.x[b], d.radar1.y[a] - d.radar2.y[b]) < 12000.0;
+  }
+  EXPECT_GT(close, 50);
+  EXPECT_GE(near, close * 95 / 100);
+}
+
+TEST(Seed003Dataset, FileWithAnOutOfRangeLabelGivesAClearError) {
+  Seed003Dataset d = generate_seed003_dataset(small_options());
+  d.test.label[3] = 7;  // not a 0/1 label
+  const auto path = (std::filesystem::temp_directory_path() /
+                     ("trackassoc_seed003_bad_" + std::to_string(::getpid()) + ".h5"))
+                        .string();
+  write_seed003_dataset(path, d);
+  try {
+    read_seed003_dataset(path);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/pairs/test/label: entry 3 = 7 is out of range [0, 1]"),
+              std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(Seed003Dataset, SceneOfAGeneratorJsonTakesItsRadarsAndMotion) {
+  Seed003Options o = small_options();
+  o.sigma_bearing_deg = 0.5;
+  o.period2 = 5.0;
+  o.max_speed_change = 7.0;
+  Seed003Options base;
+  base.seed = 99;
+  const Seed003Options s = seed003_scene_of(o.to_json(), base, "model.h5");
+  EXPECT_EQ(s.radar1_x, 5000.0);
+  EXPECT_EQ(s.radar2_y, 10000.0);
+  EXPECT_EQ(s.sigma_bearing_deg, 0.5);
+  EXPECT_EQ(s.period2, 5.0);
+  EXPECT_EQ(s.max_speed_change, 7.0);
+  EXPECT_EQ(s.area, 20000.0);
+  EXPECT_EQ(s.seed, 99u);  // the scene's own seed, not the training data's
+  EXPECT_EQ(s.targets, base.targets);
+  EXPECT_EQ(seed003_scene_of("{}", base, "m").radar1_x, base.radar1_x);
+  EXPECT_THROW(seed003_scene_of("[1, 2]", base, "m"), InputError);
+  EXPECT_THROW(seed003_scene_of(R"({"radar1": "north"})", base, "m"), InputError);
+  EXPECT_THROW(seed003_scene_of(R"({"period1_s": -4})", base, "m"), InputError);
 }
 
 TEST(Seed003Dataset, RejectsBadOptions) {

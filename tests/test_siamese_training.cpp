@@ -60,6 +60,22 @@ TEST(Adam, FirstStepMovesEachParameterByTheLearningRate) {
   EXPECT_EQ(st.step, 1);
 }
 
+TEST(Adam, DecoupledWeightDecayShrinksByLearningRateTimesLambda) {
+  // AdamW (Loshchilov & Hutter 2019): the first step is −α·g/(|g| + ε) − α·λ·θ, worked out by hand;
+  // a zero gradient leaves only the decay, θ·(1 − αλ).
+  std::vector<double> p{2.0, -4.0}, g{0.5, 0.0};
+  AdamState<double> st;
+  AdamOptions o;
+  o.learning_rate = 0.1;
+  o.clip_norm = 0;
+  o.weight_decay = 0.01;
+  adam_step<double>(p, g, st, o);
+  EXPECT_NEAR(p[0], 2.0 - 0.1 * 0.5 / (0.5 + 1e-8) - 0.1 * 0.01 * 2.0, 1e-12);
+  EXPECT_NEAR(p[1], -4.0 * (1.0 - 0.1 * 0.01), 1e-12);
+  o.weight_decay = -1.0;
+  EXPECT_THROW(o.validate(), InputError);
+}
+
 TEST(Adam, MinimisesAQuadratic) {
   std::vector<double> p{5.0, -3.0}, g(2);
   AdamState<double> st;

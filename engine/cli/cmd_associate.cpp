@@ -1,13 +1,17 @@
 // trackassoc associate --input F.h5 --output G.h5 --solver NAME
 // The input is a simulation file or a recorded track file (schema v1). The output holds the
 // input's content plus /associations/<name>/.
+#include <algorithm>
 #include <iostream>
 
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
 #include "engine/fuzzy_pipeline.hpp"
 #include "engine/pipeline.hpp"
+#include "engine/pipeline_sd.hpp"
+#include "engine/siamese_track_file.hpp"
 #include "engine/solver_registry.hpp"
+#include "io/siamese_model_file.hpp"
 
 namespace trackassoc::cli {
 
@@ -16,18 +20,27 @@ void register_associate(CLI::App& app) {
     CommonOptions common;
     PipelineFlags pipeline;
     std::string input, output, solver = "pairwise", name;
+    bool sd = false;
+    std::string model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";  // --solver siamese
   };
   auto args = std::make_shared<Args>();
   std::string solver_help = "3-D assignment solver:";
   for (const auto& e : solver_registry()) solver_help += " " + e.name;
   solver_help +=
-      "; or a seed 001 fusion centre over all sensors: fuzzy, ftaa (also writes /system_tracks/NAME)";
+      "; or a seed 001 fusion centre over all sensors: fuzzy, ftaa (also writes /system_tracks/NAME)"
+      "; or siamese: the seed 003 Siamese BiLSTM on two sensors (--model)";
   auto* cmd = app.add_subcommand("associate", "Associate the local tracks of three sensors");
   cmd->add_option("--input,-i", args->input, "Input HDF5 track file (schema v1)")->required();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file (input content + the association)")
       ->required();
   cmd->add_option("--solver", args->solver, solver_help)->capture_default_str();
+  cmd->add_option("--model", args->model,
+                  "--solver siamese: model file from train-siamese (default: the shipped seed 003 model)")
+      ->capture_default_str();
   cmd->add_option("--name", args->name, "Group name under /associations (default: the solver name)");
+  cmd->add_flag("--sd", args->sd,
+                "S-D formulation with a dummy per sensor (any number of sensors; solvers lr, lr+ls, exact, "
+                "chnn-pseudo). Implied by more than three --sensors");
   add_pipeline_options(cmd, args->pipeline);
   add_common_options(cmd, args->common);
   cmd->callback([args] {
@@ -45,6 +58,45 @@ void register_associate(CLI::App& app) {
                 << " packets) with '" << args->solver << "': " << res.fusion.num_system_tracks
                 << " system tracks, " << res.association.num_tuples() << " tuples, "
                 << fmt(1e3 * res.fusion.summary.wall_time_s, "%.2f") << " ms -> " << args->output << "\n";
+      return;
+    }
+    if (args->sd || options.sensors.size() > 3) {
+      require_sd_solver(args->solver);  // fail on an unknown name before reading anything
+      TrackFile file = read_track_file(args->input);
+      const SDProblem problem = build_sd_problem(file, options);
+      AssociationRecord rec =
+          solve_sd_association(problem, args->solver, solver_options, args->common.seed, options);
+      if (!args->name.empty()) rec.name = args->name;
+      std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == rec.name; });
+      file.associations.push_back(rec);
+      write_track_file(args->output, file);
+      std::string dims;
+      for (const auto& a : problem.aligned) dims += (dims.empty() ? "" : "x") + std::to_string(a.n_tracks());
+      std::cout << "associated " << dims << " tracks of " << problem.S() << " sensors (S-D) with '"
+                << args->solver << "': objective " << fmt(rec.objective) << ", lower bound "
+                << fmt(rec.lower_bound) << ", " << rec.num_tuples() << " tuples, "
+                << fmt(1e3 * rec.runtime_s, "%.2f") << " ms -> " << args->output << "\n";
+      return;
+    }
+    if (args->solver == "siamese") {  // two sensors' plot sequences, not a 3-D tensor (seed 003)
+      const SiameseTrackFileOptions siamese = siamese_track_file_options(solver_options);
+      const LoadedSiameseModel model = read_siamese_model(args->model);  // before any other work
+      TrackFile file = read_track_file(args->input);
+      const std::string name = args->name.empty() ? args->solver : args->name;
+      SiameseTrackFileResult res = associate_siamese_tracks(file, model.model, siamese, name);
+      res.record.seed = args->common.seed;
+      std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == name; });
+      file.associations.push_back(res.record);
+      write_track_file(args->output, file);
+      if (res.points_outside_domain > 0)
+        std::cerr << "note: " << res.points_outside_domain << " of " << res.points
+                  << " points lie outside the model's training domain (the shipped model: the 100 x 100 km "
+                     "area +-30 km, times 0-50 s); its probabilities there are extrapolations (see "
+                     "--options time_origin)\n";
+      std::cout << "associated " << res.tracks[0] << "x" << res.tracks[1] << " tracks of sensors "
+                << res.sensor_ids[0] << " and " << res.sensor_ids[1]
+                << " with 'siamese': " << res.record.num_tuples() << " tuples, "
+                << fmt(1e3 * res.record.runtime_s, "%.2f") << " ms -> " << args->output << "\n";
       return;
     }
     find_solver(args->solver);  // fail on an unknown name before reading anything

@@ -14,6 +14,7 @@ void register_experiment(CLI::App& app) {
   register_experiment_seed001(*cmd);
   add_experiment_seed002(cmd);
   register_experiment_seed003(*cmd);
+  register_experiment_seed004(*cmd);
   register_experiment_schedules(*cmd);
   register_experiment_scale(*cmd);
 }

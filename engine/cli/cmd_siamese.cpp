@@ -18,9 +18,13 @@ void register_dataset(CLI::App& app) {
     CommonOptions common;
     std::string name, output;
     Seed003Options options;
+    std::vector<double> radar1, radar2;
+    std::string close_measure = "start";
   };
   auto args = std::make_shared<Args>();
   args->common.seed = args->options.seed;
+  args->radar1 = {args->options.radar1_x, args->options.radar1_y};
+  args->radar2 = {args->options.radar2_x, args->options.radar2_y};
   auto* cmd =
       app.add_subcommand("dataset", "Generate a paper's training data set (HDF5): seed003 (TTCSN pairs)");
   cmd->add_option("name", args->name, "Data set name")->required()->check(CLI::IsMember({"seed003"}));
@@ -33,25 +37,37 @@ void register_dataset(CLI::App& app) {
   cmd->add_option("--close-negatives", args->options.close_negatives, "Close-but-different negative pairs")
       ->capture_default_str();
   cmd->add_option("--close-distance", args->options.close_distance,
-                  "Mean true distance of a close negative [m]")
+                  "Distance below which a different target is close [m] (see --close-measure)")
       ->capture_default_str();
   cmd->add_option("--max-heading-change", args->options.max_heading_change,
                   "Heading change bound per second [rad]")
       ->capture_default_str();
   cmd->add_option("--max-speed-change", args->options.max_speed_change, "Speed change bound per second [m/s]")
       ->capture_default_str();
+  cmd->add_option(
+         "--close-measure", args->close_measure,
+         "Close negatives: start (true distance at t = 0) or mean (mean true distance over the flight)")
+      ->check(CLI::IsMember({"mean", "start"}))
+      ->capture_default_str();
+  cmd->add_option("--radar1", args->radar1, "Radar 1 position x y [m]")->expected(2)->capture_default_str();
+  cmd->add_option("--radar2", args->radar2, "Radar 2 position x y [m]")->expected(2)->capture_default_str();
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     Seed003Options o = args->options;
     o.seed = args->common.seed;
+    o.radar1_x = args->radar1[0], o.radar1_y = args->radar1[1];
+    o.radar2_x = args->radar2[0], o.radar2_y = args->radar2[1];
+    o.close_measure =
+        args->close_measure == "start" ? CloseMeasure::kStartDistance : CloseMeasure::kMeanDistance;
     const Seed003Dataset d = generate_seed003_dataset(o);
     write_seed003_dataset(args->output, d);
     const auto j = nlohmann::json::parse(d.generator_json);
     std::cout << "seed003 data set: " << d.radar1.size() << " targets, " << d.radar1.x.size() << " + "
               << d.radar2.x.size() << " plots, " << d.train.size() << " training and " << d.test.size()
               << " test pairs (close negatives found: " << j["close_negatives_found"].get<int>() << " of "
-              << o.close_negatives << ") -> " << args->output << "\n";
+              << o.close_negatives << "; targets with a close partner: " << j["close_candidates"].get<int>()
+              << ") -> " << args->output << "\n";
   });
 }
 
@@ -96,6 +112,9 @@ void register_train_siamese(CLI::App& app) {
   cmd->add_option("--fc", args->shape.fc, "Width of the first dense layer")->capture_default_str();
   cmd->add_option("--batch", args->training.batch_size, "Pairs per Adam step")->capture_default_str();
   cmd->add_option("--lr", args->training.adam.learning_rate, "Adam learning rate")->capture_default_str();
+  cmd->add_option("--weight-decay", args->training.adam.weight_decay,
+                  "Decoupled weight decay λ (AdamW; 0 = none)")
+      ->capture_default_str();
   cmd->add_option("--lr-decay", args->training.learning_rate_decay, "Learning-rate factor per epoch")
       ->capture_default_str();
   cmd->add_option("--patience", args->training.patience,
@@ -121,7 +140,7 @@ void register_train_siamese(CLI::App& app) {
             "must be in [0, 1)");
     const Seed003Dataset d = read_seed003_dataset(args->data);
     // The file's training split is already shuffled: the last share becomes the validation set.
-    PairSet train, validation;
+    PairSet train, validation, validation_close;  // the last: its close negatives (for model choice)
     std::size_t n = d.train.size();
     if (args->max_train_pairs > 0)
       n = std::min<std::size_t>(n, static_cast<std::size_t>(args->max_train_pairs));
@@ -131,6 +150,11 @@ void register_train_siamese(CLI::App& app) {
       s.left.push_back(d.train.left[k]);
       s.right.push_back(d.train.right[k]);
       s.label.push_back(d.train.label[k]);
+      if (&s == &validation && d.train_kind[k] == static_cast<uint8_t>(PairKind::kCloseNegative)) {
+        validation_close.left.push_back(d.train.left[k]);
+        validation_close.right.push_back(d.train.right[k]);
+        validation_close.label.push_back(0);
+      }
     }
     SiameseModel<float> model;
     model.shape = args->shape;
@@ -163,7 +187,9 @@ void register_train_siamese(CLI::App& app) {
         close.label.push_back(0);
       }
     const PairEvaluation close_ev = evaluate_pairs(model, d.radar1, d.radar2, close);
+    const PairEvaluation val_close_ev = evaluate_pairs(model, d.radar1, d.radar2, validation_close);
     nlohmann::json j = {{"data", args->data},
+                        {"generator", nlohmann::json::parse(d.generator_json, nullptr, false)},
                         {"architecture", args->architecture},
                         {"hidden", model.shape.hidden},
                         {"fc", model.shape.fc},
@@ -173,6 +199,7 @@ void register_train_siamese(CLI::App& app) {
                         {"augment_shift_m", o.augment_shift},
                         {"learning_rate", o.adam.learning_rate},
                         {"learning_rate_decay", o.learning_rate_decay},
+                        {"weight_decay", o.adam.weight_decay},
                         {"seed", o.seed},
                         {"train_pairs", train.size()},
                         {"validation_pairs", validation.size()},
@@ -182,10 +209,15 @@ void register_train_siamese(CLI::App& app) {
                         {"wall_time_s", summary.wall_time_s},
                         {"validation", evaluation_json(summary.best_validation)},
                         {"test", evaluation_json(test)},
+                        {"validation_close_negatives_accuracy", val_close_ev.accuracy()},
                         {"test_close_negatives_accuracy", close_ev.accuracy()}};
     write_siamese_model(args->output, model, j.dump());
+    const PairEvaluation& val = summary.best_validation;
     std::cout << "stopped: " << to_string(summary.termination) << " after " << summary.epochs_run
               << " epochs (best epoch " << summary.best_epoch << "), " << summary.wall_time_s << " s\n"
+              << "validation pairs " << val.total() << ": accuracy " << percent(val.accuracy()) << ", recall "
+              << percent(val.recall()) << ", precision " << percent(val.precision())
+              << "; close negatives rejected " << percent(val_close_ev.accuracy()) << "\n"
               << "test pairs " << test.total() << ": accuracy " << percent(test.accuracy()) << ", recall "
               << percent(test.recall()) << ", precision " << percent(test.precision())
               << " (seed 003: accuracy 99.1 %, recall > 99 %)\n"

@@ -7,9 +7,10 @@
 
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
+#include "engine/dataset_seed003.hpp"
 #include "engine/experiment_seed003.hpp"
 #include "io/atomic_file.hpp"
-#include "io/siamese_hdf5.hpp"
+#include "io/hdf5_wrapper.hpp"
 #include "io/siamese_model_file.hpp"
 #include "kernels/association_statistic.hpp"
 #include "kernels/siamese_training.hpp"
@@ -85,6 +86,11 @@ void register_experiment_seed003(CLI::App& experiment) {
         if (!path.empty()) extra.push_back({name, &baselines[k++].model});
     }
     Seed003ExperimentOptions o = args->options;
+    // The scenes are flown and observed as the model's training data were (radars, errors,
+    // periods), when its training JSON records the generator (train-siamese does).
+    const auto training = nlohmann::json::parse(loaded.training_json, nullptr, false);
+    if (training.is_object() && training.contains("generator"))
+      o.scenario = seed003_scene_of(training["generator"].dump(), o.scenario, args->model);
     o.seed = args->common.seed;
     o.validate();
     nlohmann::json pair_metrics = nlohmann::json::object();
@@ -92,7 +98,9 @@ void register_experiment_seed003(CLI::App& experiment) {
       const Seed003Dataset d = read_seed003_dataset(args->data);
       const PairEvaluation s =
           evaluate_pairs(loaded.model, d.radar1, d.radar2, d.test, o.probability_threshold);
-      const auto lam = weighted_statistic_pairs(d.radar1, d.radar2, d.test, baseline_options_for(o.scenario));
+      // The weighted test needs the radars that made the data set's plots (its generator JSON).
+      const Seed003Options made_by = seed003_scene_of(d.generator_json, o.scenario, args->data);
+      const auto lam = weighted_statistic_pairs(d.radar1, d.radar2, d.test, baseline_options_for(made_by));
       const double gate = chi_square_quantile(0.99, 2);
       PairEvaluation w;
       for (std::size_t k = 0; k < lam.size(); ++k) {
@@ -117,6 +125,15 @@ void register_experiment_seed003(CLI::App& experiment) {
           {{"ttcsn", {{"accuracy", s.accuracy()}, {"recall", s.recall()}, {"precision", s.precision()}}},
            {"weighted", {{"accuracy", w.accuracy()}, {"recall", w.recall()}, {"precision", w.precision()}}}});
     }
+    char scene[256];
+    std::snprintf(
+        scene, sizeof scene,
+        "scenes: radars at (%.0f, %.0f) and (%.0f, %.0f) km, %.0f m / %.2f deg, periods %.0f / %.0f s "
+        "(as the model's training data when its file records them)\n\n",
+        o.scenario.radar1_x / 1e3, o.scenario.radar1_y / 1e3, o.scenario.radar2_x / 1e3,
+        o.scenario.radar2_y / 1e3, o.scenario.sigma_range, o.scenario.sigma_bearing_deg, o.scenario.period1,
+        o.scenario.period2);
+    std::cout << scene;
     const Seed003ExperimentResult r = run_seed003_experiment(loaded.model, o, extra);
     for (const char* what : {"accuracy", "recall", "precision", "time"}) {
       std::vector<std::string> head{std::string(what) + (std::string(what) == "time" ? " [ms]" : " [%]")};
@@ -146,28 +163,29 @@ void register_experiment_seed003(CLI::App& experiment) {
            "low density and falling; NN close to TTCSN at low density, falling fast; LSTM/BiLSTM\n"
            "robust to density, their time approaching TTCSN's at n = 80.\n";
     write_atomically(args->output, [&](const std::string& tmp) {
-      siamese_h5::File f = siamese_h5::File::create(tmp);
-      f.write_attribute("/", "format", std::string("trackassoc"));
-      f.write_attribute("/", "schema_version", int64_t{1});
-      f.create_group("/experiment/seed003");
-      const std::string g = "/experiment/seed003";
+      h5::File f = h5::File::create(tmp);
+      const h5::Group root = f.root();
+      root.write_attribute("format", std::string("trackassoc"));
+      root.write_attribute("schema_version", int32_t{1});
+      const h5::Group g = root.create_group("experiment").create_group("seed003");
       nlohmann::json jo = {{"runs", o.runs},
                            {"seed", o.seed},
                            {"threshold", o.probability_threshold},
                            {"scenario", nlohmann::json::parse(o.scenario.to_json())},
                            {"model", args->model}};
-      f.write_attribute(g, "options", jo.dump());
-      f.write_attribute(g, "model_training", loaded.training_json);
-      f.write_attribute(g, "pair_test_metrics", pair_metrics.dump());
-      f.write_attribute(g, "wall_time_s", r.wall_time_s);
-      std::vector<int32_t> dens(r.densities.begin(), r.densities.end());
-      f.write(g + "/densities", dens.data(), dens.size());
+      g.write_attribute("options", jo.dump());
+      g.write_attribute("model_training", loaded.training_json);
+      g.write_attribute("pair_test_metrics", pair_metrics.dump());
+      g.write_attribute("wall_time_s", r.wall_time_s);
+      const std::vector<int32_t> dens(r.densities.begin(), r.densities.end());
+      g.write_dataset("densities", std::span<const int32_t>(dens), {dens.size()});
       const hsize_t D = r.densities.size(), R = static_cast<hsize_t>(o.runs);
       for (const auto& c : r.methods) {
-        f.write(g + "/" + c.method + "/accuracy", flatten(c.accuracy).data(), D, R);
-        f.write(g + "/" + c.method + "/recall", flatten(c.recall).data(), D, R);
-        f.write(g + "/" + c.method + "/precision", flatten(c.precision).data(), D, R);
-        f.write(g + "/" + c.method + "/seconds", flatten(c.seconds).data(), D, R);
+        const h5::Group m = g.create_group(c.method);
+        m.write_dataset("accuracy", std::span<const double>(flatten(c.accuracy)), {D, R});
+        m.write_dataset("recall", std::span<const double>(flatten(c.recall)), {D, R});
+        m.write_dataset("precision", std::span<const double>(flatten(c.precision)), {D, R});
+        m.write_dataset("seconds", std::span<const double>(flatten(c.seconds)), {D, R});
       }
       f.close();
     });

@@ -56,8 +56,9 @@ struct PipelineFlags {
 
 inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
   cmd->add_option("--sensors", f.options.sensors,
-                  "The three /sensors ids to associate (default: the first three)")
-      ->expected(3);
+                  "The /sensors ids to associate: three for the 3-D pipeline (default: the first three); "
+                  "more, or any number with --sd, for the S-D formulation (default with --sd: all)")
+      ->expected(2, 16);
   cmd->add_option("--gate", f.options.statistic.gate_probability,
                   "Chi-square gate probability of the sequential statistic (1 disables gating)")
       ->capture_default_str();
@@ -110,6 +111,7 @@ void register_filter(CLI::App& app);
 void register_experiment(CLI::App& app);
 // Sub-subcommands of `experiment` (engine/cli/cmd_experiment.cpp calls them).
 void register_experiment_seed000(CLI::App& experiment);
+void register_experiment_seed004(CLI::App& experiment);
 void register_experiment_seed001(CLI::App& experiment);  // cmd_experiment_seed001.cpp
 void register_experiment_schedules(CLI::App& experiment);
 void register_experiment_scale(CLI::App& experiment);

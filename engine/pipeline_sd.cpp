@@ -1,0 +1,311 @@
+#include "engine/pipeline_sd.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "engine/relaxation_solvers.hpp"
+#include "engine/solver_registry.hpp"
+#include "kernels/error.hpp"
+#include "kernels/lagrangian_sd.hpp"
+#include "kernels/parallel.hpp"
+
+namespace trackassoc {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+constexpr float kForbidden = std::numeric_limits<float>::infinity();
+
+// Dense tensor from the links; parallel over the first sensor's index (dummy included).
+void fill_tensor(SDProblem& p, CostForm form) {
+  const int32_t S = p.S();
+  std::vector<int32_t> n(S);
+  for (int32_t s = 0; s < S; ++s) n[s] = p.aligned[s].n_tracks();
+  p.tensor = CostTensorSD(n, 0.f);
+  CostTensorSD& c = p.tensor;
+  parallel_for_range(static_cast<std::size_t>(n[0]) + 1, 1, [&](std::size_t b, std::size_t e) {
+    std::vector<int32_t> idx(S, 0), present;
+    present.reserve(S);
+    for (std::size_t i0 = b; i0 < e; ++i0) {
+      std::fill(idx.begin(), idx.end(), 0);
+      idx[0] = static_cast<int32_t>(i0);
+      const std::size_t base = i0 * c.stride[0];
+      for (std::size_t r = 0; r < c.stride[0]; ++r) {
+        present.clear();
+        for (int32_t s = 0; s < S; ++s)
+          if (idx[s] < n[s]) present.push_back(s);
+        double v = 0.0;
+        const std::size_t m = present.size();
+        for (std::size_t x = 0; x + 1 < m && std::isfinite(v); ++x)
+          for (std::size_t y = x + 1; y < (form == CostForm::kChain ? x + 2 : m); ++y) {
+            const int32_t a = present[x], bb = present[y];
+            v += p.link[static_cast<std::size_t>(a) * S + bb]
+                       [static_cast<std::size_t>(idx[a]) * n[bb] + idx[bb]];
+          }
+        c.cost[base + r] = static_cast<float>(v);
+        for (int32_t s = S - 1; s > 0; --s) {  // odometer over sensors 1 … S−1
+          if (++idx[s] <= n[s]) break;
+          idx[s] = 0;
+        }
+      }
+    }
+  });
+}
+
+// Members of a tuple whose tensor cost is +inf (possible only for the CHNN without Eq. 12's gate)
+// are split into tuples of one track each.
+void split_forbidden(const CostTensorSD& c, std::vector<int32_t>& tuples) {
+  const int32_t S = c.dims();
+  std::vector<int32_t> out;
+  out.reserve(tuples.size());
+  for (std::size_t k = 0; k < tuples.size(); k += S) {
+    const std::span<const int32_t> t(tuples.data() + k, S);
+    if (std::isfinite(c.at(t))) {
+      out.insert(out.end(), t.begin(), t.end());
+      continue;
+    }
+    for (int32_t s = 0; s < S; ++s)
+      if (t[s] >= 0) {
+        std::vector<int32_t> one(S, kNoTrack);
+        one[s] = t[s];
+        out.insert(out.end(), one.begin(), one.end());
+      }
+  }
+  tuples.swap(out);
+}
+
+ChnnPseudoOptions chnn_options(const nlohmann::json& o, uint64_t seed, bool& gated, double& margin,
+                               int32_t& reference) {
+  reject_unknown_keys(o,
+                      {"A", "B", "C", "D", "dt", "tau", "u0", "max_steps", "tolerance", "noise", "gated",
+                       "lambda_margin", "reference", "leftover_passes"},
+                      "chnn-pseudo");
+  ChnnPseudoOptions c;
+  c.seed = seed;
+  const std::string name = "chnn-pseudo";
+  read_option_number(o, "A", c.A, name);
+  read_option_number(o, "B", c.B, name);
+  read_option_number(o, "C", c.C, name);
+  read_option_number(o, "D", c.D, name);
+  read_option_number(o, "dt", c.dt, name);
+  read_option_number(o, "tau", c.tau, name);
+  read_option_number(o, "u0", c.u0, name);
+  read_option_number(o, "max_steps", c.max_steps, name);
+  read_option_number(o, "tolerance", c.tolerance, name);
+  read_option_number(o, "noise", c.noise, name);
+  read_option_number(o, "leftover_passes", c.leftover_passes, name);
+  read_option_number(o, "lambda_margin", margin, name);
+  read_option_number(o, "reference", reference, name);
+  if (!o.is_null() && o.contains("gated")) {
+    if (!o.at("gated").is_boolean())
+      throw InputError("solver 'chnn-pseudo' options: 'gated' must be true or false");
+    gated = o.at("gated").get<bool>();
+  }
+  require(margin > 0.0 && std::isfinite(margin), "chnn-pseudo options: lambda_margin", "must be > 0");
+  c.validate();
+  return c;
+}
+
+}  // namespace
+
+const std::vector<std::string>& sd_solver_names() {
+  static const std::vector<std::string> names{"lr", "lr+ls", "exact", "chnn-pseudo"};
+  return names;
+}
+
+void require_sd_solver(const std::string& name) {
+  const auto& names = sd_solver_names();
+  if (std::find(names.begin(), names.end(), name) != names.end()) return;
+  std::string known;
+  for (const auto& n : names) known += " " + n;
+  throw InputError("--solver: '" + name + "' is not an S-D solver; S-D solvers:" + known);
+}
+
+SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options) {
+  options.validate();
+  require(options.statistic.gate_probability < 1.0, "--gate",
+          "the S-D formulation uses the gate as the cost of not linking two tracks; it needs a gate "
+          "probability below 1");
+  SDProblem p;
+  p.file_sensors = static_cast<int32_t>(file.sensors.size());
+  std::map<int32_t, int32_t> column;
+  for (int32_t s = 0; s < p.file_sensors; ++s) column[file.sensors[s].id] = s;
+  if (options.sensors.empty())
+    for (const auto& s : file.sensors) p.sensor_ids.push_back(s.id);
+  else
+    p.sensor_ids = options.sensors;
+  const int32_t S = p.S();
+  if (S < 2)
+    throw InputError("/sensors: association needs at least 2 sensors, the file has " + std::to_string(S));
+  double period = options.common_period;
+  for (int32_t id : p.sensor_ids) {
+    auto it = column.find(id);
+    if (it == column.end())
+      throw InputError("--sensors: sensor id " + std::to_string(id) + " is not in /sensors/id");
+    p.sensor_columns.push_back(it->second);
+    if (options.common_period == 0.0) period = std::max(period, file.sensors[it->second].period);
+  }
+  require(period > 0.0, "PipelineOptions.common_period", "the sensors' periods are not positive");
+
+  const auto t0 = std::chrono::steady_clock::now();
+  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period);
+  for (int32_t s = 0; s < S; ++s)
+    p.aligned.push_back(align_tracks(file.tracks, p.sensor_ids[s], p.common_times, options.alignment));
+  p.pairs.resize(static_cast<std::size_t>(S) * S);
+  p.link.resize(p.pairs.size());
+  p.gate.assign(p.pairs.size(), 0.0);
+  for (int32_t a = 0; a < S; ++a)
+    for (int32_t b = a + 1; b < S; ++b) {
+      const std::size_t slot = static_cast<std::size_t>(a) * S + b;
+      PairStatistic& st = p.pairs[slot] =
+          independent_sequential_statistic(p.aligned[a], p.aligned[b], options.statistic);
+      std::map<int32_t, double> gamma;  // χ² quantile per dof, computed once
+      auto& link = p.link[slot];
+      link.assign(st.lambda.size(), kForbidden);
+      int32_t max_dof = 0;
+      for (std::size_t e = 0; e < st.lambda.size(); ++e) {
+        max_dof = std::max(max_dof, st.dof[e]);
+        if (!st.in_gate[e] || st.dof[e] <= 0) continue;
+        auto [it, fresh] = gamma.try_emplace(st.dof[e], 0.0);
+        if (fresh) it->second = chi_square_quantile(options.statistic.gate_probability, st.dof[e]);
+        link[e] = static_cast<float>(st.lambda[e] - it->second);
+      }
+      p.gate[slot] = max_dof > 0 ? chi_square_quantile(options.statistic.gate_probability, max_dof) : 1.0;
+    }
+  p.statistics_time_s = seconds_since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  fill_tensor(p, options.cost.form);
+  p.tensor_time_s = seconds_since(t1);
+  return p;
+}
+
+PseudoTrackInput pseudo_track_input(const SDProblem& p, bool gated, double lambda_margin, int32_t reference) {
+  const int32_t S = p.S();
+  require(reference >= 0 && reference < S, "chnn-pseudo options: reference",
+          "must be a sensor position in 0.." + std::to_string(S - 1));
+  std::vector<int32_t> order{reference};
+  for (int32_t s = 0; s < S; ++s)
+    if (s != reference) order.push_back(s);
+  PseudoTrackInput in;
+  in.n.resize(S);
+  for (int32_t s = 0; s < S; ++s) in.n[s] = p.aligned[order[s]].n_tracks();
+  in.distance.resize(static_cast<std::size_t>(S) * S);
+  in.pseudo_cost.assign(in.distance.size(), 1.0);
+  for (int32_t a = 0; a < S; ++a)
+    for (int32_t b = a + 1; b < S; ++b) {
+      const int32_t oa = order[a], ob = order[b];
+      const bool swap = oa > ob;
+      const std::size_t slot = static_cast<std::size_t>(std::min(oa, ob)) * S + std::max(oa, ob);
+      const PairStatistic& st = p.pairs[slot];
+      auto& d = in.distance[PseudoTrackInput::pair(a, b, S)];
+      d.assign(static_cast<std::size_t>(in.n[a]) * in.n[b], std::numeric_limits<double>::infinity());
+      for (int32_t i = 0; i < in.n[a]; ++i)
+        for (int32_t k = 0; k < in.n[b]; ++k) {
+          const std::size_t e =
+              swap ? static_cast<std::size_t>(k) * st.n_b + i : static_cast<std::size_t>(i) * st.n_b + k;
+          if (st.dof[e] <= 0 || (gated && !st.in_gate[e])) continue;  // Eq. 12: outside the gate → ∞
+          d[static_cast<std::size_t>(i) * in.n[b] + k] = st.lambda[e];
+        }
+      in.pseudo_cost[PseudoTrackInput::pair(a, b, S)] = (1.0 + lambda_margin) * p.gate[slot];
+    }
+  return in;
+}
+
+SolutionSD solve_chnn_sd(const SDProblem& p, const nlohmann::json& options, uint64_t seed,
+                         ChnnPseudoResult* raw) {
+  SolutionSD sol;
+  bool gated = true;
+  double margin = 0.1;
+  int32_t reference = 0;
+  for (int32_t s = 1; s < p.S(); ++s)
+    if (p.aligned[s].n_tracks() > p.aligned[reference].n_tracks()) reference = s;
+  const ChnnPseudoOptions co = chnn_options(options, seed, gated, margin, reference);
+  const ChnnPseudoResult r = solve_chnn_pseudo(pseudo_track_input(p, gated, margin, reference), co);
+  // Back to tensor order: position 0 is `reference`, then the others in order.
+  const int32_t S = p.S();
+  std::vector<int32_t> order{reference};
+  for (int32_t s = 0; s < S; ++s)
+    if (s != reference) order.push_back(s);
+  sol.S = S;
+  sol.tuples.resize(r.solution.tuples.size());
+  for (std::size_t k = 0; k < r.solution.tuples.size(); k += S)
+    for (int32_t s = 0; s < S; ++s) sol.tuples[k + order[s]] = r.solution.tuples[k + s];
+  split_forbidden(p.tensor, sol.tuples);
+  sol.summary = r.solution.summary;
+  finish_summary_sd(p.tensor, sol.tuples, std::numeric_limits<double>::quiet_NaN(), sol.summary);
+  if (raw) *raw = r;
+  return sol;
+}
+
+SolutionSD solve_sd(const SDProblem& p, const std::string& solver, const nlohmann::json& options,
+                    uint64_t seed) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SolutionSD sol;
+  if (solver == "lr" || solver == "lr+ls") {
+    sol = solve_lagrangian_sd(p.tensor, lagrangian_options(options, solver, solver == "lr+ls"));
+  } else if (solver == "exact") {
+    reject_unknown_keys(options, {"time_limit_s", "max_nodes"}, solver);
+    ExactSDOptions eo;
+    read_option_number(options, "time_limit_s", eo.time_limit_s, solver);
+    read_option_number(options, "max_nodes", eo.max_nodes, solver);
+    eo.validate();
+    LagrangianOptions lo;
+    lo.local_search = true;
+    const SolutionSD start = solve_lagrangian_sd(p.tensor, lo);
+    if (start.summary.termination == Termination::kOptimal) {
+      sol = start;  // the relaxation's bound already proves lr+ls optimal
+      sol.summary.message = "proven optimal by the S-D relaxation's bound (no search needed)";
+    } else {
+      sol = solve_exact_sd(p.tensor, eo, &start.tuples);
+      if (sol.summary.termination == Termination::kTimeLimit &&
+          start.summary.lower_bound > sol.summary.lower_bound)
+        set_bound_and_gap(sol.summary, start.summary.lower_bound);
+    }
+  } else if (solver == "chnn-pseudo") {
+    sol = solve_chnn_sd(p, options, seed);
+  } else {
+    require_sd_solver(solver);
+  }
+  sol.summary.wall_time_s = seconds_since(t0);
+  return sol;
+}
+
+void append_tuples(const SDProblem& p, const SolutionSD& sol, AssociationRecord& rec) {
+  rec.num_sensors = p.file_sensors;
+  const int32_t S = p.S();
+  for (std::size_t k = 0; k < sol.tuples.size(); k += S) {
+    std::vector<int32_t> row(p.file_sensors, kNoTrack);
+    for (int32_t s = 0; s < S; ++s)
+      if (sol.tuples[k + s] >= 0) row[p.sensor_columns[s]] = p.aligned[s].track[sol.tuples[k + s]];
+    rec.tuples.insert(rec.tuples.end(), row.begin(), row.end());
+    rec.cost.push_back(p.tensor.at(std::span<const int32_t>(sol.tuples.data() + k, S)));
+  }
+}
+
+AssociationRecord solve_sd_association(const SDProblem& p, const std::string& solver,
+                                       const nlohmann::json& solver_options, uint64_t seed,
+                                       const PipelineOptions& options) {
+  const SolutionSD sol = solve_sd(p, solver, solver_options, seed);
+  AssociationRecord rec;
+  rec.name = solver;
+  rec.num_sensors = p.file_sensors;
+  rec.solver = solver;
+  rec.seed = seed;
+  nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
+                         {"pipeline", options.to_json()},
+                         {"formulation", "S-D with dummies"}};
+  rec.options_json = opts.dump();
+  rec.objective = sol.summary.objective;
+  rec.lower_bound = sol.summary.lower_bound;
+  rec.gap = sol.summary.gap;
+  rec.termination = termination_name(sol.summary.termination);
+  rec.runtime_s = sol.summary.wall_time_s;
+  append_tuples(p, sol, rec);
+  return rec;
+}
+
+}  // namespace trackassoc

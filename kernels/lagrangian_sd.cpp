@@ -1,0 +1,287 @@
+#include "kernels/lagrangian_sd.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "kernels/error.hpp"
+#include "kernels/parallel.hpp"
+
+namespace trackassoc {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Σ_{q ≥ from} μ_q(i_q) for every combination of the sensors from … S−1 (a block of length
+// stride[from−1], or the whole tensor's tail), dummy μ = 0.
+void tail_penalty(const CostTensorSD& c, const std::vector<std::vector<double>>& mu, int32_t from,
+                  std::vector<double>& p) {
+  const int32_t S = c.dims();
+  const std::size_t len = from == 0 ? c.cost.size() : c.stride[from - 1];
+  p.assign(len, 0.0);
+  for (int32_t q = from; q < S; ++q) {
+    const std::size_t st = c.stride[q], extent = static_cast<std::size_t>(c.n[q]) + 1;
+    for (std::size_t r = 0; r < len; ++r) p[r] += mu[q][(r / st) % extent];
+  }
+}
+
+// min over a block of (cost − penalty), and its position.
+inline double block_min(const float* cost, const double* p, std::size_t len, std::size_t& arg) {
+  double best = kInf;
+  arg = 0;
+  for (std::size_t r = 0; r < len; ++r) {
+    const double v = static_cast<double>(cost[r]) - p[r];
+    if (v < best) {
+      best = v;
+      arg = r;
+    }
+  }
+  return best;
+}
+
+// Writes the indices of sensors from … S−1 encoded by block position r into t.
+void decode_tail(const CostTensorSD& c, int32_t from, std::size_t r, int32_t* t) {
+  for (int32_t q = from; q < c.dims(); ++q) {
+    const int32_t i = static_cast<int32_t>((r / c.stride[q]) % (static_cast<std::size_t>(c.n[q]) + 1));
+    t[q] = i == c.n[q] ? kNoTrack : i;
+  }
+}
+
+// Feasible recovery: the (i_1, i_2) pairs, then sensors 3 … S one at a time (see the header).
+std::vector<int32_t> recover(const CostTensorSD& c, const std::vector<std::vector<double>>& mu,
+                             std::vector<int32_t> partial) {
+  const int32_t S = c.dims();
+  std::vector<double> p, e, e_new;
+  std::vector<int32_t> t(S);
+  for (int32_t s = 2; s < S; ++s) {
+    tail_penalty(c, mu, s + 1, p);
+    const std::size_t len = c.stride[s];
+    const int32_t m = static_cast<int32_t>(partial.size() / S), ns = c.n[s];
+    auto block = [&](const int32_t* prefix, int32_t i) {
+      std::size_t off = static_cast<std::size_t>(i) * c.stride[s];
+      for (int32_t q = 0; q < s; ++q)
+        off += static_cast<std::size_t>(prefix[q] < 0 ? c.n[q] : prefix[q]) * c.stride[q];
+      std::size_t arg;
+      return block_min(c.cost.data() + off, p.data(), len, arg);
+    };
+    e.assign(static_cast<std::size_t>(m) * (ns + 1), 0.0);
+    parallel_for_range(static_cast<std::size_t>(m), 4, [&](std::size_t b, std::size_t end) {
+      for (std::size_t r = b; r < end; ++r)
+        for (int32_t i = 0; i <= ns; ++i) e[r * (ns + 1) + i] = block(partial.data() + r * S, i);
+    });
+    e_new.assign(ns, 0.0);
+    std::fill(t.begin(), t.end(), kNoTrack);
+    for (int32_t i = 0; i < ns; ++i) e_new[i] = block(t.data(), i);
+    const DimensionMatch match = match_dimension(e, e_new, m, ns);
+    if (!match.feasible) return {};
+    for (int32_t r = 0; r < m; ++r) partial[static_cast<std::size_t>(r) * S + s] = match.tuple_index[r];
+    for (int32_t i : match.new_tuples) {
+      std::fill(t.begin(), t.end(), kNoTrack);
+      t[s] = i;
+      partial.insert(partial.end(), t.begin(), t.end());
+    }
+  }
+  return partial;
+}
+
+SolutionSD solve_two_sensors(const CostTensorSD& c) {
+  const int32_t n0 = c.n[0], n1 = c.n[1];
+  std::vector<double> e(static_cast<std::size_t>(n0) * (n1 + 1)), e_new(n1);
+  for (int32_t i = 0; i < n0; ++i)
+    for (int32_t j = 0; j <= n1; ++j)
+      e[static_cast<std::size_t>(i) * (n1 + 1) + j] = c.cost[i * c.stride[0] + j];
+  for (int32_t j = 0; j < n1; ++j) e_new[j] = c.cost[n0 * c.stride[0] + j];
+  const DimensionMatch match = match_dimension(e, e_new, n0, n1);
+  SolutionSD sol;
+  sol.S = 2;
+  if (match.feasible) {
+    for (int32_t i = 0; i < n0; ++i) sol.tuples.insert(sol.tuples.end(), {i, match.tuple_index[i]});
+    for (int32_t j : match.new_tuples) sol.tuples.insert(sol.tuples.end(), {kNoTrack, j});
+  }
+  sol.summary.termination = match.feasible ? Termination::kOptimal : Termination::kInfeasible;
+  finish_summary_sd(c, sol.tuples, match.feasible ? match.cost : kInf, sol.summary);
+  return sol;
+}
+
+}  // namespace
+
+SolutionSD solve_lagrangian_sd(const CostTensorSD& c, const LagrangianOptions& options) {
+  options.validate();
+  c.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  const int32_t S = c.dims();
+  if (S == 2) {
+    SolutionSD sol = solve_two_sensors(c);
+    sol.summary.wall_time_s = seconds_since(t0);
+    return sol;
+  }
+  const int32_t n0 = c.n[0], n1 = c.n[1];
+  const std::size_t R = c.stride[1];  // block of sensors 3 … S for one (i_1, i_2)
+  std::vector<std::vector<double>> mu(S);
+  for (int32_t s = 0; s < S; ++s) mu[s].assign(static_cast<std::size_t>(c.n[s]) + 1, 0.0);
+  std::vector<std::vector<double>> g(S), direction(S);
+  for (int32_t s = 2; s < S; ++s) {
+    g[s].assign(c.n[s], 0.0);
+    direction[s].assign(c.n[s], 0.0);
+  }
+
+  double lower = -kInf, upper = kInf, theta = options.theta, delta0 = -1.0;
+  int since_better = 0;
+  std::vector<int32_t> best;
+  std::vector<double> p, d(static_cast<std::size_t>(n0 + 1) * (n1 + 1)), e, e_new;
+  std::vector<std::size_t> arg(d.size());
+  SolutionSD sol;
+  sol.S = S;
+  Termination termination = Termination::kIterationLimit;
+  int64_t iterations = 0;
+
+  auto converged = [&]() {
+    const double abs_gap = upper - lower;
+    if (abs_gap <= options.absolute_gap_tolerance) return Termination::kOptimal;
+    if (abs_gap / std::max(std::abs(upper), 1e-9) <= options.relative_gap_tolerance)
+      return Termination::kGapTolerance;
+    return Termination::kIterationLimit;
+  };
+
+  for (int iter = 0; iter < options.max_iterations; ++iter) {
+    iterations = iter + 1;
+    // d(i_1, i_2) = min over the tail of c̃ (Deb et al. Eq. 12), parallel over i_1.
+    tail_penalty(c, mu, 2, p);
+    parallel_for_range(static_cast<std::size_t>(n0) + 1, 2, [&](std::size_t b, std::size_t end) {
+      for (std::size_t i = b; i < end; ++i)
+        for (int32_t j = 0; j <= n1; ++j) {
+          const std::size_t k = i * (n1 + 1) + j;
+          d[k] = block_min(c.cost.data() + i * c.stride[0] + j * c.stride[1], p.data(), R, arg[k]);
+        }
+    });
+    // Tuples whose first two indices are dummies are unconstrained in the relaxed problem.
+    const float* dd = c.cost.data() + static_cast<std::size_t>(n0) * c.stride[0] +
+                      static_cast<std::size_t>(n1) * c.stride[1];
+    double free_sum = 0.0;
+    std::vector<std::size_t> free_chosen;
+    for (std::size_t r = 0; r + 1 < R; ++r) {  // r = R−1 is the all-dummy tuple
+      const double v = static_cast<double>(dd[r]) - p[r];
+      if (v < 0.0) {
+        free_sum += v;
+        free_chosen.push_back(r);
+      }
+    }
+    e.assign(static_cast<std::size_t>(n0) * (n1 + 1), 0.0);
+    std::copy(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(e.size()), e.begin());
+    e_new.assign(d.begin() + static_cast<std::ptrdiff_t>(e.size()),
+                 d.begin() + static_cast<std::ptrdiff_t>(e.size()) + n1);
+    const DimensionMatch lap = match_dimension(e, e_new, n0, n1);
+    if (!lap.feasible) {
+      termination = Termination::kInfeasible;
+      lower = kInf;
+      break;
+    }
+    double mu_sum = 0.0;
+    for (int32_t s = 2; s < S; ++s)
+      for (int32_t i = 0; i < c.n[s]; ++i) mu_sum += mu[s][i];
+    const double bound = lap.cost + free_sum + mu_sum;
+    if (bound > lower) {
+      lower = bound;
+      since_better = 0;
+    } else if (++since_better >= options.theta_patience) {
+      theta *= 0.5;
+      since_better = 0;
+    }
+
+    // The relaxed solution's tuples: usage counts for the subgradient, and the (i_1, i_2) pairs.
+    std::vector<int32_t> pairs, t(S);
+    for (int32_t s = 2; s < S; ++s) std::fill(g[s].begin(), g[s].end(), 1.0);
+    auto use_tail = [&](std::size_t r) {
+      decode_tail(c, 2, r, t.data());
+      for (int32_t s = 2; s < S; ++s)
+        if (t[s] >= 0) g[s][t[s]] -= 1.0;
+    };
+    for (int32_t i = 0; i < n0; ++i) {
+      const int32_t j = lap.tuple_index[i];
+      use_tail(arg[static_cast<std::size_t>(i) * (n1 + 1) + (j < 0 ? n1 : j)]);
+      pairs.insert(pairs.end(), {i, j});
+      pairs.insert(pairs.end(), S - 2, kNoTrack);
+    }
+    for (int32_t j : lap.new_tuples) {
+      use_tail(arg[static_cast<std::size_t>(n0) * (n1 + 1) + j]);
+      pairs.insert(pairs.end(), {kNoTrack, j});
+      pairs.insert(pairs.end(), S - 2, kNoTrack);
+    }
+    for (std::size_t r : free_chosen) use_tail(r);
+
+    // Feasible recovery and polish → upper bound.
+    std::vector<int32_t> feasible = recover(c, mu, std::move(pairs));
+    if (!feasible.empty() && is_valid_assignment_sd(c, feasible)) {
+      if (options.local_search) polish_sd(c, feasible, options.local_search_options);
+      const double ub = assignment_cost_sd(c, feasible);
+      if (ub < upper) {
+        upper = ub;
+        best = std::move(feasible);
+      }
+    }
+
+    double g2 = 0.0;
+    for (int32_t s = 2; s < S; ++s)
+      for (double x : g[s]) g2 += x * x;
+    if (g2 == 0.0) {  // the relaxed solution is feasible, hence optimal
+      lower = std::max(lower, std::min(upper, bound));
+      termination = converged();
+      if (termination == Termination::kIterationLimit) termination = Termination::kOptimal;
+      break;
+    }
+    termination = converged();
+    if (termination != Termination::kIterationLimit && std::isfinite(upper)) break;
+    if (seconds_since(t0) > options.time_limit_s) {
+      termination = Termination::kTimeLimit;
+      break;
+    }
+    if (theta < options.min_theta) break;
+
+    const double target = std::isfinite(upper) ? upper : bound + 0.05 * std::max(1.0, std::abs(bound));
+    const double gap = std::max(target - bound, 1e-12 * std::max(1.0, std::abs(bound)));
+    if (delta0 < 0.0) delta0 = gap;
+    double step = 0.0;
+    if (options.step_rule == StepRule::kDeflected) {
+      double gd = 0.0, dd2 = 0.0;
+      for (int32_t s = 2; s < S; ++s)
+        for (int32_t i = 0; i < c.n[s]; ++i) {
+          gd += g[s][i] * direction[s][i];
+          dd2 += direction[s][i] * direction[s][i];
+        }
+      const double beta = (iter > 0 && dd2 > 0.0) ? std::max(0.0, -1.5 * gd / dd2) : 0.0;
+      double n2 = 0.0;
+      for (int32_t s = 2; s < S; ++s)
+        for (int32_t i = 0; i < c.n[s]; ++i) {
+          direction[s][i] = g[s][i] + beta * direction[s][i];
+          n2 += direction[s][i] * direction[s][i];
+        }
+      step = theta * gap / std::max(n2, 1e-300);
+    } else {
+      for (int32_t s = 2; s < S; ++s) direction[s] = g[s];
+      step = options.step_rule == StepRule::kPolyak ? theta * gap / g2
+                                                    : options.theta * delta0 / (g2 * std::sqrt(iter + 1.0));
+    }
+    for (int32_t s = 2; s < S; ++s)
+      for (int32_t i = 0; i < c.n[s]; ++i) mu[s][i] += step * direction[s][i];
+  }
+  if (termination == Termination::kIterationLimit && !std::isfinite(upper))
+    termination = Termination::kInfeasible;
+  sol.tuples = std::move(best);
+  sol.summary.iterations = iterations;
+  sol.summary.termination = termination;
+  finish_summary_sd(c, sol.tuples,
+                    std::isfinite(lower) || lower > 0 ? lower : std::numeric_limits<double>::quiet_NaN(),
+                    sol.summary);
+  if (!sol.summary.feasible) sol.summary.termination = Termination::kInfeasible;
+  sol.summary.message = std::string("S-D relaxation, step rule ") + step_rule_name(options.step_rule);
+  sol.summary.wall_time_s = seconds_since(t0);
+  return sol;
+}
+
+}  // namespace trackassoc
