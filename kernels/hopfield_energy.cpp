@@ -24,14 +24,19 @@ NormalisedCost normalise_cost(const CostTensor3& cost, float inf_margin) {
   std::vector<float> chunk_lo(chunks, std::numeric_limits<float>::infinity()),
       chunk_hi(chunks, -std::numeric_limits<float>::infinity());
   parallel_for_range(chunks, 1, [&](std::size_t tb, std::size_t te) {
-    for (std::size_t t = tb; t < te; ++t)
+    for (std::size_t t = tb; t < te; ++t) {
+      // Local accumulators: the chunk_lo/hi entries of two threads share a cache line.
+      float l = std::numeric_limits<float>::infinity(), h = -l;
       for (std::size_t a = t * kChunk, e = std::min(K, a + kChunk); a < e; ++a) {
         const float b = cost.cost[a];
         if (std::isfinite(b)) {
-          chunk_lo[t] = std::min(chunk_lo[t], b);
-          chunk_hi[t] = std::max(chunk_hi[t], b);
+          l = std::min(l, b);
+          h = std::max(h, b);
         }
       }
+      chunk_lo[t] = l;
+      chunk_hi[t] = h;
+    }
   });
   float lo = std::numeric_limits<float>::infinity(), hi = -lo;
   for (std::size_t t = 0; t < chunks; ++t) {
