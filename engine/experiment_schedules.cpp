@@ -33,6 +33,13 @@ void SchedulesExperimentOptions::validate() const {
     require(n == 10 || n == 20 || n == 30 || n == 40, "--decomplib-sizes",
             "DecompLib has n = 10, 20, 30, 40");
   require(!output.empty(), "--output", "expected a file name");
+  const std::vector<std::string> known = schedules_method_names();
+  for (const auto& m : methods)
+    if (std::find(known.begin(), known.end(), m) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "'" : ", '") + k + "'";
+      throw InputError("--methods: unknown method '" + m + "'; expected one of " + list);
+    }
 }
 
 ReferencedInstance seed000_tracking_instance(int32_t n, uint64_t seed, int32_t run) {
@@ -101,6 +108,16 @@ std::vector<Method> methods(int32_t restarts) {
   return m;
 }
 
+}  // namespace
+
+std::vector<std::string> schedules_method_names() {
+  std::vector<std::string> names;
+  for (const Method& m : methods(1)) names.push_back(m.name);
+  return names;
+}
+
+namespace {
+
 ScheduleRow run_method(const Method& m, const ReferencedInstance& inst, uint64_t seed) {
   ScheduleRow row;
   row.family = inst.family;
@@ -166,7 +183,11 @@ std::vector<ScheduleRow> run_schedules_experiment(const SchedulesExperimentOptio
       }
   }
   std::vector<ScheduleRow> rows;
-  const std::vector<Method> ms = methods(o.restarts);
+  std::vector<Method> ms = methods(o.restarts);
+  if (!o.methods.empty())
+    std::erase_if(ms, [&](const Method& m) {
+      return std::find(o.methods.begin(), o.methods.end(), m.name) == o.methods.end();
+    });
   for (std::size_t i = 0; i < instances.size(); ++i) {
     if (progress) *progress << "[" << (i + 1) << "/" << instances.size() << "] " << instances[i].name << "\n";
     for (const Method& m : ms) rows.push_back(run_method(m, instances[i], o.seed));

@@ -25,6 +25,8 @@ struct SchedulesExperimentOptions {
   int32_t decomplib_per_size = 3;  // ap3.n.1 .. ap3.n.k
   std::string decomplib_dir;       // empty: <shared>/benchmarks/3dap/decomplib is required
   int32_t restarts = 8;
+  // Methods to run, by their table names (schedules_method_names()); empty = all of them.
+  std::vector<std::string> methods;
   uint64_t seed = 1;
   std::string output = "experiment-schedules.h5";
   std::string plot = "experiment-schedules.svg";
@@ -49,6 +51,9 @@ struct ScheduleRow {
   double wall_s = 0.0;
   bool valid = false;
 };
+
+// The names of the compared methods, in table order ("async/full" is the default `hopfield`).
+std::vector<std::string> schedules_method_names();
 
 // Seed 000 tracking instances: scenario `seed000` with `n` targets, Monte Carlo run `run`.
 ReferencedInstance seed000_tracking_instance(int32_t n, uint64_t seed, int32_t run);

@@ -166,6 +166,7 @@ Solution3 solve_hopfield_json(const std::string& name, const CostTensor3& cost, 
   const HopfieldOptions o = hopfield_options_from_json(name, options, polish);
   HopfieldResult r = solve_hopfield(cost, o, seed);
   Solution3 s = std::move(r.solution);
+  s.restarts = hopfield_restart_table(r);
   if (o.trace && !r.restarts.empty()) {
     std::size_t cols = 0;
     for (const auto& rr : r.restarts) cols = std::max(cols, rr.energy_trace.size());

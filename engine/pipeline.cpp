@@ -208,6 +208,7 @@ AssociationRecord solve_association(const AssociationProblem& p, const std::stri
   rec.energy_rows = solution.energy_rows;
   rec.energy_cols = solution.energy_cols;
   rec.energy = std::move(solution.energy_trace);
+  rec.restarts = std::move(solution.restarts);
 
   std::array<std::vector<char>, 3> seen;
   for (int d = 0; d < 3; ++d) seen[d].assign(p.aligned[d].n_tracks(), 0);

@@ -107,6 +107,17 @@ void write_measurements(const Group& root, const Measurements& m) {
   write_1d(g, "target", m.target);
 }
 
+void write_restarts(const Group& parent, const RestartTable& t) {
+  const Group g = parent.create_group("restarts");
+  write_1d(g, "restart", t.restart);
+  write_1d(g, "valid_raw", t.valid_raw);
+  write_1d(g, "sweeps", t.sweeps);
+  write_1d(g, "mean_field_steps", t.mean_field_steps);
+  write_1d(g, "energy", t.energy);
+  write_1d(g, "repaired_objective", t.repaired_objective);
+  write_1d(g, "objective", t.objective);
+}
+
 void write_association(const Group& parent, const AssociationRecord& a) {
   const Group g = parent.create_group(a.name);
   const std::size_t k = a.cost.size(), s = static_cast<std::size_t>(a.num_sensors);
@@ -123,6 +134,7 @@ void write_association(const Group& parent, const AssociationRecord& a) {
   if (!a.energy.empty() || a.energy_rows > 0)
     g.write_dataset("energy", std::span<const float>(a.energy),
                     {static_cast<hsize_t>(a.energy_rows), static_cast<hsize_t>(a.energy_cols)});
+  if (a.restarts.size() > 0) write_restarts(g, a.restarts);
 }
 
 void write_metrics(const Group& parent, const MetricsRecord& m) {
@@ -270,6 +282,20 @@ Measurements read_measurements(const Group& root) {
   return m;
 }
 
+RestartTable read_restarts(const Group& g) {
+  RestartTable t;
+  t.restart = read_int32(g, "restart", 0, "");
+  const std::size_t n = t.restart.size();
+  const std::string ref = g.child_path("restart");
+  t.valid_raw = read_int32(g, "valid_raw", n, ref);
+  t.sweeps = read_int32(g, "sweeps", n, ref);
+  t.mean_field_steps = read_int32(g, "mean_field_steps", n, ref);
+  t.energy = read_1d(g, "energy", n, ref);
+  t.repaired_objective = read_1d(g, "repaired_objective", n, ref);
+  t.objective = read_1d(g, "objective", n, ref);
+  return t;
+}
+
 AssociationRecord read_association(const Group& parent, const std::string& name) {
   const Group g = parent.open_group(name);
   AssociationRecord a;
@@ -303,6 +329,7 @@ AssociationRecord read_association(const Group& parent, const std::string& name)
     a.energy_rows = static_cast<int32_t>(e[0]);
     a.energy_cols = static_cast<int32_t>(e[1]);
   }
+  if (g.has("restarts")) a.restarts = read_restarts(g.open_group("restarts"));
   return a;
 }
 

@@ -7,7 +7,9 @@
 //   /measurements/         sensor, t, range, bearing, elevation, target   optional
 //   /tracks/               sensor, track, t, state (N×D), cov (N×D(D+1)/2), truth; attr state_layout
 //   /associations/<name>/  tuples (K×S int32), cost (K); attrs solver, options, objective,
-//                          lower_bound, gap, runtime_s, seed; optional energy (R×T float32)
+//                          lower_bound, gap, runtime_s, seed; optional energy (R×T float32);
+//                          optional restarts/ (one row per restart: restart, valid_raw, sweeps,
+//                          mean_field_steps (int32), energy, repaired_objective, objective (float64))
 //   /metrics/<name>/       attrs correct_rate, false_rate, missed_rate; small tables as datasets
 //   /system_tracks/<name>/ track, t, state (N×4), mapping/{sensor, local_track, system_track, packets};
 //                          attrs method, options (seed 001 fusion centres, io/system_tracks_file.hpp)
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include "io/system_tracks_file.hpp"
+#include "kernels/assignment_types.hpp"
 #include "kernels/types.hpp"
 
 namespace trackassoc {
@@ -45,6 +48,7 @@ struct AssociationRecord {
   // Optional energy trace, R restarts × T sweeps, row-major; empty when not recorded.
   int32_t energy_rows = 0, energy_cols = 0;
   std::vector<float> energy;
+  RestartTable restarts;  // optional per-restart table (kernels/assignment_types.hpp); empty = none
   std::size_t num_tuples() const { return num_sensors ? tuples.size() / num_sensors : 0; }
 };
 

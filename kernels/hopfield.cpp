@@ -3,11 +3,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <numeric>
+#include <utility>
+
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include "kernels/error.hpp"
 #include "kernels/hopfield_continuous.hpp"
+#include "kernels/hopfield_diagonal.hpp"
 #include "kernels/hopfield_discrete.hpp"
 #include "kernels/local_search.hpp"
 #include "kernels/parallel.hpp"
@@ -105,6 +112,65 @@ void HopfieldOptions::validate() const {
   }
   if (schedule == HopfieldSchedule::kContinuous)
     require(energy == HopfieldEnergy::kFullPlane, "schedule 'continuous'", "needs the full-plane energy");
+}
+
+std::vector<uint32_t> ascending_cost_order(std::span<const float> c) {
+  const std::size_t K = c.size();
+  require(K < (std::size_t{1} << 32), "cost order", "more than 2^32 entries");
+  // LSD radix sort of (key, index), 11-bit digits. Every pass is stable, so ties keep ascending
+  // index order, and a stable sort's output is unique: the chunking below cannot change it.
+  // Each pass: per-chunk digit counts, offsets in (digit, chunk) order, per-chunk scatter; the
+  // chunks run in parallel (this is part of the serial prologue of the restarts).
+  constexpr int kBits = 11;
+  constexpr std::size_t kDigits = std::size_t{1} << kBits;
+  constexpr uint32_t kMask = kDigits - 1;
+  const std::size_t chunks = std::clamp<std::size_t>(K / 16384, 1, 16), chunk = (K + chunks - 1) / chunks;
+  std::vector<uint32_t> key(K), idx(K), key2(K), idx2(K);
+  // Keys whose unsigned order is the float order (sign flip for ≥ 0, complement for < 0; −0 as +0).
+  parallel_for_range(K, 16384, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t a = lo; a < hi; ++a) {
+      uint32_t bits;
+      std::memcpy(&bits, &c[a], sizeof bits);
+      if (bits == 0x80000000u) bits = 0;
+      key[a] = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
+      idx[a] = static_cast<uint32_t>(a);
+    }
+  });
+  std::vector<std::size_t> count(chunks * kDigits);  // count[chunk·kDigits + digit]
+  for (int shift = 0; shift < 32; shift += kBits) {
+    parallel_for_range(chunks, 1, [&](std::size_t tb, std::size_t te) {
+      for (std::size_t t = tb; t < te; ++t) {
+        std::size_t* cnt = count.data() + t * kDigits;
+        std::fill(cnt, cnt + kDigits, 0);
+        for (std::size_t a = t * chunk, e = std::min(K, a + chunk); a < e; ++a) ++cnt[(key[a] >> shift) & kMask];
+      }
+    });
+    std::size_t sum = 0, largest = 0;
+    for (std::size_t d = 0; d < kDigits; ++d) {
+      std::size_t total = 0;
+      for (std::size_t t = 0; t < chunks; ++t) {
+        const std::size_t n = count[t * kDigits + d];
+        count[t * kDigits + d] = sum;
+        sum += n;
+        total += n;
+      }
+      largest = std::max(largest, total);
+    }
+    if (largest == K) continue;  // one digit value: the pass would not move anything
+    parallel_for_range(chunks, 1, [&](std::size_t tb, std::size_t te) {
+      for (std::size_t t = tb; t < te; ++t) {
+        std::size_t* off = count.data() + t * kDigits;
+        for (std::size_t a = t * chunk, e = std::min(K, a + chunk); a < e; ++a) {
+          const std::size_t pos = off[(key[a] >> shift) & kMask]++;
+          key2[pos] = key[a];
+          idx2[pos] = idx[a];
+        }
+      }
+    });
+    key.swap(key2);
+    idx.swap(idx2);
+  }
+  return idx;
 }
 
 HopfieldWeights hopfield_weights(const HopfieldOptions& o, const NormalisedCost& c) {
@@ -212,8 +278,8 @@ void finish_restart(const CostTensor3& cost, const HopfieldOptions& o, std::span
 }
 
 RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, const HopfieldOptions& o,
-                           const HopfieldWeights& w, const std::vector<uint32_t>& cost_order, uint64_t seed,
-                           int32_t restart) {
+                           const HopfieldWeights& w, const OrderedSweepPlan* cost_plan,
+                           const std::shared_ptr<const DiagonalCost>& diagonal_cost, uint64_t seed, int32_t restart) {
   CounterRng rng(seed, 0, static_cast<uint64_t>(restart));
   RestartOutput out;
   HopfieldRestart& rec = out.record;
@@ -225,13 +291,13 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
   std::vector<uint32_t> order;
   SliceRandomOrder slice_order;
   if (diag) {
-    dnet = std::make_unique<DiagonalNetwork>(w, c);
+    dnet = std::make_unique<DiagonalNetwork>(w, diagonal_cost);
     dnet->set_state(V0);
     order.resize(dnet->num_blocks());
     std::iota(order.begin(), order.end(), 0u);
   } else if (o.schedule == HopfieldSchedule::kAsync) {
-    if (o.order == HopfieldOrder::kCost)
-      order = cost_order;
+    if (o.order == HopfieldOrder::kCost && o.temperature > 0)
+      order = cost_plan->neuron;
     else if (o.order == HopfieldOrder::kRandom || o.temperature > 0) {
       order.resize(c.size());
       std::iota(order.begin(), order.end(), 0u);
@@ -254,6 +320,8 @@ RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, con
       if (o.order == HopfieldOrder::kSliceRandom && T == 0.0) {
         slice_order.draw(c.n1, c.n2, c.n3, rng);
         flips = async_sweep_slices(net, slice_order.slices, slice_order.packed_jk, slice_order.rotation);
+      } else if (o.order == HopfieldOrder::kCost && T == 0.0) {
+        flips = async_sweep_planned(net, *cost_plan);
       } else {
         if (o.order == HopfieldOrder::kSliceRandom) rng.shuffle(std::span<uint32_t>(order));
         flips = async_sweep(net, order, T, &rng);
@@ -353,7 +421,8 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
               cost.size() == static_cast<std::size_t>(cost.n1) * cost.n2 * cost.n3,
           "cost tensor", "size does not match n1·n2·n3");
   require(cost.size() < (std::size_t{1} << 32), "cost tensor", "more than 2^32 neurons; use the sparse form");
-  for (float b : cost.cost) require(!std::isnan(b), "cost tensor", "NaN cost");
+  require(std::none_of(cost.cost.begin(), cost.cost.end(), [](float b) { return std::isnan(b); }), "cost tensor",
+          "NaN cost");
   HopfieldResult result;
   const NormalisedCost c = normalise_cost(cost);
   result.weights = hopfield_weights(options, c);
@@ -367,21 +436,28 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   }
   if (options.schedule == HopfieldSchedule::kDiagonal)
     require(cost.n1 <= cost.n2 && cost.n1 <= cost.n3, "schedule 'diagonal'", "needs n1 <= n2 and n1 <= n3");
-  std::vector<uint32_t> cost_order;
-  if (options.schedule == HopfieldSchedule::kAsync && options.order == HopfieldOrder::kCost) {
-    cost_order.resize(c.size());
-    std::iota(cost_order.begin(), cost_order.end(), 0u);
-    std::stable_sort(cost_order.begin(), cost_order.end(),
-                     [&](uint32_t x, uint32_t y) { return c.c[x] < c.c[y]; });
-  }
+  // Shared by every restart, built once (the serial part of the solve: keep it O(n1n2n3) and small).
+  std::unique_ptr<const OrderedSweepPlan> cost_plan;
+  if (options.schedule == HopfieldSchedule::kAsync && options.order == HopfieldOrder::kCost)
+    cost_plan = std::make_unique<const OrderedSweepPlan>(ascending_cost_order(c.c), c);
+  std::shared_ptr<const DiagonalCost> diagonal_cost;
+  if (options.schedule == HopfieldSchedule::kDiagonal) diagonal_cost = std::make_shared<const DiagonalCost>(c);
   std::vector<RestartOutput> outs(options.restarts);
-  parallel_for_range(static_cast<std::size_t>(options.restarts), 1, [&](std::size_t rb, std::size_t re) {
-    for (std::size_t r = rb; r < re; ++r)
-      outs[r] =
-          options.schedule == HopfieldSchedule::kContinuous
-              ? run_continuous(cost, c, options, result.weights, seed, static_cast<int32_t>(r))
-              : run_discrete(cost, c, options, result.weights, cost_order, seed, static_cast<int32_t>(r));
-  });
+  // One task per restart, balanced dynamically (restarts differ in their number of sweeps; a
+  // static split of 8 restarts into 4 + 4 leaves one thread idle at the end). Each restart reads
+  // only its own stream CounterRng(seed, 0, r), so the schedule does not change any result.
+  // A restart's own parallel loops (continuous and sync steps) run isolated: a thread waiting for
+  // them must not pick up another whole restart meanwhile, which would hold up this one.
+  tbb::parallel_for(
+      0, options.restarts,
+      [&](int32_t r) {
+        tbb::this_task_arena::isolate([&] {
+          outs[r] = options.schedule == HopfieldSchedule::kContinuous
+                        ? run_continuous(cost, c, options, result.weights, seed, r)
+                        : run_discrete(cost, c, options, result.weights, cost_plan.get(), diagonal_cost, seed, r);
+        });
+      },
+      tbb::simple_partitioner());
   int32_t best = 0;
   int64_t total_sweeps = 0, raw = 0;
   for (int32_t r = 0; r < options.restarts; ++r) {
@@ -404,6 +480,21 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
                 hopfield_energy_name(options.energy) + ": raw validity " + std::to_string(raw) + "/" +
                 std::to_string(options.restarts) + ", best restart " + std::to_string(best);
   return result;
+}
+
+RestartTable hopfield_restart_table(const HopfieldResult& result) {
+  RestartTable t;
+  for (std::size_t r = 0; r < result.restarts.size(); ++r) {
+    const HopfieldRestart& rr = result.restarts[r];
+    t.restart.push_back(static_cast<int32_t>(r));
+    t.valid_raw.push_back(rr.raw_feasible ? 1 : 0);
+    t.sweeps.push_back(static_cast<int32_t>(rr.sweeps));
+    t.mean_field_steps.push_back(static_cast<int32_t>(rr.mean_field_steps));
+    t.energy.push_back(rr.energy);
+    t.repaired_objective.push_back(rr.repaired_objective);
+    t.objective.push_back(rr.objective);
+  }
+  return t;
 }
 
 }  // namespace trackassoc

@@ -118,9 +118,18 @@ struct HopfieldResult {
   HopfieldWeights weights;  // the final weights used (normalised-cost units)
 };
 
+// Indices 0..K−1 in ascending order of c, ties in ascending index (the order of std::stable_sort
+// by c), by an LSD radix sort of the float keys: O(K), serial. The async "cost" order; c must not
+// hold NaN.
+std::vector<uint32_t> ascending_cost_order(std::span<const float> c);
+
 // The weights the solver uses for a normalised cost (auto or as given, N filled in).
 HopfieldWeights hopfield_weights(const HopfieldOptions& options, const NormalisedCost& c);
 
 HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& options, uint64_t seed);
+
+// The per-restart table of a result (restart, raw validity, sweeps, mean-field steps, energy,
+// repaired and final objective), as /associations/<name>/restarts/ stores it.
+RestartTable hopfield_restart_table(const HopfieldResult& result);
 
 }  // namespace trackassoc

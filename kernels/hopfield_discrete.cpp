@@ -53,13 +53,57 @@ struct FastDivider {
 
 }  // namespace
 
+namespace {
+
+// One Gauss–Seidel update of neuron a = (i, j, k) with normalised cost ca: the exact ΔE_on from
+// the marginals (primes exclude the neuron), the rule of seed 000 Eq. 10 (or Glauber's at
+// temperature T > 0), then the marginals and the hash. Returns 1 on a flip.
+inline int64_t update_neuron(DiscreteNetwork& net, uint32_t a, int32_t i, int32_t j, int32_t k, float ca,
+                             double temperature, CounterRng* rng) {
+  const NormalisedCost& c = *net.c;
+  const HopfieldWeights& w = net.w;
+  HopfieldMarginals& m = net.m;
+  const bool printed = net.form == HopfieldEnergy::kPrinted;
+  const std::size_t ij = static_cast<std::size_t>(i) * c.n2 + j, ik = static_cast<std::size_t>(i) * c.n3 + k,
+                    jk = static_cast<std::size_t>(j) * c.n3 + k;
+  const int32_t v = net.V[a];
+  double dE;
+  if (!printed) {
+    dE = full_plane_delta_on(w, m.R[i] - v, m.S[j] - v, m.T[k] - v, m.M - v, ca);
+  } else {
+    dE = printed_delta_on(w, m.R[i] - v, m.S[j] - v, m.T[k] - v, m.Lij[ij] - v, m.Lik[ik] - v, m.Ljk[jk] - v,
+                          m.M - v, ca);
+  }
+  int32_t nv;
+  if (temperature > 0.0) {
+    // Glauber dynamics: P(on) = 1/(1+exp(ΔE_on/T)).
+    const double x = std::clamp(dE / temperature, -50.0, 50.0);
+    nv = rng->uniform() * (1.0 + std::exp(x)) < 1.0 ? 1 : 0;
+  } else {
+    nv = dE < 0 ? 1 : (dE > 0 ? 0 : v);  // seed 000 Eq. 10
+  }
+  if (nv == v) return 0;
+  const int32_t d = nv - v;
+  net.V[a] = static_cast<uint8_t>(nv);
+  m.R[i] += d;
+  m.S[j] += d;
+  m.T[k] += d;
+  m.M += d;
+  if (printed) {
+    m.Lij[ij] += d;
+    m.Lik[ik] += d;
+    m.Ljk[jk] += d;
+  }
+  net.hash ^= zobrist_key(a);
+  return 1;
+}
+
+}  // namespace
+
 int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, double temperature,
                     CounterRng* rng) {
   const NormalisedCost& c = *net.c;
-  const HopfieldWeights& w = net.w;
-  const bool printed = net.form == HopfieldEnergy::kPrinted;
-  const bool glauber = temperature > 0.0 && rng != nullptr;
-  HopfieldMarginals& m = net.m;
+  const double T = temperature > 0.0 && rng != nullptr ? temperature : 0.0;
   const FastDivider div3(static_cast<uint32_t>(c.n3)), div2(static_cast<uint32_t>(c.n2));
   int64_t flips = 0;
   for (uint32_t a : order) {
@@ -67,37 +111,36 @@ int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, doubl
     const int32_t k = static_cast<int32_t>(a - ij * static_cast<uint32_t>(c.n3));
     const int32_t i = static_cast<int32_t>(div2.div(ij));
     const int32_t j = static_cast<int32_t>(ij - static_cast<uint32_t>(i) * c.n2);
-    const int32_t v = net.V[a];
-    double dE;
-    if (!printed) {
-      dE = full_plane_delta_on(w, m.R[i] - v, m.S[j] - v, m.T[k] - v, m.M - v, c.c[a]);
-    } else {
-      dE = printed_delta_on(w, m.R[i] - v, m.S[j] - v, m.T[k] - v, m.Lij[ij] - v,
-                            m.Lik[static_cast<std::size_t>(i) * c.n3 + k] - v,
-                            m.Ljk[static_cast<std::size_t>(j) * c.n3 + k] - v, m.M - v, c.c[a]);
+    flips += update_neuron(net, a, i, j, k, c.c[a], T, rng);
+  }
+  return flips;
+}
+
+OrderedSweepPlan::OrderedSweepPlan(std::span<const uint32_t> order, const NormalisedCost& c)
+    : neuron(order.begin(), order.end()), i(order.size()), j(order.size()), k(order.size()), cost(order.size()) {
+  require(c.n1 < 65536 && c.n2 < 65536 && c.n3 < 65536, "async order", "needs n1, n2, n3 < 65536");
+  const FastDivider div3(static_cast<uint32_t>(c.n3)), div2(static_cast<uint32_t>(c.n2));
+  parallel_for_range(order.size(), 65536, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t p = lo; p < hi; ++p) {
+      const uint32_t a = order[p];
+      if (a >= c.size()) throw InputError("async order: neuron index out of range");
+      const uint32_t ij = div3.div(a), ii = div2.div(ij);
+      i[p] = static_cast<uint16_t>(ii);
+      j[p] = static_cast<uint16_t>(ij - ii * static_cast<uint32_t>(c.n2));
+      k[p] = static_cast<uint16_t>(a - ij * static_cast<uint32_t>(c.n3));
+      cost[p] = c.c[a];
     }
-    int32_t nv;
-    if (glauber) {
-      // Glauber dynamics: P(on) = 1/(1+exp(ΔE_on/T)).
-      const double x = std::clamp(dE / temperature, -50.0, 50.0);
-      nv = rng->uniform() * (1.0 + std::exp(x)) < 1.0 ? 1 : 0;
-    } else {
-      nv = dE < 0 ? 1 : (dE > 0 ? 0 : v);  // seed 000 Eq. 10
-    }
-    if (nv == v) continue;
-    const int32_t d = nv - v;
-    net.V[a] = static_cast<uint8_t>(nv);
-    m.R[i] += d;
-    m.S[j] += d;
-    m.T[k] += d;
-    m.M += d;
-    if (printed) {
-      m.Lij[ij] += d;
-      m.Lik[static_cast<std::size_t>(i) * c.n3 + k] += d;
-      m.Ljk[static_cast<std::size_t>(j) * c.n3 + k] += d;
-    }
-    net.hash ^= zobrist_key(a);
-    ++flips;
+  });
+}
+
+int64_t async_sweep_planned(DiscreteNetwork& net, const OrderedSweepPlan& plan) {
+  const std::size_t K = plan.neuron.size();
+  const uint32_t* neuron = plan.neuron.data();
+  constexpr std::size_t kAhead = 32;  // the state is read at random: prefetch it
+  int64_t flips = 0;
+  for (std::size_t p = 0; p < K; ++p) {
+    if (p + kAhead < K) __builtin_prefetch(net.V.data() + neuron[p + kAhead], 1);
+    flips += update_neuron(net, neuron[p], plan.i[p], plan.j[p], plan.k[p], plan.cost[p], 0.0, nullptr);
   }
   return flips;
 }
@@ -303,102 +346,6 @@ SyncSweepResult sync_sweep(DiscreteNetwork& net, double fraction, uint64_t sweep
   net.m = std::move(nw);
   net.hash ^= hash_delta.load();
   return {flips_total.load()};
-}
-
-// ---------------------------------------------------------------------------------------------
-// diagonal: block-major layout, exact asynchronous semantics inside a block.
-
-DiagonalNetwork::DiagonalNetwork(const HopfieldWeights& w, const NormalisedCost& c)
-    : w_(w), n1_(c.n1), n2_(c.n2), n3_(c.n3) {
-  require(n1_ <= n2_ && n1_ <= n3_, "schedule 'diagonal'", "needs n1 <= n2 and n1 <= n3");
-  require(w.D == 0.f, "schedule 'diagonal'", "needs D = 0 (the D term couples every neuron)");
-  c_.resize(c.size());
-  V_.assign(c.size(), 0);
-  for (int32_t a = 0; a < n2_; ++a)
-    for (int32_t b = 0; b < n3_; ++b)
-      for (int32_t i = 0; i < n1_; ++i)
-        c_[(static_cast<std::size_t>(a) * n3_ + b) * n1_ + i] = c.c[standard_index(a, b, i)];
-  R_.assign(n1_, 0.f);
-  S_.assign(n2_, 0.f);
-  T_.assign(n3_, 0.f);
-}
-
-std::size_t DiagonalNetwork::standard_index(int32_t a, int32_t b, int32_t i) const {
-  const int32_t j = (i + a) % n2_, k = (i + b) % n3_;
-  return (static_cast<std::size_t>(i) * n2_ + j) * n3_ + k;
-}
-
-void DiagonalNetwork::set_state(std::span<const uint8_t> V) {
-  std::fill(R_.begin(), R_.end(), 0.f);
-  std::fill(S_.begin(), S_.end(), 0.f);
-  std::fill(T_.begin(), T_.end(), 0.f);
-  for (int32_t a = 0; a < n2_; ++a)
-    for (int32_t b = 0; b < n3_; ++b)
-      for (int32_t i = 0; i < n1_; ++i) {
-        const uint8_t v = V[standard_index(a, b, i)];
-        V_[(static_cast<std::size_t>(a) * n3_ + b) * n1_ + i] = v;
-        R_[i] += v;
-        S_[(i + a) % n2_] += v;
-        T_[(i + b) % n3_] += v;
-      }
-}
-
-void DiagonalNetwork::get_state(std::span<uint8_t> V) const {
-  for (int32_t a = 0; a < n2_; ++a)
-    for (int32_t b = 0; b < n3_; ++b)
-      for (int32_t i = 0; i < n1_; ++i)
-        V[standard_index(a, b, i)] = V_[(static_cast<std::size_t>(a) * n3_ + b) * n1_ + i];
-}
-
-namespace {
-
-// Updates the neurons i ∈ [lo, hi) of one block, where j = i + ja and k = i + kb (no wrap inside
-// the segment). The n updates touch distinct R, S, T entries, so they vectorise.
-inline int32_t update_segment(int32_t lo, int32_t hi, int32_t ja, int32_t kb, const float* __restrict c,
-                              uint8_t* __restrict V, float* __restrict R, float* __restrict S,
-                              float* __restrict T, float A, float B, float C, float E) {
-  int32_t flips = 0;
-  const float half = 0.5f * (A + B + C), self = A + B + C;
-  for (int32_t i = lo; i < hi; ++i) {
-    const float v = static_cast<float>(V[i]);
-    // full-plane ΔE_on with primes: A(R−v−½) + B(S−v−½) + C(T−v−½) + E·ĉ
-    const float dE = A * R[i] + B * S[i + ja] + C * T[i + kb] - self * v - half + E * c[i];
-    const float nv = dE < 0.f ? 1.f : (dE > 0.f ? 0.f : v);
-    const float d = nv - v;
-    R[i] += d;
-    S[i + ja] += d;
-    T[i + kb] += d;
-    V[i] = static_cast<uint8_t>(nv);
-    flips += d != 0.f;
-  }
-  return flips;
-}
-
-}  // namespace
-
-int64_t DiagonalNetwork::update_block(int32_t a, int32_t b) {
-  const std::size_t base = (static_cast<std::size_t>(a) * n3_ + b) * n1_;
-  const float* c = c_.data() + base;
-  uint8_t* V = V_.data() + base;
-  // Segment boundaries where j = i + a or k = i + b wraps.
-  int32_t cuts[4] = {0, std::min(n1_, n2_ - a), std::min(n1_, n3_ - b), n1_};
-  if (cuts[1] > cuts[2]) std::swap(cuts[1], cuts[2]);
-  int64_t flips = 0;
-  for (int s = 0; s < 3; ++s) {
-    const int32_t lo = cuts[s], hi = cuts[s + 1];
-    if (lo >= hi) continue;
-    const int32_t ja = lo + a >= n2_ ? a - n2_ : a;
-    const int32_t kb = lo + b >= n3_ ? b - n3_ : b;
-    flips += update_segment(lo, hi, ja, kb, c, V, R_.data(), S_.data(), T_.data(), w_.A, w_.B, w_.C, w_.E);
-  }
-  return flips;
-}
-
-int64_t DiagonalNetwork::sweep(std::span<const uint32_t> block_order) {
-  int64_t flips = 0;
-  for (uint32_t blk : block_order)
-    flips += update_block(static_cast<int32_t>(blk / n3_), static_cast<int32_t>(blk % n3_));
-  return flips;
 }
 
 }  // namespace trackassoc

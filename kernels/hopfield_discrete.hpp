@@ -15,10 +15,7 @@
 //             i-slices (TBB); new marginals are reduced with integer atomics, so the result is
 //             independent of the thread count. A fraction < 1 updates only a pseudo-random subset
 //             (damping). 2-cycles are detected with a Zobrist hash of the state.
-//   diagonal  Blocks {(i, (i+a) mod n2, (i+b) mod n3) : i < n1} share no plane, so for the
-//             full-plane energy without the D term their updates are independent and a block
-//             update is exactly n1 asynchronous updates. The state and cost are kept in a
-//             block-major layout so a block is contiguous and vectorises. Needs n1 ≤ n2, n3.
+//   diagonal  blocks of neurons that share no plane: kernels/hopfield_diagonal.hpp.
 #pragma once
 
 #include <cstdint>
@@ -54,6 +51,19 @@ struct DiscreteNetwork {
 int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, double temperature = 0.0,
                     CounterRng* rng = nullptr);
 
+// A fixed asynchronous order with what a sweep reads, laid out in that order: the neuron, its
+// (i, j, k) and its ĉ. Built once per solve (the default "cost" order) and shared by every
+// restart, so a sweep streams these arrays and reads only the state and the marginals at random.
+// Needs n1, n2, n3 < 65536. O(K) memory (14 bytes per neuron).
+struct OrderedSweepPlan {
+  std::vector<uint32_t> neuron;
+  std::vector<uint16_t> i, j, k;
+  std::vector<float> cost;
+  OrderedSweepPlan(std::span<const uint32_t> order, const NormalisedCost& c);
+};
+// async_sweep(net, plan.neuron) at temperature 0: the same updates in the same order, faster.
+int64_t async_sweep_planned(DiscreteNetwork& net, const OrderedSweepPlan& plan);
+
 // One asynchronous sweep slice by slice: the i-slices in `slice_order`; within slice i, neuron
 // (j, k) = packed_jk[(p + rotation[i]) mod n2n3] for p = 0, 1, ... (packed as j << 16 | k). The
 // same Gauss–Seidel rule as async_sweep, without index divisions and with the slice (n2·n3
@@ -67,29 +77,5 @@ struct SyncSweepResult {
 // One synchronous sweep. `fraction` in (0, 1]: the share of neurons updated (damping), chosen by a
 // counter-based hash of (sweep_key, neuron), so it is deterministic for any thread count.
 SyncSweepResult sync_sweep(DiscreteNetwork& net, double fraction = 1.0, uint64_t sweep_key = 0);
-
-// The diagonal schedule's block-major network (full-plane energy, D = 0).
-class DiagonalNetwork {
- public:
-  // Throws InputError unless n1 ≤ n2, n1 ≤ n3 and w.D == 0.
-  DiagonalNetwork(const HopfieldWeights& w, const NormalisedCost& c);
-  void set_state(std::span<const uint8_t> V);  // V in the standard (i, j, k) layout
-  void get_state(std::span<uint8_t> V) const;  // back to the standard layout
-  std::size_t num_blocks() const { return static_cast<std::size_t>(n2_) * n3_; }
-  // One sweep over the blocks in `block_order` (block = a·n3 + b). Returns the number of flips.
-  int64_t sweep(std::span<const uint32_t> block_order);
-  // Standard-layout index of element i of block (a, b).
-  std::size_t standard_index(int32_t a, int32_t b, int32_t i) const;
-  void set_E(float E) { w_.E = E; }
-  const HopfieldWeights& weights() const { return w_; }
-
- private:
-  int64_t update_block(int32_t a, int32_t b);
-  HopfieldWeights w_;
-  int32_t n1_, n2_, n3_;
-  std::vector<float> c_;          // ĉ in block-major layout [(a·n3 + b)·n1 + i]
-  std::vector<uint8_t> V_;        // state in block-major layout
-  std::vector<float> R_, S_, T_;  // plane sums as exact small integers
-};
 
 }  // namespace trackassoc

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "kernels/parallel.hpp"
+
 namespace trackassoc {
 
 const char* hopfield_energy_name(HopfieldEnergy e) {
@@ -16,21 +18,42 @@ NormalisedCost normalise_cost(const CostTensor3& cost, float inf_margin) {
   out.n1 = cost.n1;
   out.n2 = cost.n2;
   out.n3 = cost.n3;
-  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-  for (float b : cost.cost)
-    if (std::isfinite(b)) {
-      lo = std::min(lo, b);
-      hi = std::max(hi, b);
+  // Min and max over fixed chunks in parallel (exact, so independent of the split), then the map.
+  constexpr std::size_t kChunk = 65536;
+  const std::size_t K = cost.size(), chunks = (K + kChunk - 1) / kChunk;
+  std::vector<float> chunk_lo(chunks, std::numeric_limits<float>::infinity()),
+      chunk_hi(chunks, -std::numeric_limits<float>::infinity());
+  parallel_for_range(chunks, 1, [&](std::size_t tb, std::size_t te) {
+    for (std::size_t t = tb; t < te; ++t) {
+      // Local accumulators: the chunk_lo/hi entries of two threads share a cache line.
+      float l = std::numeric_limits<float>::infinity(), h = -l;
+      for (std::size_t a = t * kChunk, e = std::min(K, a + kChunk); a < e; ++a) {
+        const float b = cost.cost[a];
+        if (std::isfinite(b)) {
+          l = std::min(l, b);
+          h = std::max(h, b);
+        }
+      }
+      chunk_lo[t] = l;
+      chunk_hi[t] = h;
     }
+  });
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  for (std::size_t t = 0; t < chunks; ++t) {
+    lo = std::min(lo, chunk_lo[t]);
+    hi = std::max(hi, chunk_hi[t]);
+  }
   if (!(lo <= hi)) lo = hi = 0.f;  // no finite entry
   out.b_min = lo;
   out.b_range = hi > lo ? hi - lo : 1.f;
   const float inv = 1.f / out.b_range;
-  out.c.resize(cost.size());
-  for (std::size_t a = 0; a < cost.size(); ++a) {
-    const float b = cost.cost[a];
-    out.c[a] = std::isfinite(b) ? std::clamp((b - lo) * inv, 0.f, 1.f) : 1.f + inf_margin;
-  }
+  out.c.resize(K);
+  parallel_for_range(K, kChunk, [&](std::size_t ab, std::size_t ae) {
+    for (std::size_t a = ab; a < ae; ++a) {
+      const float b = cost.cost[a];
+      out.c[a] = std::isfinite(b) ? std::clamp((b - lo) * inv, 0.f, 1.f) : 1.f + inf_margin;
+    }
+  });
   return out;
 }
 

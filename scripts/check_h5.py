@@ -85,6 +85,11 @@ def check_file(path, quiet=False):
             json.loads(text(g.attrs["options"]))
             if "energy" in g:
                 check(g["energy"].dtype == np.float32 and g["energy"].ndim == 2, f"/associations/{name}/energy")
+            if "restarts" in g:  # per-restart table of multi-start solvers (Hopfield)
+                r = g["restarts"]
+                rows = r["restart"].shape
+                for col in ("valid_raw", "sweeps", "mean_field_steps", "energy", "repaired_objective", "objective"):
+                    check(col in r and r[col].shape == rows, f"/associations/{name}/restarts/{col} shape")
         for name, g in f.get("metrics", {}).items():
             for attr in ("correct_rate", "false_rate", "missed_rate"):
                 check(attr in g.attrs, f"/metrics/{name} lacks attribute {attr}")

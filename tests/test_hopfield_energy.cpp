@@ -7,41 +7,18 @@
 #include <numeric>
 
 #include "kernels/error.hpp"
+#include "kernels/hopfield.hpp"
+#include "kernels/hopfield_diagonal.hpp"
 #include "kernels/hopfield_discrete.hpp"
 #include "kernels/hopfield_energy.hpp"
 #include "kernels/random.hpp"
+#include "tests/hopfield_test_support.hpp"
 
 namespace trackassoc {
 namespace {
 
-CostTensor3 random_tensor(int32_t n1, int32_t n2, int32_t n3, uint64_t seed) {
-  CostTensor3 t(n1, n2, n3);
-  CounterRng rng(seed, 1);
-  for (auto& b : t.cost) b = static_cast<float>(rng.uniform(0.0, 50.0));
-  return t;
-}
+using namespace hopfield_test;
 
-std::vector<uint8_t> random_state(std::size_t K, double p, CounterRng& rng) {
-  std::vector<uint8_t> V(K);
-  for (auto& v : V) v = rng.uniform() < p;
-  return V;
-}
-
-// Weights with all five terms active, and an N that need not equal min(n).
-HopfieldWeights some_weights(CounterRng& rng, int32_t N) {
-  HopfieldWeights w;
-  w.A = static_cast<float>(rng.uniform(0.5, 3.0));
-  w.B = static_cast<float>(rng.uniform(0.5, 3.0));
-  w.C = static_cast<float>(rng.uniform(0.5, 3.0));
-  w.D = static_cast<float>(rng.uniform(0.0, 1.0));
-  w.E = static_cast<float>(rng.uniform(0.5, 4.0));
-  w.N = N;
-  return w;
-}
-
-struct Dims {
-  int32_t n1, n2, n3;
-};
 const Dims kDims[] = {{3, 3, 3}, {4, 4, 4}, {3, 4, 5}, {5, 4, 3}, {2, 6, 4}};
 const HopfieldEnergy kForms[] = {HopfieldEnergy::kFullPlane, HopfieldEnergy::kPrinted};
 
@@ -232,19 +209,42 @@ TEST(HopfieldDiscrete, SliceAsyncEqualsNaiveInTheSameOrder) {
     }
 }
 
-std::vector<uint8_t> permutation_state(int32_t n, CounterRng& rng) {
-  std::vector<int32_t> pj(n), pk(n);
-  std::iota(pj.begin(), pj.end(), 0);
-  std::iota(pk.begin(), pk.end(), 0);
-  rng.shuffle(std::span<int32_t>(pj));
-  rng.shuffle(std::span<int32_t>(pk));
-  std::vector<uint8_t> V(static_cast<std::size_t>(n) * n * n, 0);
-  for (int32_t i = 0; i < n; ++i) V[(static_cast<std::size_t>(i) * n + pj[i]) * n + pk[i]] = 1;
-  return V;
-}
-
 // E·ĉ_max < (A+B+C+D)/2 makes every valid assignment a fixed point of the full-plane network
 // (DESIGN §4.4), under every schedule; above the bound the most expensive one is not.
+// The planned sweep (order, indices and costs laid out once) makes the same updates as async_sweep
+// in the same order: identical states, marginals and flip counts, sweep by sweep, both energies,
+// for the cost order and for random orders, on square and rectangular shapes.
+TEST(HopfieldDiscrete, PlannedAsyncEqualsAsyncInTheSameOrder) {
+  CounterRng rng(31, 2);
+  for (const Dims& d : {Dims{5, 5, 5}, Dims{3, 4, 5}, Dims{12, 9, 14}, Dims{20, 20, 20}})
+    for (HopfieldEnergy form : kForms) {
+      const NormalisedCost c = normalise_cost(random_tensor(d.n1, d.n2, d.n3, 77));
+      HopfieldWeights w = some_weights(rng, std::min({d.n1, d.n2, d.n3}));
+      for (int variant = 0; variant < 2; ++variant) {
+        std::vector<uint32_t> order = ascending_cost_order(c.c);
+        if (variant == 1) rng.shuffle(std::span<uint32_t>(order));
+        const OrderedSweepPlan plan(order, c);
+        DiscreteNetwork a(form, w, c), b(form, w, c);
+        const std::vector<uint8_t> V0 = random_state(c.size(), 0.2, rng);
+        a.set_state(V0);
+        b.set_state(V0);
+        int64_t flips = 0;
+        for (int sweep = 0; sweep < 4; ++sweep) {
+          const int64_t fa = async_sweep_planned(a, plan), fb = async_sweep(b, order);
+          ASSERT_EQ(fa, fb);
+          ASSERT_EQ(a.V, b.V);
+          ASSERT_EQ(a.m.R, b.m.R);
+          ASSERT_EQ(a.m.S, b.m.S);
+          ASSERT_EQ(a.m.T, b.m.T);
+          ASSERT_EQ(a.m.Ljk, b.m.Ljk);
+          ASSERT_EQ(a.hash, b.hash);
+          flips += fa;
+        }
+        EXPECT_GT(flips, 0);
+      }
+    }
+}
+
 TEST(HopfieldDiscrete, EveryValidAssignmentIsAFixedPointBelowTheBound) {
   CounterRng rng(11, 2);
   const int32_t n = 5;
@@ -278,52 +278,6 @@ TEST(HopfieldDiscrete, EveryValidAssignmentIsAFixedPointBelowTheBound) {
   DiscreteNetwork net(HopfieldEnergy::kFullPlane, w, c);
   net.set_state(V);
   EXPECT_GT(net.delta_on(worst), 0.0);  // so turning it off lowers the energy
-}
-
-// A diagonal block update is exactly an asynchronous pass over its neurons and never raises the
-// full-plane energy (D = 0).
-TEST(HopfieldDiscrete, DiagonalBlocksNeverRaiseEnergyAndMatchAsync) {
-  CounterRng rng(12, 2);
-  for (const auto& d : {Dims{4, 4, 4}, Dims{5, 5, 5}, Dims{3, 4, 5}, Dims{3, 5, 4}})
-    for (int trial = 0; trial < 3; ++trial) {
-      const NormalisedCost c = normalise_cost(random_tensor(d.n1, d.n2, d.n3, 500 + trial));
-      HopfieldWeights w = some_weights(rng, d.n1);
-      w.D = 0;
-      DiagonalNetwork diag(w, c);
-      DiscreteNetwork net(HopfieldEnergy::kFullPlane, w, c);
-      const std::vector<uint8_t> V0 = random_state(c.size(), 0.35, rng);
-      diag.set_state(V0);
-      net.set_state(V0);
-      std::vector<uint32_t> blocks(diag.num_blocks());
-      std::iota(blocks.begin(), blocks.end(), 0u);
-      std::vector<uint8_t> V(c.size());
-      double E = net.energy();
-      int64_t flips = 0;
-      for (int sweep = 0; sweep < 4; ++sweep) {
-        rng.shuffle(std::span<uint32_t>(blocks));
-        for (uint32_t b : blocks) {
-          flips += diag.sweep(std::span<const uint32_t>(&b, 1));
-          // the same block, neuron by neuron, in reverse order (order must not matter)
-          std::vector<uint32_t> members;
-          for (int32_t i = d.n1 - 1; i >= 0; --i)
-            members.push_back(static_cast<uint32_t>(diag.standard_index(b / d.n3, b % d.n3, i)));
-          async_sweep(net, members);
-          diag.get_state(V);
-          ASSERT_EQ(V, net.V);
-          const double E1 = hopfield_energy(HopfieldEnergy::kFullPlane, w, c, V);
-          ASSERT_LE(E1, E + 1e-6);
-          E = E1;
-        }
-      }
-      EXPECT_GT(flips, 0);
-    }
-}
-
-TEST(HopfieldDiscrete, DiagonalRejectsDTermAndBadShape) {
-  const NormalisedCost c = normalise_cost(random_tensor(4, 4, 4, 1));
-  EXPECT_THROW(DiagonalNetwork(HopfieldWeights{1, 1, 1, 1, 1, 4}, c), InputError);
-  const NormalisedCost c2 = normalise_cost(random_tensor(5, 4, 4, 1));
-  EXPECT_THROW(DiagonalNetwork(HopfieldWeights{1, 1, 1, 0, 1, 4}, c2), InputError);
 }
 
 // Sync from the empty state with small E switches every neuron on, then every neuron off: the

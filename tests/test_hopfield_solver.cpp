@@ -14,6 +14,7 @@
 #include "kernels/hopfield.hpp"
 #include "kernels/hopfield_discrete.hpp"
 #include "kernels/hopfield_instances.hpp"
+#include "kernels/random.hpp"
 
 namespace trackassoc {
 namespace {
@@ -173,6 +174,31 @@ TEST(HopfieldSolver, EasyInstanceMatchesTheTruth) {
     int same = 0;
     for (const auto& t : s.tuples) same += std::find(g.truth.begin(), g.truth.end(), t) != g.truth.end();
     EXPECT_GE(same, 27) << name;
+  }
+}
+
+// The radix-sorted cost order equals std::stable_sort by value (ties in index order), including
+// ties, negative values, ±0 and infinities.
+TEST(HopfieldSolver, AscendingCostOrderEqualsStableSort) {
+  CounterRng rng(8, 3);
+  for (std::size_t K : {0u, 1u, 2u, 7u, 1000u, 70000u}) {
+    std::vector<float> c(K);
+    for (auto& x : c) {
+      const double u = rng.uniform();
+      x = u < 0.2 ? static_cast<float>(static_cast<int>(rng.uniform() * 5))  // many ties
+                  : static_cast<float>(rng.uniform(-3.0, 3.0));
+    }
+    if (K >= 7) {
+      c[1] = -0.f;
+      c[2] = 0.f;
+      c[3] = INFINITY;
+      c[4] = -INFINITY;
+      c[5] = 1e-40f;  // subnormal
+    }
+    std::vector<uint32_t> expected(K);
+    std::iota(expected.begin(), expected.end(), 0u);
+    std::stable_sort(expected.begin(), expected.end(), [&](uint32_t x, uint32_t y) { return c[x] < c[y]; });
+    EXPECT_EQ(ascending_cost_order(c), expected) << K;
   }
 }
 

@@ -34,6 +34,7 @@ void register_experiment_schedules(CLI::App& experiment) {
   cmd->add_option("--decomplib-dir", args->o.decomplib_dir, "Folder of ap3.*.txt and ap3.opt")
       ->capture_default_str();
   cmd->add_option("--restarts", args->o.restarts, "Restarts of every network")->capture_default_str();
+  cmd->add_option("--methods", args->o.methods, "Only these methods (table names; default: all)");
   cmd->add_option("--output", args->o.output, "HDF5 output")->capture_default_str();
   cmd->add_option("--plot", args->o.plot, "SVG plot of gap vs wall time ('' = none)")->capture_default_str();
   add_common_options(cmd, args->common);
