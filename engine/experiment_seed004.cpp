@@ -9,6 +9,7 @@
 
 #include "engine/cli/table.hpp"
 #include "engine/experiment_schedules.hpp"
+#include "engine/experiments.hpp"
 #include "engine/metrics.hpp"
 #include "engine/pipeline_sd.hpp"
 #include "engine/workflow.hpp"
@@ -175,8 +176,7 @@ void write_seed004_outputs(const std::vector<Seed004Row>& rows, const Seed004Exp
   write_atomically(o.output, [&](const std::string& tmp) {
     h5::File f = h5::File::create(tmp);
     const h5::Group root = f.root();
-    root.write_attribute("format", std::string("trackassoc-experiment"));
-    root.write_attribute("experiment", std::string("seed004"));
+    write_experiment_header(root, "seed004");
     root.write_attribute("seed", o.seed);
     root.write_attribute("p_miss", o.p_miss);
     const h5::Group g = root.create_group("seed004");

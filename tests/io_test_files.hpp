@@ -170,10 +170,11 @@ inline TrackFile full_track_file(StateLayout layout, bool all_sensors = false) {
 }
 
 inline void expect_same_double(double a, double b, const std::string& what) {
-  if (std::isnan(a) || std::isnan(b))
+  if (std::isnan(a) || std::isnan(b)) {
     EXPECT_TRUE(std::isnan(a) && std::isnan(b)) << what;
-  else
+  } else {
     EXPECT_EQ(a, b) << what;
+  }
 }
 
 inline void expect_same_file(const TrackFile& a, const TrackFile& b) {
@@ -222,8 +223,9 @@ inline void expect_same_file(const TrackFile& a, const TrackFile& b) {
     EXPECT_EQ(x.energy_cols, y.energy_cols);
     ASSERT_EQ(x.energy.size(), y.energy.size());
     // Bitwise, so that -0.f and denormal-ish values are checked too.
-    if (!x.energy.empty())
+    if (!x.energy.empty()) {
       EXPECT_EQ(0, std::memcmp(x.energy.data(), y.energy.data(), x.energy.size() * sizeof(float)));
+    }
   }
   ASSERT_EQ(a.metrics.size(), b.metrics.size());
   for (std::size_t i = 0; i < a.metrics.size(); ++i) {

@@ -126,8 +126,9 @@ TEST(Clusters, UnionOfComponentSolutionsEqualsGlobalSolution) {
     // Components are independent: no gated-in pair joins two of them.
     for (const SparsePairStatistic* s : {&p.s12, &p.s23, &p.s13}) {
       const int da = s == &p.s23 ? 1 : 0, db = s == &p.s12 ? 1 : 2;
-      for (std::size_t q = 0; q < s->size(); ++q)
+      for (std::size_t q = 0; q < s->size(); ++q) {
         EXPECT_EQ(p.components.label[p.offset[da] + s->a[q]], p.components.label[p.offset[db] + s->b[q]]);
+      }
     }
     bool balanced = true;
     for (int32_t c = 0; c < p.components.count; ++c) {

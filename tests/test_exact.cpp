@@ -143,8 +143,9 @@ TEST(Exact, TimeLimitReportsValidBound) {
   expect_consistent(b, s);
   EXPECT_LE(s.summary.lower_bound, optima.at("bs.12.1") + 1e-9);
   EXPECT_GE(s.summary.objective, optima.at("bs.12.1"));
-  if (s.summary.termination != Termination::kOptimal)
+  if (s.summary.termination != Termination::kOptimal) {
     EXPECT_EQ(s.summary.termination, Termination::kIterationLimit);
+  }
 }
 
 TEST(Exact, OptionsAreValidated) {

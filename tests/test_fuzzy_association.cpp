@@ -195,8 +195,9 @@ TEST(FuzzyAssociatorTest, SeparatedTargetsAreNeverMerged) {
       std::map<int32_t, std::set<int32_t>> targets_of;
       for (std::size_t i = 0; i < scene.size(); ++i)
         if (out.system_track[i] >= 0) targets_of[out.system_track[i]].insert(scene.target[i]);
-      for (const auto& [trk, tgts] : targets_of)
+      for (const auto& [trk, tgts] : targets_of) {
         EXPECT_EQ(tgts.size(), 1u) << "run " << run << " track " << trk;
+      }
       EXPECT_EQ(out.num_system_tracks, 2) << "run " << run;
     }
   }

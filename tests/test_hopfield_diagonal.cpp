@@ -21,7 +21,7 @@ namespace {
 using namespace hopfield_test;
 
 // Shapes below and above the vector width (16), square and rectangular, n1 a multiple of 16 or not.
-const Dims kDiagonalDims[] = {{4, 4, 4}, {5, 5, 5}, {3, 4, 5}, {3, 5, 4}, {16, 16, 16},
+const Dims kDiagonalDims[] = {{4, 4, 4},    {5, 5, 5},    {3, 4, 5},    {3, 5, 4},   {16, 16, 16},
                               {17, 19, 23}, {20, 33, 21}, {16, 16, 40}, {33, 33, 33}};
 
 TEST(HopfieldDiagonal, LayoutHoldsEachBlockContiguously) {

@@ -74,8 +74,9 @@ TEST(HopfieldTrackFile, RestartTableRoundTripsAndMatchesAnIndependentSolve) {
   write_track_file(path, file);
   const TrackFile back = read_track_file(path);
   ASSERT_EQ(back.associations.size(), file.associations.size());
-  for (std::size_t a = 0; a < file.associations.size(); ++a)
+  for (std::size_t a = 0; a < file.associations.size(); ++a) {
     EXPECT_TRUE(back.associations[a].restarts == file.associations[a].restarts) << file.associations[a].name;
+  }
 }
 
 TEST(HopfieldTrackFile, InconsistentRestartTablesAreInputErrors) {

@@ -75,12 +75,14 @@ TEST(Imm, IdentityTransitionWithCertainStartIsExactlyTheSingleModel) {
   for (std::size_t i = 0; i < N; ++i) {
     EXPECT_EQ(imm.probability(i, 0), 1.0);
     EXPECT_EQ(imm.probability(i, 1), 0.0);
-    for (int c = 0; c < 4; ++c)
+    for (int c = 0; c < 4; ++c) {
       EXPECT_NEAR(imm.combined().state(i, c), cv.state(i, c), 1e-12 * (1 + std::fabs(cv.state(i, c))));
+    }
     for (int r = 0; r < 4; ++r)
-      for (int c = r; c < 4; ++c)
+      for (int c = r; c < 4; ++c) {
         EXPECT_NEAR(imm.combined().cov(i, r, c), cv.cov(i, r, c),
                     1e-12 * std::sqrt(cv.cov(i, r, r) * cv.cov(i, c, c)));
+      }
   }
 }
 
@@ -111,9 +113,10 @@ TEST(Imm, IdentityTransitionFollowsBayesRule) {
     EXPECT_NEAR(imm.probability(i, 0) + imm.probability(i, 1), 1.0, 1e-15);
     // Combined = Σ μ_j x_j, CV extended by CA's acceleration (so the acceleration is CA's).
     const double m = imm.probability(i, 0);
-    for (int c = 0; c < 4; ++c)
+    for (int c = 0; c < 4; ++c) {
       EXPECT_NEAR(imm.combined().state(i, c), m * cv.state(i, c) + (1 - m) * ca.state(i, c),
                   1e-9 * (1 + std::fabs(ca.state(i, c))));
+    }
     EXPECT_NEAR(imm.combined().state(i, 4), ca.state(i, 4), 1e-9 * (1 + std::fabs(ca.state(i, 4))));
   }
   // The accelerating target makes the CA model the more probable one.

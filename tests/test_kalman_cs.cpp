@@ -44,9 +44,10 @@ TEST(CsFilter, SingerProcessNoiseMatchesNumericalIntegral) {
       acc *= T / (3.0 * steps);
       const Eigen::Matrix3d q = cs_process_noise_shape(alpha, T);
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
+        for (int c = 0; c < 3; ++c) {
           EXPECT_NEAR(q(r, c), acc(r, c), 1e-8 * std::sqrt(acc(r, r) * acc(c, c)))
               << alpha << " " << T << " " << r << c;
+        }
     }
   }
 }
@@ -126,9 +127,10 @@ TEST(CsFilter, BankEqualsPerTrackEigenReference) {
         for (int r = 0; r < D; ++r) {
           ASSERT_NEAR(bank.state(i, r), ref[i].x[r],
                       1e-12 * std::max({1.0, std::fabs(ref[i].x[r]), std::sqrt(ref[i].P(r, r))}));
-          for (int c = r; c < D; ++c)
+          for (int c = r; c < D; ++c) {
             ASSERT_NEAR(bank.cov(i, r, c), ref[i].P(r, c),
                         1e-12 * std::max(1.0, std::sqrt(ref[i].P(r, r) * ref[i].P(c, c))));
+          }
         }
       }
     }

@@ -94,12 +94,15 @@ void check_consistent(const LapResult& r, const std::vector<double>& c, int rows
     for (int j = 0; j < cols; ++j) dual_sum += r.col_dual[j];
     EXPECT_NEAR(dual_sum, r.cost, 1e-9 * std::max(1.0, std::abs(sum)));
     for (int i = 0; i < rows; ++i)
-      for (int j = 0; j < cols; ++j)
+      for (int j = 0; j < cols; ++j) {
         EXPECT_LE(r.row_dual[i] + r.col_dual[j], c[static_cast<std::size_t>(i) * cols + j] + 1e-9);
-    if (rows < cols)
+      }
+    if (rows < cols) {
       for (int j = 0; j < cols; ++j) EXPECT_LE(r.col_dual[j], 0.0);
-    if (rows > cols)
+    }
+    if (rows > cols) {
       for (int i = 0; i < rows; ++i) EXPECT_LE(r.row_dual[i], 0.0);
+    }
   }
   EXPECT_NEAR(sum, r.cost, 1e-9 * std::max(1.0, std::abs(sum)));
 }

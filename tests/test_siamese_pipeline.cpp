@@ -67,8 +67,9 @@ TEST(Seed003Dataset, AsynchronousPlotsWithinTheFlight) {
     EXPECT_LE(d.radar1.length(k), 13);
     EXPECT_GE(d.radar2.length(k), 8);
     EXPECT_LE(d.radar2.length(k), 9);
-    for (int64_t i = d.radar1.offset[k] + 1; i < d.radar1.offset[k + 1]; ++i)
+    for (int64_t i = d.radar1.offset[k] + 1; i < d.radar1.offset[k + 1]; ++i) {
       EXPECT_NEAR(d.radar1.t[i] - d.radar1.t[i - 1], 4.0, 1e-9);
+    }
     EXPECT_GE(d.radar2.t[d.radar2.offset[k]], 0.0);
     EXPECT_LE(d.radar2.t[d.radar2.offset[k + 1] - 1], 50.0);
   }
