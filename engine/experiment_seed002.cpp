@@ -106,7 +106,7 @@ Seed002Motion run_motion(int motion, const Seed002Options& o, const BpNetwork& n
   CsParallelOptions par_options;
   // The IMM's second model alone (CA Kalman, σ = 5 m/s²): shows how much quieter than the
   // CS-parallel filter it is on each motion, which bounds what mixing it in can gain.
-  const ImmModelSpec& ca_spec = ImmOptions::seed002().models[1];
+  const ImmModelSpec ca_spec = ImmOptions::seed002().models[1];  // a copy: seed002() is a temporary
   KinematicBank ca(2, 3, R);
   KalmanOptions ca_options;
   ca_options.model = KalmanModel::kConstantAcceleration;
