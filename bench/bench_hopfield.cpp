@@ -143,7 +143,10 @@ void BM_AsyncSweep(benchmark::State& state) {
     }
   });
 }
-BENCHMARK(BM_AsyncSweep)->ArgsProduct({{50, 100, 200}, {0, 1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_AsyncSweep)
+    ->ArgsProduct({{50, 100, 200}, {0, 1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The permutation alone, to split the async time.
 void BM_AsyncPermutation(benchmark::State& state) {

@@ -228,8 +228,9 @@ void check_association(const std::string& file, const AssociationRecord& a,
          "expected " + std::to_string(a.energy_rows) + "x" + std::to_string(a.energy_cols) +
              " values, found " + std::to_string(a.energy.size()));
   if (!a.restarts.consistent())
-    fail(file, g + "/restarts", "expected every column to have " + std::to_string(a.restarts.size()) +
-                                    " rows (as " + g + "/restarts/restart)");
+    fail(file, g + "/restarts",
+         "expected every column to have " + std::to_string(a.restarts.size()) + " rows (as " + g +
+             "/restarts/restart)");
   for (std::size_t r = 0; r < a.restarts.valid_raw.size(); ++r)
     if (a.restarts.valid_raw[r] != 0 && a.restarts.valid_raw[r] != 1)
       fail_row(file, g + "/restarts/valid_raw", r,

@@ -93,18 +93,18 @@ struct SolverSummary {
 // "Report per restart"), written to /associations/<name>/restarts/ (one 1-D dataset per column);
 // empty when the solver has no restarts. All columns have size() rows.
 struct RestartTable {
-  std::vector<int32_t> restart;             // restart number (its random stream)
-  std::vector<int32_t> valid_raw;           // 1: the network's own state was a valid assignment (before repair)
-  std::vector<int32_t> sweeps;              // discrete sweeps or continuous steps to convergence (or the limit)
-  std::vector<int32_t> mean_field_steps;    // continuous steps of a mean-field start (0 without one)
-  std::vector<double> energy;               // final network energy (normalised-cost units)
-  std::vector<double> repaired_objective;   // cost of the repaired assignment (before any polish)
-  std::vector<double> objective;            // cost of the restart's final assignment
+  std::vector<int32_t> restart;           // restart number (its random stream)
+  std::vector<int32_t> valid_raw;         // 1: the network's own state was a valid assignment (before repair)
+  std::vector<int32_t> sweeps;            // discrete sweeps or continuous steps to convergence (or the limit)
+  std::vector<int32_t> mean_field_steps;  // continuous steps of a mean-field start (0 without one)
+  std::vector<double> energy;             // final network energy (normalised-cost units)
+  std::vector<double> repaired_objective;  // cost of the repaired assignment (before any polish)
+  std::vector<double> objective;           // cost of the restart's final assignment
   std::size_t size() const { return restart.size(); }
   bool consistent() const {
     const std::size_t n = restart.size();
-    return valid_raw.size() == n && sweeps.size() == n && mean_field_steps.size() == n && energy.size() == n &&
-           repaired_objective.size() == n && objective.size() == n;
+    return valid_raw.size() == n && sweeps.size() == n && mean_field_steps.size() == n &&
+           energy.size() == n && repaired_objective.size() == n && objective.size() == n;
   }
   bool operator==(const RestartTable&) const = default;
 };

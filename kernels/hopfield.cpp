@@ -1,5 +1,9 @@
 #include "kernels/hopfield.hpp"
 
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
+#include <oneapi/tbb/task_arena.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,10 +11,6 @@
 #include <memory>
 #include <numeric>
 #include <utility>
-
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/partitioner.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include "kernels/error.hpp"
 #include "kernels/hopfield_continuous.hpp"
@@ -142,7 +142,8 @@ std::vector<uint32_t> ascending_cost_order(std::span<const float> c) {
       for (std::size_t t = tb; t < te; ++t) {
         std::size_t* cnt = count.data() + t * kDigits;
         std::fill(cnt, cnt + kDigits, 0);
-        for (std::size_t a = t * chunk, e = std::min(K, a + chunk); a < e; ++a) ++cnt[(key[a] >> shift) & kMask];
+        for (std::size_t a = t * chunk, e = std::min(K, a + chunk); a < e; ++a)
+          ++cnt[(key[a] >> shift) & kMask];
       }
     });
     std::size_t sum = 0, largest = 0;
@@ -279,7 +280,8 @@ void finish_restart(const CostTensor3& cost, const HopfieldOptions& o, std::span
 
 RestartOutput run_discrete(const CostTensor3& cost, const NormalisedCost& c, const HopfieldOptions& o,
                            const HopfieldWeights& w, const OrderedSweepPlan* cost_plan,
-                           const std::shared_ptr<const DiagonalCost>& diagonal_cost, uint64_t seed, int32_t restart) {
+                           const std::shared_ptr<const DiagonalCost>& diagonal_cost, uint64_t seed,
+                           int32_t restart) {
   CounterRng rng(seed, 0, static_cast<uint64_t>(restart));
   RestartOutput out;
   HopfieldRestart& rec = out.record;
@@ -421,8 +423,8 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
               cost.size() == static_cast<std::size_t>(cost.n1) * cost.n2 * cost.n3,
           "cost tensor", "size does not match n1·n2·n3");
   require(cost.size() < (std::size_t{1} << 32), "cost tensor", "more than 2^32 neurons; use the sparse form");
-  require(std::none_of(cost.cost.begin(), cost.cost.end(), [](float b) { return std::isnan(b); }), "cost tensor",
-          "NaN cost");
+  require(std::none_of(cost.cost.begin(), cost.cost.end(), [](float b) { return std::isnan(b); }),
+          "cost tensor", "NaN cost");
   HopfieldResult result;
   const NormalisedCost c = normalise_cost(cost);
   result.weights = hopfield_weights(options, c);
@@ -441,7 +443,8 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   if (options.schedule == HopfieldSchedule::kAsync && options.order == HopfieldOrder::kCost)
     cost_plan = std::make_unique<const OrderedSweepPlan>(ascending_cost_order(c.c), c);
   std::shared_ptr<const DiagonalCost> diagonal_cost;
-  if (options.schedule == HopfieldSchedule::kDiagonal) diagonal_cost = std::make_shared<const DiagonalCost>(c);
+  if (options.schedule == HopfieldSchedule::kDiagonal)
+    diagonal_cost = std::make_shared<const DiagonalCost>(c);
   std::vector<RestartOutput> outs(options.restarts);
   // One task per restart, balanced dynamically (restarts differ in their number of sweeps; a
   // static split of 8 restarts into 4 + 4 leaves one thread idle at the end). Each restart reads
@@ -452,9 +455,10 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
       0, options.restarts,
       [&](int32_t r) {
         tbb::this_task_arena::isolate([&] {
-          outs[r] = options.schedule == HopfieldSchedule::kContinuous
-                        ? run_continuous(cost, c, options, result.weights, seed, r)
-                        : run_discrete(cost, c, options, result.weights, cost_plan.get(), diagonal_cost, seed, r);
+          outs[r] =
+              options.schedule == HopfieldSchedule::kContinuous
+                  ? run_continuous(cost, c, options, result.weights, seed, r)
+                  : run_discrete(cost, c, options, result.weights, cost_plan.get(), diagonal_cost, seed, r);
         });
       },
       tbb::simple_partitioner());

@@ -226,7 +226,8 @@ int64_t DiagonalNetwork::sweep(std::span<const uint32_t> block_order) {
       for (int32_t o = 0; o < n1; o += 64) __builtin_prefetch(V_.data() + ahead + o, 1);
     }
     const uint32_t blk = block_order[p];
-    const int32_t a = static_cast<int32_t>(blk / n3), b = static_cast<int32_t>(blk - static_cast<uint32_t>(a) * n3);
+    const int32_t a = static_cast<int32_t>(blk / n3),
+                  b = static_cast<int32_t>(blk - static_cast<uint32_t>(a) * n3);
     const std::size_t base = static_cast<std::size_t>(blk) * n1;
     const float* c = cost + base;
     uint8_t* V = V_.data() + base;

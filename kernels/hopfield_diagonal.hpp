@@ -18,9 +18,9 @@
 // it read and the copies n2 before and after it. The block then runs as kDiagonalLanes-wide
 // vector steps (GCC/Clang vector extensions: portable, AVX-512 or AVX2 or SSE as compiled); when
 // L does not divide n1, one step covers the last L neurons first and the overlapping full step
-// keeps the lanes already done unchanged, which is exact. The next blocks' cost and state are prefetched (the block order is
-// random). Blocks with n1 < kDiagonalLanes run a scalar loop over the (at most three) wrap-free
-// segments of the block — the original implementation, kept as sweep_reference(), which tests
+// keeps the lanes already done unchanged, which is exact. The next blocks' cost and state are prefetched (the
+// block order is random). Blocks with n1 < kDiagonalLanes run a scalar loop over the (at most three)
+// wrap-free segments of the block — the original implementation, kept as sweep_reference(), which tests
 // compare the vector path against neuron for neuron.
 //
 // Complexity: O(n1n2n3) per sweep, O(n1n2n3) memory for the layout (once) and per restart
@@ -73,8 +73,8 @@ class DiagonalNetwork {
   std::shared_ptr<const DiagonalCost> cost_;
   HopfieldWeights w_;
   int32_t n1_, n2_, n3_;
-  std::vector<uint8_t> V_;  // state in block-major layout
-  std::vector<float> R_;    // plane sums as exact small integers
+  std::vector<uint8_t> V_;    // state in block-major layout
+  std::vector<float> R_;      // plane sums as exact small integers
   std::vector<float> S_, T_;  // three copies each: S_[n2 + x] = S[x mod n2] (see the header comment)
 };
 

@@ -117,7 +117,11 @@ int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, doubl
 }
 
 OrderedSweepPlan::OrderedSweepPlan(std::span<const uint32_t> order, const NormalisedCost& c)
-    : neuron(order.begin(), order.end()), i(order.size()), j(order.size()), k(order.size()), cost(order.size()) {
+    : neuron(order.begin(), order.end()),
+      i(order.size()),
+      j(order.size()),
+      k(order.size()),
+      cost(order.size()) {
   require(c.n1 < 65536 && c.n2 < 65536 && c.n3 < 65536, "async order", "needs n1, n2, n3 < 65536");
   const FastDivider div3(static_cast<uint32_t>(c.n3)), div2(static_cast<uint32_t>(c.n2));
   parallel_for_range(order.size(), 65536, [&](std::size_t lo, std::size_t hi) {
