@@ -129,24 +129,30 @@ AssociationProblem build_association_problem(const TrackFile& file, const Pipeli
   return p;
 }
 
+void append_output_row(int32_t num_sensors, const std::array<int32_t, 3>& columns,
+                       const std::array<AlignedTracks, 3>& aligned, const Tuple3& t,
+                       std::array<bool, 3> members, double cost, std::vector<int32_t>& rows,
+                       std::vector<double>& costs) {
+  std::vector<int32_t> row(num_sensors, kNoTrack);
+  bool any = false;
+  for (int d = 0; d < 3; ++d)
+    if (members[d] && t[d] >= 0) {
+      row[columns[d]] = aligned[d].track[t[d]];
+      any = true;
+    }
+  if (!any) return;
+  rows.insert(rows.end(), row.begin(), row.end());
+  costs.push_back(cost);
+}
+
 namespace {
 
 // Splits a solver tuple into gated-in parts (see the header comment) and appends the resulting
 // output rows (local track numbers in /sensors columns) with their costs.
 void decode_tuple(const AssociationProblem& p, const Tuple3& t, bool all_pairs, std::vector<int32_t>& rows,
                   std::vector<double>& costs) {
-  const int32_t S = p.num_sensors;
   auto emit = [&](std::array<bool, 3> members, double cost) {
-    std::vector<int32_t> row(S, kNoTrack);
-    bool any = false;
-    for (int d = 0; d < 3; ++d)
-      if (members[d] && t[d] >= 0) {
-        row[p.sensor_columns[d]] = p.aligned[d].track[t[d]];
-        any = true;
-      }
-    if (!any) return;
-    rows.insert(rows.end(), row.begin(), row.end());
-    costs.push_back(cost);
+    append_output_row(p.num_sensors, p.sensor_columns, p.aligned, t, members, cost, rows, costs);
   };
   const bool has0 = t[0] >= 0, has1 = t[1] >= 0, has2 = t[2] >= 0;
   const auto gate12 = [&] { return has0 && has1 && p.s12.in_gate[t[0] * p.s12.n_b + t[1]]; };

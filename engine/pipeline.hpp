@@ -71,6 +71,14 @@ struct SensorSelection {
 };
 SensorSelection select_sensors(const TrackFile& file, const PipelineOptions& options);
 
+// Appends one output row (local track numbers in /sensors columns, −1 = none) holding the members
+// of tuple t, with its cost; nothing when no member is present. Shared by the dense and sparse
+// decodings.
+void append_output_row(int32_t num_sensors, const std::array<int32_t, 3>& columns,
+                       const std::array<AlignedTracks, 3>& aligned, const Tuple3& t,
+                       std::array<bool, 3> members, double cost, std::vector<int32_t>& rows,
+                       std::vector<double>& costs);
+
 // Common time grid (exposed for tests): see the header comment.
 std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const int32_t> sensor_ids,
                                      double period);

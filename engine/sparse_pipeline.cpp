@@ -214,18 +214,8 @@ ComponentProblem component_problem(const SparseAssociationProblem& p, int32_t c,
 // kept and the remaining tracks become tuples of one track.
 void decode_rows(const SparseAssociationProblem& p, const std::array<int32_t, 3>& t, bool all_pairs,
                  std::vector<int32_t>& out_rows, std::vector<double>& out_costs) {
-  const int32_t S = p.num_sensors;
   auto emit = [&](std::array<bool, 3> members, double cost) {
-    std::vector<int32_t> row(S, kNoTrack);
-    bool any = false;
-    for (int d = 0; d < 3; ++d)
-      if (members[d] && t[d] >= 0) {
-        row[p.sensor_columns[d]] = p.aligned[d].track[t[d]];
-        any = true;
-      }
-    if (!any) return;
-    out_rows.insert(out_rows.end(), row.begin(), row.end());
-    out_costs.push_back(cost);
+    append_output_row(p.num_sensors, p.sensor_columns, p.aligned, t, members, cost, out_rows, out_costs);
   };
   const bool has0 = t[0] >= 0, has1 = t[1] >= 0, has2 = t[2] >= 0;
   const double l12 = has0 && has1 ? gated_lambda(p.s12, t[0], t[1]) : NAN;
