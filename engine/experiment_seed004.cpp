@@ -60,13 +60,12 @@ std::vector<Seed004Row> run_seed004_experiment(const Seed004ExperimentOptions& o
       TrackFile file = simulation_to_track_file(scenario, simulate(scenario, o.seed, run));
       drop_sensor_target_tracks(file, o.p_miss, o.seed, run);
       const SDProblem problem = build_sd_problem(file, pipeline);
+      const std::set<int32_t> targets(file.tracks.truth.begin(), file.tracks.truth.end());
       for (const auto& solver : o.solvers) {
         Seed004Row row;
         row.scenario = name;
         row.run = run;
         row.solver = solver;
-        std::set<int32_t> targets;
-        for (int32_t t : file.tracks.truth) targets.insert(t);
         row.targets = static_cast<int32_t>(targets.size());
         SolutionSD sol;
         if (solver.rfind("chnn", 0) == 0) {

@@ -21,6 +21,16 @@
 #include "io/siamese_model_file.hpp"
 
 namespace trackassoc::cli {
+namespace {
+
+// Replaces any association of the same name by `rec` and writes the file (atomically).
+void store_association(TrackFile& file, const AssociationRecord& rec, const std::string& output) {
+  std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == rec.name; });
+  file.associations.push_back(rec);
+  write_track_file(output, file);
+}
+
+}  // namespace
 
 void register_associate(CLI::App& app) {
   struct Args {
@@ -78,9 +88,7 @@ void register_associate(CLI::App& app) {
       AssociationRecord rec =
           solve_sd_association(problem, args->solver, solver_options, args->common.seed, options);
       if (!args->name.empty()) rec.name = args->name;
-      std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == rec.name; });
-      file.associations.push_back(rec);
-      write_track_file(args->output, file);
+      store_association(file, rec, args->output);
       std::string dims;
       for (const auto& a : problem.aligned) dims += (dims.empty() ? "" : "x") + std::to_string(a.n_tracks());
       std::cout << "associated " << dims << " tracks of " << problem.S() << " sensors (S-D) with '"
@@ -96,9 +104,7 @@ void register_associate(CLI::App& app) {
       const std::string name = args->name.empty() ? args->solver : args->name;
       SiameseTrackFileResult res = associate_siamese_tracks(file, model.model, siamese, name);
       res.record.seed = args->common.seed;
-      std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == name; });
-      file.associations.push_back(res.record);
-      write_track_file(args->output, file);
+      store_association(file, res.record, args->output);
       if (res.points_outside_domain > 0)
         std::cerr << "note: " << res.points_outside_domain << " of " << res.points
                   << " points lie outside the model's training domain (the shipped model: the 100 x 100 km "
@@ -132,9 +138,7 @@ void register_associate(CLI::App& app) {
                 std::to_string(problem.tensor.n3) + " tracks";
     }
     if (!args->name.empty()) rec.name = args->name;
-    std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == rec.name; });
-    file.associations.push_back(rec);
-    write_track_file(args->output, file);
+    store_association(file, rec, args->output);
     std::cout << "associated " << summary << " with '" << args->solver << "': objective "
               << fmt(rec.objective) << ", " << rec.num_tuples() << " tuples, "
               << fmt(1e3 * rec.runtime_s, "%.2f") << " ms -> " << args->output << "\n";
