@@ -16,7 +16,8 @@ DiscreteNetwork::DiscreteNetwork(HopfieldEnergy f, const HopfieldWeights& weight
 }
 
 void DiscreteNetwork::set_state(std::span<const uint8_t> state) {
-  V.assign(state.begin(), state.end());
+  V.resize(state.size());
+  std::transform(state.begin(), state.end(), V.begin(), [](uint8_t v) -> uint8_t { return v != 0; });
   m = compute_marginals(V, c->n1, c->n2, c->n3, form == HopfieldEnergy::kPrinted);
   hash = 0;
   for (std::size_t a = 0; a < V.size(); ++a)
@@ -55,25 +56,109 @@ struct FastDivider {
 
 namespace {
 
-// One Gauss–Seidel update of neuron a = (i, j, k) with normalised cost ca: the exact ΔE_on from
-// the marginals (primes exclude the neuron), the rule of seed 000 Eq. 10 (or Glauber's at
-// temperature T > 0), then the marginals and the hash. Returns 1 on a flip.
-inline int64_t update_neuron(DiscreteNetwork& net, uint32_t a, int32_t i, int32_t j, int32_t k, float ca,
-                             double temperature, CounterRng* rng) {
+// ΔE_on of neuron (i, j, k) with cost ca under both values of its own state: `off` for V = 0 (the
+// marginals as they are) and `on` for V = 1 (its own contribution removed, the primes of
+// kernels/hopfield_energy.hpp). They are exactly the values the update computes for v = 0 and
+// v = 1, so when off ≥ 0 and on ≤ 0 the rule of seed 000 Eq. 10 leaves the neuron as it is,
+// whatever its state, and the state need not be read. In a near-valid state nearly every neuron
+// is such a case (a neuron in three occupied planes cannot turn on; an active neuron alone in its
+// planes cannot turn off), so a sweep streams its order and reads only the O(n) marginals.
+struct DeltaPair {
+  double off, on;
+  // Written as a negation so that a NaN counts as "may flip" (the exact rule then decides).
+  bool may_flip() const { return !(off >= 0.0 && on <= 0.0); }
+};
+
+inline DeltaPair delta_pair(const DiscreteNetwork& net, bool printed, int32_t i, int32_t j, int32_t k,
+                            float ca) {
   const NormalisedCost& c = *net.c;
   const HopfieldWeights& w = net.w;
-  HopfieldMarginals& m = net.m;
-  const bool printed = net.form == HopfieldEnergy::kPrinted;
-  const std::size_t ij = static_cast<std::size_t>(i) * c.n2 + j, ik = static_cast<std::size_t>(i) * c.n3 + k,
-                    jk = static_cast<std::size_t>(j) * c.n3 + k;
-  const int32_t v = net.V[a];
-  double dE;
-  if (!printed) {
-    dE = full_plane_delta_on(w, m.R[i] - v, m.S[j] - v, m.T[k] - v, m.M - v, ca);
-  } else {
-    dE = printed_delta_on(w, m.R[i] - v, m.S[j] - v, m.T[k] - v, m.Lij[ij] - v, m.Lik[ik] - v, m.Ljk[jk] - v,
-                          m.M - v, ca);
+  const HopfieldMarginals& m = net.m;
+  const int64_t R = m.R[i], S = m.S[j], T = m.T[k], M = m.M;
+  if (!printed)
+    return {full_plane_delta_on(w, R, S, T, M, ca), full_plane_delta_on(w, R - 1, S - 1, T - 1, M - 1, ca)};
+  const int64_t Lij = m.Lij[static_cast<std::size_t>(i) * c.n2 + j],
+                Lik = m.Lik[static_cast<std::size_t>(i) * c.n3 + k],
+                Ljk = m.Ljk[static_cast<std::size_t>(j) * c.n3 + k];
+  return {printed_delta_on(w, R, S, T, Lij, Lik, Ljk, M, ca),
+          printed_delta_on(w, R - 1, S - 1, T - 1, Lij - 1, Lik - 1, Ljk - 1, M - 1, ca)};
+}
+
+// A cheap conservative pre-test ahead of the exact pair, for the async sweeps at T = 0. Whatever
+// the energy, off(ĉ) = base + E·ĉ and on(ĉ) = off(ĉ) − shift with a state-dependent base:
+//   full plane: base = A·R + B·S + C·T + D·M − (A+B+C)/2 + D(½ − N), shift = A + B + C + D;
+//   printed:    base = 2A(R−Lij−Lik) + 2B(S−Lij−Ljk) + 2C(T−Lik−Ljk) + D(M − N + ½),
+//               shift = D − 2(A+B+C) (the line sums cancel part of the plane sums).
+// It is evaluated in another order than the exact pair, so a decision needs the margin `margin`,
+// which bounds the rounding of both evaluations: 10⁻¹³ of the largest magnitude any term can take
+// (|A|+|B|+|C|+|D| times 4(K + N + 2), plus 2|E|·max|ĉ|), some 400 ulps of it. Unknown cost
+// bounds (±inf) make every test undecided, so the exact rule runs.
+struct NoFlipFilter {
+  double A, B, C, D, E, k, shift, margin;
+  bool printed;
+  NoFlipFilter(const DiscreteNetwork& net) {
+    const HopfieldWeights& w = net.w;
+    A = w.A, B = w.B, C = w.C, D = w.D, E = w.E;
+    printed = net.form == HopfieldEnergy::kPrinted;
+    k = printed ? D * (0.5 - w.N) : -0.5 * (A + B + C) + D * (0.5 - w.N);
+    shift = printed ? D - 2.0 * (A + B + C) : A + B + C + D;
+    const double cmax = std::max(
+        {std::abs(static_cast<double>(net.c->c_lo)), std::abs(static_cast<double>(net.c->c_hi)), 1.0});
+    margin = 1e-13 * ((std::abs(A) + std::abs(B) + std::abs(C) + std::abs(D)) * 4.0 *
+                          (static_cast<double>(net.c->size()) + std::abs(static_cast<double>(w.N)) + 2.0) +
+                      2.0 * std::abs(E) * cmax);
   }
+  double base(const DiscreteNetwork& net, int32_t i, int32_t j, int32_t kk) const {
+    const HopfieldMarginals& m = net.m;
+    if (!printed) return A * m.R[i] + B * m.S[j] + C * m.T[kk] + D * static_cast<double>(m.M) + k;
+    const NormalisedCost& c = *net.c;
+    const double Lij = m.Lij[static_cast<std::size_t>(i) * c.n2 + j],
+                 Lik = m.Lik[static_cast<std::size_t>(i) * c.n3 + kk],
+                 Ljk = m.Ljk[static_cast<std::size_t>(j) * c.n3 + kk];
+    return 2.0 * A * (m.R[i] - Lij - Lik) + 2.0 * B * (m.S[j] - Lij - Ljk) + 2.0 * C * (m.T[kk] - Lik - Ljk) +
+           D * static_cast<double>(m.M) + k;
+  }
+  // Given off ≥ off_min and on ≤ on_max for this neuron's cost: kStays (no flip, whatever the
+  // state), kStaysIfOff (cannot turn on: only an active neuron may flip) or kUndecided.
+  enum Verdict { kStays, kStaysIfOff, kUndecided };
+  Verdict verdict(double off_min, double on_max) const {
+    if (!(off_min >= margin)) return kUndecided;
+    return on_max <= -margin ? kStays : kStaysIfOff;
+  }
+};
+
+// The state as one bit per neuron, built at the start of a sweep and kept in step with V by
+// apply_update: the async orders read the state at random, and K/8 bytes stay in L2 where the K
+// bytes of V do not (n = 100: 125 KB against 1 MB).
+class StateBits {
+ public:
+  explicit StateBits(std::span<const uint8_t> V) : w_((V.size() + 63) / 64, 0) {
+    const std::size_t K = V.size(), full = K / 8;
+    for (std::size_t q = 0; q < full; ++q) {
+      uint64_t x;
+      std::memcpy(&x, V.data() + 8 * q, 8);
+      // Bytes are 0/1 (set_state): the product gathers byte t's bit 0 into bit 56 + t, and the
+      // partial products never overlap, so no carry disturbs the top byte.
+      w_[q / 8] |= ((x * 0x0102040810204080ULL) >> 56) << (8 * (q % 8));
+    }
+    for (std::size_t a = 8 * full; a < K; ++a) w_[a / 64] |= static_cast<uint64_t>(V[a] != 0) << (a % 64);
+  }
+  bool get(std::size_t a) const { return (w_[a / 64] >> (a % 64)) & 1u; }
+  void flip(std::size_t a) { w_[a / 64] ^= uint64_t{1} << (a % 64); }
+
+ private:
+  std::vector<uint64_t> w_;
+};
+
+// Applies the rule of seed 000 Eq. 10 (or Glauber's at temperature T > 0) to neuron a = (i, j, k)
+// given its ΔE pair, then updates the state (V and its bits), the marginals and the hash. Returns
+// 1 on a flip.
+inline int64_t apply_update(DiscreteNetwork& net, StateBits& bits, bool printed, uint32_t a, int32_t i,
+                            int32_t j, int32_t k, const DeltaPair& d, double temperature, CounterRng* rng) {
+  const NormalisedCost& c = *net.c;
+  HopfieldMarginals& m = net.m;
+  const int32_t v = bits.get(a);
+  const double dE = v ? d.on : d.off;
   int32_t nv;
   if (temperature > 0.0) {
     // Glauber dynamics: P(on) = 1/(1+exp(ΔE_on/T)).
@@ -83,16 +168,17 @@ inline int64_t update_neuron(DiscreteNetwork& net, uint32_t a, int32_t i, int32_
     nv = dE < 0 ? 1 : (dE > 0 ? 0 : v);  // seed 000 Eq. 10
   }
   if (nv == v) return 0;
-  const int32_t d = nv - v;
+  const int32_t dv = nv - v;
   net.V[a] = static_cast<uint8_t>(nv);
-  m.R[i] += d;
-  m.S[j] += d;
-  m.T[k] += d;
-  m.M += d;
+  bits.flip(a);
+  m.R[i] += dv;
+  m.S[j] += dv;
+  m.T[k] += dv;
+  m.M += dv;
   if (printed) {
-    m.Lij[ij] += d;
-    m.Lik[ik] += d;
-    m.Ljk[jk] += d;
+    m.Lij[static_cast<std::size_t>(i) * c.n2 + j] += dv;
+    m.Lik[static_cast<std::size_t>(i) * c.n3 + k] += dv;
+    m.Ljk[static_cast<std::size_t>(j) * c.n3 + k] += dv;
   }
   net.hash ^= zobrist_key(a);
   return 1;
@@ -103,15 +189,31 @@ inline int64_t update_neuron(DiscreteNetwork& net, uint32_t a, int32_t i, int32_
 int64_t async_sweep(DiscreteNetwork& net, std::span<const uint32_t> order, double temperature,
                     CounterRng* rng) {
   const NormalisedCost& c = *net.c;
+  const bool printed = net.form == HopfieldEnergy::kPrinted;
   const double T = temperature > 0.0 && rng != nullptr ? temperature : 0.0;
   const FastDivider div3(static_cast<uint32_t>(c.n3)), div2(static_cast<uint32_t>(c.n2));
+  // At T = 0 the filter at the ends of [c_lo, c_hi] (NormalisedCost) bounds the pair at the
+  // neuron's own cost (E·ĉ is its only ĉ term), so most neurons are settled without reading their
+  // cost or state, both at random addresses in this order. The rest take the exact update.
+  const NoFlipFilter filter(net);
+  const bool E_nonneg = net.w.E >= 0.f;
+  const double Ec_small = filter.E * (E_nonneg ? c.c_lo : c.c_hi),
+               Ec_large = filter.E * (E_nonneg ? c.c_hi : c.c_lo);
+  StateBits bits(net.V);
   int64_t flips = 0;
   for (uint32_t a : order) {
     const uint32_t ij = div3.div(a);
     const int32_t k = static_cast<int32_t>(a - ij * static_cast<uint32_t>(c.n3));
     const int32_t i = static_cast<int32_t>(div2.div(ij));
     const int32_t j = static_cast<int32_t>(ij - static_cast<uint32_t>(i) * c.n2);
-    flips += update_neuron(net, a, i, j, k, c.c[a], T, rng);
+    if (T == 0.0) {
+      const double base = filter.base(net, i, j, k);
+      const auto v = filter.verdict(base + Ec_small, base - filter.shift + Ec_large);
+      if (v == NoFlipFilter::kStays || (v == NoFlipFilter::kStaysIfOff && !bits.get(a))) continue;
+    }
+    const DeltaPair d = delta_pair(net, printed, i, j, k, c.c[a]);
+    if (T == 0.0 && !d.may_flip()) continue;
+    flips += apply_update(net, bits, printed, a, i, j, k, d, T, rng);
   }
   return flips;
 }
@@ -140,11 +242,17 @@ OrderedSweepPlan::OrderedSweepPlan(std::span<const uint32_t> order, const Normal
 int64_t async_sweep_planned(DiscreteNetwork& net, const OrderedSweepPlan& plan) {
   const std::size_t K = plan.neuron.size();
   const uint32_t* neuron = plan.neuron.data();
-  constexpr std::size_t kAhead = 32;  // the state is read at random: prefetch it
   int64_t flips = 0;
+  const bool printed = net.form == HopfieldEnergy::kPrinted;
+  StateBits bits(net.V);
+  const NoFlipFilter filter(net);
   for (std::size_t p = 0; p < K; ++p) {
-    if (p + kAhead < K) __builtin_prefetch(net.V.data() + neuron[p + kAhead], 1);
-    flips += update_neuron(net, neuron[p], plan.i[p], plan.j[p], plan.k[p], plan.cost[p], 0.0, nullptr);
+    const double base = filter.base(net, plan.i[p], plan.j[p], plan.k[p]), Ec = filter.E * plan.cost[p];
+    const auto v = filter.verdict(base + Ec, base - filter.shift + Ec);
+    if (v == NoFlipFilter::kStays || (v == NoFlipFilter::kStaysIfOff && !bits.get(neuron[p]))) continue;
+    const DeltaPair d = delta_pair(net, printed, plan.i[p], plan.j[p], plan.k[p], plan.cost[p]);
+    if (!d.may_flip()) continue;  // stays whatever its state: the state is not read
+    flips += apply_update(net, bits, printed, neuron[p], plan.i[p], plan.j[p], plan.k[p], d, 0.0, nullptr);
   }
   return flips;
 }

@@ -11,6 +11,13 @@
 //             cost order), marginals updated on every flip. Serial; O(n1n2n3) per sweep.
 //             With temperature T > 0 the rule is Glauber's: V ← 1 with probability
 //             1/(1+exp(ΔE_on/T)) (a Boltzmann machine; annealing T → 0 recovers Eq. 10).
+//             At T = 0 the cost-ordered and random-order sweeps first settle each neuron from
+//             the O(n) marginals alone: a neuron in occupied planes cannot turn on, and an active
+//             neuron alone in its planes cannot turn off, whatever its state (and, in a random
+//             order, whatever its cost within [c_lo, c_hi]). Only the undecided rest reads its
+//             state (kept as one bit per neuron during the sweep) and its cost. The updates are
+//             exactly those of the plain rule (tests/test_hopfield_energy.cpp), and a sweep near
+//             convergence streams its order instead of reading the state at random.
 //   sync      Jacobi: every net input from the previous state, all neurons at once; parallel over
 //             i-slices (TBB); new marginals are reduced with integer atomics, so the result is
 //             independent of the thread count. A fraction < 1 updates only a pseudo-random subset

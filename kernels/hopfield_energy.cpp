@@ -23,19 +23,24 @@ NormalisedCost normalise_cost(const CostTensor3& cost, float inf_margin) {
   const std::size_t K = cost.size(), chunks = (K + kChunk - 1) / kChunk;
   std::vector<float> chunk_lo(chunks, std::numeric_limits<float>::infinity()),
       chunk_hi(chunks, -std::numeric_limits<float>::infinity());
+  std::vector<uint8_t> chunk_inf(chunks, 0);
   parallel_for_range(chunks, 1, [&](std::size_t tb, std::size_t te) {
     for (std::size_t t = tb; t < te; ++t) {
       // Local accumulators: the chunk_lo/hi entries of two threads share a cache line.
       float l = std::numeric_limits<float>::infinity(), h = -l;
+      bool inf = false;
       for (std::size_t a = t * kChunk, e = std::min(K, a + kChunk); a < e; ++a) {
         const float b = cost.cost[a];
         if (std::isfinite(b)) {
           l = std::min(l, b);
           h = std::max(h, b);
+        } else {
+          inf = true;
         }
       }
       chunk_lo[t] = l;
       chunk_hi[t] = h;
+      chunk_inf[t] = inf;
     }
   });
   float lo = std::numeric_limits<float>::infinity(), hi = -lo;
@@ -47,6 +52,9 @@ NormalisedCost normalise_cost(const CostTensor3& cost, float inf_margin) {
   out.b_min = lo;
   out.b_range = hi > lo ? hi - lo : 1.f;
   const float inv = 1.f / out.b_range;
+  const bool any_infinite = std::any_of(chunk_inf.begin(), chunk_inf.end(), [](uint8_t x) { return x != 0; });
+  out.c_lo = any_infinite ? std::min(0.f, 1.f + inf_margin) : 0.f;
+  out.c_hi = any_infinite ? std::max(1.f, 1.f + inf_margin) : 1.f;
   out.c.resize(K);
   parallel_for_range(K, kChunk, [&](std::size_t ab, std::size_t ae) {
     for (std::size_t a = ab; a < ae; ++a) {

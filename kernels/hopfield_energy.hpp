@@ -30,6 +30,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -53,6 +54,9 @@ struct NormalisedCost {
   int32_t n1 = 0, n2 = 0, n3 = 0;
   std::vector<float> c;  // ĉ, same layout as CostTensor3::cost
   float b_min = 0.f, b_range = 1.f;
+  // Bounds on every ĉ (c_lo ≤ ĉ ≤ c_hi), for the sweeps' no-flip test; ±inf (the default) means
+  // "unknown" and disables that test, so a hand-filled NormalisedCost stays correct.
+  float c_lo = -std::numeric_limits<float>::infinity(), c_hi = std::numeric_limits<float>::infinity();
   std::size_t size() const { return c.size(); }
 };
 NormalisedCost normalise_cost(const CostTensor3& cost, float inf_margin = 1.f);

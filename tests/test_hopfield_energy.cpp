@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 #include "kernels/error.hpp"
@@ -21,6 +22,20 @@ using namespace hopfield_test;
 
 const Dims kDims[] = {{3, 3, 3}, {4, 4, 4}, {3, 4, 5}, {5, 4, 3}, {2, 6, 4}};
 const HopfieldEnergy kForms[] = {HopfieldEnergy::kFullPlane, HopfieldEnergy::kPrinted};
+
+// The incrementally kept marginals of a network equal those recomputed from its state.
+void expect_marginals_recomputed(const DiscreteNetwork& net) {
+  const NormalisedCost& c = *net.c;
+  const HopfieldMarginals m =
+      compute_marginals(net.V, c.n1, c.n2, c.n3, net.form == HopfieldEnergy::kPrinted);
+  EXPECT_EQ(m.R, net.m.R);
+  EXPECT_EQ(m.S, net.m.S);
+  EXPECT_EQ(m.T, net.m.T);
+  EXPECT_EQ(m.Lij, net.m.Lij);
+  EXPECT_EQ(m.Lik, net.m.Lik);
+  EXPECT_EQ(m.Ljk, net.m.Ljk);
+  EXPECT_EQ(m.M, net.m.M);
+}
 
 TEST(HopfieldEnergy, NormalisedCostSpansUnitInterval) {
   CostTensor3 t(2, 2, 2);
@@ -119,13 +134,7 @@ TEST(HopfieldDiscrete, AsyncFlipNeverRaisesEnergy) {
         }
         EXPECT_GT(flips, 0);
         // The incrementally kept marginals equal recomputed ones.
-        const HopfieldMarginals m =
-            compute_marginals(net.V, d.n1, d.n2, d.n3, form == HopfieldEnergy::kPrinted);
-        EXPECT_EQ(m.R, net.m.R);
-        EXPECT_EQ(m.S, net.m.S);
-        EXPECT_EQ(m.T, net.m.T);
-        EXPECT_EQ(m.M, net.m.M);
-        EXPECT_EQ(m.Ljk, net.m.Ljk);
+        expect_marginals_recomputed(net);
       }
 }
 
@@ -149,12 +158,7 @@ TEST(HopfieldDiscrete, MarginalSweepsEqualNaiveReference) {
           sync_sweep(net, 1.0, 0);
           ASSERT_EQ(net.V, ref) << "sync sweep " << s << " " << hopfield_energy_name(form);
         }
-        const HopfieldMarginals m =
-            compute_marginals(net.V, d.n1, d.n2, d.n3, form == HopfieldEnergy::kPrinted);
-        EXPECT_EQ(m.S, net.m.S);
-        EXPECT_EQ(m.T, net.m.T);
-        EXPECT_EQ(m.Ljk, net.m.Ljk);
-        EXPECT_EQ(m.M, net.m.M);
+        expect_marginals_recomputed(net);
         // async in the same random order
         net.set_state(V0);
         ref = V0;
@@ -200,13 +204,81 @@ TEST(HopfieldDiscrete, SliceAsyncEqualsNaiveInTheSameOrder) {
         async_sweep_slices(net, slices, packed, rotation);
         ASSERT_EQ(net.V, ref) << hopfield_energy_name(form) << " sweep " << s;
       }
-      const HopfieldMarginals m =
-          compute_marginals(net.V, d.n1, d.n2, d.n3, form == HopfieldEnergy::kPrinted);
-      EXPECT_EQ(m.R, net.m.R);
-      EXPECT_EQ(m.S, net.m.S);
-      EXPECT_EQ(m.Lij, net.m.Lij);
-      EXPECT_EQ(m.M, net.m.M);
+      expect_marginals_recomputed(net);
     }
+}
+
+// The async kernels skip a neuron without reading its state when its ΔE pair (state off / on)
+// proves it stays, and async_sweep also without reading its cost when the pair at the cost bounds
+// [c_lo, c_hi] proves it. This checks both against a reference that reads every neuron and
+// re-derives the marginals after every flip: identical states and flip counts, sweep by sweep.
+// The cases are the ones the skip is built for and the ones that break a careless bound: near-valid
+// states (a permutation with neurons removed and added), forbidden (+inf) tuples that put c_hi at
+// 1 + margin, a negative E (the cost bounds swap), and both energies.
+int64_t reference_async_sweep(HopfieldEnergy form, const HopfieldWeights& w, const NormalisedCost& c,
+                              std::vector<uint8_t>& V, std::span<const uint32_t> order) {
+  const bool printed = form == HopfieldEnergy::kPrinted;
+  HopfieldMarginals m = compute_marginals(V, c.n1, c.n2, c.n3, printed);
+  int64_t flips = 0;
+  for (uint32_t a : order) {
+    const int32_t k = static_cast<int32_t>(a % c.n3), j = static_cast<int32_t>(a / c.n3 % c.n2),
+                  i = static_cast<int32_t>(a / c.n3 / c.n2);
+    const double dE = delta_on(form, w, c, m, V, i, j, k);
+    const uint8_t nv = dE < 0 ? 1 : (dE > 0 ? 0 : V[a]);
+    if (nv == V[a]) continue;
+    V[a] = nv;
+    ++flips;
+    m = compute_marginals(V, c.n1, c.n2, c.n3, printed);
+  }
+  return flips;
+}
+
+TEST(HopfieldDiscrete, NoFlipSkipEqualsAReferenceThatReadsEveryNeuron) {
+  CounterRng rng(41, 2);
+  int64_t total_flips = 0;
+  for (const Dims& d : {Dims{10, 10, 10}, Dims{9, 11, 13}})
+    for (HopfieldEnergy form : kForms)
+      for (int variant = 0; variant < 4; ++variant) {
+        CostTensor3 t = random_tensor(d.n1, d.n2, d.n3, 900 + variant);
+        if (variant >= 2)  // forbidden tuples: ĉ = 1 + margin, c_hi = 2
+          for (auto& b : t.cost)
+            if (rng.uniform() < 0.3) b = std::numeric_limits<float>::infinity();
+        const NormalisedCost c = normalise_cost(t);
+        HopfieldWeights w{1.f, 1.f, 1.f, 0.f, 1.4f, std::min({d.n1, d.n2, d.n3})};
+        if (variant == 1) w = some_weights(rng, w.N);
+        if (variant == 3) w.E = -0.7f;  // rewards cost: the bounds swap ends
+        if (form == HopfieldEnergy::kPrinted) w.D = 1.f;
+        // Near-valid start: a partial assignment (rows kept with prob. 0.8) plus a few strays.
+        std::vector<uint8_t> V0(c.size(), 0);
+        const int32_t m = w.N;
+        for (int32_t r = 0; r < m; ++r)
+          if (rng.uniform() < 0.8) V0[c.size() / m * r % c.size()] = 1;
+        for (int extra = 0; extra < 4; ++extra) V0[rng.uniform_int(c.size())] = 1;
+        std::vector<uint32_t> cost_order = ascending_cost_order(c.c), random_order(c.size());
+        std::iota(random_order.begin(), random_order.end(), 0u);
+        const OrderedSweepPlan plan(cost_order, c);
+        DiscreteNetwork planned(form, w, c), plain(form, w, c);
+        planned.set_state(V0);
+        plain.set_state(V0);
+        std::vector<uint8_t> ref = V0, ref_random = V0;
+        DiscreteNetwork shuffled(form, w, c);
+        shuffled.set_state(V0);
+        for (int sweep = 0; sweep < 6; ++sweep) {
+          const int64_t fr = reference_async_sweep(form, w, c, ref, cost_order);
+          ASSERT_EQ(async_sweep_planned(planned, plan), fr) << variant << " sweep " << sweep;
+          ASSERT_EQ(async_sweep(plain, cost_order), fr);
+          ASSERT_EQ(planned.V, ref) << hopfield_energy_name(form) << " variant " << variant << " sweep "
+                                    << sweep;
+          ASSERT_EQ(plain.V, ref);
+          rng.shuffle(std::span<uint32_t>(random_order));
+          const int64_t fq = reference_async_sweep(form, w, c, ref_random, random_order);
+          ASSERT_EQ(async_sweep(shuffled, random_order), fq);
+          ASSERT_EQ(shuffled.V, ref_random) << hopfield_energy_name(form) << " variant " << variant;
+          total_flips += fr + fq;
+        }
+        expect_marginals_recomputed(planned);
+      }
+  EXPECT_GT(total_flips, 100);  // the sweeps did work, not only skips
 }
 
 // E·ĉ_max < (A+B+C+D)/2 makes every valid assignment a fixed point of the full-plane network
