@@ -272,6 +272,25 @@ BENCHMARK(BM_ContinuousSyncStep)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The async continuous step (serial; a uniform random permutation per step, drawn inside the timed
+// region as the solver does): u, V and ĉ are read at random.
+void BM_ContinuousAsyncStep(benchmark::State& state) {
+  const int32_t n = static_cast<int32_t>(state.range(0));
+  Fixture f(n);
+  ContinuousNetwork net(f.c);
+  CounterRng rng(1);
+  net.initialise(-1.f, 0.01f, 0.5f, rng);
+  ContinuousParams p;
+  p.w = f.w;
+  std::vector<uint32_t> order(f.c.size());
+  std::iota(order.begin(), order.end(), 0u);
+  run_with_floor(state, f.c.size(), 1, [&] {
+    rng.shuffle(std::span<uint32_t>(order));
+    benchmark::DoNotOptimize(continuous_async_step(net, p, order));
+  });
+}
+BENCHMARK(BM_ContinuousAsyncStep)->Arg(50)->Arg(100)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // Restarts in parallel: 8 restarts of at most 20 async sweeps each (cost order, random start) at
 // n = 50; they converge in 3–5 sweeps, so the prologue (normalisation, cost order) and the balance
 // of 8 unequal tasks over 2 threads decide the speed-up.

@@ -143,15 +143,22 @@ float continuous_sync_step(ContinuousNetwork& net, const ContinuousParams& p) {
 float continuous_async_step(ContinuousNetwork& net, const ContinuousParams& p,
                             std::span<const uint32_t> order) {
   const NormalisedCost& c = *net.c;
-  const int32_t n2 = c.n2, n3 = c.n3;
   const HopfieldWeights& w = p.w;
   const float decay = p.tau > 0.f ? 1.f - p.dt / p.tau : 1.f;
   const float inv_u0 = 1.f / p.u0;
   float dmax = 0.f;
-  for (uint32_t a : order) {
-    const int32_t k = static_cast<int32_t>(a % n3);
-    const int32_t j = static_cast<int32_t>((a / n3) % n2);
-    const int32_t i = static_cast<int32_t>(a / (static_cast<uint32_t>(n3) * n2));
+  const NeuronIndexer index(c);
+  const std::size_t K = order.size();
+  constexpr std::size_t kAhead = 16;  // u, V and ĉ are read at random: prefetch them
+  for (std::size_t q = 0; q < K; ++q) {
+    if (q + kAhead < K) {
+      const uint32_t b = order[q + kAhead];
+      __builtin_prefetch(net.u.data() + b, 1);
+      __builtin_prefetch(net.V.data() + b, 1);
+      __builtin_prefetch(c.c.data() + b);
+    }
+    const uint32_t a = order[q];
+    const auto [i, j, k] = index(a);
     const double h = -(w.A * (net.R[i] - 1.0) + w.B * (net.S[j] - 1.0) + w.C * (net.T[k] - 1.0) +
                        w.D * (net.M - w.N) + static_cast<double>(w.E) * c.c[a]) +
                      p.self_excitation * (w.A + w.B + w.C + w.D) * (net.V[a] - 0.5);
