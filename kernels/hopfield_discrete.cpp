@@ -34,7 +34,6 @@ double DiscreteNetwork::delta_on(std::size_t a) const {
 // ---------------------------------------------------------------------------------------------
 // async: Gauss–Seidel, marginals updated on every flip.
 
-
 namespace {
 
 // ΔE_on of neuron (i, j, k) with cost ca under both values of its own state: `off` for V = 0 (the
