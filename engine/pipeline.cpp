@@ -7,6 +7,7 @@
 #include <map>
 
 #include "engine/solver_registry.hpp"
+#include "engine/tuple_decoding.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc {
@@ -147,45 +148,11 @@ void append_output_row(int32_t num_sensors, const std::array<int32_t, 3>& column
 
 namespace {
 
-// Splits a solver tuple into gated-in parts (see the header comment) and appends the resulting
-// output rows (local track numbers in /sensors columns) with their costs.
-void decode_tuple(const AssociationProblem& p, const Tuple3& t, bool all_pairs, std::vector<int32_t>& rows,
-                  std::vector<double>& costs) {
-  auto emit = [&](std::array<bool, 3> members, double cost) {
-    append_output_row(p.num_sensors, p.sensor_columns, p.aligned, t, members, cost, rows, costs);
-  };
-  const bool has0 = t[0] >= 0, has1 = t[1] >= 0, has2 = t[2] >= 0;
-  const auto gate12 = [&] { return has0 && has1 && p.s12.in_gate[t[0] * p.s12.n_b + t[1]]; };
-  const auto gate23 = [&] { return has1 && has2 && p.s23.in_gate[t[1] * p.s23.n_b + t[2]]; };
-  const auto gate13 = [&] { return has0 && has2 && p.s13.in_gate[t[0] * p.s13.n_b + t[2]]; };
-  if (has0 && has1 && has2 && gate12() && gate23() && (!all_pairs || gate13())) {
-    emit({true, true, true}, p.tensor.at(t[0], t[1], t[2]));
-    return;
-  }
-  // Best gated-in pair by λ; the remaining index stays alone.
-  struct Pair {
-    int a, b;
-    double lambda;
-  };
-  std::vector<Pair> pairs;
-  if (gate12()) pairs.push_back({0, 1, p.s12.lambda[t[0] * p.s12.n_b + t[1]]});
-  if (gate23()) pairs.push_back({1, 2, p.s23.lambda[t[1] * p.s23.n_b + t[2]]});
-  if (gate13()) pairs.push_back({0, 2, p.s13.lambda[t[0] * p.s13.n_b + t[2]]});
-  std::array<bool, 3> used{false, false, false};
-  if (!pairs.empty()) {
-    const auto best = *std::min_element(pairs.begin(), pairs.end(),
-                                        [](const Pair& x, const Pair& y) { return x.lambda < y.lambda; });
-    std::array<bool, 3> m{false, false, false};
-    m[best.a] = m[best.b] = true;
-    emit(m, best.lambda);
-    used = m;
-  }
-  for (int d = 0; d < 3; ++d)
-    if (!used[d]) {
-      std::array<bool, 3> m{false, false, false};
-      m[d] = true;
-      emit(m, 0.0);
-    }
+// λ of a gated-in pair of the dense problem, NaN outside the gate (tuple_decoding.hpp).
+double dense_gated_lambda(const AssociationProblem& p, int q, int32_t a, int32_t b) {
+  const PairStatistic& s = q == 0 ? p.s12 : (q == 1 ? p.s23 : p.s13);
+  const std::size_t x = static_cast<std::size_t>(a) * s.n_b + b;
+  return s.in_gate[x] ? s.lambda[x] : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace
@@ -216,21 +183,28 @@ AssociationRecord solve_association(const AssociationProblem& p, const std::stri
   rec.energy = std::move(solution.energy_trace);
   rec.restarts = std::move(solution.restarts);
 
+  // Decoding (engine/tuple_decoding.hpp): split every solver tuple into gated-in parts, then pair
+  // the tracks left over or unused by ascending gated-in λ.
+  const bool all_pairs = options.cost.form == CostForm::kAllPairs;
+  const GatedLambda lambda = [&](int q, int32_t a, int32_t b) { return dense_gated_lambda(p, q, a, b); };
+  const EmitTuple emit = [&](const std::array<int32_t, 3>& t, double cost) {
+    append_output_row(p.num_sensors, p.sensor_columns, p.aligned, t, {true, true, true}, cost, rec.tuples,
+                      rec.cost);
+  };
   std::array<std::vector<char>, 3> seen;
   for (int d = 0; d < 3; ++d) seen[d].assign(p.aligned[d].n_tracks(), 0);
-  const bool all_pairs = options.cost.form == CostForm::kAllPairs;
+  std::array<std::vector<int32_t>, 3> left_over;
   for (const Tuple3& t : solution.tuples) {
     for (int d = 0; d < 3; ++d)
       if (t[d] >= 0) seen[d][t[d]] = 1;
-    decode_tuple(p, t, all_pairs, rec.tuples, rec.cost);
+    split_tuple(
+        lambda, t, all_pairs, [&](double, double, double) { return p.tensor.at(t[0], t[1], t[2]); }, emit,
+        left_over);
   }
   for (int d = 0; d < 3; ++d)
     for (int32_t i = 0; i < p.aligned[d].n_tracks(); ++i)
-      if (!seen[d][i]) {
-        Tuple3 t{kNoTrack, kNoTrack, kNoTrack};
-        t[d] = i;
-        decode_tuple(p, t, all_pairs, rec.tuples, rec.cost);
-      }
+      if (!seen[d][i]) left_over[d].push_back(i);
+  pair_leftovers(lambda, left_over, emit);
   return rec;
 }
 

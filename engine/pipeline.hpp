@@ -9,9 +9,10 @@
 // CV model (kernels/association_statistic.hpp). This is the simplest choice that treats the
 // sensors symmetrically; seed 003 notes that alignment amplifies errors.
 //
-// Decoding: every local track of the three sensors appears in exactly one output tuple. A solver
-// tuple whose chained pairs are not all inside the gate is split into its gated-in parts; tracks a
-// solver left unassigned (unequal counts) become tuples of one track.
+// Decoding (engine/tuple_decoding.hpp): every local track of the three sensors appears in exactly
+// one output tuple. A solver tuple whose chained pairs are not all inside the gate is split into
+// its gated-in parts; the tracks a solver left unassigned (unequal counts) are paired greedily by
+// gated-in λ, so a target that one sensor missed keeps its pair, and the rest stay alone.
 #pragma once
 
 #include <array>

@@ -10,6 +10,7 @@
 #include <numeric>
 
 #include "engine/solver_registry.hpp"
+#include "engine/tuple_decoding.hpp"
 #include "kernels/error.hpp"
 #include "kernels/random.hpp"
 
@@ -209,48 +210,33 @@ ComponentProblem component_problem(const SparseAssociationProblem& p, int32_t c,
   return cp;
 }
 
-// The decoding of engine/pipeline.cpp (decode_tuple), on track rows with sparse gate lookups:
-// a tuple whose chained pairs are all in the gate is kept; otherwise its best gated-in pair by λ is
-// kept and the remaining tracks become tuples of one track.
-void decode_rows(const SparseAssociationProblem& p, const std::array<int32_t, 3>& t, bool all_pairs,
-                 std::vector<int32_t>& out_rows, std::vector<double>& out_costs) {
-  auto emit = [&](std::array<bool, 3> members, double cost) {
-    append_output_row(p.num_sensors, p.sensor_columns, p.aligned, t, members, cost, out_rows, out_costs);
-  };
-  const bool has0 = t[0] >= 0, has1 = t[1] >= 0, has2 = t[2] >= 0;
-  const double l12 = has0 && has1 ? gated_lambda(p.s12, t[0], t[1]) : NAN;
-  const double l23 = has1 && has2 ? gated_lambda(p.s23, t[1], t[2]) : NAN;
-  const double l13 = has0 && has2 ? gated_lambda(p.s13, t[0], t[2]) : NAN;
-  if (!std::isnan(l12) && !std::isnan(l23) && (!all_pairs || !std::isnan(l13))) {
-    // The cost the dense tensor holds for this tuple (float).
-    emit({true, true, true},
-         all_pairs ? pair_cost(l12) + pair_cost(l23) + pair_cost(l13) : pair_cost(l12) + pair_cost(l23));
-    return;
+// The decoding of engine/tuple_decoding.hpp on track rows, with sparse gate lookups.
+struct SparseDecoder {
+  const SparseAssociationProblem& p;
+  bool all_pairs;
+  std::vector<int32_t>& rows;
+  std::vector<double>& costs;
+  GatedLambda lambda() const {
+    return [this](int q, int32_t a, int32_t b) {
+      return gated_lambda(q == 0 ? p.s12 : (q == 1 ? p.s23 : p.s13), a, b);
+    };
   }
-  struct Pair {
-    int a, b;
-    double lambda;
-  };
-  std::vector<Pair> pairs;
-  if (!std::isnan(l12)) pairs.push_back({0, 1, l12});
-  if (!std::isnan(l23)) pairs.push_back({1, 2, l23});
-  if (!std::isnan(l13)) pairs.push_back({0, 2, l13});
-  std::array<bool, 3> used{false, false, false};
-  if (!pairs.empty()) {
-    const auto best = *std::min_element(pairs.begin(), pairs.end(),
-                                        [](const Pair& x, const Pair& y) { return x.lambda < y.lambda; });
-    std::array<bool, 3> m{false, false, false};
-    m[best.a] = m[best.b] = true;
-    emit(m, best.lambda);
-    used = m;
+  EmitTuple emit() const {
+    return [this](const std::array<int32_t, 3>& t, double cost) {
+      append_output_row(p.num_sensors, p.sensor_columns, p.aligned, t, {true, true, true}, cost, rows, costs);
+    };
   }
-  for (int d = 0; d < 3; ++d)
-    if (!used[d]) {
-      std::array<bool, 3> m{false, false, false};
-      m[d] = true;
-      emit(m, 0.0);
-    }
-}
+  // A tuple kept whole costs what the dense tensor holds for it (float).
+  void split(const std::array<int32_t, 3>& t, std::array<std::vector<int32_t>, 3>& left_over) const {
+    split_tuple(
+        lambda(), t, all_pairs,
+        [this](double l12, double l23, double l13) -> double {
+          return all_pairs ? pair_cost(l12) + pair_cost(l23) + pair_cost(l13)
+                           : pair_cost(l12) + pair_cost(l23);
+        },
+        emit(), left_over);
+  }
+};
 
 struct ComponentResult {
   std::vector<int32_t> rows;  // decoded output tuples, S columns
@@ -315,44 +301,15 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
         }
       return rows;
     };
-    for (const Tuple3& t : sol.tuples) decode_rows(p, to_rows(t), all_pairs, r.rows, r.costs);
-    // Tracks the solver left unassigned (finite miss cost: the solvers return complete tuples
-    // only) are paired greedily by ascending gated-in λ, so that a target seen by two of the three
-    // sensors is still grouped; the rest stay alone. With phantom padding nothing is left over.
-    struct Leftover {
-      double lambda;
-      int da, db;
-      std::size_t xa, xb;
-    };
-    std::vector<Leftover> pairs;
-    const std::array<std::pair<int, int>, 3> sensor_pairs{{{0, 1}, {1, 2}, {0, 2}}};
-    const std::array<const SparsePairStatistic*, 3> stats{&p.s12, &p.s23, &p.s13};
-    for (int q = 0; q < 3; ++q) {
-      const auto [da, db] = sensor_pairs[q];
-      for (std::size_t xa = 0; xa < cp.rows[da].size(); ++xa)
-        for (std::size_t xb = 0; xb < cp.rows[db].size() && !seen[da][xa]; ++xb)
-          if (!seen[db][xb]) {
-            const double l = gated_lambda(*stats[q], cp.rows[da][xa], cp.rows[db][xb]);
-            if (!std::isnan(l)) pairs.push_back({l, da, db, xa, xb});
-          }
-    }
-    std::stable_sort(pairs.begin(), pairs.end(),
-                     [](const Leftover& x, const Leftover& y) { return x.lambda < y.lambda; });
-    for (const Leftover& l : pairs) {
-      if (seen[l.da][l.xa] || seen[l.db][l.xb]) continue;
-      seen[l.da][l.xa] = seen[l.db][l.xb] = 1;
-      std::array<int32_t, 3> rows{kNoTrack, kNoTrack, kNoTrack};
-      rows[l.da] = cp.rows[l.da][l.xa];
-      rows[l.db] = cp.rows[l.db][l.xb];
-      decode_rows(p, rows, all_pairs, r.rows, r.costs);
-    }
+    const SparseDecoder decoder{p, all_pairs, r.rows, r.costs};
+    // Tracks split off and tracks the solver left unassigned (finite miss cost: the solvers return
+    // complete tuples only) are paired by gated-in λ.
+    std::array<std::vector<int32_t>, 3> leftovers;
+    for (const Tuple3& t : sol.tuples) decoder.split(to_rows(t), leftovers);
     for (int d = 0; d < 3; ++d)
       for (std::size_t x = 0; x < cp.rows[d].size(); ++x)
-        if (!seen[d][x]) {
-          std::array<int32_t, 3> rows{kNoTrack, kNoTrack, kNoTrack};
-          rows[d] = cp.rows[d][x];
-          decode_rows(p, rows, all_pairs, r.rows, r.costs);
-        }
+        if (!seen[d][x]) leftovers[d].push_back(cp.rows[d][x]);
+    pair_leftovers(decoder.lambda(), leftovers, decoder.emit());
   });
 
   AssociationRecord rec;
@@ -371,7 +328,10 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
       while (node >= p.offset[d + 1]) ++d;
       std::array<int32_t, 3> rows{kNoTrack, kNoTrack, kNoTrack};
       rows[d] = node - p.offset[d];
-      decode_rows(p, rows, all_pairs, rec.tuples, rec.cost);
+      const SparseDecoder decoder{p, all_pairs, rec.tuples, rec.cost};
+      std::array<std::vector<int32_t>, 3> alone;
+      decoder.split(rows, alone);
+      pair_leftovers(decoder.lambda(), alone, decoder.emit());
       continue;
     }
     const ComponentResult& r = results[c];
