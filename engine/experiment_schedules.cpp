@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/experiments.hpp"
 #include "engine/hopfield_json.hpp"
 #include "engine/pipeline.hpp"
 #include "engine/simulation.hpp"
@@ -344,8 +345,7 @@ void write_schedules_outputs(const std::vector<ScheduleRow>& rows, const Schedul
   write_atomically(o.output, [&](const std::string& tmp) {
     h5::File f = h5::File::create(tmp);
     const h5::Group root = f.root();
-    root.write_attribute("format", std::string("trackassoc-experiment"));
-    root.write_attribute("experiment", std::string("schedules"));
+    write_experiment_header(root, "schedules");
     root.write_attribute("seed", o.seed);
     const h5::Group g = root.create_group("schedules");
     g.write_attribute("methods", nlohmann::json(method_names).dump());

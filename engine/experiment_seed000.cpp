@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "engine/experiment_schedules.hpp"
+#include "engine/experiments.hpp"
 #include "engine/hopfield_json.hpp"
 #include "engine/pipeline.hpp"
 #include "engine/simulation.hpp"
@@ -212,8 +213,7 @@ void write_seed000_outputs(const std::vector<Seed000Row>& rows, const Seed000Exp
   write_atomically(o.output, [&](const std::string& tmp) {
     h5::File f = h5::File::create(tmp);
     const h5::Group root = f.root();
-    root.write_attribute("format", std::string("trackassoc-experiment"));
-    root.write_attribute("experiment", std::string("seed000"));
+    write_experiment_header(root, "seed000");
     root.write_attribute("seed", o.seed);
     root.write_attribute("correlation", o.correlation);
     const h5::Group g = root.create_group("seed000");

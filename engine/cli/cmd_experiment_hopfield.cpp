@@ -1,7 +1,5 @@
 // trackassoc experiment schedules | seed000: the Hopfield experiments (engine/experiment_schedules.hpp,
 // engine/experiment_seed000.hpp).
-#include <unistd.h>
-
 #include <iostream>
 
 #include "engine/cli/common.hpp"
@@ -10,16 +8,8 @@
 
 namespace trackassoc::cli {
 
-namespace {
-std::ostream* progress_stream() { return isatty(STDERR_FILENO) ? &std::cerr : nullptr; }
-}  // namespace
-
 void register_experiment_schedules(CLI::App& experiment) {
-  struct Args {
-    SchedulesExperimentOptions o;
-    CommonOptions common;
-  };
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<ExperimentArgs<SchedulesExperimentOptions>>();
   args->o.decomplib_dir = std::string(TRACKASSOC_DATA_DIR) + "/../../shared/benchmarks/3dap/decomplib";
   CLI::App* cmd = experiment.add_subcommand(
       "schedules",
@@ -35,25 +25,16 @@ void register_experiment_schedules(CLI::App& experiment) {
       ->capture_default_str();
   cmd->add_option("--restarts", args->o.restarts, "Restarts of every network")->capture_default_str();
   cmd->add_option("--methods", args->o.methods, "Only these methods (table names; default: all)");
-  cmd->add_option("--output", args->o.output, "HDF5 output")->capture_default_str();
-  cmd->add_option("--plot", args->o.plot, "SVG plot of gap vs wall time ('' = none)")->capture_default_str();
-  add_common_options(cmd, args->common);
-  cmd->callback([args] {
-    ThreadScope threads(args->common.threads);
-    args->o.seed = args->common.seed;
-    const auto rows = run_schedules_experiment(args->o, progress_stream());
-    std::cout << schedules_summary_table(rows);
-    write_schedules_outputs(rows, args->o);
-    std::cout << "\nwrote " << args->o.output << (args->o.plot.empty() ? "" : " and " + args->o.plot) << "\n";
-  });
+  finish_experiment_command(cmd, args, "SVG plot of gap vs wall time ('' = none)",
+                            [](const SchedulesExperimentOptions& o, std::ostream* progress) {
+                              const auto rows = run_schedules_experiment(o, progress);
+                              std::cout << schedules_summary_table(rows);
+                              write_schedules_outputs(rows, o);
+                            });
 }
 
 void register_experiment_seed000(CLI::App& experiment) {
-  struct Args {
-    Seed000ExperimentOptions o;
-    CommonOptions common;
-  };
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<ExperimentArgs<Seed000ExperimentOptions>>();
   CLI::App* cmd = experiment.add_subcommand(
       "seed000", "Seed 000 Monte Carlo: correct association of hopfield-paper, hopfield, chnn, lr and exact");
   cmd->add_option("--targets", args->o.targets, "Target counts")->capture_default_str();
@@ -61,17 +42,12 @@ void register_experiment_seed000(CLI::App& experiment) {
   cmd->add_option("--correlation", args->o.correlation, "ρ of the correlated-error case")
       ->capture_default_str();
   cmd->add_option("--solvers", args->o.solvers, "Solvers to compare")->capture_default_str();
-  cmd->add_option("--output", args->o.output, "HDF5 output")->capture_default_str();
-  cmd->add_option("--plot", args->o.plot, "SVG plot ('' = none)")->capture_default_str();
-  add_common_options(cmd, args->common);
-  cmd->callback([args] {
-    ThreadScope threads(args->common.threads);
-    args->o.seed = args->common.seed;
-    const auto rows = run_seed000_experiment(args->o, progress_stream());
-    std::cout << seed000_summary_table(rows, args->o);
-    write_seed000_outputs(rows, args->o);
-    std::cout << "\nwrote " << args->o.output << (args->o.plot.empty() ? "" : " and " + args->o.plot) << "\n";
-  });
+  finish_experiment_command(cmd, args, "SVG plot ('' = none)",
+                            [](const Seed000ExperimentOptions& o, std::ostream* progress) {
+                              const auto rows = run_seed000_experiment(o, progress);
+                              std::cout << seed000_summary_table(rows, o);
+                              write_seed000_outputs(rows, o);
+                            });
 }
 
 }  // namespace trackassoc::cli

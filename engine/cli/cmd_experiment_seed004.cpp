@@ -1,7 +1,5 @@
 // trackassoc experiment seed004: the improved CHNN with pseudo-tracks on four asynchronous 3-D
 // sensors (engine/experiment_seed004.hpp).
-#include <unistd.h>
-
 #include <iostream>
 
 #include "engine/cli/common.hpp"
@@ -10,11 +8,7 @@
 namespace trackassoc::cli {
 
 void register_experiment_seed004(CLI::App& experiment) {
-  struct Args {
-    Seed004ExperimentOptions o;
-    CommonOptions common;
-  };
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<ExperimentArgs<Seed004ExperimentOptions>>();
   CLI::App* cmd = experiment.add_subcommand(
       "seed004",
       "Seed 004: CHNN with pseudo-tracks (Eq. 12 vs Eq. 7), S-D LR and exact on 4 sensors, 5 and 25 targets");
@@ -29,17 +23,12 @@ void register_experiment_seed004(CLI::App& experiment) {
   cmd->add_option("--exact-time-limit", args->o.exact_time_limit_s,
                   "Time limit of the exact search per run [s]")
       ->capture_default_str();
-  cmd->add_option("--output", args->o.output, "HDF5 output")->capture_default_str();
-  cmd->add_option("--plot", args->o.plot, "SVG plot ('' = none)")->capture_default_str();
-  add_common_options(cmd, args->common);
-  cmd->callback([args] {
-    ThreadScope threads(args->common.threads);
-    args->o.seed = args->common.seed;
-    const auto rows = run_seed004_experiment(args->o, isatty(STDERR_FILENO) ? &std::cerr : nullptr);
-    std::cout << seed004_summary_table(rows, args->o);
-    write_seed004_outputs(rows, args->o);
-    std::cout << "\nwrote " << args->o.output << (args->o.plot.empty() ? "" : " and " + args->o.plot) << "\n";
-  });
+  finish_experiment_command(cmd, args, "SVG plot ('' = none)",
+                            [](const Seed004ExperimentOptions& o, std::ostream* progress) {
+                              const auto rows = run_seed004_experiment(o, progress);
+                              std::cout << seed004_summary_table(rows, o);
+                              write_seed004_outputs(rows, o);
+                            });
 }
 
 }  // namespace trackassoc::cli

@@ -3,11 +3,14 @@
 #pragma once
 
 #include <oneapi/tbb/global_control.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdint>
+#include <iostream>
 #include <memory>
+#include <string>
 
 namespace trackassoc::cli {
 
@@ -37,6 +40,31 @@ class ThreadScope {
  private:
   std::unique_ptr<tbb::global_control> control_;
 };
+
+// The options and the ending shared by the experiments that print a table and write an HDF5 file
+// and a plot (seed000, seed004, schedules): `Options` has `output`, `plot` and `seed`.
+template <class Options>
+struct ExperimentArgs {
+  Options o;
+  CommonOptions common;
+};
+
+// Adds --output, --plot and the common options to `cmd`; its callback runs
+// `run(options, progress)` (progress on stderr when it is a terminal), which prints the table and
+// writes the files, then says what was written.
+template <class Options, class Run>
+void finish_experiment_command(CLI::App* cmd, const std::shared_ptr<ExperimentArgs<Options>>& args,
+                               const std::string& plot_help, Run run) {
+  cmd->add_option("--output", args->o.output, "HDF5 output")->capture_default_str();
+  cmd->add_option("--plot", args->o.plot, plot_help)->capture_default_str();
+  add_common_options(cmd, args->common);
+  cmd->callback([args, run] {
+    ThreadScope threads(args->common.threads);
+    args->o.seed = args->common.seed;
+    run(args->o, isatty(STDERR_FILENO) ? &std::cerr : nullptr);
+    std::cout << "\nwrote " << args->o.output << (args->o.plot.empty() ? "" : " and " + args->o.plot) << "\n";
+  });
+}
 
 // Each command file engine/cli/cmd_*.cpp defines one of these; main.cpp calls them all.
 
