@@ -157,6 +157,27 @@ double dense_gated_lambda(const AssociationProblem& p, int q, int32_t a, int32_t
 
 }  // namespace
 
+AssociationRecord record_from_summary(const std::string& solver, int32_t num_sensors, uint64_t seed,
+                                      const nlohmann::json& solver_options,
+                                      const nlohmann::json& pipeline_json, const SolverSummary& summary,
+                                      double runtime_s, const nlohmann::json& extra) {
+  AssociationRecord rec;
+  rec.name = solver;
+  rec.num_sensors = num_sensors;
+  rec.solver = solver;
+  rec.seed = seed;
+  nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
+                         {"pipeline", pipeline_json}};
+  opts.update(extra);
+  rec.options_json = opts.dump();
+  rec.objective = summary.objective;
+  rec.lower_bound = summary.lower_bound;
+  rec.gap = summary.gap;
+  rec.termination = termination_name(summary.termination);
+  rec.runtime_s = runtime_s;
+  return rec;
+}
+
 AssociationRecord solve_association(const AssociationProblem& p, const std::string& solver,
                                     const nlohmann::json& solver_options, uint64_t seed,
                                     const PipelineOptions& options) {
@@ -165,19 +186,8 @@ AssociationRecord solve_association(const AssociationProblem& p, const std::stri
   Solution3 solution = entry.solve(p.tensor, solver_options, seed);
   const double solve_time = seconds_since(t0);
 
-  AssociationRecord rec;
-  rec.name = solver;
-  rec.num_sensors = p.num_sensors;
-  rec.solver = solver;
-  rec.seed = seed;
-  nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
-                         {"pipeline", options.to_json()}};
-  rec.options_json = opts.dump();
-  rec.objective = solution.summary.objective;
-  rec.lower_bound = solution.summary.lower_bound;
-  rec.gap = solution.summary.gap;
-  rec.termination = termination_name(solution.summary.termination);
-  rec.runtime_s = solve_time;
+  AssociationRecord rec = record_from_summary(solver, p.num_sensors, seed, solver_options, options.to_json(),
+                                              solution.summary, solve_time);
   rec.energy_rows = solution.energy_rows;
   rec.energy_cols = solution.energy_cols;
   rec.energy = std::move(solution.energy_trace);

@@ -55,6 +55,16 @@ struct AssociationProblem {
 // exist, a chosen sensor is unknown, or the sensors never report at common times.
 AssociationProblem build_association_problem(const TrackFile& file, const PipelineOptions& options);
 
+// A record for /associations/<solver>/ filled from a solver's summary: name = solver = `solver`,
+// the seed, objective, bound, gap, termination and run time, and the options attribute
+// {"solver": solver_options, "pipeline": pipeline_json} with `extra` merged in. The caller adds
+// the tuples.
+AssociationRecord record_from_summary(const std::string& solver, int32_t num_sensors, uint64_t seed,
+                                      const nlohmann::json& solver_options,
+                                      const nlohmann::json& pipeline_json, const SolverSummary& summary,
+                                      double runtime_s,
+                                      const nlohmann::json& extra = nlohmann::json::object());
+
 // Runs solver `solver` (engine/solver_registry.hpp) with `solver_options`, decodes the tuples and
 // returns the record for /associations/<name>/.
 AssociationRecord solve_association(const AssociationProblem& problem, const std::string& solver,

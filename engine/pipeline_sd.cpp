@@ -290,20 +290,9 @@ AssociationRecord solve_sd_association(const SDProblem& p, const std::string& so
                                        const nlohmann::json& solver_options, uint64_t seed,
                                        const PipelineOptions& options) {
   const SolutionSD sol = solve_sd(p, solver, solver_options, seed);
-  AssociationRecord rec;
-  rec.name = solver;
-  rec.num_sensors = p.file_sensors;
-  rec.solver = solver;
-  rec.seed = seed;
-  nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
-                         {"pipeline", options.to_json()},
-                         {"formulation", "S-D with dummies"}};
-  rec.options_json = opts.dump();
-  rec.objective = sol.summary.objective;
-  rec.lower_bound = sol.summary.lower_bound;
-  rec.gap = sol.summary.gap;
-  rec.termination = termination_name(sol.summary.termination);
-  rec.runtime_s = sol.summary.wall_time_s;
+  AssociationRecord rec =
+      record_from_summary(solver, p.file_sensors, seed, solver_options, options.to_json(), sol.summary,
+                          sol.summary.wall_time_s, {{"formulation", "S-D with dummies"}});
   append_tuples(p, sol, rec);
   return rec;
 }
