@@ -37,6 +37,7 @@ void register_associate(CLI::App& app) {
     CommonOptions common;
     PipelineFlags pipeline;
     std::string input, output, solver = "pairwise", name;
+    HopfieldFlags hopfield;  // merged into --options
     bool sd = false;
     std::string model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";  // --solver siamese
   };
@@ -59,11 +60,13 @@ void register_associate(CLI::App& app) {
                 "S-D formulation with a dummy per sensor (any number of sensors; solvers lr, lr+ls, exact, "
                 "chnn-pseudo). Implied by more than three --sensors");
   add_pipeline_options(cmd, args->pipeline);
+  add_hopfield_flags(cmd, args->hopfield, true);
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     const PipelineOptions options = resolve(args->pipeline);
-    const nlohmann::json solver_options = parse_solver_options(args->pipeline.solver_options);
+    nlohmann::json solver_options = parse_solver_options(args->pipeline.solver_options);
+    merge_hopfield_flags(args->hopfield, args->solver, solver_options);
     if (args->solver == "fuzzy" || args->solver == "ftaa") {  // not a 3-D tensor solver (seed 001)
       if (args->pipeline.sparse)
         throw InputError("--sparse: applies to the 3-D assignment solvers, not to '" + args->solver + "'");

@@ -22,6 +22,7 @@ void register_run(CLI::App& app) {
     PipelineFlags pipeline;
     std::string scenario = "seed000", output = "trackassoc-run.h5";
     std::vector<std::string> solvers;
+    HopfieldFlags hopfield;  // merged into the options of every Hopfield solver
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("run", "Simulate, associate with every solver, evaluate, print a table");
@@ -30,6 +31,7 @@ void register_run(CLI::App& app) {
   cmd->add_option("--solvers", args->solvers, "Solvers to run (default: all that suit the size)")
       ->delimiter(',');
   add_pipeline_options(cmd, args->pipeline);
+  add_hopfield_flags(cmd, args->hopfield, true);
   cmd->get_option("--options")
       ->description(
           "Per-solver options as JSON keyed by solver name, e.g. '{\"hopfield\": {\"restarts\": 8}}'");
@@ -37,8 +39,21 @@ void register_run(CLI::App& app) {
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     const PipelineOptions options = resolve(args->pipeline);
-    const nlohmann::json solver_options = parse_solver_options(args->pipeline.solver_options);
+    nlohmann::json solver_options = parse_solver_options(args->pipeline.solver_options);
     for (const auto& s : args->solvers) find_solver(s);
+    if (args->hopfield.any()) {  // the flags go to every Hopfield solver of the run
+      bool any_hopfield = args->solvers.empty();
+      for (const auto& s : args->solvers) any_hopfield |= is_hopfield_solver(s);
+      if (!any_hopfield)
+        throw InputError(
+            "--schedule/--restarts/--polish/--trace: --solvers names no Hopfield solver "
+            "(hopfield, hopfield-paper, chnn)");
+      for (const char* s : {"hopfield", "hopfield-paper", "chnn"}) {
+        nlohmann::json o = solver_options.contains(s) ? solver_options[s] : nlohmann::json::object();
+        merge_hopfield_flags(args->hopfield, s, o);
+        solver_options[s] = o;
+      }
+    }
     const Scenario scenario = load_scenario(args->scenario);
     const SimulationResult sim = simulate(scenario, args->common.seed, 0);
     TrackFile file = simulation_to_track_file(scenario, sim);

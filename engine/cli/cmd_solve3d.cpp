@@ -36,10 +36,7 @@ void register_solve3d(CLI::App& app) {
     std::string instance, solver = "lr+ls", options = "{}";
     bool json = false;
     double time_limit = 0.0;
-    // Hopfield solvers only (merged into --options): schedule, restarts, polish.
-    std::string schedule;
-    int restarts = 0;
-    bool polish = false;
+    HopfieldFlags hopfield;  // merged into --options
   };
   auto args = std::make_shared<Args>();
   std::string solver_help = "Solver:";
@@ -63,24 +60,13 @@ void register_solve3d(CLI::App& app) {
   cmd->add_option("--options", args->options,
                   "Solver options as a JSON object, e.g. '{\"step_rule\": \"deflected\"}'")
       ->capture_default_str();
-  cmd->add_option("--schedule", args->schedule, "Hopfield solvers: sync, async, diagonal or continuous");
-  cmd->add_option("--restarts", args->restarts, "Hopfield solvers: number of restarts")
-      ->check(CLI::PositiveNumber);
-  cmd->add_flag("--polish", args->polish, "Hopfield solvers: polish every restart by the LAP local search");
+  add_hopfield_flags(cmd, args->hopfield, false);
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     const SolverEntry& solver = find_solver(args->solver);
     nlohmann::json options = parse_solver_options(args->options);
-    if (!args->schedule.empty() || args->restarts > 0 || args->polish) {
-      if (solver.name != "hopfield" && solver.name != "hopfield-paper" && solver.name != "chnn")
-        throw InputError("--schedule/--restarts/--polish: only for hopfield, hopfield-paper and chnn, not '" +
-                         solver.name + "'");
-      if (options.is_null()) options = nlohmann::json::object();
-      if (!args->schedule.empty()) options["schedule"] = args->schedule;
-      if (args->restarts > 0) options["restarts"] = args->restarts;
-      if (args->polish) options["polish"] = true;
-    }
+    merge_hopfield_flags(args->hopfield, solver.name, options);
     if (args->time_limit > 0.0) {
       if (solver.name != "lr" && solver.name != "lr+ls" && solver.name != "exact")
         throw InputError("--time-limit: solver '" + solver.name + "' is one-pass and takes no time limit");

@@ -142,6 +142,45 @@ inline nlohmann::json parse_solver_options(const std::string& text) {
   }
 }
 
+// --schedule, --restarts, --polish and --trace for the Hopfield solvers (hopfield, hopfield-paper,
+// chnn), merged into their solver options (engine/hopfield_json.hpp); solve3d, associate and run.
+struct HopfieldFlags {
+  std::string schedule;
+  int restarts = 0;
+  bool polish = false, trace = false;
+  bool any() const { return !schedule.empty() || restarts > 0 || polish || trace; }
+};
+
+inline bool is_hopfield_solver(const std::string& name) {
+  return name == "hopfield" || name == "hopfield-paper" || name == "chnn";
+}
+
+inline void add_hopfield_flags(CLI::App* cmd, HopfieldFlags& f, bool with_trace) {
+  cmd->add_option("--schedule", f.schedule, "Hopfield solvers: sync, async, diagonal or continuous");
+  cmd->add_option("--restarts", f.restarts, "Hopfield solvers: number of restarts")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--polish", f.polish, "Hopfield solvers: polish every restart by the LAP local search");
+  if (with_trace)
+    cmd->add_flag(
+        "--trace", f.trace,
+        "Hopfield solvers: record the energy after every sweep of every restart (/associations/NAME/energy)");
+}
+
+// Merges the flags into `options` of solver `solver`; an InputError when a flag is given for a
+// solver that is not a Hopfield network.
+inline void merge_hopfield_flags(const HopfieldFlags& f, const std::string& solver, nlohmann::json& options) {
+  if (!f.any()) return;
+  if (!is_hopfield_solver(solver))
+    throw InputError(
+        "--schedule/--restarts/--polish/--trace: only for hopfield, hopfield-paper and chnn, not '" + solver +
+        "'");
+  if (options.is_null()) options = nlohmann::json::object();
+  if (!f.schedule.empty()) options["schedule"] = f.schedule;
+  if (f.restarts > 0) options["restarts"] = f.restarts;
+  if (f.polish) options["polish"] = true;
+  if (f.trace) options["trace"] = true;
+}
+
 void register_simulate(CLI::App& app);
 void register_associate(CLI::App& app);
 void register_evaluate(CLI::App& app);

@@ -1,0 +1,72 @@
+// The Hopfield flags of the CLI (--schedule, --restarts, --polish, --trace; engine/cli/common.hpp)
+// on `associate` and `run`: they reach the solver (its options attribute, the restart table and the
+// energy trace in the output file), and a flag given to a solver that is not a Hopfield network is
+// a one-line error (exit 2) that writes nothing.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "io/track_file.hpp"
+#include "tests/cli_runner.hpp"
+
+namespace trackassoc {
+namespace {
+
+using testing_support::CliFixture;
+
+class HopfieldCli : public CliFixture {};
+
+const AssociationRecord& record(const TrackFile& f, const std::string& name) {
+  for (const auto& r : f.associations)
+    if (r.name == name) return r;
+  throw std::runtime_error("no association " + name);
+}
+
+TEST_F(HopfieldCli, AssociateFlagsReachTheSolverAndTheFile) {
+  ASSERT_EQ(run("simulate --output " + path("sim.h5")).status, 0);
+  const auto r = run("associate --input " + path("sim.h5") + " --output " + path("out.h5") +
+                     " --solver hopfield --schedule diagonal --restarts 3 --polish --trace");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const TrackFile f = read_track_file(path("out.h5"));
+  const AssociationRecord& a = record(f, "hopfield");
+  const nlohmann::json o = nlohmann::json::parse(a.options_json).at("solver");
+  EXPECT_EQ(o.at("schedule"), "diagonal");
+  EXPECT_EQ(o.at("restarts"), 3);
+  EXPECT_EQ(o.at("polish"), true);
+  EXPECT_EQ(a.restarts.restart.size(), 3u);
+  EXPECT_EQ(a.energy_rows, 3);  // one energy trace per restart
+  EXPECT_GT(a.energy_cols, 0);
+}
+
+TEST_F(HopfieldCli, RunAppliesTheFlagsToEveryHopfieldSolver) {
+  const auto r =
+      run("run --solvers hopfield chnn lr --restarts 2 --schedule sync --output " + path("run.h5"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const TrackFile f = read_track_file(path("run.h5"));
+  EXPECT_EQ(record(f, "hopfield").restarts.restart.size(), 2u);
+  EXPECT_EQ(nlohmann::json::parse(record(f, "hopfield").options_json).at("solver").at("schedule"), "sync");
+  EXPECT_EQ(record(f, "chnn").restarts.restart.size(), 2u);
+  EXPECT_EQ(nlohmann::json::parse(record(f, "lr").options_json).at("solver"), nlohmann::json::object());
+}
+
+TEST_F(HopfieldCli, FlagsForOtherSolversAreOneLineErrorsAndWriteNothing) {
+  ASSERT_EQ(run("simulate --output " + path("sim.h5")).status, 0);
+  const auto a = run("associate --input " + path("sim.h5") + " --output " + path("out.h5") +
+                     " --solver lr --restarts 3");
+  EXPECT_EQ(a.status, 2);
+  EXPECT_NE(a.err.find("only for hopfield, hopfield-paper and chnn, not 'lr'"), std::string::npos) << a.err;
+  EXPECT_FALSE(std::filesystem::exists(path("out.h5")));
+  const auto b = run("run --solvers lr exact --polish --output " + path("run.h5"));
+  EXPECT_EQ(b.status, 2);
+  EXPECT_NE(b.err.find("no Hopfield solver"), std::string::npos) << b.err;
+  EXPECT_FALSE(std::filesystem::exists(path("run.h5")));
+  const auto c = run("associate --input " + path("sim.h5") + " --output " + path("out.h5") +
+                     " --solver hopfield --schedule zigzag");
+  EXPECT_EQ(c.status, 2);
+  EXPECT_NE(c.err.find("zigzag"), std::string::npos) << c.err;
+  EXPECT_FALSE(std::filesystem::exists(path("out.h5")));
+}
+
+}  // namespace
+}  // namespace trackassoc
