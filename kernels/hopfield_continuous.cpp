@@ -30,6 +30,21 @@ __attribute__((always_inline, optimize("fast-math"))) inline float half_one_plus
   return 1.f / (1.f + p * scale);
 }
 
+// The Euler step of one neuron with net input h = −∂E/∂V (the header's form): u ← decay·u +
+// dt·(h + self·(V − ½)), V ← ½(1 + tanh(u·gain)). Raises dmax to |ΔV|; returns the new V.
+__attribute__((always_inline, optimize("fast-math"))) inline float euler_neuron(float h, float self,
+                                                                                float decay, float dt,
+                                                                                float gain, float& u,
+                                                                                float& V, float& dmax) {
+  u = decay * u + dt * (h + self * (V - 0.5f));
+  const float nv = half_one_plus_tanh(u * gain);
+  const float d = nv - V;
+  const float ad = d < 0.f ? -d : d;
+  dmax = ad > dmax ? ad : dmax;
+  V = nv;
+  return nv;
+}
+
 // One row (i, j) of the sync Euler step; returns Σ_k V. Reassociation (fast-math, this function
 // only) lets GCC vectorise the row sums and the max; the order is fixed per row, so the result
 // still does not depend on the thread count.
@@ -40,19 +55,42 @@ __attribute__((optimize("fast-math"))) float euler_row(int32_t n3, float base, c
                                                        float* __restrict lik, float& dmax) {
   float lij = 0.f, m = dmax;
   for (int32_t k = 0; k < n3; ++k) {
-    const float h = -(base + t[k] + E * cc[k]) + self * (V[k] - 0.5f);
-    const float uk = decay * u[k] + dt * h;
-    u[k] = uk;
-    const float nv = half_one_plus_tanh(uk * gain);
-    const float d = nv - V[k];
-    const float ad = d < 0.f ? -d : d;
-    m = ad > m ? ad : m;
-    V[k] = nv;
+    const float nv = euler_neuron(-(base + t[k] + E * cc[k]), self, decay, dt, gain, u[k], V[k], m);
     lij += nv;
     lik[k] += nv;
   }
   dmax = m;
   return lij;
+}
+
+// One i-slice of the sync Euler step: its n2·n3 neurons in one flat loop (one vector tail per
+// slice instead of one per row), with P[j·n3 + k] = B(S_j − 1) + C(T_k − 1) shared by all slices and
+// base = A(R_i − 1) + D(M − N). Returns max |ΔV| over the slice. Reassociation (fast-math, this
+// function only) lets GCC vectorise the max; the order is fixed, so the result does not depend on
+// the thread count.
+__attribute__((optimize("fast-math"))) float euler_slice(std::size_t m, float base, const float* __restrict P,
+                                                         const float* __restrict cc, float E, float dt,
+                                                         float decay, float gain, float self,
+                                                         float* __restrict u, float* __restrict V) {
+  float dmax = 0.f;
+  for (std::size_t q = 0; q < m; ++q)
+    euler_neuron(-(base + P[q] + E * cc[q]), self, decay, dt, gain, u[q], V[q], dmax);
+  return dmax;
+}
+
+// The line sums of one slice V[j·n3 + k]: lij[j] = Σ_k V, lik[k] = Σ_j V (fixed order).
+__attribute__((optimize("fast-math"))) void slice_line_sums(int32_t n2, int32_t n3, const float* __restrict V,
+                                                            float* __restrict lij, float* __restrict lik) {
+  for (int32_t k = 0; k < n3; ++k) lik[k] = 0.f;
+  for (int32_t j = 0; j < n2; ++j) {
+    const float* __restrict row = V + static_cast<std::size_t>(j) * n3;
+    float sum = 0.f;
+    for (int32_t k = 0; k < n3; ++k) {
+      sum += row[k];
+      lik[k] += row[k];
+    }
+    lij[j] = sum;
+  }
 }
 
 }  // namespace
@@ -100,8 +138,20 @@ float continuous_sync_step(ContinuousNetwork& net, const ContinuousParams& p) {
   const HopfieldWeights& w = p.w;
   const float decay = p.tau > 0.f ? 1.f - p.dt / p.tau : 1.f;
   const float inv_u0 = 1.f / p.u0;
-  std::vector<float> tk(n3);
+  const std::size_t m = static_cast<std::size_t>(n2) * n3;
+  // Slices of up to kFlatSlice neurons run as one flat loop over P[j·n3 + k] = B(S_j − 1) +
+  // C(T_k − 1), shared by every slice: one vector tail per slice instead of one per row (n = 100:
+  // 0.51 → 0.35 ms per step on 1 thread). Larger slices run row by row, where P and the slice would
+  // crowd the L2 cache (n = 200: the flat loop is 10–25 % slower).
+  constexpr std::size_t kFlatSlice = 16384;
+  const bool flat = m <= kFlatSlice;
+  std::vector<float> tk(n3), P(flat ? m : 0);
   for (int32_t k = 0; k < n3; ++k) tk[k] = static_cast<float>(w.C * (net.T[k] - 1.0));
+  if (flat)
+    for (int32_t j = 0; j < n2; ++j) {
+      const float sj = static_cast<float>(w.B * (net.S[j] - 1.0));
+      for (int32_t k = 0; k < n3; ++k) P[static_cast<std::size_t>(j) * n3 + k] = sj + tk[k];
+    }
   const float Dterm = static_cast<float>(w.D * (net.M - w.N));
   // Per-slice line sums: Lij for S, Lik for T (float over one slice), reduced below in double in a
   // fixed order, so the result does not depend on the thread count.
@@ -112,9 +162,15 @@ float continuous_sync_step(ContinuousNetwork& net, const ContinuousParams& p) {
     const float E = w.E, dt = p.dt, dec = decay, g = inv_u0;
     const float self = p.self_excitation * (w.A + w.B + w.C + w.D);
     for (std::size_t i = ib; i < ie; ++i) {
-      float dmax = 0.f;
-      float* __restrict lik = Lik.data() + i * N3;
       const float Ri = static_cast<float>(w.A * (net.R[i] - 1.0));
+      float* __restrict lik = Lik.data() + i * N3;
+      if (flat) {
+        slice_max[i] = euler_slice(m, Ri + Dterm, P.data(), c.c.data() + i * m, E, dt, dec, g, self,
+                                   net.u.data() + i * m, net.V.data() + i * m);
+        slice_line_sums(N2, N3, net.V.data() + i * m, Lij.data() + i * N2, lik);
+        continue;
+      }
+      float dmax = 0.f;
       for (int32_t j = 0; j < N2; ++j) {
         const std::size_t row = (i * N2 + j) * static_cast<std::size_t>(N3);
         const float base = Ri + static_cast<float>(w.B * (net.S[j] - 1.0)) + Dterm;

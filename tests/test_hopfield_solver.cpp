@@ -165,16 +165,25 @@ TEST(HopfieldSolver, DefaultFindsBruteForceOptimumOnSmallInstances) {
 // On an easy instance (noise 0.1 of the target spacing) the true association is (near) optimal:
 // the solvers must find an assignment at least as cheap, and agree with the truth on almost all
 // tuples.
-TEST(HopfieldSolver, EasyInstanceMatchesTheTruth) {
+// On an easy geometric instance (n = 30, noise 0.1 of the spacing) the networks are heuristics:
+// every valid assignment is a fixed point, so a restart ends at the assignment its mean-field start
+// leads to. Measured over seeds 1–12: at most 4.0 % above the truth's cost with at least 27 of the
+// 30 true triples, for both hopfield and chnn; with --polish (LAP local search on every restart) at
+// or below the truth's cost every time. (Session 3 found that the earlier form of this test, one
+// seed and "matches the truth", passed by luck: about a third of the seeds end a few % above.)
+TEST(HopfieldSolver, EasyInstanceNearTheTruthAndAtItWithPolish) {
   const GeometricInstance g = instance(30, 0.1, 7);
   const double truth_cost = assignment_cost(g.cost, g.truth);
-  for (const char* name : {"hopfield", "chnn"}) {
-    const Solution3 s = solve_hopfield_json(name, g.cost, nlohmann::json::object(), 3);
-    EXPECT_LE(s.summary.objective, truth_cost + 1e-3) << name;
-    int same = 0;
-    for (const auto& t : s.tuples) same += std::find(g.truth.begin(), g.truth.end(), t) != g.truth.end();
-    EXPECT_GE(same, 27) << name;
-  }
+  for (const char* name : {"hopfield", "chnn"})
+    for (uint64_t seed = 1; seed <= 6; ++seed) {
+      const Solution3 s = solve_hopfield_json(name, g.cost, nlohmann::json::object(), seed);
+      EXPECT_LE(s.summary.objective, 1.05 * truth_cost) << name << " seed " << seed;
+      int same = 0;
+      for (const auto& t : s.tuples) same += std::find(g.truth.begin(), g.truth.end(), t) != g.truth.end();
+      EXPECT_GE(same, 26) << name << " seed " << seed;
+      const Solution3 p = solve_hopfield_json(name, g.cost, nlohmann::json{{"polish", true}}, seed);
+      EXPECT_LE(p.summary.objective, truth_cost + 1e-3) << name << " +polish, seed " << seed;
+    }
 }
 
 // The radix-sorted cost order equals std::stable_sort by value (ties in index order), including
