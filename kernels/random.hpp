@@ -71,10 +71,24 @@ class CounterRng {
     return r * std::cos(2.0 * std::numbers::pi * u2);
   }
   double normal(double mean, double sigma) { return mean + sigma * normal(); }
-  // Fisher–Yates shuffle.
+  // Fisher–Yates shuffle. The swap partners do not depend on the array, so on large arrays they
+  // are drawn kBatch at a time and prefetched before the swaps: the same draws and swaps in the
+  // same order (identical result), without waiting on a cache miss per element.
   template <class T>
   void shuffle(std::span<T> v) {
-    for (std::size_t i = v.size(); i > 1; --i) std::swap(v[i - 1], v[uniform_int(i)]);
+    constexpr std::size_t kBatch = 16;
+    std::size_t i = v.size();
+    if (i * sizeof(T) > (std::size_t{1} << 18)) {
+      std::size_t partner[kBatch];
+      for (; i > kBatch + 1; i -= kBatch) {
+        for (std::size_t t = 0; t < kBatch; ++t) {
+          partner[t] = uniform_int(i - t);
+          __builtin_prefetch(v.data() + partner[t], 1);
+        }
+        for (std::size_t t = 0; t < kBatch; ++t) std::swap(v[i - t - 1], v[partner[t]]);
+      }
+    }
+    for (; i > 1; --i) std::swap(v[i - 1], v[uniform_int(i)]);
   }
 
  private:
