@@ -18,7 +18,8 @@
 //   at (75, 50) km, so targets are 0–80 km away (1° ≈ 0–1.4 km cross-range). Gaussian range
 //   (σ = 100 m) and bearing (σ = 1°) errors; plots converted to Cartesian (x, y). (Session 1 had
 //   them at the southern corners, 50–140 km from most targets: test accuracy 3 points lower on the
-//   hard close negatives below, and the same on the default ones; see /work/notes/siamese-s2.md.)
+//   hard close negatives below, and the same on the default ones; that session's notes were kept
+//   outside the repository and are lost: rerun `dataset seed003 --radar1/--radar2` to compare.)
 // - Asynchrony: each radar sees each target at its own scan phase φ ~ U[0, period), so the plot
 //   times are φ + k·period within [0, 50] s: 12–13 plots from radar 1, 8–9 from radar 2.
 // - The tracks the network sees are these sequences of converted plots (x, y, t), one per radar per

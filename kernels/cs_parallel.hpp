@@ -15,8 +15,8 @@
 // response; F2's acceleration variance is adjusted automatically by the network output", "a value
 // in [0 1] that modifies F2's system variance". F2 has no setting of its own in the paper, so F2's
 // variance is y × the large (F1) CS variance: y = 1 makes F2 = F1. (Session 1 gave F2 a separate,
-// smaller a_max = 50 before scaling: an extra unpublished parameter. Its seed002 table is kept in
-// /work/notes/filters-s2.md; neither reading reproduces Table 1, see experiment_seed002.hpp.)
+// smaller a_max = 50 before scaling: an extra unpublished parameter. Neither reading reproduces
+// Table 1, see experiment_seed002.hpp.)
 // The network is a kernels/bp_network.hpp BpNetwork (trained by the caller, see
 // trained_cs_network()). Layout: two order-3 KinematicBanks in Matriplex blocks; cost about twice
 // a CS bank, O(N·D³/8) vector operations per step, blocks split across oneTBB (deterministic).

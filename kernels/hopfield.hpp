@@ -7,20 +7,28 @@
 // with its own stream CounterRng(seed, 0, restart), so results are bit-identical for any thread
 // count. The best repaired objective wins (ties: the lowest restart).
 //
-// Why the defaults (measured; see the report of experiment `schedules` and notes/hopfield.md):
-// with E·ĉ_max below (A+B+C+D)/2 every valid assignment is a fixed point of the full-plane
-// network, so the discrete dynamics cannot improve a valid state, and from a random or empty
-// start they stop at whatever assignment they first complete (30–700 % above the best known on
-// geometric instances, worse than greedy). The quality must come from the start. The default
-// start is mean-field annealing: the continuous network of the same energy (CHNN) with its gain
-// annealed from u0_start to u0_end over gain_anneal_steps, with a small self-excitation
-// (λ = 0.1) that drives it to 0/1 states; its V > ½ state seeds the discrete network, which
-// then resolves the remaining conflicts and fills the free planes by exact energy descent in
-// ascending cost order (every free triple switches on since E < (A+B+C)/2 on ĉ ≤ 1). Measured
-// on geometric 3-sensor instances (noise/spacing 0.5): greedy 70–130 % above the best known;
-// this default 0.4–1.7 % with 8 restarts. Also available: E annealing (anneal_E_factor > 1:
-// expensive tuples dissolve and their indices recombine) and Glauber temperature; both measured
-// worse than the mean-field start (27–57 % above the best known).
+// Why the defaults (measured with `trackassoc experiment schedules`; the numbers are in README
+// "Status"): with E·ĉ_max below (A+B+C+D)/2 every valid assignment is a fixed point of the
+// full-plane network, so the discrete dynamics cannot improve a valid state, and from an empty
+// start they stop at whatever assignment they first complete (260–430 % above the LR bound on the
+// seed 000 tracking instances, worse than greedy). The quality must come from the start. The
+// default start is mean-field annealing: the continuous network of the same energy (CHNN) with its
+// gain annealed from u0_start to u0_end over gain_anneal_steps, with a small self-excitation
+// (λ = 0.1) that drives it to 0/1 states; its V > ½ state seeds the discrete network, which then
+// resolves the remaining conflicts and fills the free planes by exact energy descent in ascending
+// cost order (every free triple switches on since E < (A+B+C)/2 on ĉ ≤ 1). Measured: 0 % gap to
+// the LR bound on 40 of 40 seed 000 tracking instances (n = 10–100; the greedy start 2.3–3.3 %
+// mean at n = 50–100, greedy alone 2–7 %), and 4.8–6.6 % above the optimum on DecompLib
+// n = 20–40, 2.0–3.0 % with polish (greedy+ls 6–10 %, LR 1.4–2.8 %). Also available: E annealing
+// (anneal_E_factor > 1: expensive tuples dissolve and their indices recombine) and Glauber
+// temperature; both measured worse than the mean-field start.
+// What the restarts buy: the annealing starts at a high temperature, which forgets the initial
+// noise, so on the tracking instances all 8 restarts end at the same assignment (1 distinct
+// objective of 8 on seed 000 n = 20 and 50): `restarts = 1` gives the same answer for 1/8 of the
+// CPU there. On random-cost instances the post-annealing Euler steps stay chaotic and the restarts
+// differ (DecompLib n = 30–40: 2–7 distinct objectives of 8), so the default keeps 8. Running the
+// mean-field phase of restarts ≥ 1 on ĉ + σ·U(0, 1) to diversify them was measured worse on
+// DecompLib n = 30–40 for every σ in 0.05–0.4.
 // Complexity: O(R · sweeps · n1n2n3); memory O(n1n2n3) per concurrent restart.
 #pragma once
 
