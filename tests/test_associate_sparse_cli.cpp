@@ -49,7 +49,9 @@ void expect_each_track_once(const AssociationRecord& r) {
   std::set<std::pair<int, int32_t>> seen;
   for (std::size_t k = 0; k < r.num_tuples(); ++k)
     for (int c = 0; c < r.num_sensors; ++c)
-      if (const int32_t t = r.tuples[k * r.num_sensors + c]; t >= 0) EXPECT_TRUE(seen.emplace(c, t).second);
+      if (const int32_t t = r.tuples[k * r.num_sensors + c]; t >= 0) {
+        EXPECT_TRUE(seen.emplace(c, t).second);
+      }
 }
 
 TEST_F(AssociateSparseCli, SparseAndDenseGiveTheSameAssociation) {

@@ -62,7 +62,9 @@ TEST(Ftaa, AssociatesAfterMConsecutiveDecisions) {
   three.association_quality = 3;  // firm at t = 10
   const FtaaResult r3 = run_ftaa(s.spans(), 2, 2, three);
   for (std::size_t i = 0; i < s.t.size(); ++i)
-    if (s.t[i] >= 10) EXPECT_EQ(r3.fusion.system_track[i], 0) << "t=" << s.t[i];
+    if (s.t[i] >= 10) {
+      EXPECT_EQ(r3.fusion.system_track[i], 0) << "t=" << s.t[i];
+    }
 }
 
 TEST(Ftaa, SeparatesAfterDFailures) {
@@ -74,8 +76,12 @@ TEST(Ftaa, SeparatesAfterDFailures) {
   EXPECT_EQ(r.fusion.num_system_tracks, 2);
   // Still together right after the jump, separate at the end.
   for (std::size_t i = 0; i < s.t.size(); ++i) {
-    if (s.t[i] >= 42 && s.t[i] < 46) EXPECT_EQ(r.fusion.system_track[i], 0) << "t=" << s.t[i];
-    if (s.t[i] >= 70) EXPECT_EQ(r.fusion.system_track[i], s.local[i]) << "t=" << s.t[i];
+    if (s.t[i] >= 42 && s.t[i] < 46) {
+      EXPECT_EQ(r.fusion.system_track[i], 0) << "t=" << s.t[i];
+    }
+    if (s.t[i] >= 70) {
+      EXPECT_EQ(r.fusion.system_track[i], s.local[i]) << "t=" << s.t[i];
+    }
   }
 }
 

@@ -59,8 +59,12 @@ TEST(FuzzyPipeline, TuplesGroupEachTargetsTracks) {
     for (int32_t c : res.system_tracks.map_packets) packets += c;
     EXPECT_EQ(packets, static_cast<int64_t>(res.system_tracks.size()));
     // FTAA's component numbers change when tracks merge, so a local track maps to several.
-    if (method == FusionMethod::kFuzzy) EXPECT_EQ(res.system_tracks.mapping_size(), 8u);
-    if (method == FusionMethod::kFtaa) EXPECT_GT(res.system_tracks.mapping_size(), 8u);
+    if (method == FusionMethod::kFuzzy) {
+      EXPECT_EQ(res.system_tracks.mapping_size(), 8u);
+    }
+    if (method == FusionMethod::kFtaa) {
+      EXPECT_GT(res.system_tracks.mapping_size(), 8u);
+    }
   }
 }
 

@@ -46,7 +46,9 @@ TEST_F(Solve3d, EverySolverOnAKnownInstance) {
     SCOPED_TRACE(solver);
     const auto j = solve_json(file, solver, b);
     EXPECT_GE(j.at("objective").get<double>(), optimum);
-    if (solver.starts_with("lr")) EXPECT_LE(j.at("lower_bound").get<double>(), optimum);
+    if (solver.starts_with("lr")) {
+      EXPECT_LE(j.at("lower_bound").get<double>(), optimum);
+    }
   }
 }
 

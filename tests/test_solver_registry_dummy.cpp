@@ -24,7 +24,9 @@ TEST(SolverRegistryDummy, EverySolverHandlesAFiniteMissCost) {
       const Solution3 s = e.solve(b, nlohmann::json::object(), seed);
       expect_consistent(b, s);
       EXPECT_GE(s.summary.objective, optimum - 1e-4);
-      if (e.name == "exact" || e.name == "lr+ls") EXPECT_NEAR(s.summary.objective, optimum, 1e-4);
+      if (e.name == "exact" || e.name == "lr+ls") {
+        EXPECT_NEAR(s.summary.objective, optimum, 1e-4);
+      }
     }
   }
 }

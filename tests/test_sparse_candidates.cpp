@@ -76,7 +76,9 @@ TEST_P(SparseCandidates, GridEqualsScanAndLosesNoGatedPair) {
   EXPECT_GT(gated_in, 0u);
   // With full tracks the index must prune: far fewer candidates than the 3·n² pairs. (Partial
   // tracks use the conservative radius, which in this 4 km box spans most of it.)
-  if (!std::get<2>(GetParam())) EXPECT_LT(total_candidates, 3u * 120u * 120u / 4u);
+  if (!std::get<2>(GetParam())) {
+    EXPECT_LT(total_candidates, 3u * 120u * 120u / 4u);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(RandomScenarios, SparseCandidates,

@@ -122,7 +122,9 @@ int expect_every_track_once_and_targets_grouped(const TrackFile& f, const Associ
     int members = 0;
     for (int s = 0; s < r.num_sensors; ++s) {
       const int32_t t = r.tuples[q * r.num_sensors + s];
-      if (t >= 0) EXPECT_TRUE(seen.insert({s, t}).second) << "track output twice";
+      if (t >= 0) {
+        EXPECT_TRUE(seen.insert({s, t}).second) << "track output twice";
+      }
       members += t >= 0;
     }
     pairs += members == 2;
