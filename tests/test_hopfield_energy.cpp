@@ -281,8 +281,6 @@ TEST(HopfieldDiscrete, NoFlipSkipEqualsAReferenceThatReadsEveryNeuron) {
   EXPECT_GT(total_flips, 100);  // the sweeps did work, not only skips
 }
 
-// E·ĉ_max < (A+B+C+D)/2 makes every valid assignment a fixed point of the full-plane network
-// (DESIGN §4.4), under every schedule; above the bound the most expensive one is not.
 // The planned sweep (order, indices and costs laid out once) makes the same updates as async_sweep
 // in the same order: identical states, marginals and flip counts, sweep by sweep, both energies,
 // for the cost order and for random orders, on square and rectangular shapes.
@@ -317,6 +315,8 @@ TEST(HopfieldDiscrete, PlannedAsyncEqualsAsyncInTheSameOrder) {
     }
 }
 
+// E·ĉ_max < (A+B+C+D)/2 makes every valid assignment a fixed point of the full-plane network
+// (DESIGN §4.4), under every schedule; above the bound the most expensive one is not.
 TEST(HopfieldDiscrete, EveryValidAssignmentIsAFixedPointBelowTheBound) {
   CounterRng rng(11, 2);
   const int32_t n = 5;

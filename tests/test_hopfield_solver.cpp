@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 #include "engine/hopfield_json.hpp"
@@ -186,10 +187,12 @@ TEST(HopfieldSolver, EasyInstanceNearTheTruthAndAtItWithPolish) {
     }
 }
 
-// The radix-sorted cost order equals std::stable_sort by value (ties in index order), including
-// ties, negative values, ±0 and infinities.
-TEST(HopfieldSolver, AscendingCostOrderEqualsStableSort) {
+// Cost vectors for the radix sort: random values with many ties, negative values, ±0, infinities
+// and a subnormal (every digit pass), one value for all (every pass skipped), values that differ
+// only in the low 11 bits (one pass) or the low 22 bits (two passes). K = 60000 gives 3 chunks.
+std::vector<std::vector<float>> cost_vectors_for_the_sort() {
   CounterRng rng(8, 3);
+  std::vector<std::vector<float>> out;
   for (std::size_t K : {0u, 1u, 2u, 7u, 1000u, 70000u}) {
     std::vector<float> c(K);
     for (auto& x : c) {
@@ -204,10 +207,27 @@ TEST(HopfieldSolver, AscendingCostOrderEqualsStableSort) {
       c[4] = -INFINITY;
       c[5] = 1e-40f;  // subnormal
     }
-    std::vector<uint32_t> expected(K);
+    out.push_back(c);
+  }
+  out.push_back(std::vector<float>(60000, 0.25f));
+  for (uint32_t low_bits : {11u, 22u}) {
+    std::vector<float> c(60000);
+    for (auto& x : c) {
+      const uint32_t bits = 0x3e800000u + static_cast<uint32_t>(rng.uniform_int(std::size_t{1} << low_bits));
+      std::memcpy(&x, &bits, sizeof x);
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+// The radix-sorted cost order equals std::stable_sort by value (ties in index order).
+TEST(HopfieldSolver, AscendingCostOrderEqualsStableSort) {
+  for (const std::vector<float>& c : cost_vectors_for_the_sort()) {
+    std::vector<uint32_t> expected(c.size());
     std::iota(expected.begin(), expected.end(), 0u);
     std::stable_sort(expected.begin(), expected.end(), [&](uint32_t x, uint32_t y) { return c[x] < c[y]; });
-    EXPECT_EQ(ascending_cost_order(c), expected) << K;
+    EXPECT_EQ(ascending_cost_order(c), expected) << c.size();
   }
 }
 
