@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/hopfield_json.hpp"
 #include "io/cost_tensor_file.hpp"
 #include "io/instance_text.hpp"
 #include "tests/cli_runner.hpp"
@@ -50,6 +51,22 @@ TEST_F(Solve3d, EverySolverOnAKnownInstance) {
       EXPECT_LE(j.at("lower_bound").get<double>(), optimum);
     }
   }
+}
+
+// The JSON of a Hopfield solve carries its sweeps and message (raw validity, best restart), the
+// same as the library's solve with the same options and seed.
+TEST_F(Solve3d, HopfieldJsonCarriesSweepsAndRawValidity) {
+  const std::string file = balas_saltzman("bs.10.3.txt");
+  const CostTensor3 b = read_3dap_instance(file);
+  const CliResult r = run("solve3d -i " + file + " --solver hopfield --restarts 4 --seed 3 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const Solution3 expected = solve_hopfield_json("hopfield", b, nlohmann::json{{"restarts", 4}}, 3);
+  EXPECT_EQ(j.at("message").get<std::string>(), expected.summary.message);
+  EXPECT_NE(expected.summary.message.find("raw validity"), std::string::npos) << expected.summary.message;
+  EXPECT_EQ(j.at("sweeps").get<int64_t>(), expected.summary.sweeps);
+  EXPECT_GE(j.at("sweeps").get<int64_t>(), 1);
+  EXPECT_EQ(j.at("objective").get<double>(), expected.summary.objective);
 }
 
 TEST_F(Solve3d, HumanReadableOutput) {

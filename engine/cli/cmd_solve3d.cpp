@@ -92,6 +92,8 @@ void register_solve3d(CLI::App& app) {
       out["runtime_s"] = runtime;
       out["termination"] = termination_name(m.termination);
       out["iterations"] = m.iterations;
+      out["sweeps"] = m.sweeps;
+      out["message"] = m.message;  // e.g. a Hopfield solve's raw validity and best restart
       nlohmann::json tuples = nlohmann::json::array();
       for (const Tuple3& t : s.tuples) tuples.push_back({t[0], t[1], t[2]});
       out["assignment"] = std::move(tuples);
