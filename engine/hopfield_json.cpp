@@ -81,9 +81,26 @@ HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohma
           o.energy = HopfieldEnergy::kPrinted;
         else
           throw InputError("energy: expected full_plane or printed, found '" + e + "'");
-      } else if (k == "schedule")
-        o.schedule = parse_hopfield_schedule(get_string(v, k, name));
-      else if (k == "restarts")
+      } else if (k == "schedule") {
+        // Each registry name is one network, and `schedule` picks among that network's schedules:
+        // chnn steps its Euler equations sync (Jacobi) or async (neuron by neuron); hopfield and
+        // hopfield-paper are discrete. (A schedule that swapped the network would leave a record
+        // named "chnn" that ran the discrete network.)
+        const HopfieldSchedule s = parse_hopfield_schedule(get_string(v, k, name));
+        if (o.schedule == HopfieldSchedule::kContinuous) {
+          if (s == HopfieldSchedule::kDiagonal)
+            throw InputError(
+                "schedule: 'diagonal' is a schedule of the discrete network (solver 'hopfield'); the "
+                "continuous network takes sync, async or continuous (= sync Euler steps)");
+          o.continuous_async = s == HopfieldSchedule::kAsync;
+        } else {
+          if (s == HopfieldSchedule::kContinuous)
+            throw InputError(
+                "schedule: 'continuous' is the continuous network, solver 'chnn'; the discrete "
+                "network takes sync, async or diagonal");
+          o.schedule = s;
+        }
+      } else if (k == "restarts")
         o.restarts = get_number<int32_t>(v, k, name);
       else if (k == "max_sweeps")
         o.max_sweeps = get_number<int32_t>(v, k, name);

@@ -2,13 +2,13 @@
 // JSON options they accept (engine/solver_registry.hpp). Unknown keys and bad values are
 // InputErrors naming the key.
 //
-// Keys (all optional): energy ("full_plane" | "printed"), schedule ("sync" | "async" | "diagonal" |
-// "continuous"), restarts, max_sweeps, init ("zero" | "random" | "greedy" | "mean_field"),
-// init_density, greedy_noise, order ("random" | "slice_random" | "cost"), anneal_E_factor,
-// anneal_sweeps, temperature, damping, continuous_async, dt, tau, u0_start, u0_end, noise,
-// tolerance, mean_field_steps, gain_anneal_steps, self_excitation, repair ("greedy" | "lap"),
-// trace (bool), polish (bool: LAP local search on every restart), and A, B, C, D, E (giving any of them
-// switches off the automatic weights; the others keep the preset's values).
+// Keys (all optional): energy ("full_plane" | "printed"), schedule (hopfield, hopfield-paper: "sync" |
+// "async" | "diagonal"; chnn: "sync" | "async" Euler steps, "continuous" = "sync"), restarts, max_sweeps,
+// init ("zero" | "random" | "greedy" | "mean_field"), init_density, greedy_noise, order ("random" |
+// "slice_random" | "cost"), anneal_E_factor, anneal_sweeps, temperature, damping, continuous_async, dt, tau,
+// u0_start, u0_end, noise, tolerance, mean_field_steps, gain_anneal_steps, self_excitation, repair ("greedy"
+// | "lap"), trace (bool), polish (bool: LAP local search on every restart), and A, B, C, D, E (giving any of
+// them switches off the automatic weights; the others keep the preset's values).
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -269,8 +269,42 @@ TEST(HopfieldSolver, RegistryEntriesAndOptionErrors) {
   expect_error({{"bogus", 1}}, "bogus");
   expect_error({{"damping", 1.5}}, "damping");
   expect_error({{"schedule", "diagonal"}, {"D", 1.0}}, "D = 0");
-  expect_error({{"schedule", "continuous"}, {"energy", "printed"}}, "full-plane");
+  expect_error({{"schedule", "continuous"}}, "solver 'chnn'");
   expect_error(nlohmann::json::array(), "JSON object");
+  const SolverEntry& chnn = find_solver("chnn");
+  EXPECT_THROW(chnn.solve(g.cost, nlohmann::json{{"energy", "printed"}}, 1), InputError);  // full plane only
+  try {
+    chnn.solve(g.cost, nlohmann::json{{"schedule", "diagonal"}}, 1);
+    ADD_FAILURE() << "no error for chnn + diagonal";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("discrete network (solver 'hopfield')"), std::string::npos)
+        << e.what();
+  }
+}
+
+// `schedule` on chnn picks the order of its Euler steps and keeps the network continuous: "async"
+// is exactly the continuous network with async steps, "sync" and "continuous" the preset itself.
+TEST(HopfieldSolver, ChnnScheduleSelectsTheEulerStepOrder) {
+  const GeometricInstance g = instance(8, 0.5, 11);
+  HopfieldOptions async_options = hopfield_preset("chnn");
+  async_options.continuous_async = true;
+  async_options.restarts = 2;
+  HopfieldOptions sync_options = async_options;
+  sync_options.continuous_async = false;
+  const HopfieldResult a = solve_hopfield(g.cost, async_options, 4),
+                       s = solve_hopfield(g.cost, sync_options, 4);
+  auto expect_same = [](const Solution3& x, const HopfieldResult& y, const char* what) {
+    EXPECT_EQ(x.tuples, y.solution.tuples) << what;
+    ASSERT_EQ(x.restarts.sweeps.size(), y.restarts.size()) << what;
+    for (std::size_t r = 0; r < y.restarts.size(); ++r) {
+      EXPECT_EQ(x.restarts.sweeps[r], y.restarts[r].sweeps) << what << " restart " << r;
+      EXPECT_EQ(x.restarts.mean_field_steps[r], 0) << what;  // continuous: no discrete phase
+    }
+  };
+  expect_same(solve_hopfield_json("chnn", g.cost, {{"schedule", "async"}, {"restarts", 2}}, 4), a, "async");
+  expect_same(solve_hopfield_json("chnn", g.cost, {{"schedule", "sync"}, {"restarts", 2}}, 4), s, "sync");
+  expect_same(solve_hopfield_json("chnn", g.cost, {{"schedule", "continuous"}, {"restarts", 2}}, 4), s,
+              "continuous");
 }
 
 }  // namespace

@@ -156,7 +156,10 @@ inline bool is_hopfield_solver(const std::string& name) {
 }
 
 inline void add_hopfield_flags(CLI::App* cmd, HopfieldFlags& f, bool with_trace) {
-  cmd->add_option("--schedule", f.schedule, "Hopfield solvers: sync, async, diagonal or continuous");
+  cmd->add_option(
+      "--schedule", f.schedule,
+      "Hopfield solvers: sync, async or diagonal sweeps (hopfield, hopfield-paper); sync or async "
+      "Euler steps (chnn)");
   cmd->add_option("--restarts", f.restarts, "Hopfield solvers: number of restarts")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--polish", f.polish, "Hopfield solvers: polish every restart by the LAP local search");
