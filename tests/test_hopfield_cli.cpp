@@ -58,6 +58,31 @@ TEST_F(HopfieldCli, RunAppliesTheFlagsToEveryHopfieldSolver) {
   EXPECT_EQ(nlohmann::json::parse(record(f, "lr").options_json).at("solver"), nlohmann::json::object());
 }
 
+// Without --solvers, --schedule goes to the Hopfield solvers whose network has it; the others keep
+// their own schedule and are named on stderr. Named in --solvers, a solver that cannot take it
+// is an error that writes nothing.
+TEST_F(HopfieldCli, RunGivesTheScheduleToTheNetworksThatHaveIt) {
+  const auto r = run("run --schedule diagonal --restarts 2 --output " + path("run.h5"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("not a schedule of hopfield-paper, chnn"), std::string::npos) << r.err;
+  const TrackFile f = read_track_file(path("run.h5"));
+  EXPECT_EQ(nlohmann::json::parse(record(f, "hopfield").options_json).at("solver").at("schedule"),
+            "diagonal");
+  for (const char* name : {"hopfield-paper", "chnn"}) {
+    const nlohmann::json o = nlohmann::json::parse(record(f, name).options_json).at("solver");
+    EXPECT_FALSE(o.contains("schedule")) << name;
+    EXPECT_EQ(o.at("restarts"), 2) << name;  // the other flags still apply
+  }
+  const auto bad = run("run --solvers chnn lr --schedule diagonal --output " + path("bad.h5"));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("discrete network"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(path("bad.h5")));
+  const auto none = run("run --schedule zigzag --output " + path("none.h5"));
+  EXPECT_EQ(none.status, 2);
+  EXPECT_NE(none.err.find("zigzag"), std::string::npos) << none.err;
+  EXPECT_FALSE(std::filesystem::exists(path("none.h5")));
+}
+
 TEST_F(HopfieldCli, FlagsForOtherSolversAreOneLineErrorsAndWriteNothing) {
   ASSERT_EQ(run("simulate --output " + path("sim.h5")).status, 0);
   const auto a = run("associate --input " + path("sim.h5") + " --output " + path("out.h5") +

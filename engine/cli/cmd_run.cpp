@@ -48,10 +48,31 @@ void register_run(CLI::App& app) {
         throw InputError(
             "--schedule/--restarts/--polish/--trace: --solvers names no Hopfield solver "
             "(hopfield, hopfield-paper, chnn)");
+      // Without --solvers (every solver runs), --schedule goes to the Hopfield solvers whose network
+      // has that schedule and the others keep theirs (diagonal: hopfield only); a solver named in
+      // --solvers that cannot take it is an error, and so is a schedule that none can take.
+      std::vector<std::string> skipped;
+      std::string rejection;
       for (const char* s : {"hopfield", "hopfield-paper", "chnn"}) {
+        HopfieldFlags flags = args->hopfield;
+        if (!flags.schedule.empty() && args->solvers.empty()) {
+          const std::string why = hopfield_schedule_rejection(s, flags.schedule);
+          if (!why.empty()) {
+            skipped.push_back(s);
+            if (rejection.empty()) rejection = why;
+            flags.schedule.clear();
+          }
+        }
         nlohmann::json o = solver_options.contains(s) ? solver_options[s] : nlohmann::json::object();
-        merge_hopfield_flags(args->hopfield, s, o);
+        merge_hopfield_flags(flags, s, o);
         solver_options[s] = o;
+      }
+      if (skipped.size() == 3) throw InputError("--schedule " + args->hopfield.schedule + ": " + rejection);
+      if (!skipped.empty()) {
+        std::string list;
+        for (const auto& s : skipped) list += (list.empty() ? "" : ", ") + s;
+        std::cerr << "note: --schedule " << args->hopfield.schedule << " is not a schedule of " << list
+                  << ", which keep their own\n";
       }
     }
     const Scenario scenario = load_scenario(args->scenario);

@@ -70,6 +70,7 @@ void finish_experiment_command(CLI::App* cmd, const std::shared_ptr<ExperimentAr
 
 }  // namespace trackassoc::cli
 
+#include "engine/hopfield_json.hpp"
 #include "engine/pipeline.hpp"
 #include "kernels/error.hpp"
 
@@ -171,6 +172,17 @@ inline void add_hopfield_flags(CLI::App* cmd, HopfieldFlags& f, bool with_trace)
 
 // Merges the flags into `options` of solver `solver`; an InputError when a flag is given for a
 // solver that is not a Hopfield network.
+// Why Hopfield solver `solver` cannot run `schedule` (its options' own error), or "" if it can.
+inline std::string hopfield_schedule_rejection(const std::string& solver, const std::string& schedule) {
+  try {
+    bool polish = false;
+    hopfield_options_from_json(solver, nlohmann::json{{"schedule", schedule}}, polish);
+    return "";
+  } catch (const InputError& e) {
+    return e.what();
+  }
+}
+
 inline void merge_hopfield_flags(const HopfieldFlags& f, const std::string& solver, nlohmann::json& options) {
   if (!f.any()) return;
   if (!is_hopfield_solver(solver))
