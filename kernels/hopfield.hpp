@@ -102,9 +102,9 @@ struct HopfieldOptions {
   double dt = 0.05, tau = 0.0;
   double u0_start = 0.5, u0_end = 0.02;  // gain 1/u₀ annealed geometrically over gain_anneal_steps
   int32_t gain_anneal_steps = 100;
-  double noise = 0.01;             // initial u noise, in units of u0_start
-  double self_excitation = 0.1;    // λ of ContinuousParams (1 = multilinear energy)
-  double tolerance = 1e-4;         // continuous: stop when max |ΔV| < tolerance
+  double noise = 0.01;           // initial u noise, in units of u0_start
+  double self_excitation = 0.1;  // λ of ContinuousParams (1 = multilinear energy)
+  double tolerance = 1e-4;       // continuous: stop when max |ΔV| < tolerance
   // init mean_field: Euler steps (max) of the continuous phase. Measured against 200: the same
   // 0 % gap on 34 seed 000 tracking instances for 25 % less time, but on geometric instances
   // (kernels/hopfield_instances.hpp, n = 50, 8 each) 8.5 → 11.0 %, 3.6 → 4.2 % and 5.5 → 9.2 %
