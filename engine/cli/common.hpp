@@ -170,8 +170,6 @@ inline void add_hopfield_flags(CLI::App* cmd, HopfieldFlags& f, bool with_trace)
         "Hopfield solvers: record the energy after every sweep of every restart (/associations/NAME/energy)");
 }
 
-// Merges the flags into `options` of solver `solver`; an InputError when a flag is given for a
-// solver that is not a Hopfield network.
 // Why Hopfield solver `solver` cannot run `schedule` (its options' own error), or "" if it can.
 inline std::string hopfield_schedule_rejection(const std::string& solver, const std::string& schedule) {
   try {
@@ -183,6 +181,8 @@ inline std::string hopfield_schedule_rejection(const std::string& solver, const 
   }
 }
 
+// Merges the flags into `options` of solver `solver`; an InputError when a flag is given for a
+// solver that is not a Hopfield network.
 inline void merge_hopfield_flags(const HopfieldFlags& f, const std::string& solver, nlohmann::json& options) {
   if (!f.any()) return;
   if (!is_hopfield_solver(solver))
