@@ -18,6 +18,14 @@ using testing_support::CliFixture;
 
 class HopfieldCli : public CliFixture {};
 
+// A command refused as bad input: exit status 2, an error naming `needle`, no `output` written.
+void expect_refused(const testing_support::CliResult& r, const std::string& needle,
+                    const std::string& output) {
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(output)) << output;
+}
+
 const AssociationRecord& record(const TrackFile& f, const std::string& name) {
   for (const auto& r : f.associations)
     if (r.name == name) return r;
@@ -73,32 +81,21 @@ TEST_F(HopfieldCli, RunGivesTheScheduleToTheNetworksThatHaveIt) {
     EXPECT_FALSE(o.contains("schedule")) << name;
     EXPECT_EQ(o.at("restarts"), 2) << name;  // the other flags still apply
   }
-  const auto bad = run("run --solvers chnn lr --schedule diagonal --output " + path("bad.h5"));
-  EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.err.find("discrete network"), std::string::npos) << bad.err;
-  EXPECT_FALSE(std::filesystem::exists(path("bad.h5")));
-  const auto none = run("run --schedule zigzag --output " + path("none.h5"));
-  EXPECT_EQ(none.status, 2);
-  EXPECT_NE(none.err.find("zigzag"), std::string::npos) << none.err;
-  EXPECT_FALSE(std::filesystem::exists(path("none.h5")));
+  expect_refused(run("run --solvers chnn lr --schedule diagonal --output " + path("bad.h5")),
+                 "discrete network", path("bad.h5"));
+  expect_refused(run("run --schedule zigzag --output " + path("none.h5")), "zigzag", path("none.h5"));
 }
 
 TEST_F(HopfieldCli, FlagsForOtherSolversAreOneLineErrorsAndWriteNothing) {
   ASSERT_EQ(run("simulate --output " + path("sim.h5")).status, 0);
-  const auto a = run("associate --input " + path("sim.h5") + " --output " + path("out.h5") +
-                     " --solver lr --restarts 3");
-  EXPECT_EQ(a.status, 2);
-  EXPECT_NE(a.err.find("only for hopfield, hopfield-paper and chnn, not 'lr'"), std::string::npos) << a.err;
-  EXPECT_FALSE(std::filesystem::exists(path("out.h5")));
-  const auto b = run("run --solvers lr exact --polish --output " + path("run.h5"));
-  EXPECT_EQ(b.status, 2);
-  EXPECT_NE(b.err.find("no Hopfield solver"), std::string::npos) << b.err;
-  EXPECT_FALSE(std::filesystem::exists(path("run.h5")));
-  const auto c = run("associate --input " + path("sim.h5") + " --output " + path("out.h5") +
-                     " --solver hopfield --schedule zigzag");
-  EXPECT_EQ(c.status, 2);
-  EXPECT_NE(c.err.find("zigzag"), std::string::npos) << c.err;
-  EXPECT_FALSE(std::filesystem::exists(path("out.h5")));
+  expect_refused(run("associate --input " + path("sim.h5") + " --output " + path("out.h5") +
+                     " --solver lr --restarts 3"),
+                 "only for hopfield, hopfield-paper and chnn, not 'lr'", path("out.h5"));
+  expect_refused(run("run --solvers lr exact --polish --output " + path("run.h5")), "no Hopfield solver",
+                 path("run.h5"));
+  expect_refused(run("associate --input " + path("sim.h5") + " --output " + path("out.h5") +
+                     " --solver hopfield --schedule zigzag"),
+                 "zigzag", path("out.h5"));
 }
 
 }  // namespace

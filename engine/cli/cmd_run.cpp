@@ -53,7 +53,7 @@ void register_run(CLI::App& app) {
       // --solvers that cannot take it is an error, and so is a schedule that none can take.
       std::vector<std::string> skipped;
       std::string rejection;
-      for (const char* s : {"hopfield", "hopfield-paper", "chnn"}) {
+      for (const char* s : kHopfieldSolvers) {
         HopfieldFlags flags = args->hopfield;
         if (!flags.schedule.empty() && args->solvers.empty()) {
           const std::string why = hopfield_schedule_rejection(s, flags.schedule);
@@ -67,7 +67,8 @@ void register_run(CLI::App& app) {
         merge_hopfield_flags(flags, s, o);
         solver_options[s] = o;
       }
-      if (skipped.size() == 3) throw InputError("--schedule " + args->hopfield.schedule + ": " + rejection);
+      if (skipped.size() == kHopfieldSolvers.size())
+        throw InputError("--schedule " + args->hopfield.schedule + ": " + rejection);
       if (!skipped.empty()) {
         std::string list;
         for (const auto& s : skipped) list += (list.empty() ? "" : ", ") + s;

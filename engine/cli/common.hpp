@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <iostream>
 #include <memory>
@@ -152,8 +153,11 @@ struct HopfieldFlags {
   bool any() const { return !schedule.empty() || restarts > 0 || polish || trace; }
 };
 
+// The registry's Hopfield solvers (engine/hopfield_json.hpp presets).
+inline constexpr std::array<const char*, 3> kHopfieldSolvers{"hopfield", "hopfield-paper", "chnn"};
+
 inline bool is_hopfield_solver(const std::string& name) {
-  return name == "hopfield" || name == "hopfield-paper" || name == "chnn";
+  return std::find(kHopfieldSolvers.begin(), kHopfieldSolvers.end(), name) != kHopfieldSolvers.end();
 }
 
 inline void add_hopfield_flags(CLI::App* cmd, HopfieldFlags& f, bool with_trace) {
