@@ -211,6 +211,7 @@ ScaleRow run_one_size(const ScaleExperimentOptions& o, int32_t n) {
   const TrackFile file = synthetic_recorded_tracks(spec);
 
   SparsePipelineOptions so;
+  so.pipeline = PipelineOptions::paper();  // the scale study of the χ²(n·D) index (sparse_candidates.hpp)
   so.pipeline.statistic.gate_probability = o.gate_probability;
   std::vector<StageReport> stages;
   const auto t0 = std::chrono::steady_clock::now();

@@ -48,7 +48,7 @@ ReferencedInstance seed000_tracking_instance(int32_t n, uint64_t seed, int32_t r
   sc.random_targets.count = n;
   const SimulationResult sim = simulate(sc, seed, run);
   const TrackFile file = simulation_to_track_file(sc, sim);
-  AssociationProblem p = build_association_problem(file, PipelineOptions{});
+  AssociationProblem p = build_association_problem(file, PipelineOptions::paper());
   ReferencedInstance inst;
   inst.family = "tracking";
   inst.name = "seed000 n=" + std::to_string(n) + " run " + std::to_string(run);

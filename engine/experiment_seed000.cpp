@@ -121,7 +121,7 @@ std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& o
         const SimulationResult sim = simulate(sc, o.seed, run);
         TrackFile file = simulation_to_track_file(sc, sim);
         if (correlated) correlate_track_errors(file, o.correlation, o.seed, run);
-        PipelineOptions po;
+        PipelineOptions po = PipelineOptions::paper();  // the paper's gate and alignment
         po.statistic.correlated = correlated;
         po.statistic.cross_correlation = correlated ? o.correlation : 0.0;
         const AssociationProblem p = build_association_problem(file, po);

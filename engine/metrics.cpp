@@ -82,6 +82,25 @@ AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vec
     else
       ++m.missed;
   }
+  // False tuples: ≥ 2 members that are not all tracks of one target (a false track, truth −1, with
+  // anything is false).
+  for (std::size_t q = 0; q < K; ++q) {
+    int32_t members = 0, first = -2;
+    bool mixed = false;
+    for (int32_t s = 0; s < S; ++s) {
+      const int32_t trk = record.tuples[q * S + s];
+      if (trk < 0) continue;
+      ++members;
+      auto t = truth_of.find({s, trk});
+      const int32_t id = t == truth_of.end() ? -1 : t->second;
+      if (id < 0 || (first != -2 && id != first)) mixed = true;
+      first = id;
+    }
+    if (members >= 2) {
+      ++m.linked_tuples;
+      m.false_tuples += mixed;
+    }
+  }
   if (m.targets > 0) {
     m.correct_rate = static_cast<double>(m.correct) / m.targets;
     m.false_rate = static_cast<double>(m.false_associations) / m.targets;
@@ -100,6 +119,8 @@ MetricsRecord to_metrics_record(const std::string& name, const AssociationMetric
   r.tables["n_correct"] = {static_cast<double>(m.correct)};
   r.tables["n_false"] = {static_cast<double>(m.false_associations)};
   r.tables["n_missed"] = {static_cast<double>(m.missed)};
+  r.tables["n_linked_tuples"] = {static_cast<double>(m.linked_tuples)};
+  r.tables["n_false_tuples"] = {static_cast<double>(m.false_tuples)};
   return r;
 }
 

@@ -8,7 +8,9 @@
 // The three rates are fractions of the targets that need association, so they sum to 1.
 // A target seen by 3 of 4 sensors is correct when its 3 tracks are grouped (dummy for the 4th).
 // Local tracks whose truth is unknown (-1) make a target-less tuple count as false when grouped
-// with anything; a file without truth gives has_truth = false.
+// with anything; a file without truth gives has_truth = false. False tuples are counted apart: a
+// tuple of ≥ 2 members is false when it joins tracks of different targets, or a false track with
+// anything.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +25,9 @@ struct AssociationMetrics {
   bool has_truth = false;
   int32_t targets = 0;  // targets that need association
   int32_t correct = 0, false_associations = 0, missed = 0;
+  // Output tuples with ≥ 2 members, and those among them that join tracks of different targets or
+  // a false track (truth −1) with anything.
+  int32_t linked_tuples = 0, false_tuples = 0;
   double correct_rate = 0.0, false_rate = 0.0, missed_rate = 0.0;
 };
 

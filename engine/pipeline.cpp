@@ -35,9 +35,28 @@ void PipelineOptions::validate() const {
   cost.validate();
 }
 
+PipelineOptions PipelineOptions::paper() {
+  PipelineOptions o;
+  o.span_union = false;
+  o.alignment.method = AlignmentMethod::kForward;
+  o.alignment.process_noise = 1.0;
+  o.statistic.gate = GateMethod::kChiSquareSum;
+  o.cost.form = CostForm::kChain;  // seed 000 Eq. 3
+  return o;
+}
+
+namespace {
+const char* gate_name(GateMethod g) { return g == GateMethod::kCalibrated ? "calibrated" : "chi2-sum"; }
+}  // namespace
+
 nlohmann::json PipelineOptions::to_json() const {
   return {{"sensors", sensors},
           {"common_period", common_period},
+          {"common_span", span_union ? "union" : "intersection"},
+          {"alignment", alignment.method == AlignmentMethod::kTwoSided ? "two-sided" : "forward"},
+          {"gate", gate_name(statistic.gate)},
+          {"cap_probability", statistic.cap_probability},
+          {"scans_per_independent", statistic.scans_per_independent},
           {"process_noise", alignment.process_noise},
           {"max_extrapolation", alignment.max_extrapolation},
           {"correlated", statistic.correlated},
@@ -48,7 +67,7 @@ nlohmann::json PipelineOptions::to_json() const {
 }
 
 std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const int32_t> sensor_ids,
-                                     double period) {
+                                     double period, bool span_union) {
   const std::size_t S = sensor_ids.size();
   std::vector<double> first(S, std::numeric_limits<double>::infinity()),
       last(S, -std::numeric_limits<double>::infinity());
@@ -61,8 +80,10 @@ std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const i
   for (std::size_t d = 0; d < S; ++d)
     if (!std::isfinite(first[d]))
       throw InputError("/tracks: sensor " + std::to_string(sensor_ids[d]) + " has no local tracks");
-  const double start = *std::max_element(first.begin(), first.end()) + period;
-  const double end = *std::min_element(last.begin(), last.end());
+  const double start = span_union ? *std::min_element(first.begin(), first.end())
+                                  : *std::max_element(first.begin(), first.end()) + period;
+  const double end =
+      span_union ? *std::max_element(last.begin(), last.end()) : *std::min_element(last.begin(), last.end());
   std::vector<double> grid;
   const double eps = 1e-9 * std::max(1.0, std::fabs(end));
   for (int64_t k = 0;; ++k) {
@@ -92,6 +113,10 @@ SensorSelection select_sensors(const TrackFile& file, const PipelineOptions& opt
     throw InputError("--sensors: the 3-D pipeline takes exactly 3 sensor ids, got " +
                      std::to_string(options.sensors.size()) + "; " + std::to_string(options.sensors.size()) +
                      " sensors use the S-D formulation (associate --sd, engine/pipeline_sd.hpp)");
+  if (options.sensors.empty() && sel.num_sensors > 3)
+    throw InputError("/sensors: the file has " + std::to_string(sel.num_sensors) +
+                     " sensors and the 3-D pipeline takes three; give --sensors A,B,C, or associate them "
+                     "all with the default pipeline (no --solver, or --solver lr+ls|lr|exact)");
   sel.period = options.common_period;
   for (int d = 0; d < 3; ++d) {
     sel.ids[d] = options.sensors.empty() ? file.sensors[d].id : options.sensors[d];
@@ -115,7 +140,7 @@ AssociationProblem build_association_problem(const TrackFile& file, const Pipeli
   const double period = sel.period;
 
   const auto t0 = std::chrono::steady_clock::now();
-  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period);
+  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period, options.span_union);
   for (int d = 0; d < 3; ++d)
     p.aligned[d] = align_tracks(file.tracks, p.sensor_ids[d], p.common_times, options.alignment);
   p.s12 = independent_sequential_statistic(p.aligned[0], p.aligned[1], options.statistic);

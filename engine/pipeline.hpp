@@ -3,11 +3,12 @@
 //   → tuples of local track numbers (/associations/<name>/).
 //
 // Common times (asynchronous sensors): a uniform grid with step `common_period` (default: the
-// largest scan period of the three sensors) over the interval where all three sensors report,
-// starting one period after the latest first report so that every local track has been updated
-// at least once. Each track's latest estimate at or before a grid time is predicted to it by a
-// CV model (kernels/association_statistic.hpp). This is the simplest choice that treats the
-// sensors symmetrically; seed 003 notes that alignment amplifies errors.
+// largest scan period of the three sensors). By default it spans the union of the sensors' report
+// intervals, and each track is moved to a grid time from its nearest report on either side
+// (kernels/association_statistic.hpp, two-sided alignment), so recorded tracks that start late or
+// end early are compared wherever they coexist. PipelineOptions::paper() gives the paper's
+// setting: the interval where all three sensors report, starting one period after the latest first
+// report, each track's latest estimate predicted forward (seed 003 notes that this amplifies errors).
 //
 // Decoding (engine/tuple_decoding.hpp): every local track of the three sensors appears in exactly
 // one output tuple. A solver tuple whose chained pairs are not all inside the gate is split into
@@ -29,14 +30,23 @@
 namespace trackassoc {
 
 struct PipelineOptions {
-  // The three sensors to associate, as /sensors ids; empty = the first three in /sensors order.
+  // The sensors to associate, as /sensors ids; empty = the first three in /sensors order for the
+  // 3-D pipeline, every sensor for the S-D pipelines.
   std::vector<int32_t> sensors;
   double common_period = 0.0;  // [s]; 0 = the largest scan period of the three sensors
+  // Common times span the union of the sensors' report intervals (default: recorded tracks start
+  // and end at different times, and a pair is compared wherever both exist), or, when false, the
+  // intersection, starting one period after the latest first report (seed 000's simulations).
+  bool span_union = true;
   AlignmentOptions alignment;
   StatisticOptions statistic;
-  CostTensorOptions cost;
+  CostTensorOptions cost{CostForm::kAllPairs};  // every pair: all the evidence (chain separates, DESIGN §4.3)
   void validate() const;
   nlohmann::json to_json() const;
+  // The settings of the paper studies (seed 000, seed 004, the Hopfield schedules and the sparse
+  // scale study): forward prediction at σ = 1 m/s², the
+  // intersection grid, and the χ²(n·D) gate of the summed statistic (Eq. 1–2 as printed).
+  static PipelineOptions paper();
 };
 
 // Everything the solver stage needs, kept so that several solvers can share one tensor.
@@ -92,6 +102,6 @@ void append_output_row(int32_t num_sensors, const std::array<int32_t, 3>& column
 
 // Common time grid (exposed for tests): see the header comment.
 std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const int32_t> sensor_ids,
-                                     double period);
+                                     double period, bool span_union = false);
 
 }  // namespace trackassoc

@@ -125,34 +125,44 @@ void require_sd_solver(const std::string& name) {
   throw InputError("--solver: '" + name + "' is not an S-D solver; S-D solvers:" + known);
 }
 
+SDSensorSelection select_sd_sensors(const TrackFile& file, const PipelineOptions& options) {
+  SDSensorSelection sel;
+  std::map<int32_t, int32_t> column;
+  for (int32_t s = 0; s < static_cast<int32_t>(file.sensors.size()); ++s) column[file.sensors[s].id] = s;
+  if (options.sensors.empty())
+    for (const auto& s : file.sensors) sel.ids.push_back(s.id);
+  else
+    sel.ids = options.sensors;
+  if (sel.ids.size() < 2)
+    throw InputError("/sensors: association needs at least 2 sensors, the file has " +
+                     std::to_string(sel.ids.size()));
+  sel.period = options.common_period;
+  for (int32_t id : sel.ids) {
+    auto it = column.find(id);
+    if (it == column.end())
+      throw InputError("--sensors: sensor id " + std::to_string(id) + " is not in /sensors/id");
+    sel.columns.push_back(it->second);
+    if (options.common_period == 0.0) sel.period = std::max(sel.period, file.sensors[it->second].period);
+  }
+  require(sel.period > 0.0, "PipelineOptions.common_period", "the sensors' periods are not positive");
+  return sel;
+}
+
 SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options) {
   options.validate();
   require(options.statistic.gate_probability < 1.0, "--gate",
           "the S-D formulation uses the gate as the cost of not linking two tracks; it needs a gate "
           "probability below 1");
   SDProblem p;
+  SDSensorSelection sel = select_sd_sensors(file, options);
   p.file_sensors = static_cast<int32_t>(file.sensors.size());
-  std::map<int32_t, int32_t> column;
-  for (int32_t s = 0; s < p.file_sensors; ++s) column[file.sensors[s].id] = s;
-  if (options.sensors.empty())
-    for (const auto& s : file.sensors) p.sensor_ids.push_back(s.id);
-  else
-    p.sensor_ids = options.sensors;
+  p.sensor_ids = std::move(sel.ids);
+  p.sensor_columns = std::move(sel.columns);
   const int32_t S = p.S();
-  if (S < 2)
-    throw InputError("/sensors: association needs at least 2 sensors, the file has " + std::to_string(S));
-  double period = options.common_period;
-  for (int32_t id : p.sensor_ids) {
-    auto it = column.find(id);
-    if (it == column.end())
-      throw InputError("--sensors: sensor id " + std::to_string(id) + " is not in /sensors/id");
-    p.sensor_columns.push_back(it->second);
-    if (options.common_period == 0.0) period = std::max(period, file.sensors[it->second].period);
-  }
-  require(period > 0.0, "PipelineOptions.common_period", "the sensors' periods are not positive");
+  const double period = sel.period;
 
   const auto t0 = std::chrono::steady_clock::now();
-  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period);
+  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period, options.span_union);
   for (int32_t s = 0; s < S; ++s)
     p.aligned.push_back(align_tracks(file.tracks, p.sensor_ids[s], p.common_times, options.alignment));
   p.pairs.resize(static_cast<std::size_t>(S) * S);
@@ -163,18 +173,19 @@ SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
       PairStatistic& st = p.pairs[slot] =
           independent_sequential_statistic(p.aligned[a], p.aligned[b], options.statistic);
-      std::map<int32_t, double> gamma;  // χ² quantile per dof, computed once
+      // The link cost (λ − G(n))/f of kernels/association_statistic.hpp: ≤ 0 inside the gate.
+      const SequentialGate gate(file.tracks.dim(), options.statistic,
+                                static_cast<int32_t>(p.common_times.size()));
       auto& link = p.link[slot];
       link.assign(st.lambda.size(), kForbidden);
-      int32_t max_dof = 0;
+      int32_t max_scans = 0;
       for (std::size_t e = 0; e < st.lambda.size(); ++e) {
-        max_dof = std::max(max_dof, st.dof[e]);
-        if (!st.in_gate[e] || st.dof[e] <= 0) continue;
-        auto [it, fresh] = gamma.try_emplace(st.dof[e], 0.0);
-        if (fresh) it->second = chi_square_quantile(options.statistic.gate_probability, st.dof[e]);
-        link[e] = static_cast<float>(st.lambda[e] - it->second);
+        const int32_t n = st.scans(e, file.tracks.dim());
+        max_scans = std::max(max_scans, n);
+        if (!st.in_gate[e] || n <= 0) continue;
+        link[e] = static_cast<float>(gate.link_cost(st.lambda[e], n));
       }
-      p.gate[slot] = max_dof > 0 ? chi_square_quantile(options.statistic.gate_probability, max_dof) : 1.0;
+      p.gate[slot] = max_scans > 0 ? gate.threshold(max_scans) : 1.0;
     }
   p.statistics_time_s = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
@@ -241,12 +252,12 @@ SolutionSD solve_chnn_sd(const SDProblem& p, const nlohmann::json& options, uint
   return sol;
 }
 
-SolutionSD solve_sd(const SDProblem& p, const std::string& solver, const nlohmann::json& options,
-                    uint64_t seed) {
+SolutionSD solve_sd_tensor(const CostTensorSD& tensor, const std::string& solver,
+                           const nlohmann::json& options) {
   const auto t0 = std::chrono::steady_clock::now();
   SolutionSD sol;
   if (solver == "lr" || solver == "lr+ls") {
-    sol = solve_lagrangian_sd(p.tensor, lagrangian_options(options, solver, solver == "lr+ls"));
+    sol = solve_lagrangian_sd(tensor, lagrangian_options(options, solver, solver == "lr+ls"));
   } else if (solver == "exact") {
     reject_unknown_keys(options, {"time_limit_s", "max_nodes"}, solver);
     ExactSDOptions eo;
@@ -255,21 +266,30 @@ SolutionSD solve_sd(const SDProblem& p, const std::string& solver, const nlohman
     eo.validate();
     LagrangianOptions lo;
     lo.local_search = true;
-    const SolutionSD start = solve_lagrangian_sd(p.tensor, lo);
+    const SolutionSD start = solve_lagrangian_sd(tensor, lo);
     if (start.summary.termination == Termination::kOptimal) {
       sol = start;  // the relaxation's bound already proves lr+ls optimal
       sol.summary.message = "proven optimal by the S-D relaxation's bound (no search needed)";
     } else {
-      sol = solve_exact_sd(p.tensor, eo, &start.tuples);
+      sol = solve_exact_sd(tensor, eo, &start.tuples);
       if (sol.summary.termination == Termination::kTimeLimit &&
           start.summary.lower_bound > sol.summary.lower_bound)
         set_bound_and_gap(sol.summary, start.summary.lower_bound);
     }
-  } else if (solver == "chnn-pseudo") {
-    sol = solve_chnn_sd(p, options, seed);
   } else {
-    require_sd_solver(solver);
+    throw InputError("--solver: '" + solver +
+                     "' takes no cost tensor alone; tensor S-D solvers: lr lr+ls exact");
   }
+  sol.summary.wall_time_s = seconds_since(t0);
+  return sol;
+}
+
+SolutionSD solve_sd(const SDProblem& p, const std::string& solver, const nlohmann::json& options,
+                    uint64_t seed) {
+  require_sd_solver(solver);
+  if (solver != "chnn-pseudo") return solve_sd_tensor(p.tensor, solver, options);
+  const auto t0 = std::chrono::steady_clock::now();
+  SolutionSD sol = solve_chnn_sd(p, options, seed);
   sol.summary.wall_time_s = seconds_since(t0);
   return sol;
 }

@@ -50,6 +50,15 @@ struct SDProblem {
   int32_t S() const { return static_cast<int32_t>(sensor_ids.size()); }
 };
 
+// The sensors of an S-D association: options.sensors, or every sensor of the file; their /sensors
+// columns; the common-time period (options.common_period, or the largest scan period of them).
+// Throws InputError on unknown ids or fewer than 2 sensors. Shared by the dense and sparse S-D.
+struct SDSensorSelection {
+  std::vector<int32_t> ids, columns;
+  double period = 0.0;
+};
+SDSensorSelection select_sd_sensors(const TrackFile& file, const PipelineOptions& options);
+
 // options.sensors: empty = every sensor of the file, else ≥ 2 ids. Throws InputError on unknown
 // ids, fewer than 2 sensors, a gate probability of 1, or a tensor over the memory budget.
 SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options);
@@ -66,6 +75,10 @@ PseudoTrackInput pseudo_track_input(const SDProblem& p, bool gated, double lambd
 // Euler steps, convergence).
 SolutionSD solve_chnn_sd(const SDProblem& p, const nlohmann::json& options, uint64_t seed,
                          ChnnPseudoResult* raw = nullptr);
+
+// Runs a tensor S-D solver (lr, lr+ls, exact) on `tensor` alone; throws InputError for others.
+SolutionSD solve_sd_tensor(const CostTensorSD& tensor, const std::string& solver,
+                           const nlohmann::json& options);
 
 // Runs an S-D solver and returns the solution over the problem's tensor (tuples in tensor order).
 SolutionSD solve_sd(const SDProblem& p, const std::string& solver, const nlohmann::json& options,

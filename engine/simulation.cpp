@@ -9,14 +9,20 @@
 // [φ_min − 0.05, φ_max + 0.05] rad, where r_max and φ_min/φ_max are the extremes over the true
 // targets seen by that sensor during the run (the scenario has no explicit coverage field).
 // Random streams: one CounterRng per (sensor, target) for detections and noise, one per sensor for
-// clutter, one per target for manoeuvres and random targets — all keyed (seed, run, stream id), so
-// the output is bit-identical for any thread count.
+// clutter, one per target for manoeuvres and random targets (one per group in formations) — all
+// keyed (seed, run, stream id), so the output is bit-identical for any thread count.
+// Recording model (Scenario::recording): engine/simulation_recording.hpp; phantoms are measured in
+// each scan after the true targets and before the clutter, from their own streams.
+// Size guard: a scenario whose (targets + expected false tracks) × Σ_sensors scans exceeds
+// kMaxPlotSlots = 2e8 plot slots, or whose targets × truth samples exceeds 2e8 truth rows, is
+// refused before anything is allocated (2e8 plots are ~10 GB of measurements and tracks).
 #include "engine/simulation.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include "engine/simulation_recording.hpp"
 #include "engine/simulation_tracker.hpp"
 #include "engine/simulation_truth.hpp"
 #include "kernels/error.hpp"
@@ -27,6 +33,55 @@
 namespace trackassoc {
 
 namespace {
+
+constexpr double kMaxPlotSlots = 2e8;
+
+void validate_recording(const Scenario& sc) {
+  const RecordingSpec& g = sc.recording;
+  require(g.p_seen >= 0.0 && g.p_seen <= 1.0, "scenario.recording.p_seen",
+          "expected a probability in [0, 1]");
+  require(g.coverage_min > 0.0 && g.coverage_min <= 1.0, "scenario.recording.coverage_min",
+          "expected a fraction in (0, 1]");
+  require(g.coverage_max >= g.coverage_min && g.coverage_max <= 1.0, "scenario.recording.coverage_max",
+          "expected a fraction in [coverage_min, 1]");
+  require(std::isfinite(g.false_tracks) && g.false_tracks >= 0.0 && g.false_tracks <= 100.0,
+          "scenario.recording.false_tracks", "expected a fraction of the targets in [0, 100]");
+  const RandomTargetSpec& rt = sc.random_targets;
+  require(rt.group_size >= 1, "scenario.random_targets.group_size", "expected an integer ≥ 1");
+  require(std::isfinite(rt.group_spacing) && rt.group_spacing >= 0.0, "scenario.random_targets.group_spacing",
+          "expected a finite spacing ≥ 0 [m]");
+  const ManoeuvreSpec& m = rt.manoeuvres;
+  if (!m.enabled) return;
+  const std::string w = "scenario.random_targets.manoeuvres.";
+  require(std::isfinite(m.interval_min) && m.interval_min > 0.0, w + "interval_min", "expected > 0 [s]");
+  require(std::isfinite(m.interval_max) && m.interval_max >= m.interval_min, w + "interval_max",
+          "expected ≥ interval_min [s]");
+  require(std::isfinite(m.duration_min) && m.duration_min > 0.0, w + "duration_min", "expected > 0 [s]");
+  require(std::isfinite(m.duration_max) && m.duration_max >= m.duration_min, w + "duration_max",
+          "expected ≥ duration_min [s]");
+  require(std::isfinite(m.turn_rate_max) && m.turn_rate_max >= 0.0, w + "turn_rate_max", "expected ≥ 0");
+  require(std::isfinite(m.acceleration_max) && m.acceleration_max >= 0.0, w + "acceleration_max",
+          "expected ≥ 0 [m/s²]");
+  require(m.p_turn >= 0.0 && m.p_turn <= 1.0, w + "p_turn", "expected a probability in [0, 1]");
+}
+
+// Refuses scenarios that would not fit in memory, before anything is allocated.
+void check_size(const Scenario& sc) {
+  const double targets =
+      static_cast<double>(sc.targets.size()) + static_cast<double>(sc.random_targets.count);
+  double scans = 0.0;
+  for (const Sensor& x : sc.sensors) scans += std::floor((sc.duration - x.offset) / x.period + 1e-9) + 1.0;
+  const double slots = targets * (1.0 + sc.recording.false_tracks) * scans;
+  const std::string field =
+      sc.random_targets.count > 0 ? "scenario.random_targets.count" : "scenario.targets";
+  require(slots <= kMaxPlotSlots, field,
+          "targets × scans of all sensors = " + std::to_string(static_cast<long long>(slots)) +
+              " plot slots, more than the budget of 2e8 (about 10 GB); use fewer targets, sensors or scans");
+  const double truth_rows = targets * (std::floor(sc.duration / sc.truth_step + 1e-9) + 1.0);
+  require(truth_rows <= kMaxPlotSlots, "scenario.truth_step",
+          "targets × truth samples = " + std::to_string(static_cast<long long>(truth_rows)) +
+              " truth rows, more than the budget of 2e8; increase the step or use fewer targets");
+}
 
 void validate_scenario(const Scenario& sc) {
   require(std::isfinite(sc.duration) && sc.duration > 0.0, "scenario.duration",
@@ -49,20 +104,8 @@ void validate_scenario(const Scenario& sc) {
     require(x.sigma_range >= 0.0 && x.sigma_bearing >= 0.0 && x.sigma_elevation >= 0.0, w + "sigma",
             "expected standard deviations ≥ 0");
   }
-}
-
-// Poisson draw: Knuth's product method for small means, the normal approximation above 30.
-int poisson(CounterRng& rng, double mean) {
-  if (mean <= 0.0) return 0;
-  if (mean > 30.0) return std::max(0, static_cast<int>(std::lround(mean + std::sqrt(mean) * rng.normal())));
-  const double limit = std::exp(-mean);
-  int k = 0;
-  double p = rng.uniform();
-  while (p > limit) {
-    ++k;
-    p *= rng.uniform();
-  }
-  return k;
+  validate_recording(sc);
+  check_size(sc);
 }
 
 double wrap_angle(double a) {
@@ -73,7 +116,8 @@ double wrap_angle(double a) {
 }  // namespace
 
 SensorMeasurements simulate_sensor(const Scenario& sc, std::size_t s,
-                                   const std::vector<TargetTrajectory>& targets, uint64_t seed, int run) {
+                                   const std::vector<TargetTrajectory>& targets, uint64_t seed, int run,
+                                   const SensorRecording* recording) {
   const Sensor& sensor = sc.sensors[s];
   const int d = spatial_dim(sc.layout);
   SensorMeasurements out;
@@ -90,6 +134,12 @@ SensorMeasurements simulate_sensor(const Scenario& sc, std::size_t s,
   for (std::size_t j = 0; j < targets.size(); ++j)
     rng.emplace_back(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kDetection, s), j);
   CounterRng clutter_rng(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kClutter, s));
+  const std::size_t phantoms = recording ? recording->phantoms.size() : 0;
+  std::vector<CounterRng> phantom_rng;
+  phantom_rng.reserve(phantoms);
+  for (std::size_t k = 0; k < phantoms; ++k)
+    phantom_rng.emplace_back(seed, static_cast<uint64_t>(run),
+                             stream_id(SimulationStream::kPhantomDetection, s), k);
   Measurements& m = out.m;
   // Pass 1 finds the coverage; pass 2 draws. Both passes are cheap next to the filtering.
   for (double t : out.scans)
@@ -102,22 +152,27 @@ SensorMeasurements simulate_sensor(const Scenario& sc, std::size_t s,
     }
   const double el_lo = std::max(-std::numbers::pi / 2, el_min - 0.05),
                el_hi = std::min(std::numbers::pi / 2, el_max + 0.05);
+  // One plot of `tr` at t with the draws of `r`, kept when detected and `keep`.
+  auto measure = [&](const TargetTrajectory& tr, CounterRng& r, double t, bool keep) {
+    const bool hit = r.uniform() < sensor.p_detect;
+    const PolarPoint q = cartesian_to_polar(d, sensor, tr.at(t).p);
+    const double nr = r.normal(), nb = r.normal(), ne = d == 3 ? r.normal() : 0.0;
+    if (!hit || !keep) return;
+    m.sensor.push_back(sensor.id);
+    m.t.push_back(t);
+    m.range.push_back(std::max(0.0, q.range + sensor.sigma_range * nr));
+    m.bearing.push_back(wrap_angle(q.bearing + sensor.sigma_bearing * nb));
+    if (d == 3)
+      m.elevation.push_back(
+          std::clamp(q.elevation + sensor.sigma_elevation * ne, -std::numbers::pi / 2, std::numbers::pi / 2));
+    m.target.push_back(tr.id);
+  };
   for (double t : out.scans) {
-    for (std::size_t j = 0; j < targets.size(); ++j) {
-      const bool hit = rng[j].uniform() < sensor.p_detect;
-      const PolarPoint q = cartesian_to_polar(d, sensor, targets[j].at(t).p);
-      const double nr = rng[j].normal(), nb = rng[j].normal(), ne = d == 3 ? rng[j].normal() : 0.0;
-      if (!hit) continue;
-      m.sensor.push_back(sensor.id);
-      m.t.push_back(t);
-      m.range.push_back(std::max(0.0, q.range + sensor.sigma_range * nr));
-      m.bearing.push_back(wrap_angle(q.bearing + sensor.sigma_bearing * nb));
-      if (d == 3)
-        m.elevation.push_back(std::clamp(q.elevation + sensor.sigma_elevation * ne, -std::numbers::pi / 2,
-                                         std::numbers::pi / 2));
-      m.target.push_back(targets[j].id);
-    }
-    const int false_plots = poisson(clutter_rng, sensor.clutter_rate);
+    for (std::size_t j = 0; j < targets.size(); ++j)
+      measure(targets[j], rng[j], t, !recording || recording->keeps_target(j, t));
+    for (std::size_t k = 0; k < phantoms; ++k)
+      measure(recording->phantoms[k], phantom_rng[k], t, recording->keeps_phantom(k, t));
+    const int false_plots = poisson_draw(clutter_rng, sensor.clutter_rate);
     for (int c = 0; c < false_plots; ++c) {
       m.sensor.push_back(sensor.id);
       m.t.push_back(t);
@@ -140,10 +195,24 @@ std::vector<TargetTrajectory> simulate_trajectories(const Scenario& sc, uint64_t
     targets.push_back(scripted_trajectory(sc.targets[i], sc.duration, d, rng));
     next_id = std::max(next_id, sc.targets[i].id + 1);
   }
-  for (int32_t k = 0; k < sc.random_targets.count; ++k) {
-    CounterRng rng(seed, static_cast<uint64_t>(run),
-                   stream_id(SimulationStream::kRandomTarget, static_cast<uint64_t>(k)));
-    targets.push_back(random_trajectory(sc.random_targets, next_id + k, sc.duration, sc.truth_step, d, rng));
+  const RandomTargetSpec& rt = sc.random_targets;
+  if (rt.group_size == 1 && !rt.manoeuvres.enabled) {
+    for (int32_t k = 0; k < rt.count; ++k) {
+      CounterRng rng(seed, static_cast<uint64_t>(run),
+                     stream_id(SimulationStream::kRandomTarget, static_cast<uint64_t>(k)));
+      targets.push_back(random_trajectory(rt, next_id + k, sc.duration, sc.truth_step, d, rng));
+    }
+    return targets;
+  }
+  // Groups (formations; a group of one with manoeuvres): group g draws from the streams of
+  // random target g.
+  for (int32_t first = 0, g = 0; first < rt.count; first += rt.group_size, ++g) {
+    const int members = std::min(rt.group_size, rt.count - first);
+    CounterRng rng(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kRandomTarget, g));
+    CounterRng mrng(seed, static_cast<uint64_t>(run), stream_id(SimulationStream::kRandomManoeuvre, g));
+    for (auto& tr :
+         random_group_trajectories(rt, next_id + first, members, sc.duration, sc.truth_step, d, rng, mrng))
+      targets.push_back(std::move(tr));
   }
   return targets;
 }
@@ -165,9 +234,11 @@ SimulationResult simulate(const Scenario& sc, uint64_t seed, int run) {
         result.truth.state[d + a].push_back(q.v[a]);
       }
     }
+  const RecordingPlan plan = plan_recording(sc, targets, seed, run);
   std::vector<SensorMeasurements> per_sensor(sc.sensors.size());
   parallel_for_range(sc.sensors.size(), 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t s = b; s < e; ++s) per_sensor[s] = simulate_sensor(sc, s, targets, seed, run);
+    for (std::size_t s = b; s < e; ++s)
+      per_sensor[s] = simulate_sensor(sc, s, targets, seed, run, plan.active ? &plan.sensors[s] : nullptr);
   });
   Measurements& all = result.measurements;
   std::vector<std::vector<double>> scans;
@@ -181,6 +252,7 @@ SimulationResult simulate(const Scenario& sc, uint64_t seed, int run) {
     scans.push_back(std::move(p.scans));
   }
   result.tracks = track_measurements(all, sc.sensors, sc.layout, sc.tracker, seed, run, scans).tracks;
+  apply_recording(plan, sc, targets, result);
   return result;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "kernels/error.hpp"
 
@@ -156,6 +157,95 @@ TargetTrajectory random_trajectory(const RandomTargetSpec& spec, int32_t id, dou
     }
   }
   return tr;
+}
+
+std::vector<TargetTrajectory> random_group_trajectories(const RandomTargetSpec& spec, int32_t first_id,
+                                                        int members, double duration, double step,
+                                                        int spatial_dim, CounterRng& rng,
+                                                        CounterRng& manoeuvre_rng) {
+  const ManoeuvreSpec& man = spec.manoeuvres;
+  if (members == 1 && !man.enabled)
+    return {random_trajectory(spec, first_id, duration, step, spatial_dim, rng)};
+  // The reference trajectory: the same initial draws as random_trajectory.
+  TargetTrajectory ref;
+  Kinematics start;
+  for (int i = 0; i < spatial_dim; ++i) start.p[i] = rng.uniform(spec.area_min[i], spec.area_max[i]);
+  const double speed0 = rng.uniform(spec.speed_min, spec.speed_max);
+  const double heading0 = rng.uniform(spec.heading_min, spec.heading_max);
+  start.v = {speed0 * std::cos(heading0), speed0 * std::sin(heading0), 0.0};
+  auto push = [&](double len, const std::array<double, 3>& a, double w) {
+    if (ref.pieces.empty()) {
+      TrajectoryPiece q;
+      q.t0 = 0.0;
+      q.t1 = len;
+      q.start = start;
+      q.turn_rate = w;
+      q.start.a = w == 0.0 ? a : std::array<double, 3>{0, 0, 0};
+      ref.pieces.push_back(q);
+    } else {
+      ref.append(len, a, w);
+    }
+  };
+  const double lo = 0.5 * spec.speed_min, hi = std::max(1.5 * spec.speed_max, lo);
+  double t = 0.0;
+  double next_manoeuvre = man.enabled ? manoeuvre_rng.uniform(man.interval_min, man.interval_max)
+                                      : std::numeric_limits<double>::infinity();
+  while (t < duration - 1e-9) {
+    if (t < next_manoeuvre - 1e-9) {  // straight leg: white-noise acceleration per truth step
+      const double len = std::min({step, next_manoeuvre - t, duration - t});
+      std::array<double, 3> a{0, 0, 0};
+      for (int i = 0; i < spatial_dim; ++i) a[i] = spec.process_noise * rng.normal();
+      push(len, a, 0.0);
+      t += len;
+      continue;
+    }
+    // A manoeuvre: always the same four draws, so the stream stays aligned whatever the kind.
+    const double len = std::min(manoeuvre_rng.uniform(man.duration_min, man.duration_max), duration - t);
+    const bool turn = manoeuvre_rng.uniform() < man.p_turn;
+    const double magnitude = manoeuvre_rng.uniform();
+    const double sign = manoeuvre_rng.uniform() < 0.5 ? -1.0 : 1.0;
+    if (turn) {
+      const double w = sign * man.turn_rate_max * (1.0 + 2.0 * magnitude) / 3.0;
+      push(len, {0, 0, 0}, w);
+    } else {
+      const Kinematics k = ref.pieces.empty() ? start : ref.at(ref.pieces.back().t1);
+      const double s0 = std::sqrt(k.v[0] * k.v[0] + k.v[1] * k.v[1] + k.v[2] * k.v[2]);
+      double a = sign * man.acceleration_max * magnitude;
+      a = std::clamp(a, (lo - s0) / len, (hi - s0) / len);
+      std::array<double, 3> acc{0, 0, 0};
+      if (s0 > 0.0)
+        for (int i = 0; i < 3; ++i) acc[i] = a * k.v[i] / s0;
+      push(len, acc, 0.0);
+    }
+    t += len;
+    next_manoeuvre = t + manoeuvre_rng.uniform(man.interval_min, man.interval_max);
+  }
+  if (ref.pieces.empty()) push(duration, {0, 0, 0}, 0.0);
+  // Members: rigid copies of the reference (offset r, rotating with the turns).
+  std::vector<TargetTrajectory> out(static_cast<std::size_t>(members));
+  for (int j = 0; j < members; ++j) {
+    TargetTrajectory& tr = out[j];
+    tr.id = first_id + j;
+    const double along = (j - 0.5 * (members - 1)) * spec.group_spacing;
+    double rx = -std::sin(heading0) * along, ry = std::cos(heading0) * along;
+    tr.pieces.reserve(ref.pieces.size());
+    for (const TrajectoryPiece& q : ref.pieces) {
+      TrajectoryPiece m = q;
+      m.start.p[0] += rx;
+      m.start.p[1] += ry;
+      // v = v_ref + ω ẑ × r: a rigid rotation about the reference's turn centre.
+      m.start.v[0] -= q.turn_rate * ry;
+      m.start.v[1] += q.turn_rate * rx;
+      tr.pieces.push_back(m);
+      if (q.turn_rate != 0.0) {
+        const double c = std::cos(q.turn_rate * (q.t1 - q.t0)), sn = std::sin(q.turn_rate * (q.t1 - q.t0));
+        const double x = rx * c - ry * sn, y = rx * sn + ry * c;
+        rx = x;
+        ry = y;
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace trackassoc

@@ -18,6 +18,26 @@
 // per axis over every truth_step — exactly the discrete white-noise acceleration model of the
 // CV Kalman filter (Bar-Shalom et al. 2001, §6.3.2), so a CV filter with the same σ and a scan
 // period equal to truth_step is consistent.
+// Random manoeuvres (RandomTargetSpec::manoeuvres, off by default): straight legs of length
+// U(interval_min, interval_max) — white-noise acceleration as above, one N(0, σ²) draw per axis
+// per truth_step (a leg end cuts a step short) — alternate with manoeuvres of length
+// U(duration_min, duration_max), starting with a leg. A manoeuvre is noise-free: with probability
+// p_turn a coordinated turn at rate ±U(turn_rate_max/3, turn_rate_max) (random sign), else a
+// constant acceleration a·v/|v| along the velocity at the manoeuvre's start, a = U(−a_max, a_max)
+// clamped so that the speed stays in [0.5·speed_min, max(1.5·speed_max, 0.5·speed_min)] (the speed
+// is linear in time during the step, so clamping the end speed bounds all of it). The manoeuvre
+// draws come from their own stream (kRandomManoeuvre), so switching them on leaves the initial
+// states unchanged.
+// Formations (group_size m > 1): random targets are drawn in groups of m (the last group may be
+// smaller) that share one reference trajectory (initial state, noise, manoeuvres: the draws of
+// target k above are those of group k). Member j of a group sits at the offset
+// (j − (m−1)/2)·group_spacing perpendicular to the initial heading (line abreast), and the group
+// moves as a rigid body: in straight flight and acceleration steps every member has the
+// reference's velocity; in a turn the whole line turns about the reference's turn centre at the
+// same rate, so the offset rotates with the heading (an outer member flies faster; its velocity
+// steps by ω·offset at the turn's entry and exit). The distance between members is therefore
+// constant at all times, with or without process noise. Ids: first_id + j within the group.
+// With m = 1 and no manoeuvres the draws and pieces are exactly those of random_trajectory.
 #pragma once
 
 #include <array>
@@ -36,7 +56,16 @@ enum class SimulationStream : uint64_t {
   kRandomTarget = 2,
   kDetection = 3,
   kClutter = 4,
-  kShuffle = 5
+  kShuffle = 5,
+  // The recording model (engine/simulation_recording.hpp) and random manoeuvres; new streams only,
+  // so the streams above, and scenarios that do not use these features, are unchanged.
+  kRandomManoeuvre = 6,    // per random-target group: manoeuvre times and kinds
+  kRecordingWindow = 7,    // per (sensor, target): seen or not, coverage window
+  kPhantomCount = 8,       // per sensor: number of false tracks
+  kPhantomTrajectory = 9,  // per (sensor, false track): its trajectory
+  kPhantomManoeuvre = 10,  // per (sensor, false track): its manoeuvres
+  kPhantomWindow = 11,     // per (sensor, false track): its coverage window
+  kPhantomDetection = 12   // per (sensor, false track): its detections and noise
 };
 inline uint64_t stream_id(SimulationStream tag, uint64_t index) {
   return (static_cast<uint64_t>(tag) << 40) | index;
@@ -66,6 +95,12 @@ TargetTrajectory scripted_trajectory(const TargetSpec& spec, double duration, in
                                      CounterRng& rng);
 TargetTrajectory random_trajectory(const RandomTargetSpec& spec, int32_t id, double duration, double step,
                                    int spatial_dim, CounterRng& rng);
+// One formation of `members` random targets with ids first_id, first_id + 1, ... (see above);
+// `rng` draws the reference trajectory, `manoeuvre_rng` its manoeuvres.
+std::vector<TargetTrajectory> random_group_trajectories(const RandomTargetSpec& spec, int32_t first_id,
+                                                        int members, double duration, double step,
+                                                        int spatial_dim, CounterRng& rng,
+                                                        CounterRng& manoeuvre_rng);
 
 // The trajectories of all targets of Monte Carlo run `run` (scripted first, then the random
 // targets with ids after the largest scripted id), as used by simulate(). Validates the scenario.
@@ -77,7 +112,12 @@ struct SensorMeasurements {
   Measurements m;
   std::vector<double> scans;
 };
+// With `recording` (engine/simulation_recording.hpp), plots of targets outside their window or
+// not seen are dropped (their random draws are still made, so the other plots are unchanged) and
+// the sensor's phantoms are measured too, with their internal ids as `target`.
+struct SensorRecording;
 SensorMeasurements simulate_sensor(const Scenario& scenario, std::size_t sensor_index,
-                                   const std::vector<TargetTrajectory>& targets, uint64_t seed, int run);
+                                   const std::vector<TargetTrajectory>& targets, uint64_t seed, int run,
+                                   const SensorRecording* recording = nullptr);
 
 }  // namespace trackassoc

@@ -13,6 +13,7 @@
 #include "engine/tuple_decoding.hpp"
 #include "kernels/error.hpp"
 #include "kernels/random.hpp"
+#include "kernels/scan_candidates.hpp"
 
 namespace trackassoc {
 namespace {
@@ -69,7 +70,8 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   };
 
   auto t0 = std::chrono::steady_clock::now();
-  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period);  // as the dense pipeline
+  p.common_times =
+      common_time_grid(file.tracks, p.sensor_ids, period, po.span_union);  // as the dense pipeline
   std::size_t bytes = 0;
   for (int d = 0; d < 3; ++d) {
     p.aligned[d] = align_tracks(file.tracks, p.sensor_ids[d], p.common_times, po.alignment);
@@ -80,12 +82,12 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   // Candidate pairs 1-2, 2-3, 1-3. The 1-3 pairs are needed by the all-pairs cost and, in both
   // forms, by the decoding of partial tuples (engine/pipeline.hpp decodes a gated-in 1-3 pair).
   t0 = std::chrono::steady_clock::now();
-  const CandidateOptions co{po.statistic.gate_probability, options.radius_scale};
   const std::array<std::pair<int, int>, 3> sensor_pairs{{{0, 1}, {1, 2}, {0, 2}}};
   std::array<CandidatePairs, 3> cand;
   bytes = 0;
   for (int q = 0; q < 3; ++q) {
-    cand[q] = gated_candidate_pairs(p.aligned[sensor_pairs[q].first], p.aligned[sensor_pairs[q].second], co);
+    cand[q] = candidate_pairs_for_gate(p.aligned[sensor_pairs[q].first], p.aligned[sensor_pairs[q].second],
+                                       po.statistic, options.radius_scale);
     p.candidate_pairs[q] = cand[q].size();
     bytes += cand[q].size() * 2 * sizeof(int32_t);
   }

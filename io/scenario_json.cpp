@@ -101,7 +101,8 @@ class Reader {
     if (!v->is_number_integer()) fail(key_path(key), "expected an integer" + range, *v);
     if (v->is_number_unsigned()) {
       const uint64_t u = v->get<uint64_t>();
-      if (u > static_cast<uint64_t>(max_value)) fail(key_path(key), "expected an integer" + range, *v);
+      if (u > static_cast<uint64_t>(max_value) || static_cast<int64_t>(u) < min_value)
+        fail(key_path(key), "expected an integer" + range, *v);
       out = static_cast<Int>(u);
       return;
     }
@@ -222,6 +223,40 @@ void read_target(Reader& r, TargetSpec& t) {
   r.finish();
 }
 
+bool unit_interval(double v) { return v >= 0 && v <= 1; }
+bool coverage(double v) { return v > 0 && v <= 1; }
+
+void read_manoeuvres(Reader& r, ManoeuvreSpec& m) {
+  m.enabled = true;
+  r.number("interval_min", m.interval_min, positive, " > 0");
+  r.number("interval_max", m.interval_max, positive, " > 0");
+  r.number("duration_min", m.duration_min, positive, " > 0");
+  r.number("duration_max", m.duration_max, positive, " > 0");
+  r.angle("turn_rate_max", "_s", m.turn_rate_max, non_negative, " >= 0");
+  r.number("acceleration_max", m.acceleration_max, non_negative, " >= 0");
+  r.number("p_turn", m.p_turn, unit_interval, " in [0, 1]");
+  r.finish();
+  auto bad = [&](const std::string& key, const std::string& what) {
+    throw InputError(r.source() + ": " + r.key_path(key) + ": " + what);
+  };
+  if (m.interval_max < m.interval_min) bad("interval_max", "expected interval_max >= interval_min");
+  if (m.duration_max < m.duration_min) bad("duration_max", "expected duration_max >= duration_min");
+}
+
+void read_recording(Reader& r, RecordingSpec& g) {
+  r.number("p_seen", g.p_seen, unit_interval, " in [0, 1]");
+  r.number("coverage_min", g.coverage_min, coverage, " in (0, 1]");
+  r.number("coverage_max", g.coverage_max, coverage, " in (0, 1]");
+  r.number("false_tracks", g.false_tracks, non_negative, " >= 0");
+  r.finish();
+  if (g.coverage_max < g.coverage_min)
+    throw InputError(r.source() + ": " + r.key_path("coverage_max") +
+                     ": expected coverage_max >= coverage_min");
+  if (g.false_tracks > 100)
+    throw InputError(r.source() + ": " + r.key_path("false_tracks") +
+                     ": expected at most 100 false tracks per target per sensor");
+}
+
 void read_random_targets(Reader& r, RandomTargetSpec& g) {
   r.integer("count", g.count, 0, kMaxRandomTargets);
   r.vector3("area_min", g.area_min);
@@ -231,6 +266,12 @@ void read_random_targets(Reader& r, RandomTargetSpec& g) {
   r.angle("heading_min", "", g.heading_min, nullptr, "");
   r.angle("heading_max", "", g.heading_max, nullptr, "");
   r.number("process_noise", g.process_noise, non_negative, " >= 0");
+  if (const json* m = r.get("manoeuvres")) {
+    Reader mr(*m, r.key_path("manoeuvres"), r.source());
+    read_manoeuvres(mr, g.manoeuvres);
+  }
+  r.integer("group_size", g.group_size, 1, 1'000'000);
+  r.number("group_spacing", g.group_spacing, non_negative, " >= 0");
   r.finish();
   auto bad = [&](const std::string& key, const std::string& what) {
     throw InputError(r.source() + ": " + r.key_path(key) + ": " + what);
@@ -363,6 +404,10 @@ Scenario parse_scenario_json(const std::string& text, const std::string& source)
     Reader tr(*t, "tracker", source);
     read_tracker(tr, s.tracker);
   }
+  if (const json* g = r.get("recording")) {
+    Reader gr(*g, "recording", source);
+    read_recording(gr, s.recording);
+  }
   r.finish();
 
   // Whole-scenario rules.
@@ -453,8 +498,31 @@ std::string scenario_to_json(const Scenario& s) {
   write_angle(rt, "heading_min", "", g.heading_min);
   write_angle(rt, "heading_max", "", g.heading_max);
   rt["process_noise"] = g.process_noise;
+  // The new blocks are written only when they differ from the defaults, so the scenario text
+  // (and so the output files) of scenarios that do not use them are unchanged.
+  if (g.manoeuvres.enabled) {
+    const ManoeuvreSpec& m = g.manoeuvres;
+    ordered_json mo;
+    mo["interval_min"] = m.interval_min;
+    mo["interval_max"] = m.interval_max;
+    mo["duration_min"] = m.duration_min;
+    mo["duration_max"] = m.duration_max;
+    write_angle(mo, "turn_rate_max", "_s", m.turn_rate_max);
+    mo["acceleration_max"] = m.acceleration_max;
+    mo["p_turn"] = m.p_turn;
+    rt["manoeuvres"] = mo;
+  }
+  if (g.group_size != 1 || g.group_spacing != 0.0) {
+    rt["group_size"] = g.group_size;
+    rt["group_spacing"] = g.group_spacing;
+  }
   j["random_targets"] = rt;
   j["tracker"] = {{"filter", s.tracker.filter}, {"process_noise", s.tracker.process_noise}};
+  if (!s.recording.is_default())
+    j["recording"] = {{"p_seen", s.recording.p_seen},
+                      {"coverage_min", s.recording.coverage_min},
+                      {"coverage_max", s.recording.coverage_max},
+                      {"false_tracks", s.recording.false_tracks}};
   return j.dump(2) + "\n";
 }
 

@@ -44,11 +44,27 @@
 //       "area_min": [155000, 155000, 0], "area_max": [205000, 205000, 0],   m, max >= min
 //       "speed_min": 100.0, "speed_max": 400.0,                             m/s, 0 <= min <= max
 //       "heading_min_deg": 0.0, "heading_max_deg": 360.0,                   min <= max
-//       "process_noise": 2.0 },             σ of the white-noise acceleration, m/s², >= 0
+//       "process_noise": 2.0,               σ of the white-noise acceleration, m/s², >= 0
+//       "manoeuvres": {                     optional; present = on (engine/simulation_truth.hpp)
+//         "interval_min": 20, "interval_max": 40,   s, > 0, min <= max: straight legs
+//         "duration_min": 5, "duration_max": 15,    s, > 0, min <= max: one manoeuvre
+//         "turn_rate_max_deg_s": 3.0,       >= 0; a turn's |rate| is U(max/3, max), random sign
+//         "acceleration_max": 10.0,         m/s², >= 0; a step along the velocity is U(-max, max)
+//         "p_turn": 0.5 },                  in [0, 1]: probability that a manoeuvre is a turn
+//       "group_size": 1,                    integer in [1, 1e6]: formations of this many targets
+//       "group_spacing": 0.0 },             m, >= 0: line abreast, neighbours this far apart
 //     "tracker": {                          the local tracker of every sensor
 //       "filter": "cv",                     "cv" | "ca" | "ab" | "cs" | "cs-nn" | "imm"
-//       "process_noise": 2.0 }              m/s², >= 0
+//       "process_noise": 2.0 },             m/s², >= 0
+//     "recording": {                        optional: a "recorded" track set
+//                                           (engine/simulation_recording.hpp has the rules)
+//       "p_seen": 1.0,                      in [0, 1]: P(a sensor ever tracks a target), per pair
+//       "coverage_min": 1.0,                in (0, 1]: a local track covers a window of
+//       "coverage_max": 1.0,                in (0, 1], >= coverage_min: U(min, max)·duration
+//       "false_tracks": 0.0 }               in [0, 100]: per sensor, mean false tracks / targets
 //   }
+// The writer leaves out "manoeuvres" when off, "group_size" / "group_spacing" when 1 / 0 and
+// "recording" when it has the defaults, so the text of scenarios without them is unchanged.
 #pragma once
 
 #include <string>

@@ -32,6 +32,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 
@@ -41,8 +42,12 @@
 namespace trackassoc {
 
 void AlignmentOptions::validate() const {
+  require(method == AlignmentMethod::kTwoSided || method == AlignmentMethod::kForward,
+          "AlignmentOptions.method", "unknown alignment method");
   require(std::isfinite(process_noise) && process_noise >= 0.0, "AlignmentOptions.process_noise",
           "must be finite and >= 0 [m/s^2], got " + std::to_string(process_noise));
+  require(std::isfinite(lag_inflation) && lag_inflation >= 0.0 && lag_inflation <= 100.0,
+          "AlignmentOptions.lag_inflation", "must be in [0, 100], got " + std::to_string(lag_inflation));
   require(std::isfinite(max_extrapolation) && max_extrapolation >= 0.0, "AlignmentOptions.max_extrapolation",
           "must be finite and >= 0 [s], got " + std::to_string(max_extrapolation));
 }
@@ -53,6 +58,49 @@ void StatisticOptions::validate() const {
           "must be in [0, 1), got " + std::to_string(cross_correlation));
   require(gate_probability > 0.0 && gate_probability <= 1.0, "StatisticOptions.gate_probability",
           "must be in (0, 1] (1 disables gating), got " + std::to_string(gate_probability));
+  require(gate == GateMethod::kCalibrated || gate == GateMethod::kChiSquareSum, "StatisticOptions.gate",
+          "unknown gate method");
+  require(cap_probability > 0.0 && cap_probability < 1.0, "StatisticOptions.cap_probability",
+          "must be in (0, 1), got " + std::to_string(cap_probability));
+  require(
+      std::isfinite(scans_per_independent) && scans_per_independent >= 1.0 && scans_per_independent <= 1e3,
+      "StatisticOptions.scans_per_independent",
+      "must be in [1, 1000], got " + std::to_string(scans_per_independent));
+}
+
+SequentialGate::SequentialGate(int dim, const StatisticOptions& o, int32_t max_scans)
+    : dim_(dim),
+      enabled_(o.gate_probability < 1.0),
+      calibrated_(o.gate == GateMethod::kCalibrated),
+      p_(o.gate_probability),
+      f_(o.gate == GateMethod::kCalibrated ? o.scans_per_independent : 1.0),
+      cap_(o.gate == GateMethod::kCalibrated ? chi_square_quantile(o.cap_probability, dim)
+                                             : std::numeric_limits<double>::infinity()) {
+  require(dim > 0, "SequentialGate", "state dimension must be positive");
+  std::vector<double> cache(std::max(max_scans, 0) + 1, std::numeric_limits<double>::quiet_NaN());
+  for (int32_t n = 1; n <= max_scans; ++n) cache[n] = threshold(n);
+  cache_ = std::move(cache);
+}
+
+double SequentialGate::threshold(int32_t scans) const {
+  if (scans <= 0) return -std::numeric_limits<double>::infinity();
+  if (static_cast<std::size_t>(scans) < cache_.size() && !std::isnan(cache_[scans])) return cache_[scans];
+  if (!enabled_) return std::numeric_limits<double>::infinity();
+  // kCalibrated: Satterthwaite, λ_c ≈ f·χ²(n·D/f) with f ≤ n (n scans are at most one independent
+  // scan's worth when perfectly correlated); kChiSquareSum: f = 1, χ²(n·D) (seed 000).
+  const double f = std::min(f_, static_cast<double>(scans));
+  return f * chi_square_quantile(p_, static_cast<double>(scans) * dim_ / f);
+}
+
+bool SequentialGate::accepts(double lambda, int32_t scans, int32_t below_cap) const {
+  if (scans <= 0) return false;
+  if (calibrated_ && below_cap <= 0) return false;
+  return lambda <= threshold(scans);
+}
+
+double SequentialGate::link_cost(double lambda, int32_t scans) const {
+  if (!enabled_ || scans <= 0) return lambda / f_;
+  return (lambda - threshold(scans)) / f_;
 }
 
 AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<const double> common_times,
@@ -109,33 +157,70 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
   out.valid.assign(static_cast<std::size_t>(n) * K, 0);
   const double q = options.process_noise * options.process_noise;
 
+  const bool two_sided = options.method == AlignmentMethod::kTwoSided;
   for (int32_t a = 0; a < n; ++a) {
     out.truth[a] = has_truth ? tracks.truth[rows[begin[a + 1] - 1]] : -1;
+    const double first = tracks.t[rows[begin[a]]], last = tracks.t[rows[begin[a + 1] - 1]];
     std::size_t cur = begin[a];  // walks forward: common times are ascending
     for (int32_t k = 0; k < K; ++k) {
       const double t = common_times[k];
       while (cur < begin[a + 1] && tracks.t[rows[cur]] <= t) ++cur;
-      if (cur == begin[a]) continue;  // no report yet
-      const std::size_t r = rows[cur - 1];
-      const double dt = t - tracks.t[r];
-      if (dt > options.max_extrapolation) continue;
+      std::size_t r;  // the report moved to t
+      if (two_sided) {
+        if (t < first - options.max_extrapolation || t > last + options.max_extrapolation) continue;
+        // The nearest report in time: the latest at or before t, or the earliest after it.
+        const bool has_before = cur > begin[a], has_after = cur < begin[a + 1];
+        if (has_before && has_after)
+          r = t - tracks.t[rows[cur - 1]] <= tracks.t[rows[cur]] - t ? rows[cur - 1] : rows[cur];
+        else
+          r = has_before ? rows[cur - 1] : rows[cur];
+      } else {
+        if (cur == begin[a]) continue;  // no report yet
+        r = rows[cur - 1];
+        if (t - tracks.t[r] > options.max_extrapolation) continue;
+      }
+      const std::size_t pos =
+          std::find(rows.begin() + begin[a], rows.begin() + begin[a + 1], r) - rows.begin();
+      const double dt = t - tracks.t[r];  // < 0: retrodiction to an earlier time
+      const double adt = std::fabs(dt);
       const std::size_t cell = static_cast<std::size_t>(a) * K + k;
       out.valid[cell] = 1;
       double* x = &out.state[cell * D];
       for (int c = 0; c < D; ++c) x[c] = tracks.state[c][r];
-      for (int c = 0; c < m; ++c) x[c] += dt * x[m + c];  // x ← F x
-      // P ← F P Fᵀ + Q on the full matrix, then packed back.
+      for (int c = 0; c < m; ++c) x[c] += dt * x[m + c];  // x ← F(Δ) x
+      // P ← F P Fᵀ + Q(|Δ|) on the full matrix, then packed back. Backwards, F(−|Δ|) with the same
+      // Q: the uncertainty grows with the time moved in either direction (an approximation to a
+      // fixed-interval smoother's retrodiction, which would need the filter's gains).
       Eigen::MatrixXd Pm(D, D);
       for (int i = 0, p = 0; i < D; ++i)
         for (int j = i; j < D; ++j, ++p) Pm(i, j) = Pm(j, i) = tracks.cov[p][r];
       Eigen::MatrixXd F = Eigen::MatrixXd::Identity(D, D);
       for (int c = 0; c < m; ++c) F(c, m + c) = dt;
       Eigen::MatrixXd Pp = F * Pm * F.transpose();
+      const double sgn = dt < 0 ? -1.0 : 1.0;  // Q's cross term follows the direction of F
       for (int c = 0; c < m; ++c) {
-        Pp(c, c) += q * dt * dt * dt / 3.0;
-        Pp(c, m + c) += q * dt * dt / 2.0;
-        Pp(m + c, c) += q * dt * dt / 2.0;
-        Pp(m + c, m + c) += q * dt;
+        Pp(c, c) += q * adt * adt * adt / 3.0;
+        Pp(c, m + c) += sgn * q * adt * adt / 2.0;
+        Pp(m + c, c) += sgn * q * adt * adt / 2.0;
+        Pp(m + c, m + c) += q * adt;
+      }
+      if (two_sided && options.lag_inflation > 0.0 && begin[a + 1] - begin[a] >= 2) {
+        // Manoeuvre lag: â from the velocity change between the neighbouring reports.
+        const std::size_t lo = pos > begin[a] ? pos - 1 : pos, hi = pos + 1 < begin[a + 1] ? pos + 1 : pos;
+        const std::size_t r0 = rows[lo], r1 = rows[hi];
+        const double span = tracks.t[r1] - tracks.t[r0];
+        double a2 = 0.0, tau2 = 0.0;
+        for (int c = 0; c < m; ++c) {
+          const double dv = tracks.state[m + c][r1] - tracks.state[m + c][r0];
+          a2 += span > 0.0 ? dv * dv / (span * span) : 0.0;
+          const double pvv = Pm(m + c, m + c);
+          tau2 += pvv > 0.0 ? Pm(c, c) / pvv / m : 0.0;
+        }
+        const double k2 = options.lag_inflation * options.lag_inflation;
+        for (int c = 0; c < m; ++c) {
+          Pp(c, c) += k2 * a2 * tau2 * tau2;   // (â τ²)²
+          Pp(m + c, m + c) += k2 * a2 * tau2;  // (â τ)²
+        }
       }
       double* pc = &out.cov[cell * P];
       for (int i = 0, p = 0; i < D; ++i)
@@ -202,10 +287,10 @@ PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& 
     sqrt_a = covariance_square_roots<D>(a);
     sqrt_b = covariance_square_roots<D>(b);
   }
-  // Gate thresholds by number of common times: χ²_p(d·k), k = 1..K.
-  std::vector<double> threshold(K + 1, std::numeric_limits<double>::infinity());
-  if (opt.gate_probability < 1.0)
-    for (int32_t k = 1; k <= K; ++k) threshold[k] = chi_square_quantile(opt.gate_probability, d * k);
+  const SequentialGate gate(d, opt, K);
+  std::vector<double> threshold(K + 1, 0.0);
+  for (int32_t k = 1; k <= K; ++k) threshold[k] = gate.threshold(k);
+  const double cap = gate.cap();
 
   // One task per block of rows a; each pair is a serial loop over k, so the result does not
   // depend on the split (bit-identical for any thread count).
@@ -213,7 +298,7 @@ PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& 
     for (std::size_t i = lo; i < hi; ++i)
       for (int32_t j = 0; j < nb; ++j) {
         double lambda = 0.0;
-        int32_t times = 0;
+        int32_t times = 0, below_cap = 0;
         for (int32_t k = 0; k < K; ++k) {
           const std::size_t ca = i * K + k, cb = static_cast<std::size_t>(j) * K + k;
           if (!a.valid[ca] || !b.valid[cb]) continue;
@@ -234,13 +319,16 @@ PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& 
                 std::to_string(b.sensor) + " track " + std::to_string(b.track[j]) + " at common time " +
                 std::to_string(k));
           const Vec<D> w = llt.matrixL().solve(diff);
-          lambda += w.squaredNorm();  // seed 000 Eq. 1: λ(k) = λ(k−1) + dᵀC⁻¹d
+          const double term = w.squaredNorm();
+          below_cap += term <= cap;
+          lambda += std::min(term, cap);  // seed 000 Eq. 1: λ(k) = λ(k−1) + dᵀC⁻¹d (capped: kCalibrated)
           ++times;
         }
         const std::size_t idx = i * nb + j;
         s.lambda[idx] = lambda;
         s.dof[idx] = d * times;
-        s.in_gate[idx] = times > 0 && lambda <= threshold[times];
+        s.in_gate[idx] =
+            times > 0 && lambda <= threshold[times] && (opt.gate != GateMethod::kCalibrated || below_cap > 0);
       }
   });
   return s;
@@ -271,6 +359,32 @@ PairStatistic independent_sequential_statistic(const AlignedTracks& a, const Ali
     default:
       return sequential_statistic<Eigen::Dynamic>(a, b, options);
   }
+}
+
+std::vector<double> scan_terms(const AlignedTracks& a, int32_t ia, const AlignedTracks& b, int32_t ib,
+                               const StatisticOptions& options) {
+  require(a.dim == b.dim && a.n_times == b.n_times, "scan_terms", "the aligned tracks do not match");
+  require(ia >= 0 && ia < a.n_tracks() && ib >= 0 && ib < b.n_tracks(), "scan_terms", "track out of range");
+  const int d = a.dim, P = packed_size(d);
+  const int32_t K = a.n_times;
+  std::vector<double> out(K, std::numeric_limits<double>::quiet_NaN());
+  for (int32_t k = 0; k < K; ++k) {
+    const std::size_t ca = static_cast<std::size_t>(ia) * K + k, cb = static_cast<std::size_t>(ib) * K + k;
+    if (!a.valid[ca] || !b.valid[cb]) continue;
+    Eigen::VectorXd diff(d);
+    for (int c = 0; c < d; ++c) diff[c] = a.state[ca * d + c] - b.state[cb * d + c];
+    Eigen::MatrixXd C = unpack<Eigen::Dynamic>(&a.cov[ca * P], d) + unpack<Eigen::Dynamic>(&b.cov[cb * P], d);
+    if (options.correlated && options.cross_correlation > 0.0) {
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ea(unpack<Eigen::Dynamic>(&a.cov[ca * P], d)),
+          eb(unpack<Eigen::Dynamic>(&b.cov[cb * P], d));
+      const Eigen::MatrixXd SaSb = ea.operatorSqrt() * eb.operatorSqrt();
+      C -= options.cross_correlation * (SaSb + SaSb.transpose());
+    }
+    Eigen::LLT<Eigen::MatrixXd> llt(C);
+    if (llt.info() != Eigen::Success) throw InputError("scan_terms: C is not positive definite");
+    out[k] = llt.matrixL().solve(diff).squaredNorm();
+  }
+  return out;
 }
 
 }  // namespace trackassoc

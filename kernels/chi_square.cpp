@@ -1,4 +1,5 @@
-// Chi-square quantiles for the association gate (DESIGN §4.3).
+// Chi-square quantiles for the association gate (DESIGN §4.3), for integer and fractional degrees
+// of freedom (the calibrated gate's effective dof n·D/f is fractional).
 #include <cmath>
 
 #include "kernels/association_statistic.hpp"
@@ -40,8 +41,11 @@ double regularized_gamma_p(double a, double x) {
 
 }  // namespace
 
-double chi_square_quantile(double p, int dof) {
-  require(dof > 0, "chi_square_quantile", "degrees of freedom must be positive, got " + std::to_string(dof));
+double chi_square_quantile(double p, int dof) { return chi_square_quantile(p, static_cast<double>(dof)); }
+
+double chi_square_quantile(double p, double dof) {
+  require(std::isfinite(dof) && dof > 0, "chi_square_quantile",
+          "degrees of freedom must be positive, got " + std::to_string(dof));
   require(p > 0.0 && p < 1.0, "chi_square_quantile",
           "probability must be in (0, 1), got " + std::to_string(p));
   const double k = dof;

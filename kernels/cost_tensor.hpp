@@ -19,7 +19,7 @@ namespace trackassoc {
 enum class CostForm { kChain, kAllPairs };
 
 struct CostTensorOptions {
-  CostForm form = CostForm::kChain;
+  CostForm form = CostForm::kChain;  // the pipelines default to all-pairs (engine/pipeline.hpp)
   std::size_t memory_budget_bytes = std::size_t{2} << 30;  // 2 GiB
   // Substituted for λ of a gated pair. 0 means: 10 × the largest in-gate λ of the three matrices
   // (at least 1e3), computed per tensor.

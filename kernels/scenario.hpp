@@ -40,14 +40,32 @@ struct TargetSpec {
   friend bool operator==(const TargetSpec&, const TargetSpec&) = default;
 };
 
+// Random manoeuvres of the random targets (engine/simulation_truth.hpp has the model): straight
+// legs of U(interval_min, interval_max) alternate with manoeuvres of U(duration_min, duration_max);
+// a manoeuvre is a coordinated turn with probability p_turn, else an acceleration step along the
+// velocity. Off unless `enabled` (in JSON: the "manoeuvres" block is present).
+struct ManoeuvreSpec {
+  bool enabled = false;
+  double interval_min = 20.0, interval_max = 40.0;  // [s], straight legs between manoeuvres
+  double duration_min = 5.0, duration_max = 15.0;   // [s], length of one manoeuvre
+  double turn_rate_max = 0.05235987755982988;       // [rad/s] (3 deg/s); |rate| ∈ [max/3, max]
+  double acceleration_max = 10.0;                   // [m/s²], along the velocity, any sign
+  double p_turn = 0.5;                              // probability that a manoeuvre is a turn
+  friend bool operator==(const ManoeuvreSpec&, const ManoeuvreSpec&) = default;
+};
+
 // Targets drawn at random per Monte Carlo run (seed 000 §4: uniform initial position in a
-// rectangle, uniform speed and heading), moving with white-noise acceleration.
+// rectangle, uniform speed and heading), moving with white-noise acceleration, optionally with
+// random manoeuvres and in formations of group_size (line abreast, group_spacing apart).
 struct RandomTargetSpec {
   int32_t count = 0;
   std::array<double, 3> area_min{0, 0, 0}, area_max{0, 0, 0};  // [m]
   double speed_min = 0.0, speed_max = 0.0;                     // [m/s]
   double heading_min = 0.0, heading_max = 6.283185307179586;   // [rad]
   double process_noise = 0.0;                                  // σ of the white-noise acceleration [m/s²]
+  ManoeuvreSpec manoeuvres;                                    // off by default
+  int32_t group_size = 1;                                      // targets per formation
+  double group_spacing = 0.0;                                  // [m] between neighbours in a formation
   friend bool operator==(const RandomTargetSpec&, const RandomTargetSpec&) = default;
 };
 
@@ -56,6 +74,18 @@ struct LocalTrackerSpec {
   std::string filter = "cv";   // cv | ca | ab | cs | cs-nn | imm (DESIGN §4.2)
   double process_noise = 1.0;  // σ of the white-noise acceleration [m/s²]
   friend bool operator==(const LocalTrackerSpec&, const LocalTrackerSpec&) = default;
+};
+
+// What a recorded track set looks like, as opposed to a clean simulation (engine/
+// simulation_recording.hpp has the model and its rules). The defaults are a clean simulation:
+// every sensor tracks every target for the whole run and there are no false tracks.
+struct RecordingSpec {
+  double p_seen = 1.0;        // per (sensor, target): probability that the sensor ever tracks it
+  double coverage_min = 1.0;  // the local track covers U(coverage_min, coverage_max)·duration
+  double coverage_max = 1.0;
+  double false_tracks = 0.0;  // per sensor, mean number of false tracks / number of targets
+  bool is_default() const { return *this == RecordingSpec{}; }
+  friend bool operator==(const RecordingSpec&, const RecordingSpec&) = default;
 };
 
 struct Scenario {
@@ -69,6 +99,7 @@ struct Scenario {
   RandomTargetSpec random_targets;
   std::vector<Sensor> sensors;
   LocalTrackerSpec tracker;
+  RecordingSpec recording;
   friend bool operator==(const Scenario&, const Scenario&) = default;
 };
 

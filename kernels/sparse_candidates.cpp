@@ -145,14 +145,8 @@ void check_pair_inputs(const AlignedTracks& a, const AlignedTracks& b) {
   }
 }
 
-using Cell = std::array<int64_t, 3>;
-
-Cell cell_of(const double* p, int m, double h) {
-  Cell c{0, 0, 0};
-  constexpr double kLimit = 4.0e18;
-  for (int d = 0; d < m; ++d) c[d] = static_cast<int64_t>(std::clamp(std::floor(p[d] / h), -kLimit, kLimit));
-  return c;
-}
+using Cell = GridCell;
+constexpr auto cell_of = grid_cell_of;
 
 }  // namespace
 
@@ -328,14 +322,6 @@ SparsePairStatistic sparse_sequential_statistic(const AlignedTracks& a, const Al
                 (pairs.a[q] == pairs.a[q - 1] && pairs.b[q] > pairs.b[q - 1]),
             "sparse_sequential_statistic", "pairs must be sorted by (a, b) without repeats");
   }
-  // Gate thresholds χ²_p(D·k) once for all rows (the sub-problems run with the gate off).
-  const int32_t K = a.n_times;
-  std::vector<double> threshold(K + 1, std::numeric_limits<double>::infinity());
-  if (options.gate_probability < 1.0)
-    for (int32_t k = 1; k <= K; ++k) threshold[k] = chi_square_quantile(options.gate_probability, a.dim * k);
-  StatisticOptions sub = options;
-  sub.gate_probability = 1.0;
-
   // Row ranges [row_begin[r], row_begin[r+1]) of pairs with a = distinct row r.
   std::vector<std::size_t> row_begin;
   for (std::size_t q = 0; q < n; ++q)
@@ -348,13 +334,13 @@ SparsePairStatistic sparse_sequential_statistic(const AlignedTracks& a, const Al
       const int32_t ia = pairs.a[q0];
       copy_rows(a, std::span<const int32_t>(&ia, 1), one);
       copy_rows(b, std::span<const int32_t>(&pairs.b[q0], q1 - q0), many);
-      const PairStatistic ps = independent_sequential_statistic(one, many, sub);  // seed 000 Eq. 1–2
+      // seed 000 Eq. 1–2 and the gate of the dense kernel (one SequentialGate decides both).
+      const PairStatistic ps = independent_sequential_statistic(one, many, options);
       for (std::size_t q = q0; q < q1; ++q) {
         const std::size_t c = q - q0;
         s.lambda[q] = ps.lambda[c];
         s.dof[q] = ps.dof[c];
-        const int32_t times = a.dim > 0 ? ps.dof[c] / a.dim : 0;
-        s.in_gate[q] = times > 0 && ps.lambda[c] <= threshold[times];
+        s.in_gate[q] = ps.in_gate[c];
       }
     }
   });

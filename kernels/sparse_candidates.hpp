@@ -33,6 +33,9 @@
 // sub-problems, so the statistic is computed by one piece of code.
 #pragma once
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -40,6 +43,16 @@
 #include "kernels/association_statistic.hpp"
 
 namespace trackassoc {
+
+// The uniform grid of both candidate indexes (this one and kernels/scan_candidates.hpp): the cell
+// of a point p (m ≤ 3 coordinates) for cell size h, clamped so a far point cannot overflow.
+using GridCell = std::array<int64_t, 3>;
+inline GridCell grid_cell_of(const double* p, int m, double h) {
+  GridCell c{0, 0, 0};
+  constexpr double kLimit = 4.0e18;
+  for (int d = 0; d < m; ++d) c[d] = static_cast<int64_t>(std::clamp(std::floor(p[d] / h), -kLimit, kLimit));
+  return c;
+}
 
 // What the index needs of each aligned track.
 struct TrackIndexKeys {

@@ -97,7 +97,7 @@ TEST_F(AssociateSparseCli, DenseOverTheMemoryBudgetPointsToSparse) {
   const std::string sim = path("sim.h5"), out = path("out.h5");
   ASSERT_EQ(run("simulate --output " + sim).status, 0);
   // seed 000: 10 tracks per sensor, a 4000-byte tensor; a budget of 0.001 MiB (1048 bytes) is too small.
-  auto r = run("associate --input " + sim + " --output " + out + " --memory-budget 0.001");
+  auto r = run("associate --input " + sim + " --output " + out + " --3d --memory-budget 0.001");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--sparse"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("10x10x10"), std::string::npos) << r.err;

@@ -120,6 +120,7 @@ TEST(Clusters, UnionOfComponentSolutionsEqualsGlobalSolution) {
     spec.periods = {1.0, 2.0, 1.5};
     const TrackFile f = testing::synthetic_track_file(spec);
     SparsePipelineOptions o;
+    o.pipeline = PipelineOptions::paper();  // the seed 000 gate this path was built and checked for
     o.pipeline.statistic.gate_probability = 0.999;
     o.pipeline.cost.gated_pair_cost = 1e4;
     const SparseAssociationProblem p = build_sparse_association_problem(f, o);
@@ -161,6 +162,7 @@ TEST(Clusters, SparseSolveIsIdenticalForOneAndTwoThreads) {
   spec.box = spec.box_z = 8000.0;
   const TrackFile f = testing::synthetic_track_file(spec);
   SparsePipelineOptions o;
+  o.pipeline = PipelineOptions::paper();  // the seed 000 gate this path was built and checked for
   auto greedy_by_enumeration = [](const CostTensor3& b, uint64_t seed) {
     // Components here are small; enumerate when n ≤ 5, else take the diagonal (deterministic).
     if (b.n1 <= 5) return brute_force_exact(b, seed);

@@ -50,7 +50,8 @@ TEST_F(HopfieldCli, AssociateFlagsReachTheSolverAndTheFile) {
 
 TEST_F(HopfieldCli, RunAppliesTheFlagsToEveryHopfieldSolver) {
   const auto r =
-      run("run --solvers hopfield chnn lr --restarts 2 --schedule sync --output " + path("run.h5"));
+      run("run --scenario seed000 --solvers hopfield chnn lr --restarts 2 --schedule sync --output " +
+          path("run.h5"));
   ASSERT_EQ(r.status, 0) << r.err;
   const TrackFile f = read_track_file(path("run.h5"));
   EXPECT_EQ(record(f, "hopfield").restarts.restart.size(), 2u);
@@ -70,7 +71,7 @@ TEST_F(HopfieldCli, RunAppliesTheFlagsToEveryHopfieldSolver) {
 // their own schedule and are named on stderr. Named in --solvers, a solver that cannot take it
 // is an error that writes nothing.
 TEST_F(HopfieldCli, RunGivesTheScheduleToTheNetworksThatHaveIt) {
-  const auto r = run("run --schedule diagonal --restarts 2 --output " + path("run.h5"));
+  const auto r = run("run --scenario seed000 --schedule diagonal --restarts 2 --output " + path("run.h5"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("not a schedule of hopfield-paper, chnn"), std::string::npos) << r.err;
   const TrackFile f = read_track_file(path("run.h5"));
@@ -81,9 +82,11 @@ TEST_F(HopfieldCli, RunGivesTheScheduleToTheNetworksThatHaveIt) {
     EXPECT_FALSE(o.contains("schedule")) << name;
     EXPECT_EQ(o.at("restarts"), 2) << name;  // the other flags still apply
   }
-  expect_refused(run("run --solvers chnn lr --schedule diagonal --output " + path("bad.h5")),
-                 "discrete network", path("bad.h5"));
-  expect_refused(run("run --schedule zigzag --output " + path("none.h5")), "zigzag", path("none.h5"));
+  expect_refused(
+      run("run --scenario seed000 --solvers chnn lr --schedule diagonal --output " + path("bad.h5")),
+      "discrete network", path("bad.h5"));
+  expect_refused(run("run --scenario seed000 --schedule zigzag --output " + path("none.h5")), "zigzag",
+                 path("none.h5"));
 }
 
 TEST_F(HopfieldCli, FlagsForOtherSolversAreOneLineErrorsAndWriteNothing) {
@@ -91,8 +94,8 @@ TEST_F(HopfieldCli, FlagsForOtherSolversAreOneLineErrorsAndWriteNothing) {
   expect_refused(run("associate --input " + path("sim.h5") + " --output " + path("out.h5") +
                      " --solver lr --restarts 3"),
                  "only for hopfield, hopfield-paper and chnn, not 'lr'", path("out.h5"));
-  expect_refused(run("run --solvers lr exact --polish --output " + path("run.h5")), "no Hopfield solver",
-                 path("run.h5"));
+  expect_refused(run("run --scenario seed000 --solvers lr exact --polish --output " + path("run.h5")),
+                 "no Hopfield solver", path("run.h5"));
   expect_refused(run("associate --input " + path("sim.h5") + " --output " + path("out.h5") +
                      " --solver hopfield --schedule zigzag"),
                  "zigzag", path("out.h5"));

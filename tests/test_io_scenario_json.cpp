@@ -121,6 +121,98 @@ TEST(ScenarioJson, FullScenarioRoundTripsExactly) {
   EXPECT_EQ(scenario_to_json(back), text);  // and writing is stable
 }
 
+TEST(ScenarioJson, RecordingManoeuvresAndFormationsRoundTripExactly) {
+  Scenario s = full_scenario();
+  s.recording = {0.85, 0.4, 1.0 / 3.0 + 0.5, 0.05};
+  s.random_targets.manoeuvres = {true, 15, 40.5, 8, 20, 4 * kDeg, 8, 0.6};
+  s.random_targets.group_size = 3;
+  s.random_targets.group_spacing = 400.25;
+  const std::string text = scenario_to_json(s);
+  const Scenario back = parse_scenario_json(text);
+  EXPECT_EQ(back, s);
+  EXPECT_EQ(back.random_targets.manoeuvres.turn_rate_max, 4 * kDeg);
+  EXPECT_NE(text.find("\"turn_rate_max_deg_s\": 4.0"), std::string::npos) << text;
+  EXPECT_NE(text.find("\"p_seen\": 0.85"), std::string::npos) << text;
+  EXPECT_EQ(scenario_to_json(back), text);
+  // Manoeuvres with default values are still on after a round trip.
+  s.random_targets.manoeuvres = ManoeuvreSpec{};
+  s.random_targets.manoeuvres.enabled = true;
+  EXPECT_EQ(parse_scenario_json(scenario_to_json(s)), s);
+  // Defaults are not written, so the text of older scenarios is unchanged.
+  const std::string plain = scenario_to_json(full_scenario());
+  EXPECT_EQ(plain.find("recording"), std::string::npos);
+  EXPECT_EQ(plain.find("manoeuvres"), std::string::npos);
+  EXPECT_EQ(plain.find("group_size"), std::string::npos);
+  const Scenario parsed = parse_scenario_json(
+      R"({"sensors": [{}], "recording": {"p_seen": 0.5}, "random_targets": {"manoeuvres": {}}})");
+  EXPECT_EQ(parsed.recording.p_seen, 0.5);
+  EXPECT_EQ(parsed.recording.coverage_min, 1.0);
+  EXPECT_TRUE(parsed.random_targets.manoeuvres.enabled);
+  EXPECT_EQ(parsed.random_targets.manoeuvres.p_turn, ManoeuvreSpec{}.p_turn);
+  EXPECT_EQ(parsed.random_targets.group_size, 1);
+}
+
+TEST(ScenarioJson, RecordedFamilyParsesAndRoundTrips) {
+  for (const char* name : {"recorded_3s", "recorded_3s_long", "recorded_4s", "recorded_5s", "recorded_dense",
+                           "recorded_formation", "recorded_sync", "recorded_10k"}) {
+    const Scenario s = read_scenario_file(kScenarios + name + ".json");
+    EXPECT_EQ(s.name, name);
+    EXPECT_FALSE(s.description.empty()) << name;
+    EXPECT_TRUE(s.random_targets.manoeuvres.enabled) << name;
+    EXPECT_EQ(parse_scenario_json(scenario_to_json(s)), s) << name;
+    if (std::string(name) != "recorded_sync") {
+      EXPECT_EQ(s.recording.p_seen, 0.85) << name;
+      EXPECT_EQ(s.recording.false_tracks, 0.05) << name;
+    } else {
+      EXPECT_TRUE(s.recording.is_default());
+    }
+  }
+}
+
+TEST(ScenarioJson, RecordingAndManoeuvreErrorsNameTheKeyPath) {
+  auto has = [](const std::string& msg, const std::string& part) {
+    return msg.find(part) != std::string::npos && msg.rfind("s.json: ", 0) == 0;
+  };
+  const std::string head = R"({"sensors": [{}], )";
+  EXPECT_PRED2(has, error_of(head + R"("recording": {"p_sen": 0.5}})"), "recording.p_sen: unknown key");
+  EXPECT_PRED2(has, error_of(head + R"("random_targets": {"manoeuvres": {"p_trun": 0.5}}})"),
+               "random_targets.manoeuvres.p_trun: unknown key");
+  EXPECT_PRED2(has, error_of(head + R"("random_targets": {"manoeuvres": {"turn_rate_max_deg": 3}}})"),
+               "random_targets.manoeuvres.turn_rate_max_deg: unknown key");
+  EXPECT_PRED2(has, error_of(head + R"("random_targets": {"group_sise": 3}})"),
+               "random_targets.group_sise: unknown key");
+  EXPECT_PRED2(has, error_of(head + R"("recording": {"p_seen": 1.5}})"),
+               "recording.p_seen: expected a finite number in [0, 1], found number 1.5");
+  EXPECT_PRED2(has, error_of(head + R"("recording": {"p_seen": -0.1}})"), "recording.p_seen");
+  EXPECT_PRED2(has, error_of(head + R"("recording": {"coverage_min": 0}})"),
+               "recording.coverage_min: expected a finite number in (0, 1]");
+  EXPECT_PRED2(has, error_of(head + R"("recording": {"coverage_max": 1.2}})"), "recording.coverage_max");
+  EXPECT_PRED2(has, error_of(head + R"("recording": {"coverage_min": 0.6, "coverage_max": 0.5}})"),
+               "recording.coverage_max: expected coverage_max >= coverage_min");
+  EXPECT_PRED2(has, error_of(head + R"("recording": {"false_tracks": -1}})"),
+               "recording.false_tracks: expected a finite number >= 0");
+  EXPECT_PRED2(has, error_of(head + R"("recording": {"false_tracks": 1000}})"), "recording.false_tracks");
+  EXPECT_PRED2(has, error_of(head + R"("recording": 3})"), "recording: expected an object");
+  EXPECT_PRED2(has, error_of(head + R"("random_targets": {"manoeuvres": {"p_turn": 2}}})"),
+               "random_targets.manoeuvres.p_turn: expected a finite number in [0, 1]");
+  EXPECT_PRED2(has, error_of(head + R"("random_targets": {"manoeuvres": {"interval_min": 0}}})"),
+               "random_targets.manoeuvres.interval_min");
+  EXPECT_PRED2(
+      has, error_of(head + R"("random_targets": {"manoeuvres": {"interval_min": 50, "interval_max": 40}}})"),
+      "random_targets.manoeuvres.interval_max: expected interval_max >= interval_min");
+  EXPECT_PRED2(
+      has, error_of(head + R"("random_targets": {"manoeuvres": {"duration_min": 9, "duration_max": 8}}})"),
+      "random_targets.manoeuvres.duration_max");
+  EXPECT_PRED2(has, error_of(head + R"("random_targets": {"manoeuvres": {"turn_rate_max_deg_s": -1}}})"),
+               "random_targets.manoeuvres.turn_rate_max_deg_s: expected a number >= 0");
+  EXPECT_PRED2(has, error_of(head + R"("random_targets": {"manoeuvres": {"acceleration_max": -1}}})"),
+               "random_targets.manoeuvres.acceleration_max");
+  EXPECT_PRED2(has, error_of(head + R"("random_targets": {"group_size": 0}})"),
+               "random_targets.group_size: expected an integer in [1, 1000000]");
+  EXPECT_PRED2(has, error_of(head + R"("random_targets": {"group_spacing": -5}})"),
+               "random_targets.group_spacing");
+}
+
 TEST(ScenarioJson, ManyRandomAnglesRoundTripExactly) {
   Scenario s;
   s.sensors.resize(1);

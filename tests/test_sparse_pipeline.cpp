@@ -59,6 +59,7 @@ TEST_P(SparseEqualsDense, SameAssociationsOnRandomScenarios) {
     spec.formation = seed % 2 == 0;  // formations give the largest components
     const TrackFile f = testing::synthetic_track_file(spec);
     SparsePipelineOptions so;
+    so.pipeline = PipelineOptions::paper();  // the seed 000 gate this path was built and checked for
     so.pipeline.statistic.gate_probability = 0.999;
     so.pipeline.cost.form = cs.form;
     const SparseAssociationProblem sp = build_sparse_association_problem(f, so);
@@ -145,6 +146,7 @@ class UnequalCounts : public ::testing::TestWithParam<float> {};
 TEST_P(UnequalCounts, KeepEveryTrackAndGroupTargets) {
   const TrackFile f = unequal_counts_file(200);
   SparsePipelineOptions so;
+  so.pipeline = PipelineOptions::paper();  // the seed 000 gate this path was built and checked for
   so.pipeline.statistic.gate_probability = 0.999;
   so.miss_cost = GetParam();
   const AssociationRecord r = associate_sparse(f, "pairwise", nlohmann::json::object(), 1, so);
@@ -155,7 +157,7 @@ TEST_P(UnequalCounts, KeepEveryTrackAndGroupTargets) {
 // Before the leftover pairing the dense path scored 0.88 (pairwise, lr+ls) and 0.80 (greedy) here.
 TEST(UnequalCountsDense, KeepEveryTrackAndGroupTargets) {
   const TrackFile f = unequal_counts_file(120);
-  PipelineOptions po;
+  PipelineOptions po = PipelineOptions::paper();
   po.statistic.gate_probability = 0.999;
   const AssociationProblem p = build_association_problem(f, po);
   for (const char* solver : {"pairwise", "lr+ls", "greedy"}) {
@@ -175,6 +177,7 @@ TEST(SparsePipeline, ClearErrors) {
   spec.formation = true;  // one big component
   const TrackFile f = testing::synthetic_track_file(spec);
   SparsePipelineOptions so;
+  so.pipeline = PipelineOptions::paper();        // the seed 000 gate this path was built and checked for
   so.pipeline.statistic.gate_probability = 1.0;  // no gate: every pair would be a candidate
   EXPECT_THROW(build_sparse_association_problem(f, so), InputError);
   so.pipeline.statistic.gate_probability = 0.999;

@@ -176,7 +176,16 @@ TEST(SequentialStatistic, GateKeepsTheGateProbabilityOfTruePairs) {
     }
   StatisticOptions opt;
   opt.gate_probability = 0.95;
+  // Independent scans: the χ²(n·D) gate of seed 000 holds exactly; the calibrated gate (built for
+  // correlated scans, tests/test_gate_calibration.cpp) is conservative here, never below nominal.
+  StatisticOptions calibrated = opt;
+  opt.gate = GateMethod::kChiSquareSum;
   const PairStatistic s = independent_sequential_statistic(a.x, b.x, opt);
+  const PairStatistic sc = independent_sequential_statistic(a.x, b.x, calibrated);
+  int kept_calibrated = 0;
+  for (int i = 0; i < n; ++i) kept_calibrated += sc.in_gate[static_cast<std::size_t>(i) * n + i];
+  EXPECT_GE(kept_calibrated / double(n), 0.95 - 0.03);
+  EXPECT_EQ(sc.in_gate[1], 0);
   int kept = 0;
   double mean = 0.0;
   for (int i = 0; i < n; ++i) {
@@ -246,6 +255,7 @@ TEST(AlignTracks, CvPredictionHandExample) {
   tt.push_back(3, 2, 0.5, Eigen::Vector4d(1, 1, 1, 1), P0, 5);    // track 2 sorts first
   const std::vector<double> times{-1.0, 1.0, 2.0, 3.5, 20.0};
   AlignmentOptions opt;
+  opt.method = AlignmentMethod::kForward;  // this example is the forward prediction of seed 000
   opt.process_noise = 2.0;
   opt.max_extrapolation = 10.0;
   const AlignedTracks al = align_tracks(tt, 3, times, opt);

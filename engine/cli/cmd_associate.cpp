@@ -1,7 +1,11 @@
-// trackassoc associate --input F.h5 --output G.h5 --solver NAME [--sparse]
+// trackassoc associate --input F.h5 --output G.h5 [--solver NAME] [--3d | --sparse | --sd]
 // The input is a simulation file or a recorded track file (schema v1). The output holds the
 // input's content plus /associations/<name>/.
-// Dense path (default): the n1·n2·n3 cost tensor (engine/pipeline.hpp); a track set whose tensor
+// Default: every sensor of the file, the sparse S-D pipeline (engine/sparse_sd_pipeline.hpp) with
+// the calibrated gate, all-pairs cost, solver lr+ls (also lr, exact). A 3-D solver name (greedy,
+// pairwise, hopfield, ...) or --3d selects the three-sensor tensor pipeline below, which takes
+// exactly three sensors: a file with more needs --sensors (never a silent drop).
+// Dense 3-D path: the n1·n2·n3 cost tensor (engine/pipeline.hpp); a track set whose tensor
 // exceeds --memory-budget is refused before any work, with a pointer to --sparse. Sparse path
 // (--sparse): gated candidate tuples and connected components, each solved by the same solver
 // (engine/sparse_pipeline.hpp); the same /associations/<name>/ record, its options attribute
@@ -17,6 +21,7 @@
 #include "engine/siamese_track_file.hpp"
 #include "engine/solver_registry.hpp"
 #include "engine/sparse_pipeline.hpp"
+#include "engine/sparse_sd_pipeline.hpp"
 #include "engine/workflow.hpp"
 #include "io/siamese_model_file.hpp"
 
@@ -36,22 +41,24 @@ void register_associate(CLI::App& app) {
   struct Args {
     CommonOptions common;
     PipelineFlags pipeline;
-    std::string input, output, solver = "pairwise", name;
+    std::string input, output, solver, name;
     HopfieldFlags hopfield;  // merged into --options
-    bool sd = false;
+    bool sd = false, three_d = false;
     std::string model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";  // --solver siamese
   };
   auto args = std::make_shared<Args>();
-  std::string solver_help = "3-D assignment solver:";
+  std::string solver_help =
+      "Solver. Default pipeline (every sensor, sparse S-D with dummies): lr+ls (default), lr, exact. "
+      "3-D assignment solvers (three sensors, --3d implied for names not above):";
   for (const auto& e : solver_registry()) solver_help += " " + e.name;
   solver_help +=
       "; or a seed 001 fusion centre over all sensors: fuzzy, ftaa (also writes /system_tracks/NAME)"
       "; or siamese: the seed 003 Siamese BiLSTM on two sensors (--model)";
-  auto* cmd = app.add_subcommand("associate", "Associate the local tracks of three sensors");
+  auto* cmd = app.add_subcommand("associate", "Associate the local tracks of every sensor of a track file");
   cmd->add_option("--input,-i", args->input, "Input HDF5 track file (schema v1)")->required();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file (input content + the association)")
       ->required();
-  cmd->add_option("--solver", args->solver, solver_help)->capture_default_str();
+  cmd->add_option("--solver", args->solver, solver_help);
   cmd->add_option("--model", args->model,
                   "--solver siamese: model file from train-siamese (default: the shipped seed 003 model)")
       ->capture_default_str();
@@ -59,6 +66,9 @@ void register_associate(CLI::App& app) {
   cmd->add_flag("--sd", args->sd,
                 "S-D formulation with a dummy per sensor (any number of sensors; solvers lr, lr+ls, exact, "
                 "chnn-pseudo). Implied by more than three --sensors");
+  cmd->add_flag(
+      "--3d", args->three_d,
+      "The three-sensor cost-tensor pipeline (seed 000 Eq. 3) for any solver, e.g. --solver lr --3d");
   add_pipeline_options(cmd, args->pipeline);
   add_hopfield_flags(cmd, args->hopfield, true);
   add_common_options(cmd, args->common);
@@ -66,7 +76,36 @@ void register_associate(CLI::App& app) {
     ThreadScope threads(args->common.threads);
     const PipelineOptions options = resolve(args->pipeline);
     nlohmann::json solver_options = parse_solver_options(args->pipeline.solver_options);
+    const bool explicit_pipeline = args->sd || args->three_d || args->pipeline.sparse;
+    if (int(args->sd) + int(args->three_d) + int(args->pipeline.sparse) > 1)
+      throw InputError("--sd, --3d and --sparse choose different pipelines: give at most one");
+    if (args->solver.empty()) args->solver = "lr+ls";
     merge_hopfield_flags(args->hopfield, args->solver, solver_options);
+    const bool special = args->solver == "fuzzy" || args->solver == "ftaa" || args->solver == "siamese";
+    const auto& sparse_sd = sparse_sd_solver_names();
+    if (!explicit_pipeline && !special && options.sensors.size() != 3 &&
+        std::find(sparse_sd.begin(), sparse_sd.end(), args->solver) != sparse_sd.end()) {
+      SparseSDOptions so;
+      so.pipeline = options;
+      TrackFile file = read_track_file(args->input);
+      std::vector<StageReport> stages;
+      AssociationRecord rec =
+          associate_sparse_sd(file, args->solver, solver_options, args->common.seed, so, &stages);
+      if (!args->name.empty()) rec.name = args->name;
+      store_association(file, rec, args->output);
+      std::cout << "associated the tracks of " << file.sensors.size() << " sensors (sparse S-D, "
+                << nlohmann::json::parse(rec.options_json).value("components", 0) << " components) with '"
+                << args->solver << "': objective " << fmt(rec.objective) << ", " << rec.num_tuples()
+                << " tuples, " << fmt(1e3 * rec.runtime_s, "%.2f") << " ms -> " << args->output << "\n";
+      std::cout << "stages:";
+      for (const auto& st : stages)
+        std::cout << " " << st.name << " " << fmt(1e3 * st.seconds, "%.1f") << " ms;";
+      const auto info = nlohmann::json::parse(rec.options_json);
+      std::cout << " candidate pairs " << info.value("candidate_pairs", 0) << ", gated "
+                << info.value("gated_pairs", 0) << ", fallback components "
+                << info.value("fallback_components", 0) << "\n";
+      return;
+    }
     if (args->solver == "fuzzy" || args->solver == "ftaa") {  // not a 3-D tensor solver (seed 001)
       if (args->pipeline.sparse)
         throw InputError("--sparse: applies to the 3-D assignment solvers, not to '" + args->solver + "'");
@@ -82,7 +121,7 @@ void register_associate(CLI::App& app) {
                 << fmt(1e3 * res.fusion.summary.wall_time_s, "%.2f") << " ms -> " << args->output << "\n";
       return;
     }
-    if (args->sd || options.sensors.size() > 3) {
+    if (args->sd || options.sensors.size() > 3 || options.sensors.size() == 2) {
       if (args->pipeline.sparse)
         throw InputError("--sparse: applies to the three-sensor pipeline, not to the S-D formulation (--sd)");
       require_sd_solver(args->solver);  // fail on an unknown name before reading anything

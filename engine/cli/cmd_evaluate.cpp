@@ -14,7 +14,13 @@ void register_evaluate(CLI::App& app) {
     std::string input, output;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("evaluate", "Score the associations of a file against its ground truth");
+  auto* cmd = app.add_subcommand(
+      "evaluate",
+      "Score the associations of a file against its ground truth. Scoring rule: a target tracked by >= 2 "
+      "sensors is correct when one output tuple holds exactly its local tracks; false when one of its "
+      "tracks shares a tuple with a track of another target or a false track (truth -1); missed "
+      "otherwise (rates are fractions of those targets). A false tuple joins tracks of different "
+      "targets, or a false track with anything.");
   cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks/truth and /associations")->required();
   cmd->add_option("--output,-o", args->output,
                   "Where to write the file with /metrics (default: replace the input)");
@@ -24,7 +30,7 @@ void register_evaluate(CLI::App& app) {
     TrackFile file = read_track_file(args->input);
     if (file.associations.empty())
       throw InputError(args->input + ": /associations is empty; run `trackassoc associate` first");
-    TextTable table({"association", "targets", "correct", "false", "missed"});
+    TextTable table({"association", "targets", "correct", "false", "missed", "false tuples"});
     bool any_truth = false;
     for (const auto& rec : file.associations) {
       const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
@@ -33,7 +39,8 @@ void register_evaluate(CLI::App& app) {
       std::erase_if(file.metrics, [&](const MetricsRecord& r) { return r.name == rec.name; });
       file.metrics.push_back(to_metrics_record(rec.name, m));
       table.add({rec.name, std::to_string(m.targets), percent(m.correct_rate), percent(m.false_rate),
-                 percent(m.missed_rate)});
+                 percent(m.missed_rate),
+                 std::to_string(m.false_tuples) + " of " + std::to_string(m.linked_tuples)});
     }
     if (!any_truth)
       throw InputError(args->input +

@@ -17,6 +17,7 @@ void register_experiment(CLI::App& app) {
   register_experiment_seed004(*cmd);
   register_experiment_schedules(*cmd);
   register_experiment_scale(*cmd);
+  register_experiment_recorded(*cmd);
 }
 
 }  // namespace trackassoc::cli

@@ -80,7 +80,8 @@ namespace trackassoc::cli {
 // Options of the association pipeline, shared by `associate` and `run`.
 struct PipelineFlags {
   PipelineOptions options;
-  std::string cost_form = "chain";
+  std::string cost_form = "all-pairs";
+  std::string gate_method = "calibrated", alignment = "two-sided";
   double correlated = -1.0;  // < 0: independent errors
   std::string solver_options = "{}";
   double memory_budget_mib = 0.0;  // 0 = CostTensorOptions' default
@@ -95,7 +96,19 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
   cmd->add_option("--gate", f.options.statistic.gate_probability,
                   "Chi-square gate probability of the sequential statistic (1 disables gating)")
       ->capture_default_str();
-  cmd->add_option("--cost-form", f.cost_form, "Cost tensor: chain (b=λij+λjk, seed 000 Eq. 3) or all-pairs")
+  cmd->add_option("--gate-method", f.gate_method,
+                  "calibrated (capped scan terms, f·χ²(n·D/f), holds 0.99 on filtered tracks) or chi2-sum "
+                  "(λ ≤ χ²(n·D), seed 000 as printed; rejects 12-22 % of true pairs on recorded data)")
+      ->check(CLI::IsMember({"calibrated", "chi2-sum"}))
+      ->capture_default_str();
+  cmd->add_option("--alignment", f.alignment,
+                  "two-sided (nearest report before or after a common time) or forward (latest report "
+                  "predicted forward, seed 000)")
+      ->check(CLI::IsMember({"two-sided", "forward"}))
+      ->capture_default_str();
+  cmd->add_option("--cost-form", f.cost_form,
+                  "all-pairs (every pair of sensors in a tuple) or chain (b=λij+λjk, seed 000 Eq. 3; it "
+                  "separates into two LAPs, DESIGN §4.3)")
       ->check(CLI::IsMember({"chain", "all-pairs"}))
       ->capture_default_str();
   cmd->add_option(
@@ -120,6 +133,8 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
 inline PipelineOptions resolve(PipelineFlags& f) {
   PipelineOptions o = f.options;
   o.cost.form = f.cost_form == "all-pairs" ? CostForm::kAllPairs : CostForm::kChain;
+  o.statistic.gate = f.gate_method == "chi2-sum" ? GateMethod::kChiSquareSum : GateMethod::kCalibrated;
+  o.alignment.method = f.alignment == "forward" ? AlignmentMethod::kForward : AlignmentMethod::kTwoSided;
   if (f.memory_budget_mib != 0.0) {
     if (!(f.memory_budget_mib > 0.0 && f.memory_budget_mib < 1e12))
       throw InputError("--memory-budget: expected a size > 0 [MiB], got " +
@@ -215,6 +230,7 @@ void register_experiment_seed004(CLI::App& experiment);
 void register_experiment_seed001(CLI::App& experiment);  // cmd_experiment_seed001.cpp
 void register_experiment_schedules(CLI::App& experiment);
 void register_experiment_scale(CLI::App& experiment);
+void register_experiment_recorded(CLI::App& experiment);
 void register_experiment_seed003(CLI::App& experiment);  // cmd_siamese_experiment.cpp
 
 }  // namespace trackassoc::cli
