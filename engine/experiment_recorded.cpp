@@ -37,7 +37,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-const std::vector<std::string> kMethods{"default", "exact", "chi2-sum", "3d-nogate"};
+const std::vector<std::string> kMethods{"default", "exact", "chi2-sum", "3d-exact", "3d-nogate"};
 const std::vector<std::string> kPeerMethods{"stonesoup-one2one", "stonesoup-counting"};
 
 RecordedRow score(const std::string& scenario, const std::string& method, int32_t run, const TrackFile& file,
@@ -62,12 +62,16 @@ AssociationRecord associate_method(const TrackFile& file, const std::string& met
                                    double& time_s) {
   const auto t0 = std::chrono::steady_clock::now();
   AssociationRecord rec;
-  if (method == "3d-nogate") {
-    PipelineOptions po;  // the tensor of every pair with no gate: the reference of the dense cases
-    po.statistic.gate = GateMethod::kChiSquareSum;
-    po.statistic.gate_probability = 1.0;
+  if (method == "3d-nogate" || method == "3d-exact") {
+    // The three-sensor all-pairs tensor, solved exactly: with the calibrated gate (3d-exact), or
+    // with no gate on the summed statistic (3d-nogate, the reference of the dense cases).
+    PipelineOptions po;
+    if (method == "3d-nogate") {
+      po.statistic.gate = GateMethod::kChiSquareSum;
+      po.statistic.gate_probability = 1.0;
+    }
     const AssociationProblem p = build_association_problem(file, po);
-    rec = solve_association(p, "lr", nlohmann::json::object(), seed, po);
+    rec = solve_association(p, "exact", {{"time_limit_s", 10.0}}, seed, po);
   } else {
     SparseSDOptions so;
     std::string solver = method == "exact" ? "exact" : "lr+ls";
@@ -111,19 +115,8 @@ std::vector<RecordedRow> peer_rows(const std::string& scenario, int32_t run, con
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
   std::vector<RecordedRow> rows;
   if (j.is_discarded()) return rows;
-  const nlohmann::json& assoc = j.contains("associators") ? j.at("associators") : j;
-  for (const auto& name : kPeerMethods) {
-    const std::string key = name.substr(std::string("stonesoup-").size());
-    nlohmann::json a;
-    if (assoc.is_object()) {
-      for (const auto& [k, v] : assoc.items())
-        if (k.find(key == "one2one" ? "one" : "count") != std::string::npos) a = v;
-    } else if (assoc.is_array()) {
-      for (const auto& v : assoc)
-        if (v.value("associator", v.value("name", std::string())).find(key == "one2one" ? "ne" : "ount") !=
-            std::string::npos)
-          a = v;
-    }
+  for (const auto& name : kPeerMethods) {  // {"stonesoup-one2one": {...}, "stonesoup-counting": {...}}
+    const nlohmann::json a = j.is_object() && j.contains(name) ? j.at(name) : nlohmann::json();
     if (!a.is_object() || !a.contains("targets")) continue;
     RecordedRow r;
     r.scenario = scenario;
@@ -157,7 +150,7 @@ void RecordedExperimentOptions::validate() const {
   for (const auto& m : methods)
     if (std::find(kMethods.begin(), kMethods.end(), m) == kMethods.end())
       throw InputError("experiment recorded: --methods: unknown method '" + m +
-                       "' (default, exact, chi2-sum, 3d-nogate)");
+                       "' (default, exact, chi2-sum, 3d-exact, 3d-nogate)");
   require(!files_dir.empty(), "experiment recorded: --files", "expected a folder");
 }
 
@@ -185,7 +178,7 @@ std::vector<RecordedRow> run_recorded_experiment(const RecordedExperimentOptions
       const std::string path = o.files_dir + "/" + o.scenarios[s] + "_run" + std::to_string(run) + ".h5";
       write_track_file(path, file);
       for (const auto& method : o.methods) {
-        if (method == "3d-nogate" && file.sensors.size() != 3) continue;
+        if (method.rfind("3d-", 0) == 0 && file.sensors.size() != 3) continue;
         double t = 0.0;
         const AssociationRecord rec = associate_method(file, method, o.seed + static_cast<uint64_t>(run), t);
         rows.push_back(score(o.scenarios[s], method, run, file, rec, t));

@@ -10,8 +10,10 @@
 //   exact        the same pipeline with the exact S-D solver per component;
 //   chi2-sum     the same pipeline with the seed 000 gate (χ²(n·D) on the summed statistic) and
 //                forward alignment: what the gate was before issue 20;
-//   3d-nogate    three-sensor scenarios only: the dense all-pairs 3-D tensor with the gate off,
-//                solved by lr (the reference rate for the dense and formation cases).
+//   3d-exact     three-sensor scenarios only: the dense all-pairs 3-D tensor (seed 000 Eq. 3 with
+//                the λ_ik term) with the calibrated gate, solved by the exact branch and bound;
+//   3d-nogate    the same tensor with the gate off on the summed statistic, exact (the
+//                reference rate for the dense and formation cases).
 // and, when `peer` is on, by Stone Soup's OneToOneTrackAssociator and TrackToTrackCounting,
 // pairwise chained (bench/stonesoup_t2t.py, run with Debian's Python). Every method is scored on
 // the decoded tuples it writes, by the rule of `trackassoc evaluate` (engine/metrics.hpp).
@@ -29,7 +31,7 @@ namespace trackassoc {
 struct RecordedExperimentOptions {
   std::vector<std::string> scenarios{"recorded_sync", "recorded_3s",    "recorded_3s_long",  "recorded_4s",
                                      "recorded_5s",   "recorded_dense", "recorded_formation"};
-  std::vector<std::string> methods{"default", "exact", "chi2-sum", "3d-nogate"};
+  std::vector<std::string> methods{"default", "exact", "chi2-sum", "3d-exact", "3d-nogate"};
   int32_t runs = 3;
   std::string files_dir = "experiment-recorded-files";  // the simulated track files, kept for peers
   bool peer = true;         // run Stone Soup (skipped with a note when it cannot be imported)

@@ -41,7 +41,8 @@ PipelineOptions PipelineOptions::paper() {
   o.alignment.method = AlignmentMethod::kForward;
   o.alignment.process_noise = 1.0;
   o.statistic.gate = GateMethod::kChiSquareSum;
-  o.cost.form = CostForm::kChain;  // seed 000 Eq. 3
+  o.statistic.link = LinkCost::kPerIndependentScan;  // λ − χ²(n·D): the S-D cost of seed 004 §2
+  o.cost.form = CostForm::kChain;                    // seed 000 Eq. 3
   return o;
 }
 

@@ -60,6 +60,8 @@ void StatisticOptions::validate() const {
           "must be in (0, 1] (1 disables gating), got " + std::to_string(gate_probability));
   require(gate == GateMethod::kCalibrated || gate == GateMethod::kChiSquareSum, "StatisticOptions.gate",
           "unknown gate method");
+  require(link == LinkCost::kPerScan || link == LinkCost::kPerIndependentScan, "StatisticOptions.link",
+          "unknown link cost");
   require(cap_probability > 0.0 && cap_probability < 1.0, "StatisticOptions.cap_probability",
           "must be in (0, 1), got " + std::to_string(cap_probability));
   require(
@@ -72,6 +74,7 @@ SequentialGate::SequentialGate(int dim, const StatisticOptions& o, int32_t max_s
     : dim_(dim),
       enabled_(o.gate_probability < 1.0),
       calibrated_(o.gate == GateMethod::kCalibrated),
+      per_scan_(o.link == LinkCost::kPerScan),
       p_(o.gate_probability),
       f_(o.gate == GateMethod::kCalibrated ? o.scans_per_independent : 1.0),
       cap_(o.gate == GateMethod::kCalibrated ? chi_square_quantile(o.cap_probability, dim)
@@ -99,8 +102,9 @@ bool SequentialGate::accepts(double lambda, int32_t scans, int32_t below_cap) co
 }
 
 double SequentialGate::link_cost(double lambda, int32_t scans) const {
-  if (!enabled_ || scans <= 0) return lambda / f_;
-  return (lambda - threshold(scans)) / f_;
+  if (scans <= 0) return 0.0;
+  const double excess = enabled_ ? lambda - threshold(scans) : lambda;
+  return per_scan_ ? excess / scans : excess / f_;
 }
 
 AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<const double> common_times,

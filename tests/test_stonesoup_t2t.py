@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Unit tests of bench/stonesoup_t2t.py: chaining, scoring, and (when Stone Soup imports) one
-end-to-end run on a small synthetic synchronous file. Not registered with CTest (no C++ here).
-Run from the repo root:  /usr/bin/python3 tests/test_stonesoup_t2t.py
+end-to-end run on a small synthetic synchronous file. Registered with CTest
+(StoneSoupPeer.*); by hand from the repo root:  /usr/bin/python3 tests/test_stonesoup_t2t.py
 """
 import importlib.util
 import json

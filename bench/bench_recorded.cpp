@@ -1,0 +1,68 @@
+// Benchmarks of the default pipeline for recorded track sets (engine/sparse_sd_pipeline.hpp), on
+// the embedded realistic-recording family, simulated once with seed 1; 1 and 2 threads (last Arg):
+//  - BM_DefaultAssociation/scenario/threads: `associate` without flags, from the loaded file to the
+//    tuples (alignment, candidates, statistic, components, lr+ls per component).
+//    scenario 0 = recorded_3s (3 sensors), 1 = recorded_5s (5 sensors × 60 targets, the issue 20
+//    goal: ≤ 1 s), 2 = recorded_dense, 3 = recorded_10k (3 × 10 000 targets, the sparse scale).
+//  - BM_DenseSDAssociation/threads: the dense S-D tensor with dummies on recorded_5s (the path that
+//    took 20–34 s before issue 20), lr+ls: the naive version of the same problem.
+// Counters: candidate pairs, gated pairs, components.
+#include <benchmark/benchmark.h>
+#include <oneapi/tbb/global_control.h>
+
+#include <map>
+
+#include "engine/pipeline_sd.hpp"
+#include "engine/simulation.hpp"
+#include "engine/sparse_sd_pipeline.hpp"
+#include "engine/workflow.hpp"
+
+namespace trackassoc::bench {
+namespace {
+
+const char* const kScenarios[] = {"recorded_3s", "recorded_5s", "recorded_dense", "recorded_10k"};
+
+const TrackFile& track_file(int k) {
+  static std::map<int, TrackFile> files;
+  auto it = files.find(k);
+  if (it != files.end()) return it->second;
+  const Scenario sc = load_scenario(kScenarios[k]);
+  return files.emplace(k, simulation_to_track_file(sc, simulate(sc, 1, 0))).first->second;
+}
+
+void BM_DefaultAssociation(benchmark::State& state) {
+  const TrackFile& file = track_file(static_cast<int>(state.range(0)));
+  tbb::global_control g(tbb::global_control::max_allowed_parallelism, state.range(1));
+  AssociationRecord rec;
+  for (auto _ : state) {
+    rec = associate_sparse_sd(file, "lr+ls", nlohmann::json::object(), 1, SparseSDOptions{});
+    benchmark::DoNotOptimize(rec.tuples.data());
+  }
+  const auto info = nlohmann::json::parse(rec.options_json);
+  state.SetLabel(kScenarios[state.range(0)]);
+  state.counters["candidate_pairs"] = info.value("candidate_pairs", 0);
+  state.counters["gated_pairs"] = info.value("gated_pairs", 0);
+  state.counters["components"] = info.value("components", 0);
+}
+
+void BM_DenseSDAssociation(benchmark::State& state) {
+  const TrackFile& file = track_file(1);
+  tbb::global_control g(tbb::global_control::max_allowed_parallelism, state.range(0));
+  for (auto _ : state) {
+    const SDProblem p = build_sd_problem(file, PipelineOptions{});
+    const AssociationRecord rec = solve_sd_association(p, "lr+ls", nlohmann::json::object(), 1, PipelineOptions{});
+    benchmark::DoNotOptimize(rec.tuples.data());
+  }
+}
+
+BENCHMARK(BM_DefaultAssociation)
+    ->ArgsProduct({{0, 1, 2}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_DefaultAssociation)->ArgsProduct({{3}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_DenseSDAssociation)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+}  // namespace
+}  // namespace trackassoc::bench
+
+BENCHMARK_MAIN();
