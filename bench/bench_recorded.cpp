@@ -50,7 +50,8 @@ void BM_DenseSDAssociation(benchmark::State& state) {
   tbb::global_control g(tbb::global_control::max_allowed_parallelism, state.range(0));
   for (auto _ : state) {
     const SDProblem p = build_sd_problem(file, PipelineOptions{});
-    const AssociationRecord rec = solve_sd_association(p, "lr+ls", nlohmann::json::object(), 1, PipelineOptions{});
+    const AssociationRecord rec =
+        solve_sd_association(p, "lr+ls", nlohmann::json::object(), 1, PipelineOptions{});
     benchmark::DoNotOptimize(rec.tuples.data());
   }
 }
@@ -59,7 +60,11 @@ BENCHMARK(BM_DefaultAssociation)
     ->ArgsProduct({{0, 1, 2}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK(BM_DefaultAssociation)->ArgsProduct({{3}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_DefaultAssociation)
+    ->ArgsProduct({{3}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
 BENCHMARK(BM_DenseSDAssociation)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 }  // namespace

@@ -291,6 +291,26 @@ TEST_F(SparseSDCli, AssociateUsesEverySensorByDefaultAndBadInputIsExitTwo) {
   // With --sensors it runs on the three named.
   r = run("associate --input " + sim + " --output " + path("o3.h5") + " --solver pairwise --sensors 0 1 2");
   EXPECT_EQ(r.status, 0) << r.err;
+  // Tracks that never coexist: exit 2, one line, nothing written.
+  {
+    TrackFile bad = simulate_file("recorded_sync");
+    TrackTable t(bad.tracks.layout);
+    for (std::size_t q = 0; q < bad.tracks.size(); ++q)
+      if ((bad.tracks.sensor[q] == 0 && bad.tracks.t[q] < 20.0) ||
+          (bad.tracks.sensor[q] == 1 && bad.tracks.t[q] > 40.0))
+        t.push_back(bad.tracks.sensor[q], bad.tracks.track[q], bad.tracks.t[q], bad.tracks.state_at(q),
+                    bad.tracks.cov_at(q), bad.tracks.truth[q]);
+    bad.tracks = t;
+    bad.sensors.pop_back();
+    bad.measurements.reset();
+    bad.truth.reset();
+    write_track_file(path("apart.h5"), bad);
+    r = run("associate --input " + path("apart.h5") + " --output " + path("o5.h5"));
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.err.find("nothing to associate"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(path("o5.h5")));
+  }
   // A gate of 1 is no miss cost: exit 2, nothing written.
   r = run("associate --input " + sim + " --output " + path("o4.h5") + " --gate 1");
   EXPECT_EQ(r.status, 2);

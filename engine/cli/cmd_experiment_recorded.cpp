@@ -16,7 +16,8 @@ void register_experiment_recorded(CLI::App& experiment) {
       "tracks, turns, dense and formation cases, 3-5 sensors), beside Stone Soup on the same files");
   cmd->add_option("--scenarios", args->o.scenarios, "Scenarios (embedded names or JSON files)")
       ->capture_default_str();
-  cmd->add_option("--methods", args->o.methods, "default, exact, chi2-sum, 3d-exact, 3d-nogate")->capture_default_str();
+  cmd->add_option("--methods", args->o.methods, "default, exact, chi2-sum, 3d-exact, 3d-nogate")
+      ->capture_default_str();
   cmd->add_option("--runs", args->o.runs, "Monte Carlo runs per scenario")->capture_default_str();
   cmd->add_option("--files", args->o.files_dir, "Folder for the simulated track files (kept, for peers)")
       ->capture_default_str();
