@@ -169,22 +169,21 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
     for (int32_t k = 0; k < K; ++k) {
       const double t = common_times[k];
       while (cur < begin[a + 1] && tracks.t[rows[cur]] <= t) ++cur;
-      std::size_t r;  // the report moved to t
+      std::size_t pos;  // the report moved to t is rows[pos]
       if (two_sided) {
         if (t < first - options.max_extrapolation || t > last + options.max_extrapolation) continue;
         // The nearest report in time: the latest at or before t, or the earliest after it.
         const bool has_before = cur > begin[a], has_after = cur < begin[a + 1];
         if (has_before && has_after)
-          r = t - tracks.t[rows[cur - 1]] <= tracks.t[rows[cur]] - t ? rows[cur - 1] : rows[cur];
+          pos = t - tracks.t[rows[cur - 1]] <= tracks.t[rows[cur]] - t ? cur - 1 : cur;
         else
-          r = has_before ? rows[cur - 1] : rows[cur];
+          pos = has_before ? cur - 1 : cur;
       } else {
         if (cur == begin[a]) continue;  // no report yet
-        r = rows[cur - 1];
-        if (t - tracks.t[r] > options.max_extrapolation) continue;
+        pos = cur - 1;
+        if (t - tracks.t[rows[pos]] > options.max_extrapolation) continue;
       }
-      const std::size_t pos =
-          std::find(rows.begin() + begin[a], rows.begin() + begin[a + 1], r) - rows.begin();
+      const std::size_t r = rows[pos];
       const double dt = t - tracks.t[r];  // < 0: retrodiction to an earlier time
       const double adt = std::fabs(dt);
       const std::size_t cell = static_cast<std::size_t>(a) * K + k;

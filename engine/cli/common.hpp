@@ -90,11 +90,12 @@ struct PipelineFlags {
 
 inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
   cmd->add_option("--sensors", f.options.sensors,
-                  "The /sensors ids to associate: three for the 3-D pipeline (default: the first three); "
-                  "more, or any number with --sd, for the S-D formulation (default with --sd: all)")
+                  "The /sensors ids to associate (default: every sensor of the file); a 3-D solver takes "
+                  "exactly three, and refuses a file of more without them")
       ->expected(2, 16);
   cmd->add_option("--gate", f.options.statistic.gate_probability,
-                  "Chi-square gate probability of the sequential statistic (1 disables gating)")
+                  "Gate probability: the share of true pairs the gate keeps (1 disables gating; the "
+                  "default and S-D pipelines need < 1, the gate being the cost of not linking)")
       ->capture_default_str();
   cmd->add_option("--gate-method", f.gate_method,
                   "calibrated (capped scan terms, f·χ²(n·D/f), holds 0.99 on filtered tracks) or chi2-sum "
@@ -125,8 +126,8 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
   cmd->add_option("--memory-budget", f.memory_budget_mib,
                   "Largest dense cost tensor [MiB] (default 2048); larger track sets need --sparse");
   cmd->add_flag("--sparse", f.sparse,
-                "Sparse path: gated candidate tuples, connected components solved in parallel by the "
-                "solver (for track sets too large for the dense tensor)");
+                "Three-sensor sparse path for the 3-D solvers: gated candidate tuples, connected components "
+                "solved in parallel (the default pipeline is sparse already)");
 }
 
 // Resolves the string flags into PipelineOptions; throws InputError on bad values.
