@@ -121,7 +121,8 @@ void register_associate(CLI::App& app) {
                 << fmt(1e3 * res.fusion.summary.wall_time_s, "%.2f") << " ms -> " << args->output << "\n";
       return;
     }
-    if (args->sd || options.sensors.size() > 3 || options.sensors.size() == 2) {
+    if (args->sd || args->solver == "chnn-pseudo" || options.sensors.size() > 3 ||
+        options.sensors.size() == 2) {
       if (args->pipeline.sparse)
         throw InputError("--sparse: applies to the three-sensor pipeline, not to the S-D formulation (--sd)");
       require_sd_solver(args->solver);  // fail on an unknown name before reading anything
