@@ -94,7 +94,21 @@ void scan_pass(const AlignedTracks& q, const AlignedTracks& g, std::size_t k, do
     const std::size_t cq = static_cast<std::size_t>(i) * K + k;
     if (!q.valid[cq]) continue;
     const double rq = std::sqrt(2.0 * position_trace(&q.cov[cq * P], D, m) * c2);
-    const int64_t span = std::min<int64_t>(static_cast<int64_t>(std::ceil(rq / h)), 1 << 20);
+    const double span_d = std::ceil(rq / h);
+    auto consider = [&](int32_t j) {
+      // Each pair once: from the side with the larger radius (ties: from a).
+      if (q_is_a ? radius_g[j] > rq : radius_g[j] >= rq) return;
+      const std::size_t cg = static_cast<std::size_t>(j) * K + k;
+      if (q_is_a ? within(q, cq, g, cg, m, c2) : within(g, cg, q, cq, m, c2))
+        out.emplace_back(q_is_a ? i : j, q_is_a ? j : i);
+    };
+    // A query wider than the whole grid (one huge covariance among small ones) reads every point
+    // once instead of (2·span + 1)^m cells, so its cost is bounded by O(n_g).
+    if (std::pow(2.0 * span_d + 1.0, m) > static_cast<double>(cells.size())) {
+      for (const auto& e : cells) consider(e.second);
+      continue;
+    }
+    const int64_t span = static_cast<int64_t>(span_d);
     const Cell c = cell_of(&q.state[cq * D], m, h);
     const int64_t sy = m >= 2 ? span : 0, sz = m == 3 ? span : 0;
     for (int64_t dx = -span; dx <= span; ++dx)
@@ -103,14 +117,7 @@ void scan_pass(const AlignedTracks& q, const AlignedTracks& g, std::size_t k, do
           const Cell key{c[0] + dx, c[1] + dy, c[2] + dz};
           auto it = std::lower_bound(cells.begin(), cells.end(),
                                      std::make_pair(key, std::numeric_limits<int32_t>::min()));
-          for (; it != cells.end() && it->first == key; ++it) {
-            const int32_t j = it->second;
-            // Each pair once: from the side with the larger radius (ties: from a).
-            if (q_is_a ? radius_g[j] > rq : radius_g[j] >= rq) continue;
-            const std::size_t cg = static_cast<std::size_t>(j) * K + k;
-            if (q_is_a ? within(q, cq, g, cg, m, c2) : within(g, cg, q, cq, m, c2))
-              out.emplace_back(q_is_a ? i : j, q_is_a ? j : i);
-          }
+          for (; it != cells.end() && it->first == key; ++it) consider(it->second);
         }
   }
 }

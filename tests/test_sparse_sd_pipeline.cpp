@@ -22,6 +22,7 @@
 #include "engine/workflow.hpp"
 #include "io/track_file.hpp"
 #include "kernels/error.hpp"
+#include "kernels/random.hpp"
 #include "kernels/scan_candidates.hpp"
 #include "tests/cli_runner.hpp"
 
@@ -65,6 +66,39 @@ TEST(ScanCandidates, LosslessAgainstTheDenseGateAndEqualToTheNaiveScan) {
         }
     EXPECT_GT(gated, 5) << name;
     EXPECT_LT(pruned.size(), static_cast<std::size_t>(a.n_tracks()) * b.n_tracks() / 2) << name;
+  }
+}
+
+// One track with a covariance 10^8 times the others' (a just-initialised or far track): the grid
+// is sized by the median radius, the wide query reads every point, and the result is still the
+// naive scan's.
+TEST(ScanCandidates, AWideCovarianceAmongSmallOnesGivesTheNaiveResult) {
+  auto make = [](int32_t sensor, uint64_t seed) {
+    AlignedTracks x;
+    x.sensor = sensor;
+    x.dim = 4;
+    x.n_times = 3;
+    CounterRng rng(seed, 0, 0);
+    for (int32_t i = 0; i < 300; ++i) {
+      x.track.push_back(i);
+      x.truth.push_back(i);
+      for (int k = 0; k < 3; ++k) {
+        x.valid.push_back(k != 1 || i % 3 != 0);
+        const double px = rng.uniform(0.0, 1e5), py = rng.uniform(0.0, 1e5);
+        for (double v : {px, py, 100.0, 0.0}) x.state.push_back(v);
+        const double var = i == 7 ? 1e12 : 1e4 * (1.0 + (i % 5));
+        for (double v : {var, 0.0, 0.0, 0.0, var, 0.0, 0.0, 1.0, 0.0, 1.0}) x.cov.push_back(v);
+      }
+    }
+    return x;
+  };
+  const AlignedTracks a = make(0, 1), b = make(1, 2);
+  for (double cap : {1.0, 18.47}) {
+    const CandidatePairs fast = scan_candidate_pairs(a, b, cap);
+    EXPECT_EQ(as_set(fast), as_set(scan_candidate_pairs_all_pairs(a, b, cap))) << cap;
+    int wide = 0;
+    for (std::size_t q = 0; q < fast.size(); ++q) wide += fast.a[q] == 7 || fast.b[q] == 7;
+    EXPECT_GT(wide, 250) << cap;  // the wide track is near everything
   }
 }
 
