@@ -1,6 +1,7 @@
-// trackassoc run: the main job. Simulates a scenario (default: `recorded_3s`, a realistic recording
-// of the family of engine/experiment_recorded.hpp: asynchronous radars, partial and false tracks,
-// turns), associates with the default pipeline (every sensor, sparse S-D, calibrated gate), the same
+// trackassoc run: the main job. Simulates a scenario (default: `recorded_formation`, a realistic
+// recording of the family of engine/experiment_recorded.hpp: asynchronous radars, partial and false
+// tracks, turns, and targets flying in groups of three 400 m apart, where the gates and the solvers
+// differ), associates with the default pipeline (every sensor, sparse S-D, calibrated gate), the same
 // with the exact solver and with seed 000's gate, and every 3-D solver that suits the size,
 // evaluates, prints a table (correct, false, missed, false tuples, time), and writes
 // trackassoc-run.h5 and a plot of correct association against time (trackassoc-run.svg).
@@ -28,7 +29,7 @@ void register_run(CLI::App& app) {
   struct Args {
     CommonOptions common;
     PipelineFlags pipeline;
-    std::string scenario = "recorded_3s", output = "trackassoc-run.h5", plot = "trackassoc-run.svg";
+    std::string scenario = "recorded_formation", output = "trackassoc-run.h5", plot = "trackassoc-run.svg";
     std::vector<std::string> solvers;
     HopfieldFlags hopfield;  // merged into the options of every Hopfield solver
   };
