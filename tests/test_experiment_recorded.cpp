@@ -41,8 +41,12 @@ TEST_F(ExperimentRecordedCli, WritesOneRowPerMethodScoredAgainstTheTruthAndThePe
       EXPECT_EQ(correct[q], targets[q]) << "scenario " << scenario[q];
       EXPECT_EQ(false_tuples[q], 0);
     }
-    if (method[q] == 5 && scenario[q] == 0) EXPECT_EQ(correct[q], targets[q]);  // Stone Soup, synchronous
-    if (method[q] == 5 && scenario[q] == 1) EXPECT_EQ(correct[q], 0);           // no shared timestamps
+    if (method[q] == 5 && scenario[q] == 0) {
+      EXPECT_EQ(correct[q], targets[q]);  // Stone Soup, synchronous
+    }
+    if (method[q] == 5 && scenario[q] == 1) {
+      EXPECT_EQ(correct[q], 0);  // no shared timestamps
+    }
   }
 }
 
