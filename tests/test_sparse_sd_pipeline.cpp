@@ -44,6 +44,28 @@ std::set<std::pair<int32_t, int32_t>> as_set(const CandidatePairs& c) {
   return s;
 }
 
+// The rows of `t` for which keep(row) holds.
+TrackTable keep_rows(const TrackTable& t, const std::function<bool(std::size_t)>& keep) {
+  TrackTable out(t.layout);
+  for (std::size_t r = 0; r < t.size(); ++r)
+    if (keep(r)) out.push_back(t.sensor[r], t.track[r], t.t[r], t.state_at(r), t.cov_at(r), t.truth[r]);
+  return out;
+}
+
+// A recorded_sync file cut so that sensor 0 reports only before t = 20 s and sensor 1 only after
+// t = 40 s (sensor 2 removed): no two tracks of different sensors ever coexist.
+TrackFile tracks_never_together() {
+  TrackFile f = simulate_file("recorded_sync");
+  f.tracks = keep_rows(f.tracks, [&](std::size_t r) {
+    return (f.tracks.sensor[r] == 0 && f.tracks.t[r] < 20.0) ||
+           (f.tracks.sensor[r] == 1 && f.tracks.t[r] > 40.0);
+  });
+  f.sensors.pop_back();
+  f.measurements.reset();
+  f.truth.reset();
+  return f;
+}
+
 TEST(ScanCandidates, LosslessAgainstTheDenseGateAndEqualToTheNaiveScan) {
   for (const char* name : {"recorded_3s", "recorded_dense", "recorded_formation"}) {
     const TrackFile file = simulate_file(name);
@@ -201,12 +223,9 @@ TEST(SparseSDPipeline, EqualsTheBruteForceOptimumOverAllGroupings) {
     TrackFile file = simulate_file("recorded_formation", run);
     // Keep the tracks of targets 0..3 only (and drop the false tracks).
     const std::vector<int32_t> keep{0, 1, 2, 3};
-    TrackTable t(file.tracks.layout);
-    for (std::size_t r = 0; r < file.tracks.size(); ++r)
-      if (std::find(keep.begin(), keep.end(), file.tracks.truth[r]) != keep.end())
-        t.push_back(file.tracks.sensor[r], file.tracks.track[r], file.tracks.t[r], file.tracks.state_at(r),
-                    file.tracks.cov_at(r), file.tracks.truth[r]);
-    file.tracks = t;
+    file.tracks = keep_rows(file.tracks, [&](std::size_t r) {
+      return std::find(keep.begin(), keep.end(), file.tracks.truth[r]) != keep.end();
+    });
     const double brute = brute_force_optimum(file, PipelineOptions{}, keep);
     EXPECT_LT(brute, -10.0) << "run " << run << ": the instance links nothing";
     SparseSDOptions so;
@@ -239,7 +258,9 @@ TEST(SparseSDPipeline, EveryTrackInExactlyOneTupleAndBitIdenticalForOneAndTwoThr
   for (std::size_t q = 0; q < recs[0].num_tuples(); ++q)
     for (int32_t s = 0; s < 5; ++s) {
       const int32_t trk = recs[0].tuples[q * 5 + s];
-      if (trk >= 0) EXPECT_TRUE(seen.insert({file.sensors[s].id, trk}).second);
+      if (trk >= 0) {
+        EXPECT_TRUE(seen.insert({file.sensors[s].id, trk}).second);
+      }
     }
   EXPECT_EQ(seen, all);
 }
@@ -265,15 +286,7 @@ TEST(SparseSDPipeline, RefusesBadOptionsAndTracksThatNeverCoexist) {
   so.pipeline.sensors = {0, 7};
   EXPECT_THROW(build_sparse_sd_problem(file, so), InputError);
   EXPECT_THROW(require_sparse_sd_solver("hopfield"), InputError);
-  // Sensor 0 reports only before t = 20 s, the others only after t = 40 s.
-  TrackTable t(file.tracks.layout);
-  for (std::size_t r = 0; r < file.tracks.size(); ++r)
-    if ((file.tracks.sensor[r] == 0 && file.tracks.t[r] < 20.0) ||
-        (file.tracks.sensor[r] == 1 && file.tracks.t[r] > 40.0))
-      t.push_back(file.tracks.sensor[r], file.tracks.track[r], file.tracks.t[r], file.tracks.state_at(r),
-                  file.tracks.cov_at(r), file.tracks.truth[r]);
-  file.tracks = t;
-  file.sensors.pop_back();
+  file = tracks_never_together();
   try {
     build_sparse_sd_problem(file, SparseSDOptions{});
     ADD_FAILURE() << "expected an InputError";
@@ -285,17 +298,12 @@ TEST(SparseSDPipeline, RefusesBadOptionsAndTracksThatNeverCoexist) {
 // A sensor with a single report is data, not an error: its track is associated or left alone.
 TEST(SparseSDPipeline, ASensorWithOneReportIsAssociatedOrLeftAlone) {
   TrackFile file = simulate_file("recorded_sync");
-  TrackTable t(file.tracks.layout);
-  bool kept = false;
-  for (std::size_t r = 0; r < file.tracks.size(); ++r) {
-    if (file.tracks.sensor[r] == 2) {
-      if (kept || file.tracks.t[r] < 20.0) continue;
-      kept = true;
-    }
-    t.push_back(file.tracks.sensor[r], file.tracks.track[r], file.tracks.t[r], file.tracks.state_at(r),
-                file.tracks.cov_at(r), file.tracks.truth[r]);
-  }
-  file.tracks = t;
+  bool kept = false;  // sensor 2 keeps one report: its first after t = 20 s
+  file.tracks = keep_rows(file.tracks, [&](std::size_t r) {
+    if (file.tracks.sensor[r] != 2) return true;
+    if (kept || file.tracks.t[r] < 20.0) return false;
+    return kept = true;
+  });
   const AssociationRecord rec =
       associate_sparse_sd(file, "lr+ls", nlohmann::json::object(), 1, SparseSDOptions{});
   const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
@@ -327,17 +335,7 @@ TEST_F(SparseSDCli, AssociateUsesEverySensorByDefaultAndBadInputIsExitTwo) {
   EXPECT_EQ(r.status, 0) << r.err;
   // Tracks that never coexist: exit 2, one line, nothing written.
   {
-    TrackFile bad = simulate_file("recorded_sync");
-    TrackTable t(bad.tracks.layout);
-    for (std::size_t q = 0; q < bad.tracks.size(); ++q)
-      if ((bad.tracks.sensor[q] == 0 && bad.tracks.t[q] < 20.0) ||
-          (bad.tracks.sensor[q] == 1 && bad.tracks.t[q] > 40.0))
-        t.push_back(bad.tracks.sensor[q], bad.tracks.track[q], bad.tracks.t[q], bad.tracks.state_at(q),
-                    bad.tracks.cov_at(q), bad.tracks.truth[q]);
-    bad.tracks = t;
-    bad.sensors.pop_back();
-    bad.measurements.reset();
-    bad.truth.reset();
+    const TrackFile bad = tracks_never_together();
     write_track_file(path("apart.h5"), bad);
     r = run("associate --input " + path("apart.h5") + " --output " + path("o5.h5"));
     EXPECT_EQ(r.status, 2) << r.out;
