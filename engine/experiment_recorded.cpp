@@ -13,7 +13,6 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <set>
 #include <sstream>
 
 #include "engine/cli/table.hpp"
@@ -182,13 +181,6 @@ std::vector<RecordedRow> run_recorded_experiment(const RecordedExperimentOptions
         double t = 0.0;
         const AssociationRecord rec = associate_method(file, method, o.seed + static_cast<uint64_t>(run), t);
         rows.push_back(score(o.scenarios[s], method, run, file, rec, t));
-        rows.back().tracks = static_cast<int32_t>(std::set<std::pair<int32_t, int32_t>>([&] {
-                                                    std::set<std::pair<int32_t, int32_t>> k;
-                                                    for (std::size_t q = 0; q < file.tracks.size(); ++q)
-                                                      k.insert({file.tracks.sensor[q], file.tracks.track[q]});
-                                                    return k;
-                                                  }())
-                                                      .size());
       }
       if (peer) {
         const std::string json = path + ".stonesoup.json";

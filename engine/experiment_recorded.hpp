@@ -45,7 +45,7 @@ struct RecordedExperimentOptions {
 
 struct RecordedRow {
   std::string scenario, method;
-  int32_t run = 0, sensors = 0, tracks = 0;
+  int32_t run = 0, sensors = 0;
   int32_t targets = 0, correct = 0, false_associations = 0, missed = 0;  // targets tracked by ≥ 2 sensors
   int32_t linked_tuples = 0, false_tuples = 0;
   double time_s = 0.0;  // association time (see the header)

@@ -50,8 +50,7 @@ ComponentView component_view(const SparseSDProblem& p, int32_t c) {
   v.tracks.resize(v.S);
   v.node.resize(v.S);
   for (int32_t u : p.components.members(c)) {
-    const int32_t s =
-        static_cast<int32_t>(std::upper_bound(p.offset.begin(), p.offset.end(), u) - p.offset.begin()) - 1;
+    const int32_t s = p.sensor_of(u);
     v.tracks[s].push_back(u - p.offset[s]);
     v.node[s].push_back(u);
   }
@@ -107,6 +106,7 @@ double tuple_cost(const ComponentView& v, const std::vector<std::pair<int32_t, i
 
 struct ComponentResult {
   std::vector<std::vector<int32_t>> tuples;  // problem nodes per tuple (any order)
+  std::vector<double> costs;                 // tuple_cost of each tuple
   double objective = 0.0, lower_bound = 0.0;
   bool fallback = false, optimal = false;
   std::size_t entries = 0;
@@ -138,19 +138,27 @@ ComponentResult solve_dense_component(const ComponentView& v, const std::string&
   const SolutionSD sol = solve_sd_tensor(t, solver, options);
   std::vector<std::vector<char>> used(S);
   for (int32_t s = 0; s < S; ++s) used[s].assign(n[s], 0);
+  std::vector<std::pair<int32_t, int32_t>> chosen;
   for (std::size_t k = 0; k + S <= sol.tuples.size(); k += S) {
     std::vector<int32_t> tuple;
+    chosen.clear();
     for (int32_t s = 0; s < S; ++s) {
       const int32_t i = sol.tuples[k + s];
       if (i < 0 || i >= n[s] || used[s][i]) continue;
       used[s][i] = 1;
       tuple.push_back(v.node[s][i]);
+      chosen.emplace_back(s, i);
     }
-    if (!tuple.empty()) r.tuples.push_back(std::move(tuple));
+    if (tuple.empty()) continue;
+    r.tuples.push_back(std::move(tuple));
+    r.costs.push_back(tuple_cost(v, chosen, all_pairs));
   }
   for (int32_t s = 0; s < S; ++s)  // a solver that dropped a track: it stays alone
     for (int32_t i = 0; i < n[s]; ++i)
-      if (!used[s][i]) r.tuples.push_back({v.node[s][i]});
+      if (!used[s][i]) {
+        r.tuples.push_back({v.node[s][i]});
+        r.costs.push_back(0.0);
+      }
   r.objective = sol.summary.objective;
   r.lower_bound = sol.summary.lower_bound;
   r.optimal = sol.summary.termination == Termination::kOptimal;
@@ -196,7 +204,8 @@ ComponentResult solve_by_merging(const ComponentView& v, bool all_pairs) {
     }
   }
   for (const auto& g : groups) {
-    r.objective += tuple_cost(v, g, all_pairs);
+    r.costs.push_back(tuple_cost(v, g, all_pairs));
+    r.objective += r.costs.back();
     std::vector<int32_t> tuple;
     for (const auto& [s, i] : g) tuple.push_back(v.node[s][i]);
     r.tuples.push_back(std::move(tuple));
@@ -359,6 +368,7 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
     for (std::size_t c = lo; c < hi; ++c) {
       if (p.components.size(static_cast<int32_t>(c)) == 1) {
         results[c].tuples.push_back({p.components.members(static_cast<int32_t>(c))[0]});
+        results[c].costs.push_back(0.0);
         results[c].optimal = true;
         continue;
       }
@@ -409,45 +419,22 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
                                                {"candidate_pairs", candidates},
                                                {"gated_pairs", gated}});
   rec.num_sensors = p.file_sensors;
-  // Tuples in a deterministic order: by their smallest node.
-  std::vector<std::vector<int32_t>> tuples;
+  // Tuples in a deterministic order: by their nodes, sorted (so by their smallest node first).
+  std::vector<std::pair<std::vector<int32_t>, double>> tuples;
   for (auto& r : results)
-    for (auto& t : r.tuples) {
-      std::sort(t.begin(), t.end());
-      tuples.push_back(std::move(t));
+    for (std::size_t k = 0; k < r.tuples.size(); ++k) {
+      std::sort(r.tuples[k].begin(), r.tuples[k].end());
+      tuples.emplace_back(std::move(r.tuples[k]), r.costs[k]);
     }
   std::sort(tuples.begin(), tuples.end());
-  for (const auto& t : tuples) {
+  for (const auto& [t, cost] : tuples) {
     std::vector<int32_t> row(p.file_sensors, kNoTrack);
-    std::vector<std::pair<int32_t, int32_t>> members;
     for (int32_t u : t) {
-      const int32_t s =
-          static_cast<int32_t>(std::upper_bound(p.offset.begin(), p.offset.end(), u) - p.offset.begin()) - 1;
+      const int32_t s = p.sensor_of(u);
       row[p.sensor_columns[s]] = p.aligned[s].track[u - p.offset[s]];
     }
     rec.tuples.insert(rec.tuples.end(), row.begin(), row.end());
-    rec.cost.push_back(0.0);
-  }
-  // Tuple costs: recomputed from the links (one view per tuple's component would be costly; the
-  // per-pair links suffice).
-  std::size_t q = 0;
-  for (const auto& t : tuples) {
-    double cost = 0.0;
-    for (std::size_t x = 0; x < t.size(); ++x)
-      for (std::size_t y = x + 1; y < t.size(); ++y) {
-        const int32_t u = t[x], w = t[y];
-        const int32_t a =
-            static_cast<int32_t>(std::upper_bound(p.offset.begin(), p.offset.end(), u) - p.offset.begin()) -
-            1;
-        const int32_t b =
-            static_cast<int32_t>(std::upper_bound(p.offset.begin(), p.offset.end(), w) - p.offset.begin()) -
-            1;
-        if (!all_pairs && y != x + 1) continue;
-        const SparsePairStatistic& st = p.pairs[static_cast<std::size_t>(a) * S + b];
-        const int64_t e = st.find(u - p.offset[a], w - p.offset[b]);
-        if (e >= 0) cost += p.link[static_cast<std::size_t>(a) * S + b][e];
-      }
-    rec.cost[q++] = cost;
+    rec.cost.push_back(cost);
   }
   return rec;
 }

@@ -34,6 +34,7 @@
 // components O(E α(N)); solves Σ_c Π(n_{c,s} + 1) · (solver iterations), in parallel.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -73,6 +74,9 @@ struct SparseSDProblem {
   std::vector<StageReport> stages;  // alignment, candidates, statistics, components
   int32_t S() const { return static_cast<int32_t>(sensor_ids.size()); }
   int32_t nodes() const { return offset.empty() ? 0 : offset.back(); }
+  int32_t sensor_of(int32_t node) const {  // the s with offset[s] <= node < offset[s + 1]
+    return static_cast<int32_t>(std::upper_bound(offset.begin(), offset.end(), node) - offset.begin()) - 1;
+  }
 };
 
 // Throws InputError on unknown sensor ids, fewer than 2 sensors, sensors without tracks, a gate
