@@ -14,7 +14,9 @@
 //   than max_extrapolation.
 //
 // * Correlated errors. Bar-Shalom–Campo need the cross-covariance P_ab of the two local estimates,
-//   which a track file does not carry. We approximate it as ρ times the symmetric product of the
+//   which a track file does not carry. With common_process_noise it is computed by their recursion
+//   from each filter's gain, read off its reported covariances (kernels/cross_covariance.hpp).
+//   Otherwise, with cross_correlation ρ, we approximate it as ρ times the symmetric product of the
 //   principal square roots, S_a = P_a^{1/2}, S_b = P_b^{1/2}:
 //       P_ab + P_ba ≈ ρ·(S_a S_b + S_b S_a),
 //   so C = P_a + P_b − ρ(S_a S_b + S_b S_a) = (1−ρ)(P_a + P_b) + ρ(S_a − S_b)², which is SPD for
@@ -36,6 +38,7 @@
 #include <numeric>
 #include <string>
 
+#include "kernels/cross_covariance.hpp"
 #include "kernels/error.hpp"
 #include "kernels/parallel.hpp"
 
@@ -56,6 +59,12 @@ void StatisticOptions::validate() const {
   require(std::isfinite(cross_correlation) && cross_correlation >= 0.0 && cross_correlation < 1.0,
           "StatisticOptions.cross_correlation",
           "must be in [0, 1), got " + std::to_string(cross_correlation));
+  require(std::isfinite(common_process_noise) && common_process_noise >= 0.0 && common_process_noise <= 1e3,
+          "StatisticOptions.common_process_noise",
+          "must be in [0, 1000] m/s², got " + std::to_string(common_process_noise));
+  require(!(common_process_noise > 0.0 && correlated && cross_correlation > 0.0), "StatisticOptions",
+          "choose one cross-covariance: common_process_noise (Bar-Shalom–Campo recursion) or "
+          "cross_correlation (ρ)");
   require(gate_probability > 0.0 && gate_probability <= 1.0, "StatisticOptions.gate_probability",
           "must be in (0, 1] (1 disables gating), got " + std::to_string(gate_probability));
   require(gate == GateMethod::kCalibrated || gate == GateMethod::kChiSquareSum, "StatisticOptions.gate",
@@ -147,6 +156,7 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
   out.sensor = sensor;
   out.dim = D;
   out.n_times = K;
+  out.times.assign(common_times.begin(), common_times.end());
   std::vector<std::size_t> begin;  // first row (in `rows`) of each track
   for (std::size_t q = 0; q < rows.size(); ++q)
     if (q == 0 || tracks.track[rows[q]] != tracks.track[rows[q - 1]]) {
@@ -270,10 +280,92 @@ std::vector<double> covariance_square_roots(const AlignedTracks& x) {
   return out;
 }
 
+// The scan terms dᵀC⁻¹d of a pair of aligned tracks, for the three forms of C (independent, ρ,
+// common process noise): what sequential_statistic sums and scan_terms returns, computed once.
+template <int D>
+class PairTerms {
+ public:
+  PairTerms(const AlignedTracks& a, const AlignedTracks& b, const StatisticOptions& opt)
+      : a_(a), b_(b), d_(a.dim), P_(packed_size(a.dim)), K_(a.n_times) {
+    rho_ = opt.correlated ? opt.cross_correlation : 0.0;
+    if (rho_ > 0.0) {
+      sqrt_a_ = covariance_square_roots<D>(a);
+      sqrt_b_ = covariance_square_roots<D>(b);
+    }
+    common_ = opt.common_process_noise > 0.0;
+    if (common_) {
+      gain_a_ = gain_complements(a, opt.common_process_noise);
+      gain_b_ = gain_complements(b, opt.common_process_noise);
+      F_.resize(K_);
+      Q_.resize(K_);
+      for (int32_t k = 1; k < K_; ++k) {
+        Eigen::MatrixXd F, Q;
+        cv_transition(d_, a.times[k] - a.times[k - 1], opt.common_process_noise, F, Q);
+        F_[k] = F;
+        Q_[k] = Q;
+      }
+    }
+  }
+
+  // Calls fn(k, term) for every common time k where tracks i (of a) and j (of b) both exist.
+  template <class Fn>
+  void for_each(std::size_t i, std::size_t j, Fn&& fn) const {
+    Mat<D> Pab = Mat<D>::Zero(d_, d_);  // Bar-Shalom–Campo cross-covariance (common_ only)
+    bool chained = false;               // both tracks existed at k − 1
+    for (int32_t k = 0; k < K_; ++k) {
+      const std::size_t ca = i * K_ + k, cb = j * K_ + k;
+      if (!a_.valid[ca] || !b_.valid[cb]) {
+        chained = false;
+        continue;
+      }
+      Vec<D> diff(d_);
+      for (int c = 0; c < d_; ++c) diff[c] = a_.state[ca * d_ + c] - b_.state[cb * d_ + c];
+      Mat<D> C = unpack<D>(&a_.cov[ca * P_], d_) + unpack<D>(&b_.cov[cb * P_], d_);  // seed 000 Eq. 2
+      if (rho_ > 0.0) {
+        // Bar-Shalom–Campo: C = P_a + P_b − P_ab − P_ba, P_ab + P_ba ≈ ρ(S_a S_b + S_b S_a).
+        const Mat<D> Sa = unpack<D>(&sqrt_a_[ca * P_], d_), Sb = unpack<D>(&sqrt_b_[cb * P_], d_);
+        const Mat<D> SaSb = Sa * Sb;
+        C.noalias() -= rho_ * (SaSb + SaSb.transpose());
+      }
+      if (common_) {
+        // P_ab(k) = A_a(k)[F P_ab(k−1) Fᵀ + Q]A_b(k)ᵀ (kernels/cross_covariance.hpp), 0 at a start.
+        if (chained) {
+          const Eigen::Map<const Eigen::Matrix<double, D, D, Eigen::RowMajor>> Aa(&gain_a_[ca * d_ * d_], d_,
+                                                                                  d_),
+              Ab(&gain_b_[cb * d_ * d_], d_, d_);
+          const Mat<D> prior = F_[k] * Pab * F_[k].transpose() + Q_[k];
+          Pab = Aa * prior * Ab.transpose();
+        } else {
+          Pab.setZero();
+        }
+        C.noalias() -= Pab + Pab.transpose();
+      }
+      chained = true;
+      Eigen::LLT<Mat<D>> llt(C);
+      if (llt.info() != Eigen::Success)  // build the message only on failure: this is the hot loop
+        throw InputError("independent_sequential_statistic: C = P_a + P_b" +
+                         std::string(rho_ > 0.0 || common_ ? " − P_ab − P_ba" : "") +
+                         " is not positive definite for sensor " + std::to_string(a_.sensor) + " track " +
+                         std::to_string(a_.track[i]) + " vs sensor " + std::to_string(b_.sensor) + " track " +
+                         std::to_string(b_.track[j]) + " at common time " + std::to_string(k));
+      fn(k, llt.matrixL().solve(diff).squaredNorm());
+    }
+  }
+
+ private:
+  const AlignedTracks &a_, &b_;
+  int d_, P_;
+  int32_t K_;
+  double rho_ = 0.0;
+  bool common_ = false;
+  std::vector<double> sqrt_a_, sqrt_b_, gain_a_, gain_b_;
+  std::vector<Mat<D>> F_, Q_;
+};
+
 template <int D>
 PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
                                    const StatisticOptions& opt) {
-  const int d = a.dim, P = packed_size(d);
+  const int d = a.dim;
   const int32_t K = a.n_times, na = a.n_tracks(), nb = b.n_tracks();
   PairStatistic s;
   s.n_a = na;
@@ -283,13 +375,7 @@ PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& 
   s.dof.assign(pairs, 0);
   s.in_gate.assign(pairs, 0);
 
-  const bool correlated = opt.correlated && opt.cross_correlation > 0.0;
-  const double rho = opt.cross_correlation;
-  std::vector<double> sqrt_a, sqrt_b;
-  if (correlated) {
-    sqrt_a = covariance_square_roots<D>(a);
-    sqrt_b = covariance_square_roots<D>(b);
-  }
+  const PairTerms<D> terms(a, b, opt);
   const SequentialGate gate(d, opt, K);
   std::vector<double> threshold(K + 1, 0.0);
   for (int32_t k = 1; k <= K; ++k) threshold[k] = gate.threshold(k);
@@ -302,31 +388,11 @@ PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& 
       for (int32_t j = 0; j < nb; ++j) {
         double lambda = 0.0;
         int32_t times = 0, below_cap = 0;
-        for (int32_t k = 0; k < K; ++k) {
-          const std::size_t ca = i * K + k, cb = static_cast<std::size_t>(j) * K + k;
-          if (!a.valid[ca] || !b.valid[cb]) continue;
-          Vec<D> diff(d);
-          for (int c = 0; c < d; ++c) diff[c] = a.state[ca * d + c] - b.state[cb * d + c];
-          Mat<D> C = unpack<D>(&a.cov[ca * P], d) + unpack<D>(&b.cov[cb * P], d);  // seed 000 Eq. 2
-          if (correlated) {
-            // Bar-Shalom–Campo: C = P_a + P_b − P_ab − P_ba, P_ab + P_ba ≈ ρ(S_a S_b + S_b S_a).
-            const Mat<D> Sa = unpack<D>(&sqrt_a[ca * P], d), Sb = unpack<D>(&sqrt_b[cb * P], d);
-            const Mat<D> SaSb = Sa * Sb;
-            C.noalias() -= rho * (SaSb + SaSb.transpose());
-          }
-          Eigen::LLT<Mat<D>> llt(C);
-          if (llt.info() != Eigen::Success)  // build the message only on failure: this is the hot loop
-            throw InputError(
-                "independent_sequential_statistic: C = P_a + P_b is not positive definite for sensor " +
-                std::to_string(a.sensor) + " track " + std::to_string(a.track[i]) + " vs sensor " +
-                std::to_string(b.sensor) + " track " + std::to_string(b.track[j]) + " at common time " +
-                std::to_string(k));
-          const Vec<D> w = llt.matrixL().solve(diff);
-          const double term = w.squaredNorm();
+        terms.for_each(i, static_cast<std::size_t>(j), [&](int32_t, double term) {
           below_cap += term <= cap;
           lambda += std::min(term, cap);  // seed 000 Eq. 1: λ(k) = λ(k−1) + dᵀC⁻¹d (capped: kCalibrated)
           ++times;
-        }
+        });
         const std::size_t idx = i * nb + j;
         s.lambda[idx] = lambda;
         s.dof[idx] = d * times;
@@ -337,23 +403,26 @@ PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& 
   return s;
 }
 
-}  // namespace
-
-PairStatistic independent_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
-                                               const StatisticOptions& options) {
-  options.validate();
-  require(a.dim == b.dim, "independent_sequential_statistic",
+void check_aligned_pair(const AlignedTracks& a, const AlignedTracks& b, const char* who) {
+  require(a.dim == b.dim, who,
           "state dimensions differ: " + std::to_string(a.dim) + " vs " + std::to_string(b.dim));
   require(
-      a.n_times == b.n_times, "independent_sequential_statistic",
+      a.n_times == b.n_times, who,
       "numbers of common times differ: " + std::to_string(a.n_times) + " vs " + std::to_string(b.n_times));
   for (const AlignedTracks* x : {&a, &b}) {
     const std::size_t cells = static_cast<std::size_t>(x->n_tracks()) * x->n_times;
     require(x->dim > 0 && x->valid.size() == cells && x->state.size() == cells * x->dim &&
                 x->cov.size() == cells * packed_size(x->dim),
-            "independent_sequential_statistic",
-            "aligned tracks of sensor " + std::to_string(x->sensor) + " have inconsistent array sizes");
+            who, "aligned tracks of sensor " + std::to_string(x->sensor) + " have inconsistent array sizes");
   }
+}
+
+}  // namespace
+
+PairStatistic independent_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
+                                               const StatisticOptions& options) {
+  options.validate();
+  check_aligned_pair(a, b, "independent_sequential_statistic");
   switch (a.dim) {
     case 4:
       return sequential_statistic<4>(a, b, options);
@@ -366,27 +435,13 @@ PairStatistic independent_sequential_statistic(const AlignedTracks& a, const Ali
 
 std::vector<double> scan_terms(const AlignedTracks& a, int32_t ia, const AlignedTracks& b, int32_t ib,
                                const StatisticOptions& options) {
-  require(a.dim == b.dim && a.n_times == b.n_times, "scan_terms", "the aligned tracks do not match");
+  options.validate();
+  check_aligned_pair(a, b, "scan_terms");
   require(ia >= 0 && ia < a.n_tracks() && ib >= 0 && ib < b.n_tracks(), "scan_terms", "track out of range");
-  const int d = a.dim, P = packed_size(d);
-  const int32_t K = a.n_times;
-  std::vector<double> out(K, std::numeric_limits<double>::quiet_NaN());
-  for (int32_t k = 0; k < K; ++k) {
-    const std::size_t ca = static_cast<std::size_t>(ia) * K + k, cb = static_cast<std::size_t>(ib) * K + k;
-    if (!a.valid[ca] || !b.valid[cb]) continue;
-    Eigen::VectorXd diff(d);
-    for (int c = 0; c < d; ++c) diff[c] = a.state[ca * d + c] - b.state[cb * d + c];
-    Eigen::MatrixXd C = unpack<Eigen::Dynamic>(&a.cov[ca * P], d) + unpack<Eigen::Dynamic>(&b.cov[cb * P], d);
-    if (options.correlated && options.cross_correlation > 0.0) {
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ea(unpack<Eigen::Dynamic>(&a.cov[ca * P], d)),
-          eb(unpack<Eigen::Dynamic>(&b.cov[cb * P], d));
-      const Eigen::MatrixXd SaSb = ea.operatorSqrt() * eb.operatorSqrt();
-      C -= options.cross_correlation * (SaSb + SaSb.transpose());
-    }
-    Eigen::LLT<Eigen::MatrixXd> llt(C);
-    if (llt.info() != Eigen::Success) throw InputError("scan_terms: C is not positive definite");
-    out[k] = llt.matrixL().solve(diff).squaredNorm();
-  }
+  std::vector<double> out(a.n_times, std::numeric_limits<double>::quiet_NaN());
+  const PairTerms<Eigen::Dynamic> terms(a, b, options);
+  terms.for_each(static_cast<std::size_t>(ia), static_cast<std::size_t>(ib),
+                 [&](int32_t k, double term) { out[k] = term; });
   return out;
 }
 

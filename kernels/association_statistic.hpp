@@ -14,7 +14,9 @@
 //   λ(k) = λ(k−1) + dᵀ C⁻¹ d,   d = x̂_a(k) − x̂_b(k),   C = P_a + P_b              (Eq. 1–2)
 //
 // and the correlated-error variant uses C = P_a + P_b − P_ab − P_ba (Bar-Shalom–Campo), with the
-// cross-covariance approximated as P_ab = ρ·(P_a^{1/2} P_b^{1/2}) for a user-chosen ρ, using the
+// cross-covariance either computed by the Bar-Shalom–Campo recursion from common process noise
+// (StatisticOptions::common_process_noise; kernels/cross_covariance.hpp), or approximated as
+// P_ab = ρ·(P_a^{1/2} P_b^{1/2}) for a user-chosen ρ, using the
 // principal (symmetric) square roots, so that C = (1−ρ)(P_a + P_b) + ρ(P_a^{1/2} − P_b^{1/2})² stays
 // SPD for 0 ≤ ρ < 1. Alignment uses continuous white-noise acceleration (details in the .cpp).
 //
@@ -62,6 +64,7 @@ struct AlignedTracks {
   int32_t sensor = 0;
   int32_t dim = 4;  // D
   int32_t n_times = 0;
+  std::vector<double> times;   // the common times (n_times; align_tracks fills it)
   std::vector<int32_t> track;  // local track number of each row
   std::vector<int32_t> truth;  // truth id of each row (-1 unknown)
   std::vector<double> state;
@@ -111,6 +114,13 @@ enum class GateMethod {
 struct StatisticOptions {
   bool correlated = false;         // Bar-Shalom–Campo correlated-error form
   double cross_correlation = 0.0;  // ρ in [0, 1) for the correlated form
+  // Correlated errors from common process noise (Bar-Shalom & Campo 1986; seed 000 §4's
+  // "节点间误差相关" case): σ_a [m/s²] of the targets' white-noise acceleration, which the local
+  // CV Kalman filters also assume; > 0 computes the cross-covariance by the recursion
+  //   P_ab(k) = A_a(k)·[F P_ab(k−1) Fᵀ + Q]·A_b(k)ᵀ,   A(k) = I − K(k)H = P(k)·[F P(k−1) Fᵀ + Q]⁻¹,
+  // reading each filter's gain off its own reported covariances (kernels/cross_covariance.hpp), and
+  // uses C = P_a + P_b − P_ab − P_abᵀ. 0 = off. Exclusive with `correlated`.
+  double common_process_noise = 0.0;
   double gate_probability = 0.99;  // nominal acceptance of a true pair; 1.0 disables gating
   GateMethod gate = GateMethod::kCalibrated;
   double cap_probability = 0.999;      // kCalibrated: c = χ²_D(cap_probability) per scan, in (0, 1)

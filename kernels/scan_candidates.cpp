@@ -172,7 +172,7 @@ CandidatePairs scan_candidate_pairs_all_pairs(const AlignedTracks& a, const Alig
 
 CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTracks& b,
                                        const CandidatePairs& pairs, const StatisticOptions& statistic) {
-  if (statistic.correlated && statistic.cross_correlation > 0.0)
+  if ((statistic.correlated && statistic.cross_correlation > 0.0) || statistic.common_process_noise > 0.0)
     return pairs;  // the bound is for C = P_a + P_b
   const SequentialGate gate(a.dim, statistic, a.n_times);
   if (!gate.enabled()) return pairs;

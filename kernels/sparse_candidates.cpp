@@ -282,6 +282,7 @@ void copy_rows(const AlignedTracks& x, std::span<const int32_t> rows, AlignedTra
   out.sensor = x.sensor;
   out.dim = x.dim;
   out.n_times = x.n_times;
+  out.times = x.times;
   out.track.resize(rows.size());
   out.truth.resize(rows.size());
   out.state.resize(rows.size() * K * D);
