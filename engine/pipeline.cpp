@@ -62,6 +62,7 @@ nlohmann::json PipelineOptions::to_json() const {
           {"max_extrapolation", alignment.max_extrapolation},
           {"correlated", statistic.correlated},
           {"cross_correlation", statistic.cross_correlation},
+          {"common_process_noise", statistic.common_process_noise},
           {"gate_probability", statistic.gate_probability},
           {"cost_form", cost_form_name(cost.form)},
           {"gated_pair_cost", cost.gated_pair_cost}};

@@ -39,7 +39,11 @@ void register_experiment_seed000(CLI::App& experiment) {
       "seed000", "Seed 000 Monte Carlo: correct association of hopfield-paper, hopfield, chnn, lr and exact");
   cmd->add_option("--targets", args->o.targets, "Target counts")->capture_default_str();
   cmd->add_option("--runs", args->o.runs, "Monte Carlo runs per configuration")->capture_default_str();
-  cmd->add_option("--correlation", args->o.correlation, "ρ of the correlated-error case")
+  cmd->add_option("--process-noise", args->o.process_noise,
+                  "σ_a [m/s²] of the targets' white-noise acceleration in the correlated-error case (errors "
+                  "correlated through common process noise, Bar-Shalom–Campo)")
+      ->capture_default_str();
+  cmd->add_option("--forms", args->o.forms, "Cost forms: chain (Eq. 3, separable) and/or all-pairs")
       ->capture_default_str();
   cmd->add_option("--solvers", args->o.solvers, "Solvers to compare")->capture_default_str();
   finish_experiment_command(cmd, args, "SVG plot ('' = none)",

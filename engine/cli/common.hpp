@@ -86,6 +86,8 @@ struct PipelineFlags {
   std::string solver_options = "{}";
   double memory_budget_mib = 0.0;  // 0 = CostTensorOptions' default
   bool sparse = false;             // engine/sparse_pipeline.hpp instead of the dense tensor
+  std::string common_span = "union";
+  std::string link_cost = "per-scan";
 };
 
 inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
@@ -128,6 +130,21 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
   cmd->add_flag("--sparse", f.sparse,
                 "Three-sensor sparse path for the 3-D solvers: gated candidate tuples, connected components "
                 "solved in parallel (the default pipeline is sparse already)");
+  cmd->add_option("--common-span", f.common_span,
+                  "Common times over the union of the sensors' report intervals, or their intersection "
+                  "starting one period after the latest first report (seed 000's simulations)")
+      ->check(CLI::IsMember({"union", "intersection"}))
+      ->capture_default_str();
+  cmd->add_option("--link-cost", f.link_cost,
+                  "S-D link cost of a gated-in pair: per-scan, (λ − G(n))/n, or per-independent-scan, "
+                  "(λ − G(n))/f (seed 004's λ − χ²(n·D) with the chi2-sum gate)")
+      ->check(CLI::IsMember({"per-scan", "per-independent-scan"}))
+      ->capture_default_str();
+  cmd->add_option("--common-process-noise", f.options.statistic.common_process_noise,
+                  "Correlated errors from common process noise: the Bar-Shalom–Campo cross-covariance of "
+                  "CV Kalman tracks whose targets have white-noise acceleration SIGMA [m/s²] (0 = off)")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
 }
 
 // Resolves the string flags into PipelineOptions; throws InputError on bad values.
@@ -136,6 +153,8 @@ inline PipelineOptions resolve(PipelineFlags& f) {
   o.cost.form = f.cost_form == "all-pairs" ? CostForm::kAllPairs : CostForm::kChain;
   o.statistic.gate = f.gate_method == "chi2-sum" ? GateMethod::kChiSquareSum : GateMethod::kCalibrated;
   o.alignment.method = f.alignment == "forward" ? AlignmentMethod::kForward : AlignmentMethod::kTwoSided;
+  o.span_union = f.common_span == "union";
+  o.statistic.link = f.link_cost == "per-scan" ? LinkCost::kPerScan : LinkCost::kPerIndependentScan;
   if (f.memory_budget_mib != 0.0) {
     if (!(f.memory_budget_mib > 0.0 && f.memory_budget_mib < 1e12))
       throw InputError("--memory-budget: expected a size > 0 [MiB], got " +
