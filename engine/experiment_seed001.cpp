@@ -14,8 +14,112 @@
 
 namespace trackassoc {
 
+const char* bearing_reading_name(BearingReading r) {
+  return r == BearingReading::kErratum ? "erratum" : "literal";
+}
+
+BearingReading parse_bearing_reading(const std::string& name) {
+  if (name == "erratum") return BearingReading::kErratum;
+  if (name == "literal") return BearingReading::kLiteral;
+  throw InputError("--sigma-bearing-reading: expected erratum (σθ1 = 0.1°) or literal (1°), got '" + name +
+                   "'");
+}
+
+FtaaOptions Seed001Options::paper_ftaa() {
+  FtaaOptions f;
+  f.association_quality = 6;  // seed 001 §1: "generally m ≥ 6, D ≥ 6"
+  f.separation_quality = 6;
+  f.gate = 800.0;  // §4: tracking gate radius 800 m
+  return f;
+}
+
+namespace {
+
+constexpr double kSigmaRange[4] = {50.0, 100.0, 50.0, 120.0};  // σr per node [m] (§4)
+constexpr double kReliability[4] = {1.0, 0.8, 1.0, 0.6};       // ω per node (§4)
+
+// Per-axis variance of node l's converted plot at range R (the trace of
+// R = J diag(σr², σθ²) Jᵀ over 2, kernels/kalman_converted.hpp).
+double node_plot_variance(BearingReading reading, int l, double R) {
+  const double sb = seed001_sigma_bearing(reading)[l];
+  return 0.5 * (kSigmaRange[l] * kSigmaRange[l] + R * R * sb * sb);
+}
+
+}  // namespace
+
+std::array<double, 4> seed001_sigma_bearing(BearingReading reading) {
+  const double deg = std::numbers::pi / 180.0;
+  // Erratum: σθ1 = 0.1° (the printed 1° contradicts the reliabilities; header comment).
+  const double node1 = reading == BearingReading::kErratum ? 0.1 : 1.0;
+  return {node1 * deg, 0.12 * deg, 0.1 * deg, 0.12 * deg};
+}
+
+double seed001_plot_sigma(BearingReading reading, double range) {
+  double v = 0.0;
+  for (int l = 0; l < 4; ++l) v += node_plot_variance(reading, l, range) / 4.0;
+  return std::sqrt(v);
+}
+
+AlphaBetaOptions seed001_smoother(const Seed001Options& o) {
+  AlphaBetaOptions ab;
+  ab.gains = AlphaBetaGainMode::kKalata;
+  ab.process_noise = o.smoother_process_noise;
+  ab.measurement_noise = seed001_plot_sigma(o.bearing_reading, o.design_range);
+  ab.expanding_memory_start = true;
+  return ab;
+}
+
+Seed001Model seed001_model(const Seed001Options& o) {
+  Seed001Model m;
+  const AlphaBetaOptions ab = o.design_smoother ? seed001_smoother(o) : o.fuzzy.smoother;
+  m.plot_sigma = ab.measurement_noise;
+  m.steady_gains = alpha_beta_gains(ab, 1.0);
+  double var[4];
+  for (int l = 0; l < 4; ++l) var[l] = node_plot_variance(o.bearing_reading, l, o.design_range);
+  const double T4 = o.packet_period, T = o.packet_period / 4.0;
+  const int first = static_cast<int>(std::llround(T4 / T));  // first temporary track: node 1 at 4 s
+  const int steps = static_cast<int>(std::floor(o.duration / T + 1e-9));
+  // Proposed: one system track's covariance through the bank's own gains.
+  AlphaBetaBank bank(2, 0, ab);
+  const double zero[2] = {0.0, 0.0};
+  bank.add_track(zero, zero);
+  double pp = var[0], pv = var[0] / T4, vv = 2.0 * var[0] / (T4 * T4);
+  double sum_p = std::sqrt(2.0 * pp), sum_f = std::sqrt(2.0 * var[0]);
+  const int firm_step = first + o.ftaa.association_quality * first;
+  for (int k = first + 1; k <= steps; ++k) {
+    const int l = k % 4;
+    bank.predict_track(0, T);
+    const AlphaBetaGains g = bank.next_update_gains(0);
+    bank.update_track(0, zero);
+    // Predict (no process noise: the targets fly straight), then the update with K = [α, β/T].
+    const double ppp = pp + 2.0 * T * pv + T * T * vv, ppv = pv + T * vv, pvv = vv;
+    const double a = g.alpha, b = g.beta / T;
+    pp = (1 - a) * (1 - a) * ppp + a * a * var[l];
+    pv = (1 - a) * (ppv - b * ppp) + a * b * var[l];
+    vv = pvv - 2.0 * b * ppv + b * b * ppp + b * b * var[l];
+    sum_p += std::sqrt(2.0 * pp);
+    // FTAA: node l's own plot until firm, then the mean of the four nodes' predicted plots.
+    double fv = var[l];
+    if (k >= firm_step) {
+      fv = 0.0;
+      for (int age = 0; age < 4; ++age) {
+        const double r = age * T / T4;
+        fv += var[(l - age + 4) % 4] * ((1 + r) * (1 + r) + r * r) / 16.0;
+      }
+    }
+    sum_f += std::sqrt(2.0 * fv);
+  }
+  const int n = steps - first + 1;
+  m.proposed_rmse = sum_p / n;
+  m.ftaa_rmse = sum_f / n;
+  return m;
+}
+
 void Seed001Options::validate() const {
   require(runs >= 1, "runs", "expected >= 1");
+  require(std::isfinite(smoother_process_noise) && smoother_process_noise > 0, "smoother_process_noise",
+          "expected > 0 [m/s²]");
+  require(std::isfinite(design_range) && design_range > 0, "design_range", "expected > 0 [m]");
   require(std::isfinite(duration) && duration > 0, "duration", "expected > 0 [s]");
   require(std::isfinite(scan_period) && scan_period > 0, "scan_period", "expected > 0 [s]");
   require(std::isfinite(packet_period) && packet_period >= scan_period, "packet_period",
@@ -44,23 +148,20 @@ Scenario seed001_scenario(const Seed001Options& o) {
     t.segments.push_back(seg);
     s.targets.push_back(t);
   }
-  const double deg = std::numbers::pi / 180.0;
-  const double sr[4] = {50.0, 100.0, 50.0, 120.0};
-  const double sb[4] = {1.0, 0.12, 0.1, 0.12};
-  const double rel[4] = {1.0, 0.8, 1.0, 0.6};
+  const std::array<double, 4> sb = seed001_sigma_bearing(o.bearing_reading);
   const std::array<std::array<double, 3>, 4> pos{
       {{-40000.0, 0.0, 0.0}, {40000.0, 0.0, 0.0}, {0.0, -60000.0, 0.0}, {0.0, 60000.0, 0.0}}};
   for (int l = 0; l < 4; ++l) {
     Sensor sensor;
     sensor.id = l + 1;  // N1..N4
     sensor.position = pos[l];
-    sensor.sigma_range = sr[l];
-    sensor.sigma_bearing = sb[l] * deg;
+    sensor.sigma_range = kSigmaRange[l];
+    sensor.sigma_bearing = sb[l];
     sensor.period = o.scan_period;
     sensor.offset = l * o.packet_period / 4.0;  // staggered start: 0, 1, 2, 3 s
     sensor.p_detect = 1.0;
     sensor.clutter_rate = 0.0;
-    sensor.reliability = rel[l];
+    sensor.reliability = kReliability[l];
     s.sensors.push_back(sensor);
   }
   s.tracker.filter = "cv";
@@ -103,6 +204,7 @@ Seed001Result run_seed001(const Seed001Options& o) {
   std::array<FuzzyPipelineOptions, 2> method;
   method[0].method = FusionMethod::kFuzzy;
   method[0].fuzzy = o.fuzzy;
+  if (o.design_smoother) method[0].fuzzy.smoother = seed001_smoother(o);
   method[1].method = FusionMethod::kFtaa;
   method[1].ftaa = o.ftaa;
   for (auto& m : method) {
@@ -112,6 +214,8 @@ Seed001Result run_seed001(const Seed001Options& o) {
 
   std::vector<RunOutcome> outcomes(o.runs);
   Seed001Result result;
+  result.smoother = method[0].fuzzy.smoother;
+  result.model = seed001_model(o);
   parallel_for_range(static_cast<std::size_t>(o.runs), 1, [&](std::size_t b, std::size_t e) {
     for (std::size_t run = b; run < e; ++run) {
       const SimulationResult sim = simulate(scenario, o.seed, static_cast<int>(run));
