@@ -81,7 +81,11 @@ Scenario motion_scenario(int motion) {
   return sc;
 }
 
-Seed002Motion run_motion(int motion, const Seed002Options& o, const BpNetwork& net) {
+}  // namespace
+
+Seed002Motion run_seed002_motion(int motion, const Seed002Options& o, const Seed002Models& models,
+                                 const BpNetwork& net) {
+  models.validate();
   const Scenario sc = motion_scenario(motion);
   const auto trajectories = simulate_trajectories(sc, o.seed, 0);  // scripted: the same in every run
   const TargetTrajectory& truth = trajectories.front();
@@ -101,16 +105,20 @@ Seed002Motion run_motion(int motion, const Seed002Options& o, const BpNetwork& n
     for (std::size_t k = 0; k < K; ++k)
       z[r][k] = convert_polar(2, sc.sensors[0], m.range[k], m.bearing[k], 0.0);
   }
-  ImmBank imm(2, R, ImmOptions::seed002(), net);
+  CsParallelOptions par_options;  // the baseline, and the IMM's first model
+  par_options.f1.a_max = par_options.f2.a_max = models.cs_a_max;
+  par_options.f1.a_neg_max = par_options.f2.a_neg_max = -models.cs_a_max;
+  ImmOptions imm_options = ImmOptions::seed002();
+  imm_options.models[0].cs_parallel = par_options;
+  imm_options.models[1].process_noise = models.ca_sigma;
+  ImmBank imm(2, R, imm_options, net);
   CsParallelBank par(2, R, net);
-  CsParallelOptions par_options;
-  // The IMM's second model alone (CA Kalman, σ = 5 m/s²): shows how much quieter than the
+  // The IMM's second model alone (CA Kalman, σ = ca_sigma): shows how much quieter than the
   // CS-parallel filter it is on each motion, which bounds what mixing it in can gain.
-  const ImmModelSpec ca_spec = ImmOptions::seed002().models[1];  // a copy: seed002() is a temporary
   KinematicBank ca(2, 3, R);
   KalmanOptions ca_options;
   ca_options.model = KalmanModel::kConstantAcceleration;
-  ca_options.process_noise = ca_spec.process_noise;
+  ca_options.process_noise = models.ca_sigma;
   const double dt0 = scans[1] - scans[0];
   for (std::size_t r = 0; r < R; ++r) {
     auto vec = [](const ConvertedMeasurement& c) { return Eigen::Vector2d(c.z[0], c.z[1]); };
@@ -169,18 +177,33 @@ Seed002Motion run_motion(int motion, const Seed002Options& o, const BpNetwork& n
     out.imm_prob_cs.push_back(prob / R);
     out.f2_scale.push_back(scale / R);
   }
+  const double n = static_cast<double>(out.t.size() - 1);
   for (int q = 0; q < 3; ++q) {
-    double si = 0.0, sp = 0.0;
-    for (std::size_t k = 1; k < out.t.size(); ++k) si += out.rmse_imm[q][k], sp += out.rmse_cs_parallel[q][k];
+    double si = 0.0, sp = 0.0, sc = 0.0;
+    for (std::size_t k = 1; k < out.t.size(); ++k)
+      si += out.rmse_imm[q][k], sp += out.rmse_cs_parallel[q][k], sc += out.rmse_ca[q][k];
     out.ratio[q] = si / sp;
+    out.mean_imm[q] = si / n, out.mean_cs_parallel[q] = sp / n, out.mean_ca[q] = sc / n;
   }
+  for (double p : out.imm_prob_cs) out.mean_prob_cs += p / static_cast<double>(out.imm_prob_cs.size());
   return out;
 }
 
-}  // namespace
+void Seed002Models::validate() const {
+  require(std::isfinite(ca_sigma) && ca_sigma > 0.0, "--ca-sigma", "expected σ_CA > 0 [m/s²]");
+  require(std::isfinite(cs_a_max) && cs_a_max > 0.0, "--a-max", "expected a_max > 0 [m/s²]");
+}
 
 void Seed002Options::validate() const {
   require(runs >= 1 && runs <= 1000000, "--runs", "expected 1 ≤ runs ≤ 10^6, got " + std::to_string(runs));
+  models.validate();
+  for (double v : sensitivity_ca_sigma)
+    require(std::isfinite(v) && v > 0.0, "--sensitivity-ca-sigma", "expected values > 0 [m/s²]");
+  for (double v : sensitivity_a_max)
+    require(std::isfinite(v) && v > 0.0, "--sensitivity-a-max", "expected values > 0 [m/s²]");
+  if (sensitivity)
+    require(!sensitivity_ca_sigma.empty() && !sensitivity_a_max.empty(), "--sensitivity",
+            "expected at least one σ_CA and one a_max");
 }
 
 Seed002Result run_seed002(const Seed002Options& o) {
@@ -192,8 +215,14 @@ Seed002Result run_seed002(const Seed002Options& o) {
   const BpNetwork net = trained_cs_network(&training);
   result.network_error = training.final_error;
   result.network_mse = training.final_mse;
-  for (int m = 0; m < 4; ++m) result.motions.push_back(run_motion(m, o, net));
-  result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (int m = 0; m < 4; ++m) result.motions.push_back(run_seed002_motion(m, o, o.models, net));
+  const auto mid = std::chrono::steady_clock::now();
+  result.wall_time_s = std::chrono::duration<double>(mid - start).count();
+  if (o.sensitivity) {
+    result.sensitivity = run_seed002_sensitivity(o, net);
+    result.sensitivity_wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - mid).count();
+  }
   return result;
 }
 
@@ -205,6 +234,8 @@ void write_seed002(const std::string& path, const Seed002Result& res) {
       write_experiment_header(root, "seed002");
       root.write_attribute("runs", static_cast<int32_t>(res.options.runs));
       root.write_attribute("seed", res.options.seed);
+      root.write_attribute("ca_sigma", res.options.models.ca_sigma);
+      root.write_attribute("cs_a_max", res.options.models.cs_a_max);
       root.write_attribute("network_total_error", res.network_error);
       root.write_attribute("network_mse", res.network_mse);
       root.write_attribute("ratio_definition",
@@ -234,6 +265,7 @@ void write_seed002(const std::string& path, const Seed002Result& res) {
           g.write_attribute(std::string("paper_") + q_names[q], kSeed002PaperTable1[m][q]);
         }
       }
+      if (!res.sensitivity.empty()) write_seed002_sensitivity(root, res);
     }
     f.close();
   });
@@ -243,8 +275,10 @@ namespace {
 
 void print_seed002(const Seed002Result& res, std::ostream& os) {
   using cli::fmt;
-  os << "seed002: IMM {CS-parallel + network, CA σ=5 m/s²} vs CS-parallel, " << res.options.runs
-     << " Monte Carlo runs, seed " << res.options.seed << " (" << fmt(res.wall_time_s, "%.2f") << " s)\n"
+  os << "seed002: IMM {CS-parallel + network (a_max=" << fmt(res.options.models.cs_a_max, "%g")
+     << " m/s²), CA σ=" << fmt(res.options.models.ca_sigma, "%g") << " m/s²} vs CS-parallel, "
+     << res.options.runs << " Monte Carlo runs, seed " << res.options.seed << " ("
+     << fmt(res.wall_time_s, "%.2f") << " s)\n"
      << "network: 5000 iterations, total error ½Σ = " << fmt(res.network_error, "%.3g")
      << ", mean squared error = " << fmt(res.network_mse, "%.3g") << " (paper: 2.6e-5)\n\n"
      << "Error-compression ratio IMM / CS-parallel (mean RMSE over scans 2..100):\n";
@@ -257,22 +291,17 @@ void print_seed002(const Seed002Result& res, std::ostream& os) {
            fmt(kSeed002PaperTable1[m][2], "%.4f")});
   }
   t.print(os);
-  os << "\nMean RMSE over scans 2..100 (IMM | CS-parallel | CA σ=5 alone):\n";
+  os << "\nMean RMSE over scans 2..100 (IMM | CS-parallel | CA model alone):\n";
   cli::TextTable r({"motion", "pos [m]", "vel [m/s]", "acc [m/s²]", "mean μ(CS)", "mean y (F2)"});
   for (std::size_t m = 0; m < res.motions.size(); ++m) {
     const auto& mo = res.motions[m];
     std::string cells[3];
-    for (int q = 0; q < 3; ++q) {
-      double si = 0, sp = 0, sc = 0;
-      for (std::size_t k = 1; k < mo.t.size(); ++k)
-        si += mo.rmse_imm[q][k], sp += mo.rmse_cs_parallel[q][k], sc += mo.rmse_ca[q][k];
-      const double n = static_cast<double>(mo.t.size() - 1);
-      cells[q] = fmt(si / n, "%.2f") + " | " + fmt(sp / n, "%.2f") + " | " + fmt(sc / n, "%.2f");
-    }
-    double mu = 0, y = 0;
-    for (double p : mo.imm_prob_cs) mu += p / mo.imm_prob_cs.size();
+    for (int q = 0; q < 3; ++q)
+      cells[q] = fmt(mo.mean_imm[q], "%.2f") + " | " + fmt(mo.mean_cs_parallel[q], "%.2f") + " | " +
+                 fmt(mo.mean_ca[q], "%.2f");
+    double y = 0;
     for (double v : mo.f2_scale) y += v / mo.f2_scale.size();
-    r.add({labels[m], cells[0], cells[1], cells[2], fmt(mu, "%.2f"), fmt(y, "%.3f")});
+    r.add({labels[m], cells[0], cells[1], cells[2], fmt(mo.mean_prob_cs, "%.2f"), fmt(y, "%.3f")});
   }
   r.print(os);
   os << "\nWhy ours differs from the paper's Table 1: the paper's motions, sensor, noise levels, CS "
@@ -286,6 +315,9 @@ void print_seed002(const Seed002Result& res, std::ostream& os) {
         "CS-parallel filter far noisier than its CA model. The ratio also depends on the undefined "
         "averaging\n"
         "(we average RMSE over scans, then divide).\n";
+  if (res.sensitivity.empty())
+    os << "Run with --sensitivity for the sweep over the CA model's σ and the CS-parallel filter's "
+          "a_max.\n";
 }
 
 }  // namespace
@@ -310,6 +342,18 @@ void add_experiment_seed002(CLI::App* experiment) {
   cmd->add_option("--plots", args->plots, "Folder for the PNG plots (scripts/plot.py)")
       ->capture_default_str();
   cmd->add_flag("--no-plots", args->no_plots, "Skip the PNG plots");
+  cmd->add_option("--ca-sigma", args->options.models.ca_sigma, "σ of the IMM's CA model [m/s²] (paper: 5)")
+      ->capture_default_str();
+  cmd->add_option("--a-max", args->options.models.cs_a_max,
+                  "a_max = −a_−max of the CS-parallel filter [m/s²] (not in the paper)")
+      ->capture_default_str();
+  cmd->add_flag("--sensitivity", args->options.sensitivity,
+                "Also sweep σ_CA × a_max (--sensitivity-ca-sigma, --sensitivity-a-max) with the same seeds");
+  cmd->add_option("--sensitivity-ca-sigma", args->options.sensitivity_ca_sigma,
+                  "σ_CA values of the sweep [m/s²]")
+      ->capture_default_str();
+  cmd->add_option("--sensitivity-a-max", args->options.sensitivity_a_max, "a_max values of the sweep [m/s²]")
+      ->capture_default_str();
   cmd->callback([args] {
     std::unique_ptr<tbb::global_control> control;
     if (args->threads > 0)
@@ -320,6 +364,7 @@ void add_experiment_seed002(CLI::App* experiment) {
     const Seed002Result res = run_seed002(args->options);
     write_seed002(args->output, res);
     print_seed002(res, std::cout);
+    if (!res.sensitivity.empty()) print_seed002_sensitivity(res, std::cout);
     std::cout << "\nwrote " << args->output << "\n";
     if (!args->no_plots && run_plot_script("seed002 '" + args->output + "' --outdir '" + args->plots + "'"))
       std::cout << "plots in " << args->plots << "/\n";
