@@ -72,7 +72,7 @@ struct CommonOptions {
 // Adds --seed and --threads to a subcommand.
 inline void add_common_options(CLI::App* cmd, CommonOptions& common) {
   cmd->add_option("--seed", common.seed, "Random seed; results are bit-identical for any --threads")
-      ->check(seed_range())
+      ->transform(seed_range())  // transform: it may rewrite "010" as "10"
       ->capture_default_str();
   cmd->add_option("--threads", common.threads, "Worker threads (0 = all cores)")
       ->check(in_range(0, 1 << 16))
