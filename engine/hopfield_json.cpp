@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/solver_registry.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc {
@@ -33,19 +34,45 @@ HopfieldOptions hopfield_preset(const std::string& name) {
 
 namespace {
 
+// The keys hopfield_options_from_json reads (engine/hopfield_json.hpp), for the message on an unknown one.
+const std::vector<std::string> kHopfieldKeys{"energy",
+                                             "schedule",
+                                             "restarts",
+                                             "max_sweeps",
+                                             "init",
+                                             "init_density",
+                                             "greedy_noise",
+                                             "order",
+                                             "anneal_E_factor",
+                                             "anneal_sweeps",
+                                             "temperature",
+                                             "damping",
+                                             "continuous_async",
+                                             "dt",
+                                             "tau",
+                                             "u0_start",
+                                             "u0_end",
+                                             "gain_anneal_steps",
+                                             "noise",
+                                             "self_excitation",
+                                             "tolerance",
+                                             "mean_field_steps",
+                                             "repair",
+                                             "trace",
+                                             "polish",
+                                             "A",
+                                             "B",
+                                             "C",
+                                             "D",
+                                             "E"};
+
+// The checks of read_option_number (engine/solver_registry.hpp): type, integer, and the field's range
+// (5e9 for an int32 count, 1e300 for a float weight).
 template <class T>
 T get_number(const nlohmann::json& j, const std::string& key, const std::string& solver) {
-  if (!j.is_number()) throw InputError("solver '" + solver + "' options: '" + key + "' must be a number");
-  if constexpr (std::is_integral_v<T>) {
-    if (!j.is_number_integer())
-      throw InputError("solver '" + solver + "' options: '" + key + "' must be an integer");
-    const auto v = j.get<int64_t>();
-    if (v < std::numeric_limits<T>::min() || v > std::numeric_limits<T>::max())
-      throw InputError("solver '" + solver + "' options: '" + key + "' out of range");
-    return static_cast<T>(v);
-  } else {
-    return j.get<T>();
-  }
+  T value{};
+  read_option_number(nlohmann::json{{key, j}}, key.c_str(), value, solver);
+  return value;
 }
 
 std::string get_string(const nlohmann::json& j, const std::string& key, const std::string& solver) {
@@ -157,7 +184,7 @@ HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohma
         weights_given = true;
         (k == "A" ? w.A : k == "B" ? w.B : k == "C" ? w.C : k == "D" ? w.D : w.E) = x;
       } else {
-        throw InputError("unknown key '" + k + "'");
+        throw InputError(unknown_name_message("key", k, kHopfieldKeys));
       }
     } catch (const InputError& e) {
       const std::string msg = e.what();

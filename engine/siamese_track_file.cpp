@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "engine/solver_registry.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc {
@@ -41,8 +42,13 @@ SiameseTrackFileOptions siamese_track_file_options(const nlohmann::json& j) {
   if (j.is_object())
     for (const auto& [key, v] : j.items()) {
       if (key == "sensors") {
-        if (!v.is_array() || v.size() != 2 || !v[0].is_number_integer() || !v[1].is_number_integer())
-          throw InputError("--options: key 'sensors': expected two /sensors ids, e.g. [0, 1]");
+        auto id = [](const nlohmann::json& x) {
+          return x.is_number_unsigned() ? in_limits<int32_t>(x.get<uint64_t>())
+                                        : in_limits<int32_t>(x.get<int64_t>());
+        };
+        if (!v.is_array() || v.size() != 2 || !v[0].is_number_integer() || !v[1].is_number_integer() ||
+            !id(v[0]) || !id(v[1]))
+          throw InputError("--options: key 'sensors': expected two /sensors ids (int32), e.g. [0, 1]");
         o.sensors = {v[0].get<int32_t>(), v[1].get<int32_t>()};
       } else if (key == "points") {
         const std::string src = v.is_string() ? v.get<std::string>() : "";
@@ -54,8 +60,7 @@ SiameseTrackFileOptions siamese_track_file_options(const nlohmann::json& j) {
       } else if (key == "time_origin") {
         o.time_origin = number(v, key);
       } else if (key == "batch_tracks") {
-        if (!v.is_number_integer()) throw InputError("--options: key 'batch_tracks': expected an integer");
-        o.association.batch_tracks = v.get<int>();
+        read_option_number(j, "batch_tracks", o.association.batch_tracks, "siamese");  // integer, in range
       } else {
         throw InputError(
             "--options: unknown key '" + key +

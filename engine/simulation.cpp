@@ -20,11 +20,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "engine/simulation_recording.hpp"
 #include "engine/simulation_tracker.hpp"
 #include "engine/simulation_truth.hpp"
+#include "io/track_validation.hpp"
 #include "kernels/error.hpp"
 #include "kernels/kalman_converted.hpp"
 #include "kernels/parallel.hpp"
@@ -217,6 +219,42 @@ std::vector<TargetTrajectory> simulate_trajectories(const Scenario& sc, uint64_t
   return targets;
 }
 
+namespace {
+
+// The local tracks of a valid scenario can still be degenerate when a target passes over a sensor:
+// the measured range is clamped at 0 and the bearing is undefined, so the converted-measurement
+// covariance (Lerro & Bar-Shalom 1993, Eq. 4) is singular, and so are the tracks it updates. Such
+// tracks would fail when written (as "/tracks/cov: not positive definite" of the engine's own
+// output); this says what in the scenario causes it, with the targets' closest approach.
+void explain_degenerate_tracks(const Scenario& sc, const std::vector<TargetTrajectory>& targets,
+                               const TrackTable& tracks, uint64_t seed, int run) {
+  try {
+    track_validation::check_tracks("simulated local tracks", tracks, sc.sensors);
+  } catch (const InputError& e) {
+    const int d = spatial_dim(sc.layout);
+    double closest = std::numeric_limits<double>::infinity(), when = 0.0;
+    int32_t target = -1, sensor = -1;
+    const long steps = static_cast<long>(std::floor(sc.duration / sc.truth_step + 1e-9));
+    for (const Sensor& s : sc.sensors)
+      for (const auto& tr : targets)
+        for (long k = 0; k <= steps; ++k) {
+          const double t = static_cast<double>(k) * sc.truth_step;
+          const double r = cartesian_to_polar(d, s, tr.at(t).p).range;
+          if (r < closest) closest = r, when = t, target = tr.id, sensor = s.id;
+        }
+    std::string why = e.what();
+    if (target >= 0)
+      why += "; target " + std::to_string(target) + " comes within " + std::to_string(closest) +
+             " m of sensor " + std::to_string(sensor) + " at t = " + std::to_string(when) +
+             " s, where a radar's range-bearing measurement is degenerate: keep the targets (targets, "
+             "random_targets.area_min/area_max) away from the sensor positions";
+    throw InputError("scenario '" + sc.name + "' (seed " + std::to_string(seed) + ", run " +
+                     std::to_string(run) + "): its simulated tracks are degenerate: " + why);
+  }
+}
+
+}  // namespace
+
 SimulationResult simulate(const Scenario& sc, uint64_t seed, int run) {
   require(run >= 0, "simulate.run", "expected a run number ≥ 0");
   const std::vector<TargetTrajectory> targets = simulate_trajectories(sc, seed, run);
@@ -253,6 +291,7 @@ SimulationResult simulate(const Scenario& sc, uint64_t seed, int run) {
   }
   result.tracks = track_measurements(all, sc.sensors, sc.layout, sc.tracker, seed, run, scans).tracks;
   apply_recording(plan, sc, targets, result);
+  explain_degenerate_tracks(sc, targets, result.tracks, seed, run);
   return result;
 }
 

@@ -62,9 +62,45 @@ const std::vector<SolverEntry>& solver_registry() {
 const SolverEntry& find_solver(const std::string& name) {
   for (const auto& e : solver_registry())
     if (e.name == name) return e;
-  std::string known;
-  for (const auto& e : solver_registry()) known += (known.empty() ? "" : ", ") + e.name;
-  throw InputError("--solver: unknown solver '" + name + "'; known solvers: " + known);
+  std::vector<std::string> names;
+  for (const auto& e : solver_registry()) names.push_back(e.name);
+  throw InputError("--solver: " + unknown_name_message("solver", name, names));
+}
+
+namespace {
+
+// Levenshtein distance (insertions, deletions, substitutions of one character).
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+std::string unknown_name_message(const std::string& kind, const std::string& name,
+                                 const std::vector<std::string>& known) {
+  std::string message = "unknown " + kind + " '" + name + "'";
+  std::size_t best = std::string::npos;
+  std::string closest;
+  for (const auto& k : known) {
+    const std::size_t d = edit_distance(name, k);
+    if (d < best) best = d, closest = k;
+  }
+  if (!closest.empty() && best <= std::max<std::size_t>(2, name.size() / 3))
+    message += " (did you mean '" + closest + "'?)";
+  std::string list;
+  for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+  return message + "; known " + kind + (known.size() == 1 ? "" : "s") + ": " + (list.empty() ? "none" : list);
 }
 
 void reject_unknown_keys(const nlohmann::json& options, const std::vector<std::string>& known,
@@ -73,7 +109,7 @@ void reject_unknown_keys(const nlohmann::json& options, const std::vector<std::s
   if (!options.is_object()) throw InputError("solver '" + solver + "' options: expected a JSON object");
   for (auto it = options.begin(); it != options.end(); ++it)
     if (std::find(known.begin(), known.end(), it.key()) == known.end())
-      throw InputError("solver '" + solver + "' options: unknown key '" + it.key() + "'");
+      throw InputError("solver '" + solver + "' options: " + unknown_name_message("key", it.key(), known));
 }
 
 }  // namespace trackassoc

@@ -6,11 +6,15 @@
 // InputError. The same JSON is recorded in /associations/<name>/ attrs "options".
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kernels/assignment_types.hpp"
@@ -31,7 +35,26 @@ const std::vector<SolverEntry>& solver_registry();
 // Throws InputError listing the known names when `name` is unknown.
 const SolverEntry& find_solver(const std::string& name);
 
-// Reads an optional number; a wrong type is an InputError naming solver and key.
+// Whether `v` lies in the range of T (for float: finite and within ±max).
+template <class T, class V>
+bool in_limits(V v) {
+  if constexpr (std::is_floating_point_v<V>) {
+    if (!std::isfinite(v)) return false;
+    if constexpr (std::is_integral_v<T>)
+      return v >= static_cast<V>(std::numeric_limits<T>::lowest()) &&
+             v <= static_cast<V>(std::numeric_limits<T>::max());
+    else
+      return v >= -static_cast<V>(std::numeric_limits<T>::max()) &&
+             v <= static_cast<V>(std::numeric_limits<T>::max());
+  } else if constexpr (std::is_floating_point_v<T>) {
+    return true;
+  } else {
+    return std::in_range<T>(v);
+  }
+}
+
+// Reads an optional number; a wrong type, or a value the field cannot hold, is an InputError
+// naming solver and key.
 template <class T>
 void read_option_number(const nlohmann::json& o, const char* key, T& target, const std::string& solver) {
   if (o.is_null() || !o.contains(key)) return;
@@ -41,11 +64,27 @@ void read_option_number(const nlohmann::json& o, const char* key, T& target, con
     if (!v.is_number_integer())
       throw InputError("solver '" + solver + "' options: '" + key + "' must be an integer");
   }
+  // A value the field cannot hold is an input error, never a wrapped integer or an inf float.
+  const bool fits = v.is_number_integer() ? (v.is_number_unsigned() ? in_limits<T>(v.template get<uint64_t>())
+                                                                    : in_limits<T>(v.template get<int64_t>()))
+                                          : in_limits<T>(v.template get<double>());
+  if (!fits) {
+    std::ostringstream range;
+    range << std::numeric_limits<T>::lowest() << " to " << std::numeric_limits<T>::max();
+    throw InputError("solver '" + solver + "' options: '" + key + "' = " + v.dump() +
+                     " is out of range for the field (" + range.str() + ")");
+  }
   target = v.get<T>();
 }
 
 // Helper for solver adapters: throws InputError if `options` has a key not in `known`.
 void reject_unknown_keys(const nlohmann::json& options, const std::vector<std::string>& known,
                          const std::string& solver);
+
+// "unknown key 'restart' (did you mean 'restarts'?); known keys: a, b" for a solver's `key` not
+// in `known`; "did you mean" names the known key at the smallest edit distance when it is <= 2 (or
+// a third of the key's length). `kind` is "key" or "solver".
+std::string unknown_name_message(const std::string& kind, const std::string& name,
+                                 const std::vector<std::string>& known);
 
 }  // namespace trackassoc

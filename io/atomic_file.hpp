@@ -4,11 +4,27 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace trackassoc {
 
 // Calls write(tmp_path) and renames tmp_path to `path` when it returns. If write throws, the tmp
 // file is removed, `path` is untouched, and the exception propagates.
 void write_atomically(const std::string& path, const std::function<void(const std::string& tmp_path)>& write);
+
+// The check every command makes on all its output files before it computes or replaces anything
+// (issue 15: a failing second output must not cost the first). Each non-empty path must name a
+// file, not a directory, in an existing folder it may write to; no path may be given twice.
+// Empty paths ("" = no plot) are skipped. Throws InputError "PATH: why", naming `what` (e.g.
+// "--plot") when given.
+struct OutputPath {
+  std::string path;
+  std::string what;  // the option that names it, e.g. "--output"
+};
+void check_output_paths(const std::vector<OutputPath>& paths);
+
+// An input file `path` (named by option `what`) exists, is not a directory, and can be read;
+// otherwise an InputError saying which ("--instance results/: is a directory, not an instance file").
+void check_input_file(const std::string& path, const std::string& what, const std::string& kind);
 
 }  // namespace trackassoc

@@ -280,6 +280,15 @@ void read_random_targets(Reader& r, RandomTargetSpec& g) {
     if (g.area_max[d] < g.area_min[d])
       bad("area_max", "expected area_max >= area_min in every coordinate, found coordinate " +
                           std::to_string(d) + " smaller");
+  // Without area_min/area_max the area is the point (0, 0, 0): every target would start there, on
+  // top of each other (and of any sensor placed at the origin, whose range-bearing measurements of
+  // them are degenerate). Refused, so that the scenario is explained rather than its tracks.
+  if (g.count > 0 && g.area_max[0] == g.area_min[0] && g.area_max[1] == g.area_min[1])
+    bad("area_max",
+        "the target area is the single point (" + std::to_string(g.area_min[0]) + ", " +
+            std::to_string(g.area_min[1]) +
+            ") (area_min and area_max default to the origin), so every random target would start there; "
+            "give area_min and area_max, the corners of the area the targets start in");
   if (g.speed_max < g.speed_min) bad("speed_max", "expected speed_max >= speed_min");
   if (g.heading_max < g.heading_min) bad("heading_max", "expected heading_max >= heading_min");
 }

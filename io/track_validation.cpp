@@ -1,10 +1,12 @@
 #include "io/track_validation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 #include <unordered_set>
 
 #include "kernels/assignment_types.hpp"
@@ -51,6 +53,28 @@ std::set<int32_t> sensor_ids(const std::vector<Sensor>& sensors) {
   std::set<int32_t> ids;
   for (const Sensor& s : sensors) ids.insert(s.id);
   return ids;
+}
+
+// A local track reports at most once per time: two rows with the same (sensor, track, t) are an
+// error, naming both rows, whether the states differ (two different estimates of one track at one
+// instant: which one the alignment would use is arbitrary) or not (a repeated row).
+void check_unique_reports(const std::string& file, const TrackTable& t) {
+  std::vector<std::size_t> rows(t.sensor.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) rows[r] = r;
+  auto key = [&](std::size_t r) { return std::make_tuple(t.sensor[r], t.track[r], t.t[r], r); };
+  std::sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    const std::size_t a = rows[k - 1], b = rows[k];
+    if (t.sensor[a] != t.sensor[b] || t.track[a] != t.track[b] || t.t[a] != t.t[b]) continue;
+    bool same = true;
+    for (const auto& c : t.state) same = same && c[a] == c[b];
+    for (const auto& c : t.cov) same = same && c[a] == c[b];
+    fail_row(file, "/tracks", b,
+             "sensor " + std::to_string(t.sensor[b]) + ", track " + std::to_string(t.track[b]) +
+                 ", t = " + number(t.t[b]) + " is also row " + std::to_string(a) +
+                 (same ? " (the same state repeated)" : " with a different state") +
+                 "; a local track reports at most once per time");
+  }
 }
 
 }  // namespace
@@ -153,6 +177,7 @@ void check_tracks(const std::string& file, const TrackTable& t, const std::vecto
     const std::string why = positive_definite_failure(packed, d);
     if (!why.empty()) fail_row(file, "/tracks/cov", r, "covariance is not positive definite: " + why);
   }
+  check_unique_reports(file, t);
 }
 
 void check_truth(const std::string& file, const TruthTable& t) {
@@ -190,6 +215,24 @@ void check_measurements(const std::string& file, const Measurements& m, const st
   check_finite(file, "/measurements/t", m.t);
   check_finite(file, "/measurements/bearing", m.bearing);
   check_finite(file, "/measurements/elevation", m.elevation);
+}
+
+void check_measurement_noise(const std::string& file, const Measurements& m,
+                             const std::vector<Sensor>& sensors, bool three_d) {
+  const std::set<int32_t> reporting(m.sensor.begin(), m.sensor.end());
+  for (std::size_t r = 0; r < sensors.size(); ++r) {
+    const Sensor& s = sensors[r];
+    if (!reporting.count(s.id)) continue;
+    auto need_positive = [&](const char* dataset, double v) {
+      if (!(v > 0))
+        fail_row(file, dataset, r,
+                 "sensor " + std::to_string(s.id) +
+                     " reports /measurements, so its filters need σ > 0, found " + number(v));
+    };
+    need_positive("/sensors/sigma_range", s.sigma_range);
+    need_positive("/sensors/sigma_bearing", s.sigma_bearing);
+    if (three_d) need_positive("/sensors/sigma_elevation", s.sigma_elevation);
+  }
 }
 
 void check_association(const std::string& file, const AssociationRecord& a,

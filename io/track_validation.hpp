@@ -22,11 +22,17 @@ void check_sensors(const std::string& file, const std::vector<Sensor>& sensors);
 
 // Column lengths agree; every sensor is a /sensors id; track >= 0; t, state finite; every
 // covariance finite, symmetric by construction (packed) and positive definite (Cholesky);
-// truth >= -1. A sensor with zero tracks is valid.
+// truth >= -1; no two rows with the same (sensor, track, t). A sensor with zero tracks is valid.
 void check_tracks(const std::string& file, const TrackTable& tracks, const std::vector<Sensor>& sensors);
 
 void check_truth(const std::string& file, const TruthTable& truth);
 void check_measurements(const std::string& file, const Measurements& m, const std::vector<Sensor>& sensors);
+
+// For a tracker run on /measurements (`trackassoc filter`): every sensor that reports measurements
+// has σ_range > 0 and σ_bearing > 0 (and σ_elevation > 0 when `three_d`), the measurement noise of
+// its filters; a σ of 0 would give singular track covariances.
+void check_measurement_noise(const std::string& file, const Measurements& m,
+                             const std::vector<Sensor>& sensors, bool three_d);
 
 // tuples K×S with S = number of sensors and K = number of costs; every entry is -1 or a local
 // track number that sensor reports in /tracks; energy is rows×cols.

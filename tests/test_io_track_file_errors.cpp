@@ -260,6 +260,27 @@ TEST_F(BadTrackFile, IndefiniteCovarianceWithPositiveDiagonal) {
                "/tracks/cov: row 9: covariance is not positive definite: Cholesky pivot 1");
 }
 
+// Rows 12 and 13 of test::full_track_file are sensor 20, track 2 at t = 0 and t = 2 (row = 12·s +
+// 4·(2 - track) + k, t = 2k); t = 0 in row 13 makes them two reports of one track at one time.
+TEST_F(BadTrackFile, TwoReportsOfOneTrackAtOneTime) {
+  expect_error(set_element("/tracks/t", 13, 0.0),
+               "/tracks: row 13: sensor 20, track 2, t = 0 is also row 12 with a different state");
+}
+
+TEST(TrackFileWriter, RefusesTwoReportsOfOneTrackAtOneTime) {
+  TrackFile f = test::full_track_file(StateLayout::kXY_VXVY);
+  f.tracks.t[5] = f.tracks.t[4];  // sensor 10, track 1 (rows 4..7), t = 0 twice
+  test::TempDir dir;
+  try {
+    write_track_file(dir.file("out.h5"), f);
+    ADD_FAILURE() << "the writer accepted two reports of one track at one time";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("row 5: sensor 10, track 1, t = 0 is also row 4"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(dir.entries().empty()) << "no file, no .tmp left behind";
+}
+
 TEST_F(BadTrackFile, UnknownSensorId) {
   const hsize_t n = rows_;
   expect_error(

@@ -74,6 +74,7 @@ void register_associate(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
+    check_output_paths({{args->output, "--output"}});
     const PipelineOptions options = resolve(args->pipeline);
     nlohmann::json solver_options = parse_solver_options(args->pipeline.solver_options);
     const bool explicit_pipeline = args->sd || args->three_d || args->pipeline.sparse;

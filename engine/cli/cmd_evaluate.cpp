@@ -27,6 +27,7 @@ void register_evaluate(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
+    check_output_paths({{args->output, "--output"}});
     TrackFile file = read_track_file(args->input);
     if (file.associations.empty())
       throw InputError(args->input + ": /associations is empty; run `trackassoc associate` first");

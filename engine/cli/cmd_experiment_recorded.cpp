@@ -18,7 +18,9 @@ void register_experiment_recorded(CLI::App& experiment) {
       ->capture_default_str();
   cmd->add_option("--methods", args->o.methods, "default, exact, chi2-sum, 3d-exact, 3d-nogate")
       ->capture_default_str();
-  cmd->add_option("--runs", args->o.runs, "Monte Carlo runs per scenario")->capture_default_str();
+  cmd->add_option("--runs", args->o.runs, "Monte Carlo runs per scenario")
+      ->capture_default_str()
+      ->check(in_range(1, 10000));
   cmd->add_option("--files", args->o.files_dir, "Folder for the simulated track files (kept, for peers)")
       ->capture_default_str();
   cmd->add_flag("!--no-peer", args->o.peer, "Skip Stone Soup");

@@ -34,23 +34,34 @@ void register_experiment_scale(CLI::App& experiment) {
   auto& o = args->options;
   cmd->add_option("--sizes", o.sizes, "Targets per sensor, comma-separated")
       ->delimiter(',')
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(1));
   cmd->add_option("--dense-max", o.dense_max, "Run the dense path too up to this size")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(0));
   cmd->add_option("--solver", o.solver, "Solver for every component (and the dense path)")
       ->capture_default_str();
   cmd->add_option("--options", args->solver_options, "Solver options as a JSON object")
       ->capture_default_str();
-  cmd->add_option("--density", o.density, "Targets per 100 km^2 of ground")->capture_default_str();
-  cmd->add_option("--gate", o.gate_probability, "Chi-square gate probability")->capture_default_str();
-  cmd->add_option("--duration", o.tracks.duration, "Track set duration [s]")->capture_default_str();
+  cmd->add_option("--density", o.density, "Targets per 100 km^2 of ground")
+      ->capture_default_str()
+      ->check(above(0));
+  cmd->add_option("--gate", o.gate_probability, "Chi-square gate probability")
+      ->capture_default_str()
+      ->check(in_range(0, 1, true, true));
+  cmd->add_option("--duration", o.tracks.duration, "Track set duration [s]")
+      ->capture_default_str()
+      ->check(above(0));
   cmd->add_option("--sigma-pos", o.tracks.sigma_pos, "Local track position error sigma [m]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(above(0));
   cmd->add_option("--p-seen", o.tracks.p_seen, "Probability that a sensor holds a track of a target")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0, 1));
   cmd->add_option("--min-lifetime", o.tracks.min_lifetime_fraction,
                   "Each local track covers a random part of the duration, at least this fraction (1 = all)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0, 1, true));
   cmd->add_flag_function(
       "--two-d", [args](int64_t) { args->options.tracks.three_d = false; }, "2-D targets (default 3-D)");
   cmd->add_flag("--no-isolate", args->no_isolate,

@@ -61,11 +61,16 @@ void register_experiment_seed001(CLI::App& experiment) {
   auto* cmd = experiment.add_subcommand("seed001",
                                         "Seed 001: fuzzy association with temporary tracks and "
                                         "reliabilities vs FTAA, 4 sensors, two crossing targets");
-  cmd->add_option("--runs", args->options.runs, "Monte Carlo runs")->capture_default_str();
-  cmd->add_option("--duration", args->options.duration, "Scenario duration [s]")->capture_default_str();
+  cmd->add_option("--runs", args->options.runs, "Monte Carlo runs")
+      ->capture_default_str()
+      ->check(at_least(1));
+  cmd->add_option("--duration", args->options.duration, "Scenario duration [s]")
+      ->capture_default_str()
+      ->check(above(0));
   cmd->add_option("--packet-period", args->options.packet_period,
                   "Local node report period T [s] (sensors scan every 1 s)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(above(0));
   cmd->add_option("--sigma-bearing-reading", args->reading,
                   "Node 1's bearing σ: erratum (0.1°, consistent with the reliabilities) or literal (1° as "
                   "printed). The table shows both; this one is written to --output")
@@ -77,12 +82,15 @@ void register_experiment_seed001(CLI::App& experiment) {
   packets->check(CLI::IsMember({"plot", "track"}))->capture_default_str();
   cmd->add_option("--smoother-process-noise", args->options.smoother_process_noise,
                   "σ_w of the α-β (Kalata) design of the system tracks [m/s²]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(above(0));
   cmd->add_option("--timeout", args->options.fuzzy.track_timeout,
                   "Proposed method: drop a system track not updated for this long [s] (0 = never)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(0));
   cmd->add_option("--gate", args->options.fuzzy.gate, "Tracking gate radius [m] (both methods)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(above(0));
   cmd->add_option("--output,-o", args->output, "Output HDF5 file (run 0 and the RMSE curves)")
       ->capture_default_str();
   cmd->add_option("--plots", args->plots,
@@ -90,6 +98,7 @@ void register_experiment_seed001(CLI::App& experiment) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
+    check_output_paths({{args->output, "--output"}});
     Seed001Options o = args->options;
     o.seed = args->common.seed;
     o.ftaa.gate = o.fuzzy.gate;

@@ -16,6 +16,7 @@
 #include "io/hdf5_wrapper.hpp"
 #include "io/scenario_json.hpp"
 #include "io/track_file.hpp"
+#include "io/track_validation.hpp"
 
 namespace trackassoc::cli {
 
@@ -41,7 +42,7 @@ void register_filter(CLI::App& app) {
   struct Args {
     CommonOptions common;
     std::string input, output, filter = "cv";
-    double process_noise = -1.0;
+    double process_noise = -1.0;  // < 0: not given (the option's range [0, inf) keeps -1 out of reach)
     int run = 0;
   };
   auto args = std::make_shared<Args>();
@@ -56,18 +57,17 @@ void register_filter(CLI::App& app) {
       ->check(CLI::IsMember({"cv", "ca", "ab", "cs", "cs-nn", "imm"}))
       ->capture_default_str();
   cmd->add_option(
-      "--process-noise", args->process_noise,
-      "σ of the white-noise acceleration of cv/ca/ab [m/s²] (default: the file's scenario, else 1; "
-      "ab needs > 0)");
+         "--process-noise", args->process_noise,
+         "σ of the white-noise acceleration of cv/ca/ab [m/s²] (default: the file's scenario, else 1; "
+         "ab needs > 0)")
+      ->check(at_least(0));
   cmd->add_option("--run", args->run, "Monte Carlo run number (selects the track-number shuffle)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(in_range(0, std::numeric_limits<int32_t>::max()))
       ->capture_default_str();
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    if (args->process_noise != -1.0 && !(args->process_noise >= 0.0 && std::isfinite(args->process_noise)))
-      throw InputError("--process-noise: expected a finite σ ≥ 0 [m/s²], got " +
-                       std::to_string(args->process_noise));
+    check_output_paths({{args->output, "--output"}});
     TrackFile file = read_track_file(args->input);
     if (!file.measurements || file.measurements->size() == 0)
       throw InputError(args->input +
@@ -79,6 +79,8 @@ void register_filter(CLI::App& app) {
       spec = sc.tracker;
       layout = sc.layout;
     }
+    track_validation::check_measurement_noise(args->input, *file.measurements, file.sensors,
+                                              layout == StateLayout::kXYZ_VXVYVZ);
     spec.filter = args->filter;
     if (args->process_noise >= 0.0) spec.process_noise = args->process_noise;
     if (spec.filter == "ab" && !(spec.process_noise > 0.0))

@@ -24,6 +24,31 @@
 #include "io/atomic_file.hpp"
 
 namespace trackassoc::cli {
+namespace {
+
+// run's --options is keyed by solver name. A key that names no solver (a misspelling), or a solver
+// that --solvers leaves out, would be ignored silently: both are input errors, and so is a key of a
+// solver's own options that the solver does not read, found here by solving the 1×1×1 instance
+// with them (every solver parses its options before it looks at the tensor) before any work.
+void check_run_solver_options(const nlohmann::json& options, const std::vector<std::string>& solvers) {
+  std::vector<std::string> names;
+  for (const auto& e : solver_registry()) names.push_back(e.name);
+  for (auto it = options.begin(); it != options.end(); ++it) {
+    const std::string& name = it.key();
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      throw InputError(
+          "--options: " + unknown_name_message("solver", name, names) +
+          " (run's --options is keyed by solver name, e.g. '{\"hopfield\": {\"restarts\": 8}}')");
+    if (!it.value().is_object())
+      throw InputError("--options: '" + name + "': expected a JSON object of that solver's options, found " +
+                       it.value().dump());
+    if (!solvers.empty() && std::find(solvers.begin(), solvers.end(), name) == solvers.end())
+      throw InputError("--options: '" + name + "' has options but is not in --solvers");
+    find_solver(name).solve(CostTensor3(1, 1, 1), it.value(), 1);
+  }
+}
+
+}  // namespace
 
 void register_run(CLI::App& app) {
   struct Args {
@@ -60,6 +85,7 @@ void register_run(CLI::App& app) {
     };
     for (const auto& s : args->solvers)
       if (std::find(pipeline_rows.begin(), pipeline_rows.end(), s) == pipeline_rows.end()) find_solver(s);
+    check_run_solver_options(solver_options, args->solvers);
     if (args->hopfield.any()) {  // the flags go to every Hopfield solver of the run
       bool any_hopfield = args->solvers.empty();
       for (const auto& s : args->solvers) any_hopfield |= is_hopfield_solver(s);
@@ -95,6 +121,7 @@ void register_run(CLI::App& app) {
                   << ", which keep their own\n";
       }
     }
+    check_output_paths({{args->output, "--output"}, {args->plot, "--plot"}});  // before any work
     const Scenario scenario = load_scenario(args->scenario);
     const SimulationResult sim = simulate(scenario, args->common.seed, 0);
     TrackFile file = simulation_to_track_file(scenario, sim);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "engine/cli/common.hpp"
 #include "engine/dataset_seed003.hpp"
@@ -29,28 +30,42 @@ void register_dataset(CLI::App& app) {
       app.add_subcommand("dataset", "Generate a paper's training data set (HDF5): seed003 (TTCSN pairs)");
   cmd->add_option("name", args->name, "Data set name")->required()->check(CLI::IsMember({"seed003"}));
   cmd->add_option("--out,-o", args->output, "Output HDF5 file")->required();
-  cmd->add_option("--targets", args->options.targets, "Number of targets")->capture_default_str();
+  cmd->add_option("--targets", args->options.targets, "Number of targets")
+      ->capture_default_str()
+      ->check(in_range(2, 1e7));
   cmd->add_option("--positives", args->options.positives, "Positive pairs (<= targets)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(0));
   cmd->add_option("--random-negatives", args->options.random_negatives, "Random negative pairs")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(0));
   cmd->add_option("--close-negatives", args->options.close_negatives, "Close-but-different negative pairs")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(0));
   cmd->add_option("--close-distance", args->options.close_distance,
                   "Distance below which a different target is close [m] (see --close-measure)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(above(0));
   cmd->add_option("--max-heading-change", args->options.max_heading_change,
                   "Heading change bound per second [rad]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0, std::numbers::pi));
   cmd->add_option("--max-speed-change", args->options.max_speed_change, "Speed change bound per second [m/s]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(0));
   cmd->add_option(
          "--close-measure", args->close_measure,
          "Close negatives: start (true distance at t = 0) or mean (mean true distance over the flight)")
       ->check(CLI::IsMember({"mean", "start"}))
       ->capture_default_str();
-  cmd->add_option("--radar1", args->radar1, "Radar 1 position x y [m]")->expected(2)->capture_default_str();
-  cmd->add_option("--radar2", args->radar2, "Radar 2 position x y [m]")->expected(2)->capture_default_str();
+  cmd->add_option("--radar1", args->radar1, "Radar 1 position x y [m]")
+      ->expected(2)
+      ->capture_default_str()
+      ->check(in_range(-kInf, kInf));
+  cmd->add_option("--radar2", args->radar2, "Radar 2 position x y [m]")
+      ->expected(2)
+      ->capture_default_str()
+      ->check(in_range(-kInf, kInf));
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
@@ -60,6 +75,7 @@ void register_dataset(CLI::App& app) {
     o.radar2_x = args->radar2[0], o.radar2_y = args->radar2[1];
     o.close_measure =
         args->close_measure == "start" ? CloseMeasure::kStartDistance : CloseMeasure::kMeanDistance;
+    check_output_paths({{args->output, "--out"}});
     const Seed003Dataset d = generate_seed003_dataset(o);
     write_seed003_dataset(args->output, d);
     const auto j = nlohmann::json::parse(d.generator_json);
@@ -103,41 +119,69 @@ void register_train_siamese(CLI::App& app) {
                                  "Train the Siamese BiLSTM pair classifier (seed 003) on a data set");
   cmd->add_option("--data", args->data, "Data set from `trackassoc dataset seed003`")->required();
   cmd->add_option("--out,-o", args->output, "Output model file (HDF5)")->required();
-  cmd->add_option("--epochs", args->training.epochs, "Epoch limit")->capture_default_str();
+  cmd->add_option("--epochs", args->training.epochs, "Epoch limit")
+      ->capture_default_str()
+      ->check(at_least(1));
   cmd->add_option("--architecture", args->architecture,
                   "siamese (TTCSN), or the baselines on concatenated pairs: lstm, bilstm")
       ->check(CLI::IsMember({"siamese", "lstm", "bilstm"}))
       ->capture_default_str();
-  cmd->add_option("--hidden", args->shape.hidden, "BiLSTM hidden units per direction")->capture_default_str();
-  cmd->add_option("--fc", args->shape.fc, "Width of the first dense layer")->capture_default_str();
-  cmd->add_option("--batch", args->training.batch_size, "Pairs per Adam step")->capture_default_str();
-  cmd->add_option("--lr", args->training.adam.learning_rate, "Adam learning rate")->capture_default_str();
+  cmd->add_option("--hidden", args->shape.hidden, "BiLSTM hidden units per direction")
+      ->capture_default_str()
+      ->check(in_range(1, 4096));
+  cmd->add_option("--fc", args->shape.fc, "Width of the first dense layer")
+      ->capture_default_str()
+      ->check(in_range(1, 65536));
+  cmd->add_option("--batch", args->training.batch_size, "Pairs per Adam step")
+      ->capture_default_str()
+      ->check(at_least(1));
+  cmd->add_option("--lr", args->training.adam.learning_rate, "Adam learning rate")
+      ->capture_default_str()
+      ->check(above(0));
   cmd->add_option("--weight-decay", args->training.adam.weight_decay,
                   "Decoupled weight decay λ (AdamW; 0 = none)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(0));
   cmd->add_option("--lr-decay", args->training.learning_rate_decay, "Learning-rate factor per epoch")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0, 1, true));
   cmd->add_option("--patience", args->training.patience,
                   "Epochs without validation improvement before stopping")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(1));
   cmd->add_option("--augment-shift", args->training.augment_shift,
                   "Augmentation: translate each training pair by U(-a, a)^2 metres per epoch (0 = off)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(0));
   cmd->add_option("--max-seconds", args->training.max_seconds, "Wall-time budget [s] (0 = none)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(0));
   cmd->add_option("--validation-fraction", args->validation_fraction,
                   "Share of the training pairs held out for early stopping")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0, 1, false, true));
   cmd->add_option("--max-train-pairs", args->max_train_pairs, "Use only the first N training pairs (0 = all)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(at_least(0));
   cmd->add_option("--position-scale", args->normalisation.position_scale,
                   "Input normalisation: metres per unit of x and y (centre 50 km, 50 km)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(above(0));
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    require(args->validation_fraction >= 0 && args->validation_fraction < 1, "--validation-fraction",
-            "must be in [0, 1)");
+    // Every option is checked before the data set is read and before any progress line (issue 15);
+    // the single ranges are the options' own (--validation-fraction in [0, 1), ...).
+    SiameseModel<float> model;
+    model.shape = args->shape;
+    model.shape.architecture = parse_pair_architecture(args->architecture);
+    model.normalisation = args->normalisation;
+    model.normalisation.validate();
+    model.shape.validate();
+    SiameseTrainingOptions o = args->training;
+    o.seed = args->common.seed;
+    o.validate();
+    check_output_paths({{args->output, "--out"}});
     const Seed003Dataset d = read_seed003_dataset(args->data);
     // The file's training split is already shuffled: the last share becomes the validation set.
     PairSet train, validation, validation_close;  // the last: its close negatives (for model choice)
@@ -156,14 +200,10 @@ void register_train_siamese(CLI::App& app) {
         validation_close.label.push_back(0);
       }
     }
-    SiameseModel<float> model;
-    model.shape = args->shape;
-    model.shape.architecture = parse_pair_architecture(args->architecture);
-    model.normalisation = args->normalisation;
-    model.normalisation.validate();
-    model.shape.validate();
-    SiameseTrainingOptions o = args->training;
-    o.seed = args->common.seed;
+    if (train.size() == 0)
+      throw InputError("--max-train-pairs " + std::to_string(args->max_train_pairs) +
+                       ", --validation-fraction " + std::to_string(args->validation_fraction) +
+                       ": no training pairs left of " + std::to_string(d.train.size()) + " in " + args->data);
     const bool tty = isatty(fileno(stderr));
     std::cerr << "training " << args->architecture << " on " << train.size() << " pairs, validating on "
               << validation.size() << ", H = " << model.shape.hidden << ", fc = " << model.shape.fc << ", "

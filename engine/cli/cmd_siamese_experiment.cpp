@@ -58,14 +58,19 @@ void register_experiment_seed003(CLI::App& experiment) {
   cmd->add_option("--data", args->data,
                   "Data set: also report pair accuracy/recall/precision on its test split");
   cmd->add_option("--out,-o", args->output, "Result HDF5 file")->required();
-  cmd->add_option("--runs", args->options.runs, "Monte Carlo runs per density")->capture_default_str();
+  cmd->add_option("--runs", args->options.runs, "Monte Carlo runs per density")
+      ->capture_default_str()
+      ->check(at_least(1));
   cmd->add_option("--densities", args->options.densities, "Track densities (targets per scene)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(1, 1e5));
   cmd->add_option("--threshold", args->options.probability_threshold, "TTCSN pair probability threshold")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0, 1, true, true));
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
+    check_output_paths({{args->output, "--out"}});
     const LoadedSiameseModel loaded = read_siamese_model(args->model);
     require(loaded.model.shape.architecture == PairArchitecture::kSiamese, "--model",
             "must be a Siamese model");

@@ -18,11 +18,12 @@ void register_simulate(CLI::App& app) {
   cmd->add_option("--scenario", args->scenario, "Scenario JSON file or embedded name")->capture_default_str();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file")->required();
   cmd->add_option("--run", args->run, "Monte Carlo run number (selects the random stream)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(in_range(0, std::numeric_limits<int32_t>::max()))
       ->capture_default_str();
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
+    check_output_paths({{args->output, "--output"}});
     const Scenario scenario = load_scenario(args->scenario);
     const SimulationResult sim = simulate(scenario, args->common.seed, args->run);
     write_track_file(args->output, simulation_to_track_file(scenario, sim));

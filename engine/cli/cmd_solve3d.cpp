@@ -9,6 +9,7 @@
 
 #include "engine/cli/common.hpp"
 #include "engine/solver_registry.hpp"
+#include "io/atomic_file.hpp"
 #include "io/cost_tensor_file.hpp"
 #include "io/instance_text.hpp"
 
@@ -17,6 +18,7 @@ namespace {
 
 // HDF5 files start with the 8-byte signature \211HDF\r\n\032\n (at offset 0 for our writers).
 bool looks_like_hdf5(const std::string& path) {
+  check_input_file(path, "--instance", "an instance file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open the instance file");
   char sig[8] = {};
@@ -56,7 +58,7 @@ void register_solve3d(CLI::App& app) {
       "iterations, assignment (list of 0-based [i, j, k]; -1 = no index of that dimension)");
   cmd->add_option("--time-limit", args->time_limit,
                   "Time limit in seconds for lr, lr+ls and exact (0 = solver default)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(at_least(0));
   cmd->add_option("--options", args->options,
                   "Solver options as a JSON object, e.g. '{\"step_rule\": \"deflected\"}'")
       ->capture_default_str();

@@ -8,12 +8,61 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <memory>
+#include <sstream>
 #include <string>
 
+#include "io/atomic_file.hpp"
+
 namespace trackassoc::cli {
+
+// The range of a numeric option (issue 15). Every numeric option of the CLI declares its range
+// with one of these: --help shows it ("in [0, 1)") and CLI11 refuses a value outside it before the
+// command runs, as a usage error (exit 2, "--NAME: expected a value in [0, 1), got -0.5"). NaN and
+// ±inf lie outside every range; an integer option still refuses "2.5" by CLI11's conversion.
+inline CLI::Validator in_range(double lo, double hi, bool lo_open = false, bool hi_open = false) {
+  auto text = [](double v) {
+    if (std::isinf(v)) return std::string(v > 0 ? "inf" : "-inf");
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  };
+  const std::string range =
+      std::string(lo_open ? "(" : "[") + text(lo) + ", " + text(hi) + (hi_open || std::isinf(hi) ? ")" : "]");
+  return CLI::Validator(
+      [=](std::string& input) -> std::string {
+        double v = 0;
+        const bool number = CLI::detail::lexical_cast(input, v) && std::isfinite(v);
+        const bool inside = number && (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+        return inside ? std::string() : "expected a value in " + range + ", got " + input;
+      },
+      "in " + range);
+}
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+inline CLI::Validator at_least(double lo) { return in_range(lo, kInf); }     // [lo, inf)
+inline CLI::Validator above(double lo) { return in_range(lo, kInf, true); }  // (lo, inf)
+
+// --seed: a decimal integer in [0, 2^64-1]. CLI11 itself reads a uint64_t with strtoull, which
+// wraps "-1" to 2^64-1, saturates "1e30"-sized digit strings and reads "010" as octal.
+inline CLI::Validator seed_range() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        const std::string why = "expected a decimal integer in [0, 18446744073709551615], got " + input;
+        if (input.empty() || input.find_first_not_of("0123456789") != std::string::npos) return why;
+        errno = 0;
+        (void)std::strtoull(input.c_str(), nullptr, 10);
+        if (errno == ERANGE) return why;
+        input.erase(0, std::min(input.find_first_not_of('0'), input.size() - 1));  // "010" is ten
+        return std::string();
+      },
+      "in [0, 2^64-1]");
+}
 
 struct CommonOptions {
   uint64_t seed = 1;
@@ -23,9 +72,10 @@ struct CommonOptions {
 // Adds --seed and --threads to a subcommand.
 inline void add_common_options(CLI::App* cmd, CommonOptions& common) {
   cmd->add_option("--seed", common.seed, "Random seed; results are bit-identical for any --threads")
+      ->transform(seed_range())  // transform: it may rewrite "010" as "10"
       ->capture_default_str();
   cmd->add_option("--threads", common.threads, "Worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(in_range(0, 1 << 16))
       ->capture_default_str();
 }
 
@@ -61,6 +111,7 @@ void finish_experiment_command(CLI::App* cmd, const std::shared_ptr<ExperimentAr
   add_common_options(cmd, args->common);
   cmd->callback([args, run] {
     ThreadScope threads(args->common.threads);
+    check_output_paths({{args->o.output, "--output"}, {args->o.plot, "--plot"}});  // before any work
     args->o.seed = args->common.seed;
     run(args->o, isatty(STDERR_FILENO) ? &std::cerr : nullptr);
     std::cout << "\nwrote " << args->o.output << (args->o.plot.empty() ? "" : " and " + args->o.plot) << "\n";
@@ -82,7 +133,7 @@ struct PipelineFlags {
   PipelineOptions options;
   std::string cost_form = "all-pairs";
   std::string gate_method = "calibrated", alignment = "two-sided";
-  double correlated = -1.0;  // < 0: independent errors
+  double correlated = -1.0;  // < 0: independent errors (not user-reachable: --correlated is in [0, 1))
   std::string solver_options = "{}";
   double memory_budget_mib = 0.0;  // 0 = CostTensorOptions' default
   bool sparse = false;             // engine/sparse_pipeline.hpp instead of the dense tensor
@@ -98,6 +149,7 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
   cmd->add_option("--gate", f.options.statistic.gate_probability,
                   "Gate probability: the share of true pairs the gate keeps (1 disables gating; the "
                   "default and S-D pipelines need < 1, the gate being the cost of not linking)")
+      ->check(in_range(0, 1, true))
       ->capture_default_str();
   cmd->add_option("--gate-method", f.gate_method,
                   "calibrated (capped scan terms, f·χ²(n·D/f), holds 0.99 on filtered tracks) or chi2-sum "
@@ -114,14 +166,16 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
                   "separates into two LAPs, DESIGN §4.3)")
       ->check(CLI::IsMember({"chain", "all-pairs"}))
       ->capture_default_str();
-  cmd->add_option(
-      "--correlated", f.correlated,
-      "Use the correlated-error statistic (Bar-Shalom–Campo) with cross-correlation RHO in [0,1)");
+  cmd->add_option("--correlated", f.correlated,
+                  "Use the correlated-error statistic (Bar-Shalom–Campo) with cross-correlation RHO")
+      ->check(in_range(0, 1, false, true));
   cmd->add_option("--common-period", f.options.common_period,
                   "Step of the common time grid [s] (0 = the largest scan period)")
+      ->check(at_least(0))
       ->capture_default_str();
   cmd->add_option("--process-noise", f.options.alignment.process_noise,
                   "White-noise acceleration σ [m/s²] used to predict tracks to common times")
+      ->check(at_least(0))
       ->capture_default_str();
   cmd->add_option("--options", f.solver_options, "Solver options as a JSON object, e.g. '{\"restarts\": 8}'")
       ->capture_default_str();
@@ -169,14 +223,17 @@ inline PipelineOptions resolve(PipelineFlags& f) {
   return o;
 }
 
+// --options text as a JSON object. Bad JSON, and a number the parser cannot hold (1e400: nlohmann's
+// out_of_range.406), are input errors naming --options.
 inline nlohmann::json parse_solver_options(const std::string& text) {
+  nlohmann::json j;
   try {
-    auto j = nlohmann::json::parse(text);
-    if (!j.is_object()) throw InputError("--options: expected a JSON object, got '" + text + "'");
-    return j;
-  } catch (const nlohmann::json::parse_error& e) {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
     throw InputError("--options: not valid JSON: " + std::string(e.what()));
   }
+  if (!j.is_object()) throw InputError("--options: expected a JSON object, got '" + text + "'");
+  return j;
 }
 
 // --schedule, --restarts, --polish and --trace for the Hopfield solvers (hopfield, hopfield-paper,
@@ -201,7 +258,7 @@ inline void add_hopfield_flags(CLI::App* cmd, HopfieldFlags& f, bool with_trace)
       "Hopfield solvers: sync, async or diagonal sweeps (hopfield, hopfield-paper); sync or async "
       "Euler steps (chnn)");
   cmd->add_option("--restarts", f.restarts, "Hopfield solvers: number of restarts")
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(1, std::numeric_limits<int32_t>::max()));
   cmd->add_flag("--polish", f.polish, "Hopfield solvers: polish every restart by the LAP local search");
   if (with_trace)
     cmd->add_flag(
