@@ -12,8 +12,8 @@
 
 #include "engine/simulation_truth.hpp"
 #include "io/json_input.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
-#include "kernels/memory_budget.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/random.hpp"
 

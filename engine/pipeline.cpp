@@ -10,8 +10,8 @@
 
 #include "engine/solver_registry.hpp"
 #include "engine/tuple_decoding.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
-#include "kernels/memory_budget.hpp"
 
 namespace trackassoc {
 namespace {

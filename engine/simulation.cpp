@@ -14,7 +14,7 @@
 // Recording model (Scenario::recording): engine/simulation_recording.hpp; phantoms are measured in
 // each scan after the true targets and before the clutter, from their own streams.
 // Size guard: the memory a run needs at least (check_size) is checked against the memory budget
-// (kernels/memory_budget.hpp, --memory-budget) before anything is allocated.
+// (io/memory_budget.hpp, --memory-budget) before anything is allocated.
 #include "engine/simulation.hpp"
 
 #include <algorithm>
@@ -25,9 +25,9 @@
 #include "engine/simulation_recording.hpp"
 #include "engine/simulation_tracker.hpp"
 #include "engine/simulation_truth.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
 #include "kernels/kalman_converted.hpp"
-#include "kernels/memory_budget.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/random.hpp"
 
@@ -81,8 +81,10 @@ void check_size(const Scenario& sc) {
     bytes += plots * ((24.0 + 8.0 * d) + (16.0 + 8.0 * (D + D * D)));
   }
   char what[240];
-  std::snprintf(what, sizeof what, "scenario '%.80s' (%.4g targets × %.4g s, truth every %g s, %zu sensors)",
-                sc.name.c_str(), targets, sc.duration, sc.truth_step, sc.sensors.size());
+  std::snprintf(what, sizeof what,
+                "scenario '%.80s' (%.4g targets × %.4g s, truth every %g s, %zu sensors; see %s, duration)",
+                sc.name.c_str(), targets, sc.duration, sc.truth_step, sc.sensors.size(),
+                sc.random_targets.count > 0 ? "scenario.random_targets.count" : "scenario.targets");
   require_memory(bytes_of(bytes, 1), what);
 }
 

@@ -5,8 +5,8 @@
 #include <mutex>
 #include <new>
 
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
-#include "kernels/memory_budget.hpp"
 
 namespace trackassoc::h5 {
 namespace {

@@ -8,8 +8,8 @@
 #include <sstream>
 #include <string_view>
 
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
-#include "kernels/memory_budget.hpp"
 
 namespace trackassoc {
 namespace {

@@ -74,8 +74,8 @@ void finish_experiment_command(CLI::App* cmd, const std::shared_ptr<ExperimentAr
 #include "engine/hopfield_json.hpp"
 #include "engine/pipeline.hpp"
 #include "io/json_input.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
-#include "kernels/memory_budget.hpp"
 
 namespace trackassoc::cli {
 

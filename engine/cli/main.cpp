@@ -6,14 +6,14 @@
 #include <iostream>
 
 #include "engine/cli/common.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
-#include "kernels/memory_budget.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"trackassoc: multi-sensor track-to-track association engine"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "trackassoc 0.1.0");
-  // The memory budget is global (kernels/memory_budget.hpp); it may be given before or after the
+  // The memory budget is global (io/memory_budget.hpp); it may be given before or after the
   // subcommand, which passes options it does not know to its parent (fallthrough, inherited).
   app.fallthrough();
   app.add_option_function<double>(

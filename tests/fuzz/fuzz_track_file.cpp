@@ -17,9 +17,9 @@
 #include <cstdio>
 #include <string>
 
+#include "io/memory_budget.hpp"
 #include "io/track_file.hpp"
 #include "kernels/error.hpp"
-#include "kernels/memory_budget.hpp"
 
 extern "C" void __asan_set_error_report_callback(void (*callback)(const char*));
 

@@ -1,4 +1,4 @@
-#include "kernels/memory_budget.hpp"
+#include "io/memory_budget.hpp"
 
 #include <unistd.h>
 
