@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -10,6 +11,8 @@
 #include <unordered_map>
 
 #include "engine/simulation_truth.hpp"
+#include "io/json_input.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/random.hpp"
@@ -94,6 +97,15 @@ struct SceneWithTruth {
 };
 
 SceneWithTruth simulate(const Seed003Options& o, int count, uint64_t run) {
+  // Per target and second: a trajectory piece and a truth sample; per plot (x, y, t) twice (the
+  // per-target vectors, then the scene's columns).
+  const double seconds = std::ceil(o.duration) + 1.0;
+  const double plots = o.duration / o.period1 + o.duration / o.period2 + 2.0;
+  const double per_target = seconds * (sizeof(Kinematics) + 16.0) + plots * 48.0 + 8 * 24.0;
+  char what[160];
+  std::snprintf(what, sizeof what, "the seed 003 scene (%d targets × %g s; see --targets)", count,
+                o.duration);
+  require_memory(bytes_of(per_target * count, 1), what);
   SceneWithTruth out;
   out.truth.resize(count);
   std::vector<std::vector<double>> px1(count), py1(count), pt1(count), px2(count), py2(count), pt2(count);
@@ -174,7 +186,7 @@ std::string Seed003Options::to_json() const {
 
 Seed003Options seed003_scene_of(const std::string& generator_json, Seed003Options o,
                                 const std::string& source) {
-  const auto j = nlohmann::json::parse(generator_json, nullptr, false);
+  const auto j = parse_json_input(generator_json, source + ": seed 003 generator options");
   require(j.is_object(), source, "the seed 003 generator options are not a JSON object");
   try {
     auto number = [&](const char* key, double& v) {

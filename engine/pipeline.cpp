@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "engine/solver_registry.hpp"
 #include "engine/tuple_decoding.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc {
@@ -86,6 +89,20 @@ std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const i
                                   : *std::max_element(first.begin(), first.end()) + period;
   const double end =
       span_union ? *std::max_element(last.begin(), last.end()) : *std::min_element(last.begin(), last.end());
+  // The grid and the tracks aligned to it (per track and time: state, covariance, flag) are
+  // allocated by the caller: check them against the memory budget before the first push_back.
+  const double points = std::floor((end - start) / period) + 1.0;
+  std::set<std::pair<int32_t, int32_t>> local_tracks;
+  for (std::size_t r = 0; r < tracks.size(); ++r)
+    if (std::find(sensor_ids.begin(), sensor_ids.end(), tracks.sensor[r]) != sensor_ids.end())
+      local_tracks.emplace(tracks.sensor[r], tracks.track[r]);
+  const std::size_t D = static_cast<std::size_t>(tracks.dim());
+  char what[200];
+  std::snprintf(what, sizeof what,
+                "the common time grid (%.4g times of period %g s over [%g, %g] s, %zu local tracks aligned "
+                "to it; see --common-period)",
+                points, period, start, end, local_tracks.size());
+  require_memory(bytes_of(points * static_cast<double>(1 + local_tracks.size()), 8 * (1 + D + D * D)), what);
   std::vector<double> grid;
   const double eps = 1e-9 * std::max(1.0, std::fabs(end));
   for (int64_t k = 0;; ++k) {

@@ -13,20 +13,21 @@
 // keyed (seed, run, stream id), so the output is bit-identical for any thread count.
 // Recording model (Scenario::recording): engine/simulation_recording.hpp; phantoms are measured in
 // each scan after the true targets and before the clutter, from their own streams.
-// Size guard: a scenario whose (targets + expected false tracks) × Σ_sensors scans exceeds
-// kMaxPlotSlots = 2e8 plot slots, or whose targets × truth samples exceeds 2e8 truth rows, is
-// refused before anything is allocated (2e8 plots are ~10 GB of measurements and tracks).
+// Size guard: the memory a run needs at least (check_size) is checked against the memory budget
+// (io/memory_budget.hpp, --memory-budget) before anything is allocated.
 #include "engine/simulation.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstdio>
 #include <numbers>
 
 #include "engine/simulation_recording.hpp"
 #include "engine/simulation_tracker.hpp"
 #include "engine/simulation_truth.hpp"
 #include "io/track_validation.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
 #include "kernels/kalman_converted.hpp"
 #include "kernels/parallel.hpp"
@@ -35,8 +36,6 @@
 namespace trackassoc {
 
 namespace {
-
-constexpr double kMaxPlotSlots = 2e8;
 
 void validate_recording(const Scenario& sc) {
   const RecordingSpec& g = sc.recording;
@@ -67,22 +66,28 @@ void validate_recording(const Scenario& sc) {
   require(m.p_turn >= 0.0 && m.p_turn <= 1.0, w + "p_turn", "expected a probability in [0, 1]");
 }
 
-// Refuses scenarios that would not fit in memory, before anything is allocated.
+// Refuses a scenario whose run would not fit the memory budget, before anything is allocated.
+// What a run holds at least, before the writer copies it: truth rows (id, t, state) for every
+// target and truth step; per sensor and scan, the plots of the targets and of the expected false
+// tracks (detected with p_detect) and the clutter, each with the local track report it updates
+// (id, number, t, state, full covariance).
 void check_size(const Scenario& sc) {
   const double targets =
       static_cast<double>(sc.targets.size()) + static_cast<double>(sc.random_targets.count);
-  double scans = 0.0;
-  for (const Sensor& x : sc.sensors) scans += std::floor((sc.duration - x.offset) / x.period + 1e-9) + 1.0;
-  const double slots = targets * (1.0 + sc.recording.false_tracks) * scans;
-  const std::string field =
-      sc.random_targets.count > 0 ? "scenario.random_targets.count" : "scenario.targets";
-  require(slots <= kMaxPlotSlots, field,
-          "targets × scans of all sensors = " + std::to_string(static_cast<long long>(slots)) +
-              " plot slots, more than the budget of 2e8 (about 10 GB); use fewer targets, sensors or scans");
-  const double truth_rows = targets * (std::floor(sc.duration / sc.truth_step + 1e-9) + 1.0);
-  require(truth_rows <= kMaxPlotSlots, "scenario.truth_step",
-          "targets × truth samples = " + std::to_string(static_cast<long long>(truth_rows)) +
-              " truth rows, more than the budget of 2e8; increase the step or use fewer targets");
+  const double d = spatial_dim(sc.layout), D = 2.0 * d;
+  const double steps = std::floor(sc.duration / sc.truth_step + 1e-9) + 1.0;
+  double bytes = targets * steps * (12.0 + 8.0 * D);
+  for (const Sensor& x : sc.sensors) {
+    const double scans = std::floor((sc.duration - x.offset) / x.period + 1e-9) + 1.0;
+    const double plots = scans * (targets * (1.0 + sc.recording.false_tracks) * x.p_detect + x.clutter_rate);
+    bytes += plots * ((24.0 + 8.0 * d) + (16.0 + 8.0 * (D + D * D)));
+  }
+  char what[240];
+  std::snprintf(what, sizeof what,
+                "scenario '%.80s' (%.4g targets × %.4g s, truth every %g s, %zu sensors; see %s, duration)",
+                sc.name.c_str(), targets, sc.duration, sc.truth_step, sc.sensors.size(),
+                sc.random_targets.count > 0 ? "scenario.random_targets.count" : "scenario.targets");
+  require_memory(bytes_of(bytes, 1), what);
 }
 
 void validate_scenario(const Scenario& sc) {

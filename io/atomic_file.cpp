@@ -55,6 +55,12 @@ void write_atomically(const std::string& path, const std::function<void(const st
   const std::string tmp = path + ".tmp";
   try {
     write(tmp);
+  } catch (const InputError& e) {
+    // A failed write (a full disk) is reported under the name the user gave, with what survives.
+    fs::remove(tmp, ec);
+    std::string what = e.what();
+    if (what.rfind(tmp + ": ", 0) == 0) what = path + what.substr(tmp.size());
+    throw InputError(what + (fs::exists(target, ec) ? "; " + path + " is unchanged" : ""));
   } catch (...) {
     fs::remove(tmp, ec);
     throw;

@@ -5,6 +5,7 @@
 #include <mutex>
 #include <new>
 
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc::h5 {
@@ -54,7 +55,15 @@ herr_t collect_name(hid_t, const char* name, const H5L_info_t*, void* out) {
 
 void silence_library_errors() {
   static std::once_flag once;
-  std::call_once(once, [] { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); });
+  std::call_once(once, [] {
+    // No library shutdown at exit: after a failed H5Fclose (a full disk while flushing) the file
+    // stays registered half-destroyed, and H5_term_library, run by atexit, crashed on it after the
+    // error had been printed. Every file is closed explicitly (File::close, Handle) or was a
+    // temporary output that write_atomically removes, so the shutdown has nothing left to do.
+    // Must come before the library's first initialisation; this is the wrapper's first call.
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  });
 }
 
 Handle& Handle::operator=(Handle&& o) noexcept {
@@ -193,8 +202,8 @@ void Group::write_numeric(const std::string& name, hid_t file_type, hid_t mem_ty
              H5Dclose);
   if (!space.valid() || !set.valid()) fail(name, "cannot create dataset of shape " + shape_text(dims));
   if (count > 0 && H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    fail(name, "cannot write dataset");
-  if (set.close() < 0) fail(name, "cannot close dataset");
+    fail(name, "cannot write dataset (disk full?)");
+  if (set.close() < 0) fail(name, "cannot close dataset (disk full?)");
 }
 
 void Group::write_dataset(const std::string& name, std::span<const int32_t> data,
@@ -348,6 +357,27 @@ std::vector<hsize_t> Group::dataset_shape(const std::string& name) const {
   return dims;
 }
 
+std::size_t Group::table_rows(std::initializer_list<const char*> columns) const {
+  const char* reference = *columns.begin();
+  const std::vector<hsize_t> first = dataset_shape(reference);
+  if (first.empty()) fail(reference, "expected a 1-D or 2-D dataset, found a scalar");
+  const hsize_t rows = first[0];
+  double elements = 0.0;
+  for (const char* name : columns) {
+    if (!has(name)) continue;  // optional columns; a missing required one is reported when read
+    const std::vector<hsize_t> dims = dataset_shape(name);
+    if (dims.empty() || dims[0] != rows)
+      fail(name, "expected " + std::to_string(rows) + " rows (as " + child_path(reference) + "), found " +
+                     (dims.empty() ? std::string("a scalar") : std::to_string(dims[0])));
+    double n = 1.0;
+    for (hsize_t d : dims) n *= static_cast<double>(d);
+    elements += n;
+  }
+  require_memory(bytes_of(elements, 8), file_path_ + ": " + path_ + " (" + std::to_string(rows) +
+                                            " rows of " + std::to_string(columns.size()) + " columns)");
+  return static_cast<std::size_t>(rows);
+}
+
 Handle Group::open_numeric_dataset(const std::string& name, NumberClass accepted, int rank,
                                    std::vector<hsize_t>& dims, std::size_t& count) const {
   dims = dataset_shape(name);
@@ -371,11 +401,32 @@ Handle Group::open_numeric_dataset(const std::string& name, NumberClass accepted
   return set;
 }
 
+// A header may declare far more rows than the file holds (chunks never written read back as fill
+// values): the stored bytes must cover the declared ones, or, for a filtered (compressed) dataset,
+// a thousandth of them (deflate's ratio cannot exceed 1032:1). Checked before anything is allocated.
+void Group::require_stored(const Handle& set, const std::string& name, const std::vector<hsize_t>& dims,
+                           std::size_t count) const {
+  Handle type(H5Dget_type(set.get()), H5Tclose);
+  Handle dcpl(H5Dget_create_plist(set.get()), H5Pclose);
+  if (!type.valid() || !dcpl.valid()) fail(name, "cannot read its dtype or creation properties");
+  const int filters = H5Pget_nfilters(dcpl.get());
+  const double declared = static_cast<double>(count) * static_cast<double>(H5Tget_size(type.get()));
+  const double stored = static_cast<double>(H5Dget_storage_size(set.get()));
+  const double needed = filters > 0 ? declared / 1100.0 : declared;
+  if (filters < 0 || stored < needed)
+    fail(name, "shape " + shape_text(dims) + " declares " + size_text(bytes_of(declared, 1)) +
+                   " but the file stores " + size_text(bytes_of(stored, 1)) +
+                   " of it (unwritten chunks, or a truncated or corrupt file)");
+}
+
 template <typename T>
 std::vector<T> Group::read_typed(const std::string& name, NumberClass accepted, hid_t mem_type, int rank,
                                  std::vector<hsize_t>& dims) const {
   std::size_t count = 0;
   Handle set = open_numeric_dataset(name, accepted, rank, dims, count);
+  if (count > 0) require_stored(set, name, dims, count);
+  require_memory(count * sizeof(T),
+                 file_path_ + ": " + child_path(name) + " (shape " + shape_text(dims) + ")");
   std::vector<T> out;
   try {
     out.resize(count);

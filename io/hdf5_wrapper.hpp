@@ -15,6 +15,7 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <initializer_list>
 #include <span>
 #include <string>
 #include <vector>
@@ -88,6 +89,10 @@ class Group {
   uint64_t read_unsigned_attribute(const std::string& name) const;
   // Shape of a dataset, without reading it.
   std::vector<hsize_t> dataset_shape(const std::string& name) const;
+  // The rows of a table stored as one dataset per column: the first dimension of columns[0], after
+  // checking from the shapes alone (nothing is read yet) that every other column present has as
+  // many rows, and that reading them all (8 bytes per element) fits the memory budget.
+  std::size_t table_rows(std::initializer_list<const char*> columns) const;
   // Reads a whole numeric dataset, converting to the memory type. `dims` receives the shape;
   // the rank must be `rank` (1 or 2).
   std::vector<double> read_doubles(const std::string& name, int rank, std::vector<hsize_t>& dims) const;
@@ -104,6 +109,8 @@ class Group {
   template <typename T>
   std::vector<T> read_typed(const std::string& name, NumberClass accepted, hid_t mem_type, int rank,
                             std::vector<hsize_t>& dims) const;
+  void require_stored(const Handle& set, const std::string& name, const std::vector<hsize_t>& dims,
+                      std::size_t count) const;
   Handle open_numeric_attribute(const std::string& name, NumberClass accepted) const;
 
   std::string file_path_;

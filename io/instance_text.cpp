@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc {
@@ -31,6 +32,13 @@ class Tokenizer {
     return text_.substr(start, pos_ - start);
   }
   int line() const { return token_line_; }
+  // How many tokens are left, without consuming them.
+  std::size_t count_remaining() const {
+    std::size_t n = 0;
+    for (std::size_t i = pos_; i < text_.size(); ++i)
+      if (!is_space(text_[i]) && (i == pos_ || is_space(text_[i - 1]))) ++n;
+    return n;
+  }
 
   [[noreturn]] void fail(const std::string& what) const {
     throw InputError(source_ + ": line " + std::to_string(token_line_) + ": " + what);
@@ -122,7 +130,16 @@ CostTensor3 parse_3dap_instance(const std::string& text, const std::string& sour
                      std::to_string(n3) + " has more than the allowed " + std::to_string(max_elements) +
                      " elements");
   const std::size_t count = static_cast<std::size_t>(n1) * n2 * n3;
+  // Both checks come before the tensor is allocated: a short header must not cost gigabytes. A
+  // text with too few numbers still reports garbage among them first (with its line).
+  const std::string size = std::to_string(n1) + "x" + std::to_string(n2) + "x" + std::to_string(n3);
+  if (const std::size_t left = tok.count_remaining(); left < count) {
+    for (std::size_t i = 0; i < left; ++i) parse_cost(tok, tok.next(), i + 1);
+    tok.fail("too few costs: expected " + std::to_string(count) + " (" + size + "), found " +
+             std::to_string(left));
+  }
   CostTensor3 b;
+  require_memory(count * sizeof(b.cost[0]), source + ": tensor " + size);
   b.n1 = n1;
   b.n2 = n2;
   b.n3 = n3;

@@ -2,6 +2,7 @@
 
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -33,6 +34,7 @@ void run_isolated(const std::string& subject, const std::function<void()>& check
     check();
     return;
   }
+  const pid_t parent = ::getpid();
   const pid_t child = ::fork();
   if (child < 0) {
     ::close(fds[0]);
@@ -43,6 +45,11 @@ void run_isolated(const std::string& subject, const std::function<void()>& check
   if (child == 0) {
     // Child: run the check, report an InputError's message through the pipe, and leave with
     // _exit so that no atexit handler or buffered stream of the parent runs twice.
+    // A child spinning in the library must not outlive a parent killed by SIGKILL (no timeout
+    // kills it then): the kernel sends it SIGKILL when the parent dies. If the parent died
+    // between fork() and prctl(), the child is already someone else's: leave at once.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(4);
     ::close(fds[0]);
     int status = 0;
     try {
@@ -108,7 +115,7 @@ void run_isolated(const std::string& subject, const std::function<void()>& check
 double isolated_read_timeout(const std::string& path) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
-  return 60.0 + (ec ? 0.0 : static_cast<double>(size) / 10e6);
+  return 10.0 + (ec ? 0.0 : static_cast<double>(size) / 5e6);
 }
 
 }  // namespace trackassoc

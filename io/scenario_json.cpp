@@ -10,6 +10,7 @@
 #include <sstream>
 #include <vector>
 
+#include "io/json_input.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc {
@@ -308,29 +309,6 @@ void read_tracker(Reader& r, LocalTrackerSpec& t) {
   r.finish();
 }
 
-// nlohmann keeps the last of duplicate keys silently; a duplicated key is as suspicious as a
-// misspelt one, so the parser callback rejects it.
-json parse_rejecting_duplicates(const std::string& text, const std::string& source) {
-  std::vector<std::set<std::string>> keys;
-  auto callback = [&](int, json::parse_event_t event, json& parsed) {
-    if (event == json::parse_event_t::object_start)
-      keys.emplace_back();
-    else if (event == json::parse_event_t::object_end) {
-      if (!keys.empty()) keys.pop_back();
-    } else if (event == json::parse_event_t::key && !keys.empty()) {
-      const std::string key = parsed.get<std::string>();
-      if (!keys.back().insert(key).second)
-        throw InputError(source + ": key '" + key + "' appears twice in one object");
-    }
-    return true;
-  };
-  try {
-    return json::parse(text, callback);
-  } catch (const json::exception& e) {
-    throw InputError(source + ": invalid JSON: " + e.what());
-  }
-}
-
 // ---------------------------------------------------------------- writing
 
 // Degrees for people, radians inside. The written degree value must convert back to the very same
@@ -371,7 +349,7 @@ const char* model_name(MotionModel m) {
 }  // namespace
 
 Scenario parse_scenario_json(const std::string& text, const std::string& source) {
-  const json root = parse_rejecting_duplicates(text, source);
+  const json root = parse_json_input(text, source);
   Scenario s;
   Reader r(root, "", source);
   r.string("name", s.name);

@@ -6,7 +6,6 @@
 // definite covariances (io/track_validation.hpp).
 #include "io/track_file.hpp"
 
-#include <filesystem>
 #include <limits>
 #include <set>
 
@@ -194,6 +193,8 @@ StateLayout read_layout(const Group& g, const std::string& file) {
 
 std::vector<Sensor> read_sensors(const Group& root) {
   const Group g = root.open_group("sensors");
+  g.table_rows({"id", "position", "sigma_range", "sigma_bearing", "sigma_elevation", "period", "offset",
+                "p_detect", "clutter_rate", "reliability"});
   const std::vector<int32_t> id = read_int32(g, "id", 0, "");
   const std::size_t n = id.size();
   std::vector<Sensor> sensors(n);
@@ -226,6 +227,7 @@ std::vector<Sensor> read_sensors(const Group& root) {
 TrackTable read_tracks(const Group& root, const std::string& file) {
   const Group g = root.open_group("tracks");
   TrackTable t(read_layout(g, file));
+  g.table_rows({"sensor", "track", "t", "state", "cov", "truth"});
   const std::size_t d = t.dim(), p = packed_size(t.dim());
   t.sensor = read_int32(g, "sensor", 0, "");
   const std::size_t n = t.sensor.size();
@@ -243,6 +245,7 @@ TrackTable read_tracks(const Group& root, const std::string& file) {
 
 TruthTable read_truth(const Group& root, const std::string& file) {
   const Group g = root.open_group("truth");
+  g.table_rows({"target", "t", "state"});
   std::vector<int32_t> target = read_int32(g, "target", 0, "");
   const std::size_t n = target.size();
   // The layout attribute is optional here: without it, D from the shape of state decides.
@@ -264,6 +267,7 @@ TruthTable read_truth(const Group& root, const std::string& file) {
 
 Measurements read_measurements(const Group& root) {
   const Group g = root.open_group("measurements");
+  g.table_rows({"sensor", "t", "range", "bearing", "target"});
   Measurements m;
   m.sensor = read_int32(g, "sensor", 0, "");
   const std::size_t n = m.sensor.size();
@@ -284,6 +288,8 @@ Measurements read_measurements(const Group& root) {
 
 RestartTable read_restarts(const Group& g) {
   RestartTable t;
+  g.table_rows(
+      {"restart", "valid_raw", "sweeps", "mean_field_steps", "energy", "repaired_objective", "objective"});
   t.restart = read_int32(g, "restart", 0, "");
   const std::size_t n = t.restart.size();
   const std::string ref = g.child_path("restart");
@@ -300,6 +306,7 @@ AssociationRecord read_association(const Group& parent, const std::string& name)
   const Group g = parent.open_group(name);
   AssociationRecord a;
   a.name = name;
+  g.table_rows({"tuples", "cost"});
   std::vector<hsize_t> dims;
   const std::vector<int64_t> tuples = g.read_integers("tuples", 2, dims);
   const std::size_t k = dims[0];
@@ -350,11 +357,7 @@ MetricsRecord read_metrics(const Group& parent, const std::string& name) {
 }  // namespace
 
 TrackFile read_track_file(const std::string& path, double timeout_s) {
-  if (timeout_s <= 0) {
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(path, ec);
-    timeout_s = 60.0 + (ec ? 0.0 : static_cast<double>(size) / 10e6);
-  }
+  if (timeout_s <= 0) timeout_s = isolated_read_timeout(path);
   run_isolated(
       path, [&] { read_track_file_in_process(path); }, timeout_s);
   return read_track_file_in_process(path);

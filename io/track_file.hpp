@@ -74,7 +74,7 @@ struct TrackFile {
 // The file is first read in a forked child process (io/isolated_run.hpp): libhdf5 1.10 can hang or
 // overrun buffers on damaged files, and this turns that into an InputError. The price is a
 // second read; read_track_file_in_process skips the guard (for trusted files and the fuzzer).
-// `timeout_s` <= 0 means 60 s plus 1 s per 10 MB of file.
+// `timeout_s` <= 0 means isolated_read_timeout(path): 10 s plus 1 s per 5 MB of file.
 TrackFile read_track_file(const std::string& path, double timeout_s = 0.0);
 TrackFile read_track_file_in_process(const std::string& path);
 

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <vector>
@@ -94,23 +95,31 @@ TEST_F(AssociateSparseCli, SparseAndDenseGiveTheSameAssociation) {
 }
 
 TEST_F(AssociateSparseCli, DenseOverTheMemoryBudgetPointsToSparse) {
+  // seed 000 with 80 targets for 4 s (3 scans): a 80x80x80 dense tensor of floats is 2 MB, while
+  // the file's tables (720 track reports of 144 bytes, 104 KB) and the common time grid (about
+  // 120 KB) fit a budget of 0.5 MiB, the global --memory-budget that every reader also checks.
+  std::ifstream in(std::string(TRACKASSOC_SOURCE_DIR) + "/data/scenarios/seed000.json");
+  nlohmann::json scenario = nlohmann::json::parse(in);
+  scenario["duration"] = 4.0;
+  scenario["random_targets"]["count"] = 80;
+  const std::string json = write("many.json", scenario.dump());
   const std::string sim = path("sim.h5"), out = path("out.h5");
-  ASSERT_EQ(run("simulate --output " + sim).status, 0);
-  // seed 000: 10 tracks per sensor, a 4000-byte tensor; a budget of 0.001 MiB (1048 bytes) is too small.
-  auto r = run("associate --input " + sim + " --output " + out + " --3d --memory-budget 0.001");
+  ASSERT_EQ(run("simulate --scenario " + json + " --output " + sim).status, 0);
+  auto r = run("associate --input " + sim + " --output " + out + " --3d --memory-budget 0.5");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--sparse"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("10x10x10"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("80x80x80"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
   // The same budget is no obstacle to the sparse path (components of a few tracks).
-  r = run("associate --sparse --input " + sim + " --output " + out + " --memory-budget 0.001");
+  r = run("associate --sparse --input " + sim + " --output " + out + " --memory-budget 0.5");
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(out));
   // `run` shares the flags.
-  r = run("run --output " + path("run.h5") + " --solvers greedy --memory-budget 0.001");
+  r = run("run --scenario " + json + " --output " + path("run.h5") + " --solvers greedy --memory-budget 0.5");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--sparse"), std::string::npos) << r.err;
-  r = run("run --sparse --output " + path("run.h5") + " --solvers greedy,pairwise --memory-budget 0.001");
+  r = run("run --sparse --scenario " + json + " --output " + path("run.h5") +
+          " --solvers greedy,pairwise --memory-budget 0.5");
   EXPECT_EQ(r.status, 0) << r.err;
   const TrackFile f = read_track_file(path("run.h5"));
   EXPECT_EQ(f.associations.size(), 2u);

@@ -124,6 +124,8 @@ void finish_experiment_command(CLI::App* cmd, const std::shared_ptr<ExperimentAr
 
 #include "engine/hopfield_json.hpp"
 #include "engine/pipeline.hpp"
+#include "io/json_input.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc::cli {
@@ -135,8 +137,7 @@ struct PipelineFlags {
   std::string gate_method = "calibrated", alignment = "two-sided";
   double correlated = -1.0;  // < 0: independent errors (not user-reachable: --correlated is in [0, 1))
   std::string solver_options = "{}";
-  double memory_budget_mib = 0.0;  // 0 = CostTensorOptions' default
-  bool sparse = false;             // engine/sparse_pipeline.hpp instead of the dense tensor
+  bool sparse = false;  // engine/sparse_pipeline.hpp instead of the dense tensor
   std::string common_span = "union";
   std::string link_cost = "per-scan";
 };
@@ -179,8 +180,6 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
       ->capture_default_str();
   cmd->add_option("--options", f.solver_options, "Solver options as a JSON object, e.g. '{\"restarts\": 8}'")
       ->capture_default_str();
-  cmd->add_option("--memory-budget", f.memory_budget_mib,
-                  "Largest dense cost tensor [MiB] (default 2048); larger track sets need --sparse");
   cmd->add_flag("--sparse", f.sparse,
                 "Three-sensor sparse path for the 3-D solvers: gated candidate tuples, connected components "
                 "solved in parallel (the default pipeline is sparse already)");
@@ -209,12 +208,11 @@ inline PipelineOptions resolve(PipelineFlags& f) {
   o.alignment.method = f.alignment == "forward" ? AlignmentMethod::kForward : AlignmentMethod::kTwoSided;
   o.span_union = f.common_span == "union";
   o.statistic.link = f.link_cost == "per-scan" ? LinkCost::kPerScan : LinkCost::kPerIndependentScan;
-  if (f.memory_budget_mib != 0.0) {
-    if (!(f.memory_budget_mib > 0.0 && f.memory_budget_mib < 1e12))
-      throw InputError("--memory-budget: expected a size > 0 [MiB], got " +
-                       std::to_string(f.memory_budget_mib));
-    o.cost.memory_budget_bytes = static_cast<std::size_t>(std::max(1.0, f.memory_budget_mib * 1048576.0));
-  }
+  // The dense tensor's budget: the global --memory-budget (main.cpp) when given, else the smaller
+  // of CostTensorOptions' 2 GiB and the default budget; larger track sets need --sparse.
+  o.cost.memory_budget_bytes = memory_budget_was_set()
+                                   ? memory_budget_bytes()
+                                   : std::min(o.cost.memory_budget_bytes, memory_budget_bytes());
   if (f.correlated >= 0.0) {
     o.statistic.correlated = true;
     o.statistic.cross_correlation = f.correlated;
@@ -226,13 +224,9 @@ inline PipelineOptions resolve(PipelineFlags& f) {
 // --options text as a JSON object. Bad JSON, and a number the parser cannot hold (1e400: nlohmann's
 // out_of_range.406), are input errors naming --options.
 inline nlohmann::json parse_solver_options(const std::string& text) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError("--options: not valid JSON: " + std::string(e.what()));
-  }
-  if (!j.is_object()) throw InputError("--options: expected a JSON object, got '" + text + "'");
+  auto j = parse_json_input(text, "--options");  // depth limit, duplicate keys (io/json_input.hpp)
+  if (!j.is_object())
+    throw InputError("--options: expected a JSON object, got '" + text.substr(0, 200) + "'");
   return j;
 }
 

@@ -1,12 +1,6 @@
 // libFuzzer target: parse_3dap_instance on arbitrary bytes. InputError is the expected outcome
 // for malformed text; anything else (a crash, a sanitizer report, another exception, a hang) is a bug.
-// Build (the io library itself must carry the coverage instrumentation, hence the global flags):
-//   cmake -S . -B build-fuzz -G Ninja -DTRACKASSOC_BUILD_FUZZ=ON -DTRACKASSOC_BUILD_TESTS=OFF
-//         -DTRACKASSOC_BUILD_BENCH=OFF -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++
-//         -DCMAKE_C_FLAGS=-fsanitize=fuzzer-no-link,address,undefined
-//         -DCMAKE_CXX_FLAGS=-fsanitize=fuzzer-no-link,address,undefined
-//   cmake --build build-fuzz --target fuzz_instance_text fuzz_track_file
-// Run:   build-fuzz/fuzz_instance_text -max_total_time=60 data/3dap
+// Build and run: scripts/fuzz.sh (seed corpus tests/fuzz/corpus/fuzz_instance_text/).
 #include <cstddef>
 #include <cstdint>
 #include <string>

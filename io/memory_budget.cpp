@@ -1,0 +1,87 @@
+#include "io/memory_budget.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+
+#include "kernels/error.hpp"
+
+namespace trackassoc {
+namespace {
+
+std::atomic<std::size_t> g_budget{0};  // 0 = not set: the default
+std::atomic<bool> g_was_set{false};
+
+std::size_t physical_memory_bytes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  std::size_t bytes =
+      pages > 0 && page > 0 ? static_cast<std::size_t>(pages) * static_cast<std::size_t>(page) : 0;
+  // A container's limit (cgroup v2) is the memory this process can really have.
+  std::ifstream in("/sys/fs/cgroup/memory.max");
+  unsigned long long limit = 0;
+  if (in >> limit && limit > 0 && (bytes == 0 || limit < bytes)) bytes = static_cast<std::size_t>(limit);
+  return bytes;
+}
+
+}  // namespace
+
+std::size_t default_memory_budget_bytes() {
+  static const std::size_t budget = [] {
+    const std::size_t physical = physical_memory_bytes();
+    return physical > 0 ? physical / 2 : std::size_t{4} << 30;
+  }();
+  return budget;
+}
+
+std::size_t memory_budget_bytes() {
+  const std::size_t b = g_budget.load(std::memory_order_relaxed);
+  return b > 0 ? b : default_memory_budget_bytes();
+}
+
+void set_memory_budget_bytes(std::size_t bytes) {
+  require(bytes > 0, "--memory-budget", "expected a size > 0");
+  g_budget.store(bytes, std::memory_order_relaxed);
+  g_was_set.store(true, std::memory_order_relaxed);
+}
+
+bool memory_budget_was_set() { return g_was_set.load(std::memory_order_relaxed); }
+
+std::size_t bytes_of(double count, std::size_t size) {
+  const double b = std::max(0.0, count) * static_cast<double>(size);
+  if (!(b < static_cast<double>(std::numeric_limits<std::size_t>::max())))
+    return std::numeric_limits<std::size_t>::max();
+  return static_cast<std::size_t>(b);
+}
+
+std::string size_text(std::size_t bytes) {
+  char buffer[64];
+  const double b = static_cast<double>(bytes);
+  if (bytes == std::numeric_limits<std::size_t>::max())
+    std::snprintf(buffer, sizeof buffer, "more than 16 EiB");
+  else if (b >= 1024.0 * 1024 * 1024 * 1024)
+    std::snprintf(buffer, sizeof buffer, "%.3g TiB", b / (1024.0 * 1024 * 1024 * 1024));
+  else if (b >= 1024.0 * 1024 * 1024)
+    std::snprintf(buffer, sizeof buffer, "%.3g GiB", b / (1024.0 * 1024 * 1024));
+  else if (b >= 1024.0 * 1024)
+    std::snprintf(buffer, sizeof buffer, "%.3g MiB", b / (1024.0 * 1024));
+  else if (b >= 1024.0)
+    std::snprintf(buffer, sizeof buffer, "%.3g KiB", b / 1024.0);
+  else
+    std::snprintf(buffer, sizeof buffer, "%zu bytes", bytes);
+  return buffer;
+}
+
+void require_memory(std::size_t bytes, const std::string& what) {
+  const std::size_t budget = memory_budget_bytes();
+  if (bytes <= budget) return;
+  throw InputError(what + " needs " + size_text(bytes) + ", more than the memory budget of " +
+                   size_text(budget) + (memory_budget_was_set() ? "" : " (half of the physical memory)") +
+                   "; raise it with --memory-budget MIB if the machine has the memory");
+}
+
+}  // namespace trackassoc

@@ -1,0 +1,35 @@
+// The process-wide memory budget (DESIGN §2: no input may exhaust memory). Every reader and
+// generator works out how many bytes a request needs from its declared sizes (a file's dataset
+// shapes, a scenario's targets × steps, a header's n1·n2·n3) and calls require_memory BEFORE it
+// allocates, so that a file or an option asking for more than the machine can give is refused
+// with an InputError naming the size, the budget and how to raise it, instead of std::bad_alloc
+// after gigabytes. The CLI sets the budget with the global option --memory-budget MIB.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace trackassoc {
+
+// The default budget: half of the physical memory (the smaller of sysconf's physical pages and a
+// cgroup v2 memory.max limit, when there is one); 4 GiB when neither can be read.
+std::size_t default_memory_budget_bytes();
+
+// The current budget [bytes]; default_memory_budget_bytes() until set_memory_budget_bytes.
+std::size_t memory_budget_bytes();
+// Throws InputError when `bytes` is 0.
+void set_memory_budget_bytes(std::size_t bytes);
+// True once set_memory_budget_bytes was called (the user chose a budget).
+bool memory_budget_was_set();
+
+// `count` × `size` [bytes], saturating at SIZE_MAX instead of wrapping.
+std::size_t bytes_of(double count, std::size_t size);
+
+// Throws InputError "<what> needs N MiB, more than the memory budget of B MiB (raise it with
+// --memory-budget MIB, ...)" when `bytes` > memory_budget_bytes().
+void require_memory(std::size_t bytes, const std::string& what);
+
+// "1.5 GiB", "12 MiB", "640 bytes": a size for messages.
+std::string size_text(std::size_t bytes);
+
+}  // namespace trackassoc
