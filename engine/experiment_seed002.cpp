@@ -1,9 +1,6 @@
 // `trackassoc experiment seed002`: see engine/experiment_seed002.hpp for the study's design.
 #include "engine/experiment_seed002.hpp"
 
-#include <oneapi/tbb/global_control.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -271,8 +268,6 @@ void write_seed002(const std::string& path, const Seed002Result& res) {
   });
 }
 
-namespace {
-
 void print_seed002(const Seed002Result& res, std::ostream& os) {
   using cli::fmt;
   os << "seed002: IMM {CS-parallel + network (a_max=" << fmt(res.options.models.cs_a_max, "%g")
@@ -318,57 +313,6 @@ void print_seed002(const Seed002Result& res, std::ostream& os) {
   if (res.sensitivity.empty())
     os << "Run with --sensitivity for the sweep over the CA model's σ and the CS-parallel filter's "
           "a_max.\n";
-}
-
-}  // namespace
-
-void add_experiment_seed002(CLI::App* experiment) {
-  struct Args {
-    Seed002Options options;
-    int threads = 0;
-    std::string output = "seed002.h5", plots = "seed002-plots";
-    bool no_plots = false;
-  };
-  auto args = std::make_shared<Args>();
-  auto* cmd = experiment->add_subcommand(
-      "seed002", "Chen & Tong 2001: IMM {CS + network, CA} vs CS-parallel, RMSE curves and Table 1");
-  cmd->add_option("--runs", args->options.runs, "Monte Carlo runs")->capture_default_str();
-  cmd->add_option("--seed", args->options.seed, "Random seed; results are bit-identical for any --threads")
-      ->capture_default_str();
-  cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  cmd->add_option("--output,-o", args->output, "Output HDF5 file")->capture_default_str();
-  cmd->add_option("--plots", args->plots, "Folder for the PNG plots (scripts/plot.py)")
-      ->capture_default_str();
-  cmd->add_flag("--no-plots", args->no_plots, "Skip the PNG plots");
-  cmd->add_option("--ca-sigma", args->options.models.ca_sigma, "σ of the IMM's CA model [m/s²] (paper: 5)")
-      ->capture_default_str();
-  cmd->add_option("--a-max", args->options.models.cs_a_max,
-                  "a_max = −a_−max of the CS-parallel filter [m/s²] (not in the paper)")
-      ->capture_default_str();
-  cmd->add_flag("--sensitivity", args->options.sensitivity,
-                "Also sweep σ_CA × a_max (--sensitivity-ca-sigma, --sensitivity-a-max) with the same seeds");
-  cmd->add_option("--sensitivity-ca-sigma", args->options.sensitivity_ca_sigma,
-                  "σ_CA values of the sweep [m/s²]")
-      ->capture_default_str();
-  cmd->add_option("--sensitivity-a-max", args->options.sensitivity_a_max, "a_max values of the sweep [m/s²]")
-      ->capture_default_str();
-  cmd->callback([args] {
-    std::unique_ptr<tbb::global_control> control;
-    if (args->threads > 0)
-      control =
-          std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, args->threads);
-    args->options.validate();
-    if (isatty(2)) std::cerr << "seed002: " << args->options.runs << " runs × 4 motions ...\n";
-    const Seed002Result res = run_seed002(args->options);
-    write_seed002(args->output, res);
-    print_seed002(res, std::cout);
-    if (!res.sensitivity.empty()) print_seed002_sensitivity(res, std::cout);
-    std::cout << "\nwrote " << args->output << "\n";
-    if (!args->no_plots && run_plot_script("seed002 '" + args->output + "' --outdir '" + args->plots + "'"))
-      std::cout << "plots in " << args->plots << "/\n";
-  });
 }
 
 }  // namespace trackassoc

@@ -126,6 +126,8 @@ unsigned seed002_matching_motions(const Seed002SensitivityRow& row);
 unsigned seed002_losing_motions(const Seed002SensitivityRow& row);
 // One line: for each motion that differs from the paper, the reason the run's numbers give.
 std::string seed002_difference_reasons(const Seed002SensitivityRow& row);
+// The main table (Table 1 beside ours, the RMSE per model and the reasons).
+void print_seed002(const Seed002Result& result, std::ostream& os);
 void print_seed002_sensitivity(const Seed002Result& result, std::ostream& os);
 // /seed002_sensitivity: a_max (N), ca_sigma (N), ratio (N×4×3: row, motion, quantity),
 // ca_over_cs_parallel (N×4×3, mean RMSE of the CA model alone / CS-parallel), mean_prob_cs (N×4),

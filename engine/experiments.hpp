@@ -10,7 +10,6 @@
 
 namespace trackassoc {
 
-void add_experiment_seed002(CLI::App* experiment);  // engine/experiment_seed002.cpp
 
 // scripts/plot.py for the experiments' PNG plots: $TRACKASSOC_SCRIPTS_DIR/plot.py, else
 // <executable>/../scripts/plot.py, else ./scripts/plot.py; empty when none exists.

@@ -12,7 +12,7 @@ void register_experiment(CLI::App& app) {
   cmd->require_subcommand(1);
   register_experiment_seed000(*cmd);
   register_experiment_seed001(*cmd);
-  add_experiment_seed002(cmd);
+  register_experiment_seed002(*cmd);
   register_experiment_seed003(*cmd);
   register_experiment_seed004(*cmd);
   register_experiment_schedules(*cmd);

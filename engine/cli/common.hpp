@@ -299,6 +299,7 @@ void register_experiment(CLI::App& app);
 void register_experiment_seed000(CLI::App& experiment);
 void register_experiment_seed004(CLI::App& experiment);
 void register_experiment_seed001(CLI::App& experiment);  // cmd_experiment_seed001.cpp
+void register_experiment_seed002(CLI::App& experiment);  // cmd_experiment_seed002.cpp
 void register_experiment_schedules(CLI::App& experiment);
 void register_experiment_scale(CLI::App& experiment);
 void register_experiment_recorded(CLI::App& experiment);
