@@ -7,6 +7,8 @@ packages=(
   libeigen3-dev libtbb-dev libhdf5-dev libbenchmark-dev libgtest-dev libgmock-dev
   libcli11-dev nlohmann-json3-dev
   python3-h5py python3-numpy python3-matplotlib python3-scipy
+  # libFuzzer targets of the CI fuzz stage (scripts/fuzz.sh)
+  clang libclang-rt-14-dev
   # Stone Soup, the peer of `experiment recorded` (../shared/peers/stonesoup-src/README.md)
   python3-ordered-set python3-plotly python3-pymap3d python3-rtree python3-ruamel.yaml
 )
