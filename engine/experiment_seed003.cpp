@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "engine/metrics.hpp"
 #include "engine/siamese_pipeline.hpp"
 #include "kernels/error.hpp"
 
@@ -30,9 +31,37 @@ ClassicalBaselineOptions baseline_options_for(const Seed003Options& s) {
 
 namespace {
 
+// The correct association rate through `evaluate`'s function (engine/metrics.hpp): the scene as
+// /tracks rows (one per local track; evaluate_association reads only sensor, track and truth) and
+// left_to_right as /associations tuples, pairs and singles, as `associate --solver siamese` writes.
+double evaluated_rate(const std::vector<int32_t>& l2r, const Seed003Scene& sc) {
+  TrackTable tracks;
+  const Eigen::VectorXd x = Eigen::VectorXd::Zero(tracks.dim());
+  const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(tracks.dim(), tracks.dim());
+  for (int s = 0; s < 2; ++s) {
+    const std::vector<int32_t>& target = s == 0 ? sc.target1 : sc.target2;
+    for (std::size_t k = 0; k < target.size(); ++k)
+      tracks.push_back(s, static_cast<int32_t>(k), 0.0, x, P, target[k]);
+  }
+  std::vector<Sensor> sensors(2);
+  sensors[0].id = 0;
+  sensors[1].id = 1;
+  AssociationRecord rec;
+  rec.num_sensors = 2;
+  std::vector<char> used(sc.target2.size(), 0);
+  for (std::size_t i = 0; i < l2r.size(); ++i) {
+    rec.tuples.insert(rec.tuples.end(), {static_cast<int32_t>(i), l2r[i]});
+    if (l2r[i] >= 0) used[l2r[i]] = 1;
+  }
+  for (std::size_t j = 0; j < used.size(); ++j)
+    if (!used[j]) rec.tuples.insert(rec.tuples.end(), {-1, static_cast<int32_t>(j)});
+  rec.cost.assign(rec.tuples.size() / 2, 0.0);
+  return evaluate_association(tracks, sensors, rec).correct_rate;
+}
+
 void score(const std::vector<int32_t>& l2r, const Seed003Scene& sc, double& acc, double& recall,
            double& precision) {
-  acc = correct_association_rate(l2r, sc.target1, sc.target2);
+  acc = evaluated_rate(l2r, sc);
   int64_t tp = 0, fp = 0;
   for (std::size_t i = 0; i < l2r.size(); ++i)
     if (l2r[i] >= 0) (sc.target2[l2r[i]] == sc.target1[i] ? tp : fp)++;

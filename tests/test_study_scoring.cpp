@@ -5,7 +5,9 @@
 //    that track one target; each scan term of the correlated statistic equals dᵀ(P_a + P_b − P_ab −
 //    P_ba)⁻¹d computed from the filters' true gains;
 //  * every row of `experiment seed000` equals `simulate` + `associate` + `evaluate` on the same seeds,
-//    and every row of `experiment seed004` equals `associate --sd` + `evaluate` on the same file.
+//    every row of `experiment seed004` equals `associate --sd` + `evaluate` on the same file, and
+//    the TTCSN rate of `experiment seed003` equals `associate --solver siamese` + `evaluate` on
+//    the scene written as a track file.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -14,10 +16,14 @@
 #include <vector>
 
 #include "engine/experiment_seed000.hpp"
+#include "engine/experiment_seed003.hpp"
 #include "engine/experiment_seed004.hpp"
+#include "engine/metrics.hpp"
+#include "engine/siamese_track_file.hpp"
 #include "engine/simulation.hpp"
 #include "engine/workflow.hpp"
 #include "io/scenario_json.hpp"
+#include "io/siamese_model_file.hpp"
 #include "io/track_file.hpp"
 #include "kernels/association_statistic.hpp"
 #include "kernels/cross_covariance.hpp"
@@ -259,6 +265,52 @@ TEST_F(Seed000Study, Seed004RowsEqualAssociateSdEvaluate) {
     ASSERT_EQ(f.metrics.size(), 1u);
     EXPECT_DOUBLE_EQ(f.metrics[0].correct_rate, row.correct_rate);
   }
+}
+
+// A seed 003 scene as a track file: one row per plot, the position as the state, truth = target.
+TrackFile scene_track_file(const Seed003Scene& sc) {
+  TrackFile f;
+  for (int s = 0; s < 2; ++s) {
+    Sensor sensor;
+    sensor.id = s;
+    f.sensors.push_back(sensor);
+    const TrackSequences& q = s == 0 ? sc.radar1 : sc.radar2;
+    const std::vector<int32_t>& target = s == 0 ? sc.target1 : sc.target2;
+    for (int32_t k = 0; k < q.size(); ++k)
+      for (int64_t p = q.offset[k]; p < q.offset[k + 1]; ++p) {
+        Eigen::VectorXd x = Eigen::VectorXd::Zero(4);
+        x << q.x[p], q.y[p], 0.0, 0.0;
+        f.tracks.push_back(s, k, q.t[p], x, Eigen::MatrixXd::Identity(4, 4), target[k]);
+      }
+  }
+  return f;
+}
+
+TEST(Seed003Study, TtcsnRateEqualsAssociateSiameseEvaluate) {
+  const LoadedSiameseModel loaded =
+      read_siamese_model(std::string(TRACKASSOC_SOURCE_DIR) + "/data/models/siamese_seed003.h5");
+  Seed003ExperimentOptions o;
+  o.densities = {10, 40};
+  o.runs = 2;
+  const Seed003ExperimentResult r = run_seed003_experiment(loaded.model, o);
+  ASSERT_EQ(r.methods[0].method, "ttcsn");
+  Seed003Options scenario = o.scenario;
+  scenario.seed = o.seed;
+  int imperfect = 0;
+  for (std::size_t d = 0; d < o.densities.size(); ++d)
+    for (int run = 0; run < o.runs; ++run) {
+      const Seed003Scene sc =
+          simulate_seed003_scene(scenario, o.densities[d], static_cast<uint64_t>(d) * 100000 + run);
+      const TrackFile file = scene_track_file(sc);
+      SiameseTrackFileOptions so;
+      so.association.probability_threshold = o.probability_threshold;
+      const SiameseTrackFileResult res = associate_siamese_tracks(file, loaded.model, so, "siamese");
+      const double rate = evaluate_association(file.tracks, file.sensors, res.record).correct_rate;
+      EXPECT_DOUBLE_EQ(rate, r.methods[0].accuracy[d][run]) << "density " << o.densities[d] << " run " << run;
+      // and the classical baselines are scored by the same rule: a share in [0, 1]
+      for (const auto& m : r.methods) imperfect += m.accuracy[d][run] < 1.0;
+    }
+  EXPECT_GT(imperfect, 0);  // the comparison is not between two trivial 100 % scores everywhere
 }
 
 }  // namespace
