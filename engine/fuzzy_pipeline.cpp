@@ -79,7 +79,11 @@ FuzzyPipelineOptions fuzzy_pipeline_options(FusionMethod method, const nlohmann:
   FactorScales& sc = fz ? o.fuzzy.scales : o.ftaa.scales;
   SynthesisOptions& sy = fz ? o.fuzzy.synthesis : o.ftaa.synthesis;
   for (const auto& [key, v] : j.items()) {
-    if (key == "packet_period")
+    if (key == "method") {  // as to_json() writes it, so a stored /associations options attribute reads back
+      if (!v.is_string() || v.get<std::string>() != fusion_method_name(method))
+        throw InputError(std::string("--options: key 'method': expected \"") + fusion_method_name(method) +
+                         "\", the solver's own name");
+    } else if (key == "packet_period")
       o.packet_period = number(v, key);
     else if (key == "packets") {
       const std::string src = v.is_string() ? v.get<std::string>() : "";

@@ -7,7 +7,8 @@
 //  * every row of `experiment seed000` equals `simulate` + `associate` + `evaluate` on the same seeds,
 //    every row of `experiment seed004` equals `associate --sd` + `evaluate` on the same file, and
 //    the TTCSN rate of `experiment seed003` equals `associate --solver siamese` + `evaluate` on
-//    the scene written as a track file.
+//    the scene written as a track file; the correct rates of `experiment seed001` (run 0) equal
+//    `associate --solver fuzzy|ftaa` with the options it stored, then `evaluate`, on its own file.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -265,6 +266,35 @@ TEST_F(Seed000Study, Seed004RowsEqualAssociateSdEvaluate) {
     ASSERT_EQ(f.metrics.size(), 1u);
     EXPECT_DOUBLE_EQ(f.metrics[0].correct_rate, row.correct_rate);
   }
+}
+
+TEST_F(Seed000Study, Seed001RatesEqualAssociateFuzzyEvaluate) {
+  const CliResult x = run("experiment seed001 --runs 1 --output " + path("e.h5"));
+  ASSERT_EQ(x.status, 0) << x.err;
+  const TrackFile study = read_track_file(path("e.h5"));
+  int compared = 0;
+  for (const char* method : {"fuzzy", "ftaa"}) {
+    SCOPED_TRACE(method);
+    std::string options;
+    for (const auto& a : study.associations)
+      if (a.name == method) options = a.options_json;
+    double study_rate = -1.0;
+    for (const auto& m : study.metrics)
+      if (m.name == std::string("seed001_") + method) study_rate = m.correct_rate;
+    ASSERT_FALSE(options.empty());
+    ASSERT_GE(study_rate, 0.0);
+    const CliResult a = run("associate --input " + path("e.h5") + " --output " + path("a.h5") + " --solver " +
+                            method + " --name again --options '" + options + "'");
+    ASSERT_EQ(a.status, 0) << a.err;
+    ASSERT_EQ(run("evaluate --input " + path("a.h5")).status, 0);
+    const TrackFile f = read_track_file(path("a.h5"));
+    for (const auto& m : f.metrics)
+      if (m.name == "again") {
+        EXPECT_DOUBLE_EQ(m.correct_rate, study_rate);
+        ++compared;
+      }
+  }
+  EXPECT_EQ(compared, 2);
 }
 
 // A seed 003 scene as a track file: one row per plot, the position as the state, truth = target.
