@@ -3,6 +3,9 @@
 # Build folder: build/ (build-asan/ with --sanitize). Extra CMake flags via $CMAKE_ARGS.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# ccache (CMakeLists.txt uses it when present): paths relative to the checkout and no compile
+# folder in the hash, so a clone in another folder reuses the objects of an earlier build.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
 
 build_dir=build
 cmake_args=(-DCMAKE_BUILD_TYPE=Release)

@@ -8,6 +8,9 @@
 # Usage: scripts/fuzz.sh [target ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# ccache (CMakeLists.txt uses it when present): paths relative to the checkout and no compile
+# folder in the hash, so a clone in another folder reuses the objects of an earlier build.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
 
 seconds=${FUZZ_SECONDS:-45}
 targets=("$@")
