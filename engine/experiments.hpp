@@ -10,7 +10,6 @@
 
 namespace trackassoc {
 
-
 // scripts/plot.py for the experiments' PNG plots: $TRACKASSOC_SCRIPTS_DIR/plot.py, else
 // <executable>/../scripts/plot.py, else ./scripts/plot.py; empty when none exists.
 std::string find_plot_script();

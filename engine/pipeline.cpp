@@ -167,11 +167,14 @@ AssociationProblem build_association_problem(const TrackFile& file, const Pipeli
   p.s13 = independent_sequential_statistic(p.aligned[0], p.aligned[2], options.statistic);
   p.statistics_time_s = seconds_since(t0);
 
-  const auto t1 = std::chrono::steady_clock::now();
-  p.tensor = build_cost_tensor(p.s12, p.s23, options.cost.form == CostForm::kAllPairs ? &p.s13 : nullptr,
-                               options.cost);
-  p.tensor_time_s = seconds_since(t1);
+  set_cost_tensor(p, options.cost);
   return p;
+}
+
+void set_cost_tensor(AssociationProblem& p, const CostTensorOptions& cost) {
+  const auto t1 = std::chrono::steady_clock::now();
+  p.tensor = build_cost_tensor(p.s12, p.s23, cost.form == CostForm::kAllPairs ? &p.s13 : nullptr, cost);
+  p.tensor_time_s = seconds_since(t1);
 }
 
 void append_output_row(int32_t num_sensors, const std::array<int32_t, 3>& columns,

@@ -65,6 +65,10 @@ struct AssociationProblem {
 // exist, a chosen sensor is unknown, or the sensors never report at common times.
 AssociationProblem build_association_problem(const TrackFile& file, const PipelineOptions& options);
 
+// (Re)builds p.tensor from p's pair statistics for `cost` (its form: chain or all-pairs), so one
+// problem serves both forms without recomputing the statistics.
+void set_cost_tensor(AssociationProblem& p, const CostTensorOptions& cost);
+
 // A record for /associations/<solver>/ filled from a solver's summary: name = solver = `solver`,
 // the seed, objective, bound, gap, termination and run time, and the options attribute
 // {"solver": solver_options, "pipeline": pipeline_json} with `extra` merged in. The caller adds

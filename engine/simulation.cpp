@@ -19,15 +19,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 
 #include "engine/simulation_recording.hpp"
 #include "engine/simulation_tracker.hpp"
 #include "engine/simulation_truth.hpp"
-#include "io/track_validation.hpp"
 #include "io/memory_budget.hpp"
+#include "io/track_validation.hpp"
 #include "kernels/error.hpp"
 #include "kernels/kalman_converted.hpp"
 #include "kernels/parallel.hpp"
