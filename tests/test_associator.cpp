@@ -5,7 +5,9 @@
 
 #include <map>
 #include <set>
+#include <sstream>
 
+#include "cli_runner.hpp"
 #include "engine/associator.hpp"
 #include "engine/fuzzy_pipeline.hpp"
 #include "engine/pipeline_sd.hpp"
@@ -126,6 +128,18 @@ TEST(Associator, DenseAndSparse3DAreTheirPipelines) {
     }
     expect_same_tuples(out.record, want);
     EXPECT_EQ(out.summary.sensor_ids, po.sensors);
+    PreparedThreeSensorProblem prepared;  // run's form: one problem shared by every solver
+    if (sparse) {
+      SparsePipelineOptions sp;
+      sp.pipeline = po;
+      prepared.sparse =
+          std::make_shared<SparseAssociationProblem>(build_sparse_association_problem(file, sp));
+    } else {
+      prepared.dense = std::make_shared<AssociationProblem>(build_association_problem(file, po));
+    }
+    const auto shared = make_three_sensor_associator(o, prepared);
+    EXPECT_EQ(shared->path(), a->path());
+    expect_same_tuples(shared->associate(file).record, want);
     expect_unassociated(file, out);
   }
 }
@@ -252,6 +266,36 @@ TEST(Associator, FactoryChoosesThePathsOfAssociate) {
   AssociatorOptions o = request("siamese");
   o.siamese_model = "/nonexistent/model.h5";
   EXPECT_THROW(make_associator(o), InputError);  // the model is read by the factory
+}
+
+// `associate` prints the unassociated tracks per sensor: the counts worked out from its output
+// file's tuples and /tracks.
+class AssociatorCli : public testing_support::CliFixture {};
+
+TEST_F(AssociatorCli, PrintsTheUnassociatedTracksOfEachSensor) {
+  ASSERT_EQ(run("simulate --scenario recorded_3s --output " + path("sim.h5")).status, 0);
+  for (const std::string flags : {"", "--solver greedy --3d", "--solver fuzzy"}) {
+    SCOPED_TRACE(flags);
+    const auto r =
+        run("associate --input " + path("sim.h5") + " --output " + path("a.h5") + " --name x " + flags);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const TrackFile out = read_track_file(path("a.h5"));
+    const auto rec = std::find_if(out.associations.begin(), out.associations.end(),
+                                  [](const AssociationRecord& a) { return a.name == "x"; });
+    ASSERT_NE(rec, out.associations.end());
+    std::vector<int32_t> ids;
+    for (const auto& s : out.sensors) ids.push_back(s.id);
+    std::ostringstream want;
+    want << "unassociated local tracks:";
+    std::size_t total = 0;
+    const auto alone = lonely(out, ids, *rec);
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      want << (i ? ", " : " ") << "sensor " << ids[i] << " " << alone.at(ids[i]).size();
+      total += alone.at(ids[i]).size();
+    }
+    EXPECT_NE(r.out.find(want.str() + "\n"), std::string::npos) << r.out;
+    EXPECT_GT(total, 0u);  // recorded_3s has partial and false tracks: some are left alone
+  }
 }
 
 }  // namespace
