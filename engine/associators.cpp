@@ -301,6 +301,10 @@ void store_outcome(TrackFile& file, const AssociationOutcome& outcome) {
   const std::string& name = outcome.record.name;
   std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == name; });
   file.associations.push_back(outcome.record);
+  std::vector<int32_t>& rows = file.associations.back().unassociated;  // /associations/<name>/unassociated
+  rows.clear();
+  for (const UnassociatedTracks& u : outcome.unassociated)
+    for (int32_t track : u.tracks) rows.insert(rows.end(), {u.sensor_id, track});
   if (outcome.system_tracks) {
     std::erase_if(file.system_tracks,
                   [&](const SystemTrackRecord& r) { return r.name == outcome.system_tracks->name; });

@@ -134,6 +134,8 @@ void write_association(const Group& parent, const AssociationRecord& a) {
     g.write_dataset("energy", std::span<const float>(a.energy),
                     {static_cast<hsize_t>(a.energy_rows), static_cast<hsize_t>(a.energy_cols)});
   if (a.restarts.size() > 0) write_restarts(g, a.restarts);
+  if (!a.unassociated.empty())
+    g.write_dataset("unassociated", std::span<const int32_t>(a.unassociated), {a.unassociated.size() / 2, 2});
 }
 
 void write_metrics(const Group& parent, const MetricsRecord& m) {
@@ -337,6 +339,18 @@ AssociationRecord read_association(const Group& parent, const std::string& name)
     a.energy_cols = static_cast<int32_t>(e[1]);
   }
   if (g.has("restarts")) a.restarts = read_restarts(g.open_group("restarts"));
+  if (g.has("unassociated")) {
+    std::vector<hsize_t> u;
+    const std::vector<int64_t> rows = g.read_integers("unassociated", 2, u);
+    if (u[1] != 2) g.fail("unassociated", "expected 2 columns (sensor id, track), found " + shape_text(u));
+    a.unassociated.reserve(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (rows[i] < std::numeric_limits<int32_t>::min() || rows[i] > std::numeric_limits<int32_t>::max())
+        g.fail("unassociated", "row " + std::to_string(i / 2) + ": " + std::to_string(rows[i]) +
+                                   " is not an int32 sensor id or track number");
+      a.unassociated.push_back(static_cast<int32_t>(rows[i]));
+    }
+  }
   return a;
 }
 

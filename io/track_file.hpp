@@ -49,6 +49,9 @@ struct AssociationRecord {
   int32_t energy_rows = 0, energy_cols = 0;
   std::vector<float> energy;
   RestartTable restarts;  // optional per-restart table (kernels/assignment_types.hpp); empty = none
+  // Optional U×2 row-major (sensor id, track): the local tracks of the associated sensors in no
+  // tuple of two or more members (engine/associator.hpp); empty = not recorded.
+  std::vector<int32_t> unassociated;
   std::size_t num_tuples() const { return num_sensors ? tuples.size() / num_sensors : 0; }
 };
 

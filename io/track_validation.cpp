@@ -278,6 +278,19 @@ void check_association(const std::string& file, const AssociationRecord& a,
     if (a.restarts.valid_raw[r] != 0 && a.restarts.valid_raw[r] != 1)
       fail_row(file, g + "/restarts/valid_raw", r,
                "expected 0 or 1, found " + std::to_string(a.restarts.valid_raw[r]));
+  if (a.unassociated.size() % 2 != 0)
+    fail(file, g + "/unassociated", "expected rows of 2 values (sensor id, track)");
+  for (std::size_t r = 0; r < a.unassociated.size() / 2; ++r) {
+    const int32_t sensor = a.unassociated[2 * r], track = a.unassociated[2 * r + 1];
+    auto it = column_of.find(sensor);
+    if (it == column_of.end())
+      fail_row(file, g + "/unassociated", r,
+               "column 0: expected a sensor id of /sensors, found " + std::to_string(sensor));
+    if (!reported[it->second].count(track))
+      fail_row(file, g + "/unassociated", r,
+               "column 1: expected a track number of sensor " + std::to_string(sensor) +
+                   " in /tracks/track, found " + std::to_string(track));
+  }
 }
 
 void check_metrics(const std::string& file, const MetricsRecord& m) {

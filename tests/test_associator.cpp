@@ -3,9 +3,12 @@
 // by hand; the factory picks the paths `associate` picked (engine/cli/cmd_associate.cpp's rules).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "cli_runner.hpp"
 #include "engine/associator.hpp"
@@ -15,6 +18,7 @@
 #include "engine/sparse_sd_pipeline.hpp"
 #include "engine/workflow.hpp"
 #include "io/siamese_model_file.hpp"
+#include "io_test_files.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc {
@@ -295,6 +299,45 @@ TEST_F(AssociatorCli, PrintsTheUnassociatedTracksOfEachSensor) {
     }
     EXPECT_NE(r.out.find(want.str() + "\n"), std::string::npos) << r.out;
     EXPECT_GT(total, 0u);  // recorded_3s has partial and false tracks: some are left alone
+    // /associations/x/unassociated holds the same tracks as (sensor id, track) rows.
+    ASSERT_EQ(rec->unassociated.size(), 2 * total);
+    for (std::size_t r2 = 0; r2 < total; ++r2) {
+      const int32_t sensor = rec->unassociated[2 * r2], track = rec->unassociated[2 * r2 + 1];
+      ASSERT_TRUE(alone.count(sensor)) << sensor;
+      const auto& tracks = alone.at(sensor);
+      EXPECT_TRUE(tracks.count(track)) << sensor << " " << track;
+    }
+  }
+}
+
+// The reader validates /associations/<name>/unassociated: a sensor id not in /sensors, or a track
+// that sensor never reported, is an InputError naming the dataset and row; the writer refuses the
+// same record before anything is written.
+TEST_F(AssociatorCli, ReaderRejectsAnUnassociatedRowOfAnUnknownSensorOrTrack) {
+  ASSERT_EQ(run("simulate --scenario recorded_3s --output " + path("sim.h5")).status, 0);
+  ASSERT_EQ(run("associate --input " + path("sim.h5") + " --output " + path("a.h5") + " --name x").status, 0);
+  const TrackFile file = read_track_file(path("a.h5"));
+  const auto& rec = file.associations.back();
+  ASSERT_EQ(rec.name, "x");
+  ASSERT_GE(rec.unassociated.size(), 2u);
+  for (const auto& [row1, want] : std::vector<std::pair<std::array<int32_t, 2>, std::string>>{
+           {{999, 0}, "column 0: expected a sensor id of /sensors, found 999"},
+           {{rec.unassociated[0], 1 << 30}, "in /tracks/track, found 1073741824"}}) {
+    SCOPED_TRACE(want);
+    const std::vector<int32_t> rows{rec.unassociated[0], rec.unassociated[1], row1[0], row1[1]};
+    TrackFile bad = file;
+    bad.associations.back().unassociated = rows;
+    EXPECT_THROW(write_track_file(path("refused.h5"), bad), InputError);
+    EXPECT_FALSE(std::filesystem::exists(path("refused.h5")));
+    std::filesystem::copy_file(path("a.h5"), path("bad.h5"),
+                               std::filesystem::copy_options::overwrite_existing);
+    test::damage_file(path("bad.h5"), [&](hid_t f) {
+      test::put_dataset(f, "/associations/x/unassociated", H5T_STD_I32LE, H5T_NATIVE_INT32, {2, 2},
+                        rows.data());
+    });
+    const std::string e = test::read_error(path("bad.h5"));
+    EXPECT_NE(e.find("/associations/x/unassociated: row 1: "), std::string::npos) << e;
+    EXPECT_NE(e.find(want), std::string::npos) << e;
   }
 }
 
