@@ -1,8 +1,8 @@
 // Benchmarks of the CSV track import (io/csv_tracks.hpp) on a 10^6-row file the benchmark writes
 // once into the temporary folder: 3 sensors × 1000 tracks × 333⅓ reports (periods 3, 4, 5 s).
-//  - BM_ImportCsv/0: t, sensor, track, x, y, vx, vy (σ from --sigma-pos/--sigma-vel), 59 MB;
-//  - BM_ImportCsv/1: the same with the 10 packed covariance columns (as `export csv` writes), 150 MB;
-//  - BM_ImportCsv/2: variant 0 without velocity columns (estimated per track);
+//  - BM_ImportCsv/0: t, sensor, track, x, y, vx, vy (σ from --sigma-pos/--sigma-vel), 52 MB;
+//  - BM_ImportCsv/1: the same with the 10 packed covariance columns (as `export csv` writes), 83 MB;
+//  - BM_ImportCsv/2: variant 0 without velocity columns (estimated per track), 34 MB;
 //  - BM_ImportCsvToHdf5/0: variant 0 and write_track_file (its validation and the HDF5 write):
 //    what `trackassoc import csv` does.
 // Counters: rows per second, bytes per second.
@@ -68,15 +68,11 @@ std::string bench_file(int variant) {
 
 CsvImportOptions options(int variant) {
   CsvImportOptions o;
-  o.columns.time = "t";
-  o.columns.sensor = "sensor";
-  o.columns.track = "track";
-  o.columns.x = "x";
-  o.columns.y = "y";
-  if (variant != 2) {
-    o.columns.vx = "vx";
-    o.columns.vy = "vy";
-  }
+  o.columns = parse_csv_mapping(
+      variant == 2 ? R"({"time": "t", "sensor": "sensor", "track": "track", "x": "x", "y": "y"})"
+                   : R"({"time": "t", "sensor": "sensor", "track": "track", "x": "x", "y": "y",
+                                                  "vx": "vx", "vy": "vy"})",
+      "bench");
   if (variant == 1)
     o.columns.cov = {"c00", "c01", "c02", "c03", "c11", "c12", "c13", "c22", "c23", "c33"};
   else {

@@ -60,7 +60,9 @@ CsvColumnMapping parse_csv_mapping(const std::string& json_text, const std::stri
   if (!j.is_object()) throw InputError(source + ": expected a JSON object mapping fields to column names");
   CsvColumnMapping m;
   const auto keys = string_keys();
-  for (const auto& [key, value] : j.items()) {
+  for (const auto& item : j.items()) {
+    const std::string key = item.key();
+    const json& value = item.value();
     auto it = std::find_if(keys.begin(), keys.end(), [&](const auto& k) { return key == k.first; });
     if (it != keys.end()) {
       m.*(it->second) = column_name(value, source, key);

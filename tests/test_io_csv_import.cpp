@@ -20,11 +20,8 @@ using test::TempDir;
 
 CsvImportOptions cartesian() {
   CsvImportOptions o;
-  o.columns.time = "t";
-  o.columns.sensor = "sensor";
-  o.columns.track = "track";
-  o.columns.x = "x";
-  o.columns.y = "y";
+  o.columns =
+      parse_csv_mapping(R"({"time": "t", "sensor": "sensor", "track": "track", "x": "x", "y": "y"})", "m");
   return o;
 }
 
