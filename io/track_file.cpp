@@ -49,8 +49,9 @@ void write_1d(const Group& g, const std::string& name, const std::vector<T>& v) 
   g.write_dataset(name, std::span<const T>(v), {v.size()});
 }
 
-void write_sensors(const Group& root, const std::vector<Sensor>& sensors) {
+void write_sensors(const Group& root, const std::vector<Sensor>& sensors, const RecordingInfo& info) {
   const Group g = root.create_group("sensors");
+  if (!info.sensors_unknown.empty()) g.write_attribute("unknown", info.sensors_unknown);
   const std::size_t n = sensors.size();
   std::vector<int32_t> id(n);
   std::vector<double> position(n * 3);
@@ -70,11 +71,18 @@ void write_sensors(const Group& root, const std::vector<Sensor>& sensors) {
   for (int f = 0; f < 8; ++f) write_1d(g, names[f], fields[f]);
 }
 
-void write_tracks(const Group& root, const TrackTable& t) {
+void write_tracks(const Group& root, const TrackTable& t, const RecordingInfo& info) {
   const Group g = root.create_group("tracks");
   const std::size_t n = t.size();
   const std::size_t d = t.dim(), p = packed_size(t.dim());
   g.write_attribute("state_layout", std::string(layout_name(t.layout)));
+  if (!info.frame.empty()) g.write_attribute("frame", info.frame);
+  if (info.frame_origin) {
+    g.write_attribute("frame_origin_lat_deg", (*info.frame_origin)[0]);
+    g.write_attribute("frame_origin_lon_deg", (*info.frame_origin)[1]);
+    g.write_attribute("frame_origin_alt_m", (*info.frame_origin)[2]);
+  }
+  if (!info.import_json.empty()) g.write_attribute("import", info.import_json);
   write_1d(g, "sensor", t.sensor);
   write_1d(g, "track", t.track);
   write_1d(g, "t", t.t);
@@ -224,6 +232,21 @@ std::vector<Sensor> read_sensors(const Group& root) {
     for (std::size_t i = 0; i < n; ++i) sensors[i].*f.member = v[i];
   }
   return sensors;
+}
+
+// The optional attributes of RecordingInfo; a file without them gives the empty RecordingInfo.
+RecordingInfo read_recording_info(const Group& root) {
+  RecordingInfo info;
+  const Group tracks = root.open_group("tracks");
+  if (tracks.has_attribute("frame")) info.frame = tracks.read_string_attribute("frame");
+  if (tracks.has_attribute("frame_origin_lat_deg"))
+    info.frame_origin = std::array<double, 3>{tracks.read_double_attribute("frame_origin_lat_deg"),
+                                              tracks.read_double_attribute("frame_origin_lon_deg"),
+                                              tracks.read_double_attribute("frame_origin_alt_m")};
+  if (tracks.has_attribute("import")) info.import_json = tracks.read_string_attribute("import");
+  const Group sensors = root.open_group("sensors");
+  if (sensors.has_attribute("unknown")) info.sensors_unknown = sensors.read_string_attribute("unknown");
+  return info;
 }
 
 TrackTable read_tracks(const Group& root, const std::string& file) {
@@ -399,6 +422,8 @@ TrackFile read_track_file_in_process(const std::string& path) {
   tv::check_sensors(path, file.sensors);
   file.tracks = read_tracks(root, path);
   tv::check_tracks(path, file.tracks, file.sensors);
+  file.recording = read_recording_info(root);
+  tv::check_recording_info(path, file.recording);
   if (root.has("truth")) {
     file.truth = read_truth(root, path);
     tv::check_truth(path, *file.truth);
@@ -428,6 +453,7 @@ void write_track_file(const std::string& path, const TrackFile& file) {
     // Messages name the file the user asked for, not the temporary one.
     tv::check_sensors(path, file.sensors);
     tv::check_tracks(path, file.tracks, file.sensors);
+    tv::check_recording_info(path, file.recording);
     std::set<std::string> names;
     for (const auto& a : file.associations) {
       tv::check_association(path, a, file.sensors, file.tracks);
@@ -453,7 +479,7 @@ void write_track_file(const std::string& path, const TrackFile& file) {
       root.write_attribute("schema_version", kSchemaVersion);
       root.write_attribute("created_by", file.created_by);
       root.write_attribute("scenario", file.scenario_json);
-      write_sensors(root, file.sensors);
+      write_sensors(root, file.sensors, file.recording);
       // Truth and measurements are checked as they are written: a bad value found here still
       // leaves `path` untouched (write_atomically removes the temporary file).
       if (file.truth) {
@@ -464,7 +490,7 @@ void write_track_file(const std::string& path, const TrackFile& file) {
         tv::check_measurements(path, *file.measurements, file.sensors);
         write_measurements(root, *file.measurements);
       }
-      write_tracks(root, file.tracks);
+      write_tracks(root, file.tracks, file.recording);
       if (!file.associations.empty()) {
         const Group g = root.create_group("associations", /*track_order=*/true);
         for (const auto& a : file.associations) write_association(g, a);

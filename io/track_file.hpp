@@ -5,7 +5,8 @@
 //                          offset, p_detect, reliability
 //   /truth/                target, t, state (N×D)                         optional
 //   /measurements/         sensor, t, range, bearing, elevation, target   optional
-//   /tracks/               sensor, track, t, state (N×D), cov (N×D(D+1)/2), truth; attr state_layout
+//   /tracks/               sensor, track, t, state (N×D), cov (N×D(D+1)/2), truth; attr state_layout;
+//                          optional attrs frame, frame_origin_{lat_deg,lon_deg,alt_m}, import (RecordingInfo)
 //   /associations/<name>/  tuples (K×S int32), cost (K); attrs solver, options, objective,
 //                          lower_bound, gap, runtime_s, seed; optional energy (R×T float32);
 //                          optional restarts/ (one row per restart: restart, valid_raw, sweeps,
@@ -19,6 +20,7 @@
 // The writer is atomic: it writes PATH.tmp beside PATH, then renames.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -61,6 +63,24 @@ struct MetricsRecord {
   std::map<std::string, std::vector<double>> tables;  // small 1-D tables, one dataset each
 };
 
+// Optional attributes of a recorded track set (set by `trackassoc import csv`, io/csv_tracks.hpp).
+// Written only when set, so a simulated file is unchanged; the reader accepts files with and
+// without them.
+struct RecordingInfo {
+  // /tracks attr frame: the frame of the state columns, "ENU" = east, north, up [m] of the local
+  // tangent plane at frame_origin; "" = not stated (the positions are as the source gave them).
+  std::string frame;
+  // /tracks attrs frame_origin_lat_deg, frame_origin_lon_deg, frame_origin_alt_m (WGS-84).
+  std::optional<std::array<double, 3>> frame_origin;
+  // /tracks attr import: JSON text saying how the rows were made (source, velocity, covariance,
+  // the σ assumed per sensor, the periods); "" = none.
+  std::string import_json;
+  // /sensors attr unknown: the /sensors datasets that hold placeholders, not known values
+  // (comma-separated, e.g. "position,sigma_range"); "" = none.
+  std::string sensors_unknown;
+  friend bool operator==(const RecordingInfo&, const RecordingInfo&) = default;
+};
+
 struct TrackFile {
   std::string created_by = "trackassoc 0.1.0";
   std::string scenario_json;  // empty when the file is a recorded track set
@@ -71,6 +91,7 @@ struct TrackFile {
   std::vector<AssociationRecord> associations;
   std::vector<MetricsRecord> metrics;
   std::vector<SystemTrackRecord> system_tracks;  // /system_tracks/<name>/ (io/system_tracks_file.hpp)
+  RecordingInfo recording;                       // optional /tracks and /sensors attributes
 };
 
 // Reads and validates a schema v1 file. Throws InputError on anything malformed.

@@ -180,6 +180,23 @@ void check_tracks(const std::string& file, const TrackTable& t, const std::vecto
   check_unique_reports(file, t);
 }
 
+void check_recording_info(const std::string& file, const RecordingInfo& info) {
+  if (!info.frame.empty() && info.frame != "ENU" && info.frame != "NED")
+    fail(file, "/tracks", "attribute frame: expected \"ENU\" or \"NED\", found \"" + info.frame + "\"");
+  if (!info.frame_origin) return;
+  if (info.frame.empty())
+    fail(file, "/tracks", "attribute frame_origin_lat_deg given without attribute frame");
+  const auto& o = *info.frame_origin;
+  if (!(o[0] >= -90 && o[0] <= 90))
+    fail(file, "/tracks",
+         "attribute frame_origin_lat_deg: expected a latitude in [-90, 90], found " + number(o[0]));
+  if (!(o[1] >= -180 && o[1] <= 360))
+    fail(file, "/tracks",
+         "attribute frame_origin_lon_deg: expected a longitude in [-180, 360], found " + number(o[1]));
+  if (!std::isfinite(o[2]))
+    fail(file, "/tracks", "attribute frame_origin_alt_m: expected a finite height, found " + number(o[2]));
+}
+
 void check_truth(const std::string& file, const TruthTable& t) {
   const std::size_t n = t.target.size();
   check_length(file, "/truth/t", t.t.size(), n, "/truth/target");

@@ -25,6 +25,10 @@ void check_sensors(const std::string& file, const std::vector<Sensor>& sensors);
 // truth >= -1; no two rows with the same (sensor, track, t). A sensor with zero tracks is valid.
 void check_tracks(const std::string& file, const TrackTable& tracks, const std::vector<Sensor>& sensors);
 
+// frame "" or "ENU" (or "NED"); frame_origin, when given, a latitude in [-90, 90], a longitude
+// in [-180, 360] and a finite height; frame_origin only with a frame.
+void check_recording_info(const std::string& file, const RecordingInfo& info);
+
 void check_truth(const std::string& file, const TruthTable& truth);
 void check_measurements(const std::string& file, const Measurements& m, const std::vector<Sensor>& sensors);
 

@@ -294,6 +294,8 @@ void register_dataset(CLI::App& app);        // cmd_siamese.cpp
 void register_train_siamese(CLI::App& app);  // cmd_siamese.cpp
 void register_solve3d(CLI::App& app);
 void register_filter(CLI::App& app);
+void register_import(CLI::App& app);  // cmd_import.cpp
+void register_export(CLI::App& app);  // cmd_import.cpp
 void register_experiment(CLI::App& app);
 // Sub-subcommands of `experiment` (engine/cli/cmd_experiment.cpp calls them).
 void register_experiment_seed000(CLI::App& experiment);

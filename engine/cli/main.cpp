@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
   trackassoc::cli::register_train_siamese(app);
   trackassoc::cli::register_solve3d(app);
   trackassoc::cli::register_filter(app);
+  trackassoc::cli::register_import(app);
+  trackassoc::cli::register_export(app);
   trackassoc::cli::register_experiment(app);
   try {
     app.parse(argc, argv);
