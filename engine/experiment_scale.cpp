@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -370,6 +371,34 @@ std::string scale_table(const std::vector<ScaleRow>& rows) {
     os << line;
   }
   return os.str();
+}
+
+nlohmann::json ScaleExperimentOptions::to_json() const {
+  return {{"sizes", sizes},
+          {"dense_max", dense_max},
+          {"solver", solver},
+          {"solver_options", solver_options},
+          {"density_per_100km2", density},
+          {"gate_probability", gate_probability},
+          {"duration", tracks.duration},
+          {"sigma_pos", tracks.sigma_pos},
+          {"p_seen", tracks.p_seen},
+          {"min_lifetime_fraction", tracks.min_lifetime_fraction},
+          {"three_d", tracks.three_d},
+          {"seed", seed},
+          {"threads", threads}};
+}
+
+void write_scale_outputs(const std::string& dir, const std::vector<ScaleRow>& rows,
+                         const ScaleExperimentOptions& options, double slope) {
+  write_atomically(dir + "/scale.csv",
+                   [&](const std::string& tmp) { std::ofstream(tmp) << scale_csv(rows); });
+  nlohmann::json j = {
+      {"options", options.to_json()}, {"loglog_slope_n_ge_1000", slope}, {"rows", nlohmann::json::array()}};
+  for (const auto& r : rows) j["rows"].push_back(r.to_json());
+  write_atomically(dir + "/scale.json",
+                   [&](const std::string& tmp) { std::ofstream(tmp) << j.dump(1) << "\n"; });
+  write_scale_h5(dir + "/scale.h5", rows, j["options"], slope);
 }
 
 std::string scale_csv(const std::vector<ScaleRow>& rows) {

@@ -64,6 +64,10 @@ struct ScaleExperimentOptions {
   int threads = 0;      // 0 = all cores
   bool isolate = true;  // fork one child per size (clean peak memory)
   void validate() const;
+  // The options as recorded in scale.json and the HDF5 `options` attribute: sizes, dense_max,
+  // solver, solver_options, density_per_100km2, gate_probability, duration, sigma_pos, p_seen,
+  // min_lifetime_fraction, three_d, seed, threads.
+  nlohmann::json to_json() const;
 };
 
 struct ScaleRow {
@@ -108,6 +112,12 @@ std::string scale_csv(const std::vector<ScaleRow>& rows);
 //   Values of a failed size are NaN / 0.
 void write_scale_h5(const std::string& path, const std::vector<ScaleRow>& rows, const nlohmann::json& options,
                     double loglog_slope);
+
+// The files of `trackassoc experiment scale --output DIR`, each written atomically: DIR/scale.csv
+// (scale_csv), DIR/scale.json ({options, loglog_slope_n_ge_1000, rows}, ScaleRow::to_json) and
+// DIR/scale.h5 (write_scale_h5); `dir` must exist.
+void write_scale_outputs(const std::string& dir, const std::vector<ScaleRow>& rows,
+                         const ScaleExperimentOptions& options, double loglog_slope);
 
 // Least-squares slope of log(total time) against log(n) over rows with n ≥ n_min: ≈1 for
 // n log n at these sizes (the log factor adds ≈0.1), 2 for n².

@@ -48,6 +48,7 @@
 
 #include <array>
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,12 @@ struct Seed001Result {
 // Runs the Monte Carlo study (runs in parallel over TBB; the figures other than times are
 // bit-identical for any thread count).
 Seed001Result run_seed001(const Seed001Options& options);
+
+// `trackassoc experiment seed001`: runs both readings of σθ₁ (`options` and the other one), writes
+// run 0 of `options`' reading to `output` (io/track_file.hpp) and prints Tables 1–2 beside the
+// paper's, erratum first, with one line per row saying why ours differs (the plot-noise model
+// above, the α-β gains, the gate), the proposed / FTAA RMSE ratios and the wall time.
+void run_seed001_study(const Seed001Options& options, const std::string& output, std::ostream& out);
 
 // The paper's figures (seed 001 Tables 1–2).
 struct Seed001Paper {

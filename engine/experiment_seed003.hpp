@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -51,5 +52,24 @@ struct NamedPairModel {
 Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
                                                const Seed003ExperimentOptions& options,
                                                const std::vector<NamedPairModel>& extra_models = {});
+
+// The files of `trackassoc experiment seed003`: the Siamese model (train-siamese), the optional
+// baselines on concatenated pairs (--architecture lstm | bilstm), the optional data set whose test
+// split gives the pair metrics, and the result file.
+struct Seed003StudyFiles {
+  std::string model, lstm_model, bilstm_model, data, output;
+};
+
+// The whole study: reads the models (InputError when a file holds another architecture), flies the
+// scenes as the model's training data were when its training JSON records the generator, prints
+// the pair test table (when `data` is given: TTCSN, the weighted test gated at χ²₂(0.99) and the
+// baselines, each as a confusion count over the test pairs) and one table per metric vs density to
+// `out`, and writes `output` atomically:
+//   /  attrs format = "trackassoc", schema_version = 1
+//   /experiment/seed003/  attrs options (JSON: runs, seed, threshold, scenario, model),
+//       model_training (the model's training JSON), pair_test_metrics (JSON), wall_time_s;
+//       densities (D int32); <method>/{accuracy, recall, precision, seconds} (D×R float64)
+Seed003ExperimentResult run_seed003_study(const Seed003StudyFiles& files, Seed003ExperimentOptions options,
+                                          std::ostream& out);
 
 }  // namespace trackassoc

@@ -1,23 +1,24 @@
-// The paper experiments (DESIGN §5): `trackassoc experiment NAME`. engine/cli/cmd_experiment.cpp
-// creates the `experiment` subcommand and calls one add_experiment_<name> per paper; each adds its
-// own sub-subcommand (options, callback) to `experiment`.
+// Pieces shared by the paper experiments (DESIGN §5, `trackassoc experiment NAME`; each study's
+// subcommand is registered in engine/cli/cmd_experiment*.cpp through finish_study_command): the
+// plot invocation and the experiment file header.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "io/hdf5_wrapper.hpp"
 
 namespace trackassoc {
 
-// scripts/plot.py for the experiments' PNG plots: $TRACKASSOC_SCRIPTS_DIR/plot.py, else
-// <executable>/../scripts/plot.py, else ./scripts/plot.py; empty when none exists.
-std::string find_plot_script();
+// scripts/NAME (plot.py, plot_scale.py), the experiments' PNG plotters: $TRACKASSOC_SCRIPTS_DIR/NAME,
+// else <executable>/../scripts/NAME, else ./scripts/NAME; empty when none exists.
+std::string find_script(const std::string& name);
 
-// Runs `/usr/bin/python3 plot.py ARGS` (falls back to python3 on PATH). Returns false, after a
-// warning on stderr, when the script or matplotlib is missing or the plot fails: plots are a
-// convenience, the HDF5 file is the result.
-bool run_plot_script(const std::string& args);
+// The one plot invocation of every command that plots (experiment seed001, seed002, scale): runs
+// `/usr/bin/python3 scripts/SCRIPT ARGS...` (python3 on PATH when /usr/bin has none), each argument
+// shell-quoted. Returns false, after a warning on stderr, when the script or matplotlib is missing
+// or the plot fails: plots are a convenience, the HDF5 file is the result.
+bool run_plot_script(const std::string& script, const std::vector<std::string>& args);
 
 // The root attributes every experiment file starts with: format = "trackassoc-experiment",
 // experiment = NAME, created_by (engine/version.hpp).

@@ -448,7 +448,14 @@ TrackFile read_track_file_in_process(const std::string& path) {
   return file;
 }
 
-void write_track_file(const std::string& path, const TrackFile& file) {
+namespace {
+
+void write_track_file_with(const std::string& path, const TrackFile& file,
+                           const TrackModelProbabilities* model_prob) {
+  if (model_prob && model_prob->prob.size() != file.tracks.size() * std::size_t(model_prob->num_models))
+    throw InputError(path + ": /tracks/model_prob: " + std::to_string(model_prob->prob.size()) +
+                     " values for " + std::to_string(file.tracks.size()) + " rows of " +
+                     std::to_string(model_prob->num_models) + " models");
   write_atomically(path, [&](const std::string& tmp) {
     // Messages name the file the user asked for, not the temporary one.
     tv::check_sensors(path, file.sensors);
@@ -491,6 +498,13 @@ void write_track_file(const std::string& path, const TrackFile& file) {
         write_measurements(root, *file.measurements);
       }
       write_tracks(root, file.tracks, file.recording);
+      if (model_prob) {
+        const Group tracks = root.open_group("tracks");
+        tracks.write_dataset(
+            "model_prob", std::span<const double>(model_prob->prob),
+            {static_cast<hsize_t>(file.tracks.size()), static_cast<hsize_t>(model_prob->num_models)});
+        tracks.write_attribute("models", model_prob->models);
+      }
       if (!file.associations.empty()) {
         const Group g = root.create_group("associations", /*track_order=*/true);
         for (const auto& a : file.associations) write_association(g, a);
@@ -503,6 +517,17 @@ void write_track_file(const std::string& path, const TrackFile& file) {
     }
     f.close();
   });
+}
+
+}  // namespace
+
+void write_track_file(const std::string& path, const TrackFile& file) {
+  write_track_file_with(path, file, nullptr);
+}
+
+void write_track_file(const std::string& path, const TrackFile& file,
+                      const TrackModelProbabilities& model_prob) {
+  write_track_file_with(path, file, &model_prob);
 }
 
 }  // namespace trackassoc

@@ -106,4 +106,17 @@ TrackFile read_track_file_in_process(const std::string& path);
 // not writable; never leaves a partial file at `path`.
 void write_track_file(const std::string& path, const TrackFile& file);
 
+// The model probabilities of an IMM filter bank, one row per /tracks row: /tracks/model_prob
+// (N×M float64, additive to schema v1) with the attribute /tracks/models naming the M columns
+// (comma-separated). `trackassoc filter --filter cs-nn|imm` writes them beside the tracks.
+struct TrackModelProbabilities {
+  std::vector<double> prob;  // N×M, row-major
+  int32_t num_models = 0;    // M
+  std::string models;        // e.g. "cs-nn,ca"
+};
+
+// As above, with /tracks/model_prob and /tracks/models in the same atomic write (M > 0).
+void write_track_file(const std::string& path, const TrackFile& file,
+                      const TrackModelProbabilities& model_prob);
+
 }  // namespace trackassoc

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Figs. 5-8 of seed 003 (TTCSN) from `trackassoc experiment seed003 --out R.h5`.
+"""Figs. 5-8 of seed 003 (TTCSN) from `trackassoc experiment seed003 --output R.h5`.
 
 usage: scripts/plot_seed003.py R.h5 [OUTDIR]
 Writes fig5_accuracy.png, fig6_time.png, fig7_recall.png, fig8_precision.png (means over runs,

@@ -1,6 +1,6 @@
-// Runs the built `trackassoc` CLI (TRACKASSOC_CLI) in a per-test temporary folder and captures
-// its exit status, stdout and stderr. (tests/test_cli.cpp has an equivalent fixture of its own;
-// it could switch to this one.)
+// The one runner of the built `trackassoc` CLI (TRACKASSOC_CLI) for every test: runs it through
+// /bin/sh and captures its exit status, stdout and stderr; CliFixture does so in a per-test
+// temporary folder.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -20,6 +20,26 @@ struct CliResult {
   std::string out, err;
 };
 
+// The shell command that runs `trackassoc ARGS` with stdout and stderr sent to files `out`, `err`.
+inline std::string cli_command(const std::string& args, const std::string& out, const std::string& err) {
+  return std::string(TRACKASSOC_CLI) + " " + args + " >" + out + " 2>" + err;
+}
+
+inline std::string slurp_file(const std::string& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// Runs `trackassoc ARGS`, its output captured in files of `dir` (which must exist). The status is
+// -1 when the CLI did not exit normally (a crash).
+inline CliResult run_cli(const std::string& args, const std::filesystem::path& dir) {
+  const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
+  const int raw = std::system(cli_command(args, out, err).c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp_file(out), slurp_file(err)};
+}
+
 class CliFixture : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -31,18 +51,8 @@ class CliFixture : public ::testing::Test {
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  CliResult run(const std::string& args) {
-    const std::string out = path("stdout.txt"), err = path("stderr.txt");
-    const int raw =
-        std::system((std::string(TRACKASSOC_CLI) + " " + args + " >" + out + " 2>" + err).c_str());
-    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
-  }
-  static std::string slurp(const std::string& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-  }
+  CliResult run(const std::string& args) { return run_cli(args, dir_); }
+  static std::string slurp(const std::string& p) { return slurp_file(p); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::string write(const std::string& name, const std::string& text) const {
     std::ofstream(path(name)) << text;

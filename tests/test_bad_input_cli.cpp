@@ -34,7 +34,7 @@ class BadInputCli : public testing_support::CliFixture {
   // status is -1 when the CLI was killed by a signal (a crash), its signal in `signal`.
   testing_support::CliResult run_with_file_limit(const std::string& args, rlim_t max_bytes, int& signal) {
     const std::string out = path("stdout.txt"), err = path("stderr.txt");
-    const std::string command = std::string(TRACKASSOC_CLI) + " " + args + " >" + out + " 2>" + err;
+    const std::string command = testing_support::cli_command(args, out, err);
     const pid_t child = ::fork();
     if (child == 0) {
       const rlimit limit{max_bytes, max_bytes};
@@ -139,7 +139,7 @@ TEST_F(BadInputCli, ScenarioSizesBeyondTheMemoryBudgetAreRefusedBeforeAllocating
 }
 
 TEST_F(BadInputCli, GeneratorAndPipelineSizesBeyondTheMemoryBudgetAreRefused) {
-  expect_refusal(run("dataset seed003 --targets 10000000 --out " + path("d.h5")),
+  expect_refusal(run("dataset seed003 --targets 10000000 --output " + path("d.h5")),
                  {"the seed 003 scene (10000000 targets", "more than the memory budget of"});
   EXPECT_FALSE(fs::exists(path("d.h5")));
   const std::string sim = path("sim.h5");

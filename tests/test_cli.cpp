@@ -9,47 +9,15 @@
 #include <sstream>
 #include <string>
 
+#include "cli_runner.hpp"
 #include "io/track_file.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
-
-class CliTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("trackassoc_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-            "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  Result run(const std::string& args) {
-    const std::string out = (dir_ / "stdout.txt").string(), err = (dir_ / "stderr.txt").string();
-    const std::string cmd = std::string(TRACKASSOC_CLI) + " " + args + " >" + out + " 2>" + err;
-    const int raw = std::system(cmd.c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
-  static std::string slurp(const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
-};
+using Result = trackassoc::testing_support::CliResult;
+class CliTest : public trackassoc::testing_support::CliFixture {};
 
 int count_lines(const std::string& s) {
   int n = 0;
@@ -65,9 +33,55 @@ TEST_F(CliTest, RunPrintsATableAndWritesAReadableFile) {
   const auto file = trackassoc::read_track_file(path("run.h5"));
   EXPECT_GE(file.associations.size(), 2u);
   EXPECT_EQ(file.metrics.size(), file.associations.size());
-  for (const auto& m : file.metrics) {
-    EXPECT_GE(m.correct_rate, 0.0);
-    EXPECT_NEAR(m.correct_rate + m.false_rate + m.missed_rate, 1.0, 1e-12);
+  // The run scores as `evaluate` does: scoring its file again gives the same rates.
+  ASSERT_EQ(run("evaluate --input " + path("run.h5") + " --output " + path("again.h5")).status, 0);
+  const auto again = trackassoc::read_track_file(path("again.h5"));
+  ASSERT_EQ(again.metrics.size(), file.metrics.size());
+  for (std::size_t k = 0; k < file.metrics.size(); ++k) {
+    EXPECT_EQ(again.metrics[k].name, file.metrics[k].name);
+    EXPECT_EQ(again.metrics[k].correct_rate, file.metrics[k].correct_rate) << file.metrics[k].name;
+    EXPECT_EQ(again.metrics[k].false_rate, file.metrics[k].false_rate) << file.metrics[k].name;
+    EXPECT_EQ(again.metrics[k].missed_rate, file.metrics[k].missed_rate) << file.metrics[k].name;
+  }
+}
+
+// `evaluate` on a hand-made file: sensors 10, 20, 30; local track k of every sensor follows target
+// 100 + k. "swap" exchanges sensor 30's tracks of targets 101 and 102 (both false, 100 correct);
+// "split" leaves target 102's sensor-30 track alone (missed, the others correct).
+TEST_F(CliTest, EvaluateWritesTheHandCountedRates) {
+  trackassoc::TrackFile f;
+  f.sensors.resize(3);
+  for (int s = 0; s < 3; ++s) f.sensors[s].id = 10 * (s + 1);
+  f.tracks = trackassoc::TrackTable(trackassoc::StateLayout::kXY_VXVY);
+  const Eigen::VectorXd x = Eigen::VectorXd::Zero(4);
+  const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(4, 4);
+  for (int s = 0; s < 3; ++s)
+    for (int32_t k = 0; k < 3; ++k)
+      for (double t : {0.0, 1.0}) f.tracks.push_back(10 * (s + 1), k, t, x, P, 100 + k);
+  auto record = [](const std::string& name, std::vector<int32_t> tuples) {
+    trackassoc::AssociationRecord r;
+    r.name = name;
+    r.solver = "hand";
+    r.num_sensors = 3;
+    r.tuples = std::move(tuples);
+    r.cost.assign(r.tuples.size() / 3, 0.0);
+    return r;
+  };
+  f.associations = {record("swap", {0, 0, 0, 1, 1, 2, 2, 2, 1}),
+                    record("split", {0, 0, 0, 1, 1, 1, 2, 2, -1, -1, -1, 2})};
+  trackassoc::write_track_file(path("hand.h5"), f);
+  const Result r = run("evaluate --input " + path("hand.h5") + " --output " + path("scored.h5"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("66.7 %"), std::string::npos) << r.out;
+  const auto scored = trackassoc::read_track_file(path("scored.h5"));
+  ASSERT_EQ(scored.metrics.size(), 2u);
+  const double third = 1.0 / 3.0;
+  for (const auto& m : scored.metrics) {
+    SCOPED_TRACE(m.name);
+    const bool swap = m.name == "swap";
+    EXPECT_NEAR(m.correct_rate, swap ? third : 2 * third, 1e-15);
+    EXPECT_NEAR(m.false_rate, swap ? 2 * third : 0.0, 1e-15);
+    EXPECT_NEAR(m.missed_rate, swap ? 0.0 : third, 1e-15);
   }
 }
 

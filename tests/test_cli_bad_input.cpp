@@ -76,7 +76,7 @@ TEST_F(BadInput, FilterProcessNoiseMinusOneIsNotAHiddenDefault) {
 
 TEST_F(BadInput, NegativePairLimitIsRefusedBeforeTheDataIsRead) {
   expect_refused(
-      run("train-siamese --data " + path("none.h5") + " --out " + path("m.h5") + " --max-train-pairs -5"),
+      run("train-siamese --data " + path("none.h5") + " --output " + path("m.h5") + " --max-train-pairs -5"),
       {"--max-train-pairs", "-5"});
 }
 
@@ -187,13 +187,13 @@ TEST_F(BadInput, InstanceThatIsADirectoryIsCalledOne) {
 TEST_F(BadInput, TrainSiameseChecksItsOptionsBeforeTheDataAndPrintsNothingFirst) {
   // No such data file: the bad option is reported, not the file, and no "training ..." line.
   const CliResult r =
-      run("train-siamese --data " + path("none.h5") + " --out " + path("m.h5") + " --hidden 0");
+      run("train-siamese --data " + path("none.h5") + " --output " + path("m.h5") + " --hidden 0");
   expect_refused(r, {"--hidden"});
   EXPECT_FALSE(has(r.err, "none.h5")) << r.err;
   EXPECT_FALSE(has(r.err, "training")) << r.err;
   // An output folder that does not exist is found before the data is read, too.
-  const CliResult o = run("train-siamese --data " + path("none.h5") + " --out " + path("nodir/m.h5"));
-  expect_refused(o, {"--out", "nodir", "does not exist"});
+  const CliResult o = run("train-siamese --data " + path("none.h5") + " --output " + path("nodir/m.h5"));
+  expect_refused(o, {"--output", "nodir", "does not exist"});
 }
 
 // ---------------------------------------------------------------- (6) lost output
@@ -201,8 +201,8 @@ TEST_F(BadInput, TrainSiameseChecksItsOptionsBeforeTheDataAndPrintsNothingFirst)
 TEST_F(BadInput, BadPlotPathLeavesTheExistingOutputAlone) {
   const std::string out = write("out.h5", "the previous results");
   const CliResult r =
-      run("experiment seed000 --runs 1 --targets 3 --output " + out + " --plot " + path("nodir/e.svg"));
-  expect_refused(r, {"--plot", "nodir", "does not exist"});
+      run("experiment seed000 --runs 1 --targets 3 --output " + out + " --plots " + path("nodir/e.svg"));
+  expect_refused(r, {"--plots", "nodir", "does not exist"});
   EXPECT_EQ(slurp(out), "the previous results");
   const CliResult run_plot = run("run --output " + out + " --plot " + path("nodir/r.svg"));
   expect_refused(run_plot, {"--plot", "nodir"});

@@ -16,7 +16,7 @@ class ExperimentRecordedCli : public CliFixture {};
 
 TEST_F(ExperimentRecordedCli, WritesOneRowPerMethodScoredAgainstTheTruthAndThePeerBeside) {
   const auto r = run("experiment recorded --scenarios recorded_sync recorded_4s --runs 1 --files " +
-                     path("files") + " --output " + path("rec.h5") + " --plot " + path("rec.svg"));
+                     path("files") + " --output " + path("rec.h5") + " --plots " + path("rec.svg"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("recorded_4s"), std::string::npos) << r.out;
   EXPECT_TRUE(std::filesystem::exists(path("files/recorded_sync_run0.h5")));

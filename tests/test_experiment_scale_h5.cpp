@@ -102,7 +102,7 @@ class ExperimentScaleH5Cli : public CliFixture {};
 
 TEST_F(ExperimentScaleH5Cli, WritesScaleH5AndPlotsFromIt) {
   const std::string out = path("scale");
-  const auto r = run("experiment scale --sizes 60 --dense-max 60 --no-plot --threads 1 --out " + out);
+  const auto r = run("experiment scale --sizes 60 --dense-max 60 --no-plots --threads 1 --output " + out);
   ASSERT_EQ(r.status, 0) << r.err;
   const h5::File f = h5::File::open_read_only(out + "/scale.h5");
   const h5::Group g = f.root().open_group("scale");

@@ -43,15 +43,18 @@ TEST(Metrics, AllCorrect) {
   EXPECT_DOUBLE_EQ(m.false_rate, 0.0);
 }
 
-TEST(Metrics, SwapMakesTwoFalseAndRatesSumToOne) {
+TEST(Metrics, SwapMakesTwoFalse) {
   const auto tracks = make_tracks({{100, 101, 102}, {100, 101, 102}, {100, 101, 102}});
   // Sensor 3's tracks of targets 101 and 102 swapped: targets 101 and 102 are both false.
   const auto m = evaluate_association(tracks, three_sensors(), record({{0, 0, 0}, {1, 1, 2}, {2, 2, 1}}));
   EXPECT_EQ(m.correct, 1);
   EXPECT_EQ(m.false_associations, 2);
   EXPECT_EQ(m.missed, 0);
-  EXPECT_NEAR(m.correct_rate + m.false_rate + m.missed_rate, 1.0, 1e-15);
+  // Hand count: 3 targets, 1 correct, 2 false, 0 missed.
+  EXPECT_EQ(m.targets, 3);
   EXPECT_NEAR(m.correct_rate, 1.0 / 3.0, 1e-15);
+  EXPECT_NEAR(m.false_rate, 2.0 / 3.0, 1e-15);
+  EXPECT_EQ(m.missed_rate, 0.0);
 }
 
 TEST(Metrics, SplitTargetIsMissed) {
@@ -61,6 +64,9 @@ TEST(Metrics, SplitTargetIsMissed) {
   EXPECT_EQ(m.correct, 1);
   EXPECT_EQ(m.missed, 1);
   EXPECT_EQ(m.false_associations, 0);
+  EXPECT_DOUBLE_EQ(m.correct_rate, 0.5);
+  EXPECT_DOUBLE_EQ(m.missed_rate, 0.5);
+  EXPECT_DOUBLE_EQ(m.false_rate, 0.0);
 }
 
 TEST(Metrics, TargetSeenByTwoOfThreeIsCorrectWhenGrouped) {

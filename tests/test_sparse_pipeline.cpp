@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "cli_runner.hpp"
 #include "engine/metrics.hpp"
 #include "engine/pipeline.hpp"
 #include "engine/sparse_pipeline.hpp"
@@ -206,12 +207,13 @@ namespace {
 
 // `trackassoc experiment scale` end to end at a tiny size: table, CSV with the dense comparison,
 // and exit status 2 with one line on bad input.
-TEST(ExperimentScaleCli, WritesTableAndCsvAndRejectsBadSizes) {
-  const std::string dir = ::testing::TempDir() + "/trackassoc_scale_cli";
-  const std::string cmd = std::string(TRACKASSOC_CLI) +
-                          " experiment scale --sizes 60 --dense-max 60 --no-plot --threads 1 --out " + dir +
-                          " > " + dir + ".out 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0);
+class ExperimentScaleCli : public testing_support::CliFixture {};
+
+TEST_F(ExperimentScaleCli, WritesTableAndCsvAndRejectsBadSizes) {
+  const std::string dir = path("scale");
+  const testing_support::CliResult ok =
+      run("experiment scale --sizes 60 --dense-max 60 --no-plots --threads 1 --output " + dir);
+  ASSERT_EQ(ok.status, 0) << ok.err;
   std::ifstream csv(dir + "/scale.csv");
   std::string header, row;
   ASSERT_TRUE(std::getline(csv, header));
@@ -228,10 +230,8 @@ TEST(ExperimentScaleCli, WritesTableAndCsvAndRejectsBadSizes) {
   const auto col = std::find(names.begin(), names.end(), "dense_identical") - names.begin();
   ASSERT_LT(static_cast<std::size_t>(col), cells.size());
   EXPECT_EQ(cells[col], "1");
-  const std::string bad = std::string(TRACKASSOC_CLI) + " experiment scale --sizes 0 --no-plot --out " + dir +
-                          " > /dev/null 2>&1";
-  const int status = std::system(bad.c_str());
-  EXPECT_EQ(WEXITSTATUS(status), 2);
+  const testing_support::CliResult bad = run("experiment scale --sizes 0 --no-plots --output " + dir);
+  EXPECT_EQ(bad.status, 2) << bad.err;
 }
 
 }  // namespace

@@ -1,20 +1,16 @@
 // trackassoc experiment scale (issue 6): the sparse path from 10² to 10⁴ targets per sensor.
 // Prints the table (time per stage, peak memory, correct rate, dense beside it where it fits),
 // writes DIR/scale.h5 (the result, layout in engine/experiment_scale.hpp) and, for a quick look,
-// DIR/scale.csv and DIR/scale.json, all atomically, and draws DIR/scale.png from the HDF5 file
-// with scripts/plot_scale.py (/usr/bin/python3 with h5py and matplotlib).
-#include <unistd.h>
-
+// DIR/scale.csv and DIR/scale.json, all atomically (write_scale_outputs), and draws DIR/scale.png
+// (or --plots PNG) from the HDF5 file with scripts/plot_scale.py (run_plot_script).
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 
 #include "engine/cli/common.hpp"
 #include "engine/experiment_scale.hpp"
+#include "engine/experiments.hpp"
 #include "engine/solver_registry.hpp"
-#include "io/atomic_file.hpp"
 
 namespace trackassoc::cli {
 
@@ -23,8 +19,8 @@ void register_experiment_scale(CLI::App& experiment) {
     CommonOptions common;
     ScaleExperimentOptions options;
     std::string solver_options = "{}";
-    std::string out = "results/scale";
-    bool no_isolate = false, no_plot = false;
+    std::string output = "results/scale", plots;  // plots "": OUTPUT/scale.png
+    bool no_isolate = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = experiment.add_subcommand(
@@ -66,66 +62,41 @@ void register_experiment_scale(CLI::App& experiment) {
       "--two-d", [args](int64_t) { args->options.tracks.three_d = false; }, "2-D targets (default 3-D)");
   cmd->add_flag("--no-isolate", args->no_isolate,
                 "Run every size in this process (peak memory is then cumulative)");
-  cmd->add_flag("--no-plot", args->no_plot, "Do not call scripts/plot_scale.py");
-  cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
-  add_common_options(cmd, args->common);
-  cmd->callback([args] {
-    ScaleExperimentOptions o = args->options;
-    o.seed = args->common.seed;
-    o.threads = args->common.threads;
-    o.isolate = !args->no_isolate;
-    o.solver_options = parse_solver_options(args->solver_options);
-    o.validate();
-    find_solver(o.solver);
-    std::filesystem::create_directories(args->out);
-    const bool tty = isatty(STDERR_FILENO);
-    auto rows = run_scale_experiment(o, [&](const ScaleRow& r) {
-      if (tty) std::cerr << "scale: n = " << r.n << " done in " << r.total_s << " s\n";
-    });
-    std::cout << "experiment scale: 3 sensors, solver '" << o.solver << "', density " << o.density
-              << " targets / 100 km^2, gate " << o.gate_probability << ", threads "
-              << (o.threads ? std::to_string(o.threads) : std::string("all")) << "\n\n"
-              << scale_table(rows);
-    const double slope = scaling_exponent(rows, 1000);
-    std::printf(
-        "\nlog-log slope of total time vs n for n >= 1000: %.2f (n log n gives about 1.1 here, n^2 gives "
-        "2)\n",
-        slope);
-    const std::string csv = args->out + "/scale.csv", json = args->out + "/scale.json",
-                      h5 = args->out + "/scale.h5";
-    write_atomically(csv, [&](const std::string& tmp) { std::ofstream(tmp) << scale_csv(rows); });
-    nlohmann::json j = {{"options",
-                         {{"sizes", o.sizes},
-                          {"dense_max", o.dense_max},
-                          {"solver", o.solver},
-                          {"solver_options", o.solver_options},
-                          {"density_per_100km2", o.density},
-                          {"gate_probability", o.gate_probability},
-                          {"duration", o.tracks.duration},
-                          {"sigma_pos", o.tracks.sigma_pos},
-                          {"p_seen", o.tracks.p_seen},
-                          {"min_lifetime_fraction", o.tracks.min_lifetime_fraction},
-                          {"three_d", o.tracks.three_d},
-                          {"seed", o.seed},
-                          {"threads", o.threads}}},
-                        {"loglog_slope_n_ge_1000", slope},
-                        {"rows", nlohmann::json::array()}};
-    for (const auto& r : rows) j["rows"].push_back(r.to_json());
-    write_atomically(json, [&](const std::string& tmp) { std::ofstream(tmp) << j.dump(1) << "\n"; });
-    write_scale_h5(h5, rows, j["options"], slope);
-    std::cout << "wrote " << h5 << ", " << csv << ", " << json << "\n";
-    if (!args->no_plot) {
-      const std::string script = std::string(TRACKASSOC_DATA_DIR) + "/../scripts/plot_scale.py";
-      const std::string png = args->out + "/scale.png";
-      // The Debian interpreter has python3-matplotlib (scripts/setup.sh); a python3 earlier on PATH may not.
-      const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-      const std::string command = python + " '" + script + "' '" + h5 + "' '" + png + "'";
-      if (std::filesystem::exists(script) && std::system(command.c_str()) == 0)
-        std::cout << "wrote " << png << "\n";
-      else
-        std::cout << "plot skipped (run: " << command << ")\n";
-    }
-  });
+  finish_study_command(
+      cmd, args,
+      {.output = &args->output,
+       .output_help = "Output folder",
+       .output_is_folder = true,
+       .plots = &args->plots,
+       .plots_help = "PNG plot (scripts/plot_scale.py; default OUTPUT/scale.png)"},
+      [args](std::ostream*, bool plots) {
+        ScaleExperimentOptions o = args->options;
+        o.seed = args->common.seed;
+        o.threads = args->common.threads;
+        o.isolate = !args->no_isolate;
+        o.solver_options = parse_solver_options(args->solver_options);
+        o.validate();
+        find_solver(o.solver);
+        std::filesystem::create_directories(args->output);
+        const bool tty = isatty(STDERR_FILENO);
+        auto rows = run_scale_experiment(o, [&](const ScaleRow& r) {
+          if (tty) std::cerr << "scale: n = " << r.n << " done in " << r.total_s << " s\n";
+        });
+        std::cout << "experiment scale: 3 sensors, solver '" << o.solver << "', density " << o.density
+                  << " targets / 100 km^2, gate " << o.gate_probability << ", threads "
+                  << (o.threads ? std::to_string(o.threads) : std::string("all")) << "\n\n"
+                  << scale_table(rows);
+        const double slope = scaling_exponent(rows, 1000);
+        std::printf(
+            "\nlog-log slope of total time vs n for n >= 1000: %.2f (n log n gives about 1.1 here, n^2 gives "
+            "2)\n",
+            slope);
+        write_scale_outputs(args->output, rows, o, slope);
+        const std::string dir = args->output, h5 = dir + "/scale.h5";
+        std::cout << "wrote " << h5 << ", " << dir << "/scale.csv, " << dir << "/scale.json\n";
+        const std::string png = args->plots.empty() ? dir + "/scale.png" : args->plots;
+        if (plots && run_plot_script("plot_scale.py", {h5, png})) std::cout << "wrote " << png << "\n";
+      });
 }
 
 }  // namespace trackassoc::cli

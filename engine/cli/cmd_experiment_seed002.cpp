@@ -1,13 +1,10 @@
 // trackassoc experiment seed002: Chen & Tong (2001), IMM {CS + BP network, CA} vs the CS-parallel
 // filter, Table 1 and the sensitivity sweep (engine/experiment_seed002.hpp).
-#include <unistd.h>
-
 #include <iostream>
 
 #include "engine/cli/common.hpp"
 #include "engine/experiment_seed002.hpp"
 #include "engine/experiments.hpp"
-#include "io/atomic_file.hpp"
 
 namespace trackassoc::cli {
 
@@ -16,7 +13,6 @@ void register_experiment_seed002(CLI::App& experiment) {
     Seed002Options options;
     CommonOptions common;
     std::string output = "seed002.h5", plots = "seed002-plots";
-    bool no_plots = false;
   };
   auto args = std::make_shared<Args>();
   args->common.seed = args->options.seed;
@@ -25,11 +21,6 @@ void register_experiment_seed002(CLI::App& experiment) {
   cmd->add_option("--runs", args->options.runs, "Monte Carlo runs")
       ->capture_default_str()
       ->check(in_range(1, 1e6));
-  add_common_options(cmd, args->common);
-  cmd->add_option("--output,-o", args->output, "Output HDF5 file")->capture_default_str();
-  cmd->add_option("--plots", args->plots, "Folder for the PNG plots (scripts/plot.py)")
-      ->capture_default_str();
-  cmd->add_flag("--no-plots", args->no_plots, "Skip the PNG plots");
   cmd->add_option("--ca-sigma", args->options.models.ca_sigma, "σ of the IMM's CA model [m/s²] (paper: 5)")
       ->capture_default_str()
       ->check(above(0));
@@ -46,20 +37,25 @@ void register_experiment_seed002(CLI::App& experiment) {
   cmd->add_option("--sensitivity-a-max", args->options.sensitivity_a_max, "a_max values of the sweep [m/s²]")
       ->capture_default_str()
       ->check(above(0));
-  cmd->callback([args] {
-    ThreadScope threads(args->common.threads);
-    args->options.seed = args->common.seed;
-    args->options.validate();
-    check_output_paths({{args->output, "--output"}});
-    if (isatty(2)) std::cerr << "seed002: " << args->options.runs << " runs × 4 motions ...\n";
-    const Seed002Result res = run_seed002(args->options);
-    write_seed002(args->output, res);
-    print_seed002(res, std::cout);
-    if (!res.sensitivity.empty()) print_seed002_sensitivity(res, std::cout);
-    std::cout << "\nwrote " << args->output << "\n";
-    if (!args->no_plots && run_plot_script("seed002 '" + args->output + "' --outdir '" + args->plots + "'"))
-      std::cout << "plots in " << args->plots << "/\n";
-  });
+  finish_study_command(
+      cmd, args,
+      {.output = &args->output,
+       .output_help = "Output HDF5 file",
+       .plots = &args->plots,
+       .plots_help = "Folder for the PNG plots (scripts/plot.py)",
+       .plots_is_folder = true},
+      [args](std::ostream* progress, bool plots) {
+        args->options.seed = args->common.seed;
+        args->options.validate();
+        if (progress) *progress << "seed002: " << args->options.runs << " runs × 4 motions ...\n";
+        const Seed002Result res = run_seed002(args->options);
+        write_seed002(args->output, res);
+        print_seed002(res, std::cout);
+        if (!res.sensitivity.empty()) print_seed002_sensitivity(res, std::cout);
+        std::cout << "\nwrote " << args->output << "\n";
+        if (plots && run_plot_script("plot.py", {"seed002", args->output, "--outdir", args->plots}))
+          std::cout << "plots in " << args->plots << "/\n";
+      });
 }
 
 }  // namespace trackassoc::cli

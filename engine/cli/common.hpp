@@ -17,6 +17,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "io/atomic_file.hpp"
 
@@ -92,30 +93,69 @@ class ThreadScope {
   std::unique_ptr<tbb::global_control> control_;
 };
 
-// The options and the ending shared by the experiments that print a table and write an HDF5 file
-// and a plot (seed000, seed004, schedules): `Options` has `output`, `plot` and `seed`.
+// Adds --output,-o, the one name of every command's output file (or folder).
+inline CLI::Option* add_output_option(CLI::App* cmd, std::string& output, const std::string& help) {
+  return cmd->add_option("--output,-o", output, help);
+}
+
+// Where an `experiment` study writes: its result (--output, a file unless `output_is_folder`) and
+// its plots (--plots, a file unless `plots_is_folder`; null when the study draws none), both
+// members of the study's shared arguments.
+struct StudyPaths {
+  std::string* output = nullptr;
+  std::string output_help = "HDF5 output";
+  bool output_is_folder = false;
+  std::string* plots = nullptr;
+  std::string plots_help{};
+  bool plots_is_folder = false;
+};
+
+// The one ending of every `experiment` study (engine/cli/cmd_experiment*.cpp): adds --output,-o,
+// --plots and --no-plots (when the study plots), --seed and --threads; the callback limits the
+// threads, checks the output paths before any work (io/atomic_file.hpp) and calls
+// run(progress, plots): progress is std::cerr when it is a terminal (else null), plots is false
+// under --no-plots. `Args` holds `CommonOptions common`.
+template <class Args, class Run>
+void finish_study_command(CLI::App* cmd, const std::shared_ptr<Args>& args, const StudyPaths& paths,
+                          Run run) {
+  add_output_option(cmd, *paths.output, paths.output_help)->capture_default_str();
+  auto no_plots = std::make_shared<bool>(false);
+  if (paths.plots) {
+    cmd->add_option("--plots", *paths.plots, paths.plots_help)->capture_default_str();
+    cmd->add_flag("--no-plots", *no_plots, "Draw no plots");
+  }
+  add_common_options(cmd, args->common);
+  cmd->callback([args, paths, no_plots, run] {
+    ThreadScope threads(args->common.threads);
+    std::vector<OutputPath> outputs;  // checked before any work
+    if (!paths.output_is_folder) outputs.push_back({*paths.output, "--output"});
+    if (paths.plots && !paths.plots_is_folder && !*no_plots) outputs.push_back({*paths.plots, "--plots"});
+    check_output_paths(outputs);
+    run(isatty(STDERR_FILENO) ? &std::cerr : nullptr, paths.plots && !*no_plots);
+  });
+}
+
+// The studies whose Options hold `output`, `plot` (an SVG path, "" = none) and `seed` (seed000,
+// seed004, schedules, recorded): finish_study_command, then `run(options, progress)` prints the
+// table and writes the files, and the command says what was written.
 template <class Options>
 struct ExperimentArgs {
   Options o;
   CommonOptions common;
 };
 
-// Adds --output, --plot and the common options to `cmd`; its callback runs
-// `run(options, progress)` (progress on stderr when it is a terminal), which prints the table and
-// writes the files, then says what was written.
 template <class Options, class Run>
 void finish_experiment_command(CLI::App* cmd, const std::shared_ptr<ExperimentArgs<Options>>& args,
                                const std::string& plot_help, Run run) {
-  cmd->add_option("--output", args->o.output, "HDF5 output")->capture_default_str();
-  cmd->add_option("--plot", args->o.plot, plot_help)->capture_default_str();
-  add_common_options(cmd, args->common);
-  cmd->callback([args, run] {
-    ThreadScope threads(args->common.threads);
-    check_output_paths({{args->o.output, "--output"}, {args->o.plot, "--plot"}});  // before any work
-    args->o.seed = args->common.seed;
-    run(args->o, isatty(STDERR_FILENO) ? &std::cerr : nullptr);
-    std::cout << "\nwrote " << args->o.output << (args->o.plot.empty() ? "" : " and " + args->o.plot) << "\n";
-  });
+  finish_study_command(cmd, args,
+                       {.output = &args->o.output, .plots = &args->o.plot, .plots_help = plot_help},
+                       [args, run](std::ostream* progress, bool plots) {
+                         if (!plots) args->o.plot.clear();
+                         args->o.seed = args->common.seed;
+                         run(args->o, progress);
+                         std::cout << "\nwrote " << args->o.output
+                                   << (args->o.plot.empty() ? "" : " and " + args->o.plot) << "\n";
+                       });
 }
 
 // Each command file engine/cli/cmd_*.cpp defines one of these; main.cpp calls them all.

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_runner.hpp"
 #include "engine/simulation.hpp"
 #include "engine/workflow.hpp"
 #include "io/hdf5_wrapper.hpp"
@@ -20,13 +21,10 @@ namespace fs = std::filesystem;
 namespace trackassoc {
 namespace {
 
-class FilterCli : public ::testing::Test {
+class FilterCli : public testing_support::CliFixture {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("trackassoc_filter_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    CliFixture::SetUp();
     Scenario sc;
     sc.duration = 30;
     sc.random_targets.count = 5;
@@ -44,20 +42,11 @@ class FilterCli : public ::testing::Test {
     input_ = (dir_ / "in.h5").string();
     write_track_file(input_, simulation_to_track_file(sc, simulate(sc, 3, 0)));
   }
-  void TearDown() override { fs::remove_all(dir_); }
   int run(const std::string& args, std::string* err = nullptr) {
-    const std::string e = (dir_ / "err.txt").string();
-    const int raw = std::system((std::string(TRACKASSOC_CLI) + " " + args + " >/dev/null 2>" + e).c_str());
-    if (err) {
-      std::ifstream f(e);
-      std::stringstream s;
-      s << f.rdbuf();
-      *err = s.str();
-    }
-    return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    const testing_support::CliResult r = CliFixture::run(args);
+    if (err) *err = r.err;
+    return r.status;
   }
-  std::string path(const std::string& n) const { return (dir_ / n).string(); }
-  fs::path dir_;
   std::string input_;
 };
 
