@@ -82,21 +82,22 @@ TEST_F(BadInput, NegativePairLimitIsRefusedBeforeTheDataIsRead) {
 
 TEST_F(BadInput, MisspeltSolverNameInRunOptionsIsRefusedWithASuggestion) {
   const CliResult r =
-      run("run --output " + path("r.h5") + " --plot '' --options '{\"hopfeld\": {\"restarts\": 2}}'");
+      run("run --output " + path("r.h5") + " --no-plots --options '{\"hopfeld\": {\"restarts\": 2}}'");
   expect_refused(r, {"--options", "unknown solver 'hopfeld'", "did you mean 'hopfield'", "greedy"});
   EXPECT_FALSE(std::filesystem::exists(path("r.h5")));
   // Options for a solver that --solvers leaves out would be ignored as well.
-  expect_refused(run("run --output " + path("r.h5") + " --plot '' --solvers greedy --options '{\"lr\": {}}'"),
-                 {"--options", "'lr'", "--solvers"});
+  expect_refused(
+      run("run --output " + path("r.h5") + " --no-plots --solvers greedy --options '{\"lr\": {}}'"),
+      {"--options", "'lr'", "--solvers"});
 }
 
 TEST_F(BadInput, MisspeltKeyOfASolverIsRefusedBeforeAnyWork) {
-  const CliResult r = run("run --output " + path("r.h5") + " --plot '' --solvers hopfield --options " +
+  const CliResult r = run("run --output " + path("r.h5") + " --no-plots --solvers hopfield --options " +
                           "'{\"hopfield\": {\"restart\": 2}}'");
   expect_refused(
       r, {"solver 'hopfield' options", "unknown key 'restart'", "did you mean 'restarts'", "max_sweeps"});
   EXPECT_FALSE(std::filesystem::exists(path("r.h5")));
-  expect_refused(run("run --output " + path("r.h5") + " --plot '' --solvers lr --options " +
+  expect_refused(run("run --output " + path("r.h5") + " --no-plots --solvers lr --options " +
                      "'{\"lr\": {\"max_iteration\": 5}}'"),
                  {"solver 'lr' options", "unknown key 'max_iteration'", "did you mean 'max_iterations'"});
 }
@@ -204,8 +205,8 @@ TEST_F(BadInput, BadPlotPathLeavesTheExistingOutputAlone) {
       run("experiment seed000 --runs 1 --targets 3 --output " + out + " --plots " + path("nodir/e.svg"));
   expect_refused(r, {"--plots", "nodir", "does not exist"});
   EXPECT_EQ(slurp(out), "the previous results");
-  const CliResult run_plot = run("run --output " + out + " --plot " + path("nodir/r.svg"));
-  expect_refused(run_plot, {"--plot", "nodir"});
+  const CliResult run_plot = run("run --output " + out + " --plots " + path("nodir/r.svg"));
+  expect_refused(run_plot, {"--plots", "nodir"});
   EXPECT_EQ(slurp(out), "the previous results");
   EXPECT_TRUE(run_plot.out.empty()) << "no table before the error: " << run_plot.out;
 }
@@ -214,7 +215,7 @@ TEST_F(BadInput, OutputThatIsADirectoryOrNamedTwiceIsRefusedBeforeAnyWork) {
   std::filesystem::create_directories(path("folder"));
   expect_refused(run("simulate --output " + path("folder")), {"--output", "is a directory"});
   const std::string out = write("same.h5", "keep");
-  expect_refused(run("run --output " + out + " --plot " + out), {"named twice"});
+  expect_refused(run("run --output " + out + " --plots " + out), {"named twice"});
   EXPECT_EQ(slurp(out), "keep");
 }
 

@@ -61,14 +61,15 @@ void register_run(CLI::App& app) {
     RunJobOptions job;
     std::string output = "trackassoc-run.h5", plot = "trackassoc-run.svg";
     HopfieldFlags hopfield;  // merged into the options of every Hopfield solver
+    bool no_plots = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("run", "Simulate, associate with every solver, evaluate, print a table");
   cmd->add_option("--scenario", args->job.scenario, "Scenario JSON file or embedded name")
       ->capture_default_str();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file")->capture_default_str();
-  cmd->add_option("--plot", args->plot, "SVG plot of correct association vs time ('' = none)")
-      ->capture_default_str();
+  cmd->add_option("--plots", args->plot, "SVG plot of correct association vs time")->capture_default_str();
+  cmd->add_flag("--no-plots", args->no_plots, "Draw no plot");
   cmd->add_option("--solvers", args->job.solvers,
                   "Solvers to run (default: all that suit the size): default, default-exact, "
                   "default-chi2-gate (the default pipeline), or 3-D solver names")
@@ -81,6 +82,7 @@ void register_run(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
+    if (args->no_plots) args->plot.clear();
     RunJobOptions& job = args->job;
     job.pipeline = resolve(args->pipeline);
     job.solver_options = parse_solver_options(args->pipeline.solver_options);
@@ -88,7 +90,7 @@ void register_run(CLI::App& app) {
     job.seed = args->common.seed;
     check_run_solver_options(job.solver_options, job.solvers);
     merge_run_hopfield_flags(args->hopfield, job.solvers, job.solver_options);
-    check_output_paths({{args->output, "--output"}, {args->plot, "--plot"}});  // before any work
+    check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}});  // before any work
     const RunJobResult result = run_main_job(job, [&](const RunJobResult& scene) {
       std::cout << "scenario '" << scene.scenario_name << "', seed " << job.seed << ": "
                 << scene.file.sensors.size() << " sensors, " << scene.local_tracks << " local tracks\n\n";
