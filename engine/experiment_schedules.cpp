@@ -74,9 +74,11 @@ struct Method {
 
 std::vector<Method> methods(int32_t restarts) {
   std::vector<Method> m;
+  // The discrete network's schedule s, or (continuous) the continuous network, sync or async.
   auto net = [&](const std::string& name, HopfieldSchedule s, HopfieldEnergy e, bool polish = false,
-                 bool cont_async = false) {
+                 bool cont_async = false, bool continuous = false) {
     HopfieldOptions o;
+    o.network = continuous ? HopfieldNetwork::kContinuous : HopfieldNetwork::kDiscrete;
     o.schedule = s;
     o.energy = e;
     o.restarts = restarts;
@@ -89,8 +91,8 @@ std::vector<Method> methods(int32_t restarts) {
   net("diagonal/full", HopfieldSchedule::kDiagonal, HopfieldEnergy::kFullPlane);
   net("async/printed", HopfieldSchedule::kAsync, HopfieldEnergy::kPrinted);
   net("sync/printed", HopfieldSchedule::kSync, HopfieldEnergy::kPrinted);
-  net("continuous/sync", HopfieldSchedule::kContinuous, HopfieldEnergy::kFullPlane);
-  net("continuous/async", HopfieldSchedule::kContinuous, HopfieldEnergy::kFullPlane, false, true);
+  net("continuous/sync", HopfieldSchedule::kAsync, HopfieldEnergy::kFullPlane, false, false, true);
+  net("continuous/async", HopfieldSchedule::kAsync, HopfieldEnergy::kFullPlane, false, true, true);
   net("async/full+polish", HopfieldSchedule::kAsync, HopfieldEnergy::kFullPlane, true);
   // Without the mean-field start: what the energies alone do from the greedy and the empty state.
   {

@@ -9,27 +9,118 @@
 
 namespace trackassoc {
 
-HopfieldOptions hopfield_preset(const std::string& name) {
-  HopfieldOptions o;
-  if (name == "hopfield") return o;
-  if (name == "hopfield-paper") {
-    // seed 000 §3–4 as printed: Eq. 11 with A=B=C=300, D=200, E=1100; Eq. 10 updates. The paper
-    // does not give the initial state or the order: all neurons off, asynchronous in a fresh
-    // uniform random order, one run.
-    o.energy = HopfieldEnergy::kPrinted;
-    o.auto_weights = false;
-    o.weights = HopfieldWeights{300.f, 300.f, 300.f, 200.f, 1100.f, 0};
-    o.init = HopfieldInit::kZero;
-    o.order = HopfieldOrder::kRandom;
-    o.restarts = 1;
-    o.max_sweeps = 500;
-    return o;
-  }
-  if (name == "chnn") {
-    o.schedule = HopfieldSchedule::kContinuous;
-    return o;
-  }
+namespace {
+
+// The registry's Hopfield solvers: name, description (solve3d --help) and preset.
+struct HopfieldPresetEntry {
+  const char* name;
+  const char* description;
+  HopfieldOptions (*preset)();
+};
+
+const std::vector<HopfieldPresetEntry>& hopfield_presets() {
+  static const std::vector<HopfieldPresetEntry> presets{
+      {"hopfield", "discrete 3-D Hopfield network, full-plane energy, mean-field start (seed 000)",
+       [] { return HopfieldOptions{}; }},
+      {"hopfield-paper",
+       "discrete 3-D Hopfield network as printed (seed 000 Eq. 11, A=B=C=300, D=200, E=1100)",
+       [] {
+         // seed 000 §3–4 as printed: Eq. 11 with A=B=C=300, D=200, E=1100; Eq. 10 updates. The paper
+         // does not give the initial state or the order: all neurons off, asynchronous in a fresh
+         // uniform random order, one run.
+         HopfieldOptions o;
+         o.energy = HopfieldEnergy::kPrinted;
+         o.auto_weights = false;
+         o.weights = HopfieldWeights{300.f, 300.f, 300.f, 200.f, 1100.f, 0};
+         o.init = HopfieldInit::kZero;
+         o.order = HopfieldOrder::kRandom;
+         o.restarts = 1;
+         o.max_sweeps = 500;
+         return o;
+       }},
+      {"chnn", "continuous Hopfield network with gain annealing (CHNN, seed 004)", [] {
+         HopfieldOptions o;
+         o.network = HopfieldNetwork::kContinuous;
+         return o;
+       }}};
+  return presets;
+}
+
+}  // namespace
+
+const std::vector<std::string>& hopfield_preset_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const auto& p : hopfield_presets()) n.push_back(p.name);
+    return n;
+  }();
+  return names;
+}
+
+std::string hopfield_preset_description(const std::string& name) {
+  for (const auto& p : hopfield_presets())
+    if (name == p.name) return p.description;
   throw InputError("hopfield preset: unknown name '" + name + "'");
+}
+
+HopfieldOptions hopfield_preset(const std::string& name) {
+  for (const auto& p : hopfield_presets())
+    if (name == p.name) return p.preset();
+  throw InputError("hopfield preset: unknown name '" + name + "'");
+}
+
+std::vector<std::string> hopfield_schedule_names(HopfieldNetwork network) {
+  if (network == HopfieldNetwork::kContinuous) return {"sync", "async", "continuous"};
+  return {"sync", "async", "diagonal"};
+}
+
+std::string hopfield_schedule_error(HopfieldNetwork network, const std::string& schedule) {
+  const std::vector<std::string> own = hopfield_schedule_names(network);
+  if (std::find(own.begin(), own.end(), schedule) != own.end()) return "";
+  if (schedule != "sync" && schedule != "async" && schedule != "diagonal" && schedule != "continuous")
+    return "schedule: expected sync, async, diagonal or continuous, found '" + schedule + "'";
+  // Each registry name is one network, and `schedule` picks among that network's schedules: chnn
+  // steps its Euler equations sync (Jacobi) or async (neuron by neuron); hopfield and
+  // hopfield-paper are discrete. (A schedule that swapped the network would leave a record named
+  // "chnn" that ran the discrete network.)
+  if (network == HopfieldNetwork::kContinuous)
+    return "schedule: 'diagonal' is a schedule of the discrete network (solver 'hopfield'); the "
+           "continuous network takes sync, async or continuous (= sync Euler steps)";
+  return "schedule: 'continuous' is the continuous network, solver 'chnn'; the discrete "
+         "network takes sync, async or diagonal";
+}
+
+namespace {
+
+// `schedule` (one of the network's own) into o.
+void set_hopfield_schedule(HopfieldOptions& o, const std::string& schedule) {
+  if (o.network == HopfieldNetwork::kContinuous)
+    o.continuous_async = schedule == "async";  // "continuous" = "sync"
+  else
+    o.schedule = parse_hopfield_schedule(schedule);
+}
+
+}  // namespace
+
+std::string hopfield_preset_schedule_error(const std::string& name, const std::string& schedule) {
+  HopfieldOptions o = hopfield_preset(name);
+  std::string why = hopfield_schedule_error(o.network, schedule);
+  if (why.empty()) {
+    set_hopfield_schedule(o, schedule);
+    try {
+      o.validate();  // e.g. diagonal needs the full-plane energy, which hopfield-paper does not use
+    } catch (const InputError& e) {
+      why = e.what();
+    }
+  }
+  return why.empty() ? "" : "solver '" + name + "' options: " + why;
+}
+
+std::vector<std::string> hopfield_preset_schedules(const std::string& name) {
+  std::vector<std::string> out;
+  for (const std::string& s : hopfield_schedule_names(hopfield_preset(name).network))
+    if (hopfield_preset_schedule_error(name, s).empty()) out.push_back(s);
+  return out;
 }
 
 namespace {
@@ -109,24 +200,10 @@ HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohma
         else
           throw InputError("energy: expected full_plane or printed, found '" + e + "'");
       } else if (k == "schedule") {
-        // Each registry name is one network, and `schedule` picks among that network's schedules:
-        // chnn steps its Euler equations sync (Jacobi) or async (neuron by neuron); hopfield and
-        // hopfield-paper are discrete. (A schedule that swapped the network would leave a record
-        // named "chnn" that ran the discrete network.)
-        const HopfieldSchedule s = parse_hopfield_schedule(get_string(v, k, name));
-        if (o.schedule == HopfieldSchedule::kContinuous) {
-          if (s == HopfieldSchedule::kDiagonal)
-            throw InputError(
-                "schedule: 'diagonal' is a schedule of the discrete network (solver 'hopfield'); the "
-                "continuous network takes sync, async or continuous (= sync Euler steps)");
-          o.continuous_async = s == HopfieldSchedule::kAsync;
-        } else {
-          if (s == HopfieldSchedule::kContinuous)
-            throw InputError(
-                "schedule: 'continuous' is the continuous network, solver 'chnn'; the discrete "
-                "network takes sync, async or diagonal");
-          o.schedule = s;
-        }
+        const std::string value = get_string(v, k, name);
+        const std::string why = hopfield_schedule_error(o.network, value);
+        if (!why.empty()) throw InputError(why);
+        set_hopfield_schedule(o, value);
       } else if (k == "restarts")
         o.restarts = get_number<int32_t>(v, k, name);
       else if (k == "max_sweeps")

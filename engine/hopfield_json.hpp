@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "kernels/assignment_types.hpp"
 #include "kernels/hopfield.hpp"
@@ -23,6 +24,23 @@ namespace trackassoc {
 // as printed: Eq. 11, A=B=C=300, D=200, E=1100, async from the empty state, one run) or "chnn"
 // (continuous network, seed 004). Throws InputError for another name.
 HopfieldOptions hopfield_preset(const std::string& name);
+// The preset names, in registry order ("hopfield", "hopfield-paper", "chnn"), and their
+// one-line descriptions (InputError for another name).
+const std::vector<std::string>& hopfield_preset_names();
+std::string hopfield_preset_description(const std::string& name);
+
+// The values of the "schedule" key a network takes: discrete "sync" | "async" | "diagonal";
+// continuous "sync" | "async" | "continuous" (= "sync").
+std::vector<std::string> hopfield_schedule_names(HopfieldNetwork network);
+// Why `network` cannot run `schedule` (the text of the options' InputError after "solver 'NAME'
+// options: "), or "" when it can.
+std::string hopfield_schedule_error(HopfieldNetwork network, const std::string& schedule);
+// Why the preset `name` cannot run `schedule` (its network's schedules, then
+// HopfieldOptions::validate: diagonal needs the full-plane energy and D = 0), as the full message of
+// hopfield_options_from_json(name, {"schedule": schedule}); "" when it can.
+std::string hopfield_preset_schedule_error(const std::string& name, const std::string& schedule);
+// The schedules the preset `name` runs (the registry's capabilities.schedules).
+std::vector<std::string> hopfield_preset_schedules(const std::string& name);
 
 // The preset overridden by `options`; `polish` mirrors the "polish" key.
 HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohmann::json& options,

@@ -5,10 +5,8 @@
 #include <cmath>
 #include <map>
 
-#include "engine/relaxation_solvers.hpp"
 #include "engine/solver_registry.hpp"
 #include "kernels/error.hpp"
-#include "kernels/lagrangian_sd.hpp"
 #include "kernels/parallel.hpp"
 
 namespace trackassoc {
@@ -113,7 +111,7 @@ ChnnPseudoOptions chnn_options(const nlohmann::json& o, uint64_t seed, bool& gat
 }  // namespace
 
 const std::vector<std::string>& sd_solver_names() {
-  static const std::vector<std::string> names{"lr", "lr+ls", "exact", "chnn-pseudo"};
+  static const std::vector<std::string> names = solver_names_with(&SolverCapabilities::sd);
   return names;
 }
 
@@ -255,31 +253,13 @@ SolutionSD solve_chnn_sd(const SDProblem& p, const nlohmann::json& options, uint
 SolutionSD solve_sd_tensor(const CostTensorSD& tensor, const std::string& solver,
                            const nlohmann::json& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  SolutionSD sol;
-  if (solver == "lr" || solver == "lr+ls") {
-    sol = solve_lagrangian_sd(tensor, lagrangian_options(options, solver, solver == "lr+ls"));
-  } else if (solver == "exact") {
-    reject_unknown_keys(options, {"time_limit_s", "max_nodes"}, solver);
-    ExactSDOptions eo;
-    read_option_number(options, "time_limit_s", eo.time_limit_s, solver);
-    read_option_number(options, "max_nodes", eo.max_nodes, solver);
-    eo.validate();
-    LagrangianOptions lo;
-    lo.local_search = true;
-    const SolutionSD start = solve_lagrangian_sd(tensor, lo);
-    if (start.summary.termination == Termination::kOptimal) {
-      sol = start;  // the relaxation's bound already proves lr+ls optimal
-      sol.summary.message = "proven optimal by the S-D relaxation's bound (no search needed)";
-    } else {
-      sol = solve_exact_sd(tensor, eo, &start.tuples);
-      if (sol.summary.termination == Termination::kTimeLimit &&
-          start.summary.lower_bound > sol.summary.lower_bound)
-        set_bound_and_gap(sol.summary, start.summary.lower_bound);
-    }
-  } else {
-    throw InputError("--solver: '" + solver +
-                     "' takes no cost tensor alone; tensor S-D solvers: lr lr+ls exact");
+  const SolverEntry* entry = lookup_solver(solver);
+  if (!entry || !entry->capabilities.sd_tensor) {
+    std::string known;
+    for (const auto& n : solver_names_with(&SolverCapabilities::sd_tensor)) known += " " + n;
+    throw InputError("--solver: '" + solver + "' takes no cost tensor alone; tensor S-D solvers:" + known);
   }
+  SolutionSD sol = entry->solve_sd_tensor(tensor, options);
   sol.summary.wall_time_s = seconds_since(t0);
   return sol;
 }
@@ -287,9 +267,10 @@ SolutionSD solve_sd_tensor(const CostTensorSD& tensor, const std::string& solver
 SolutionSD solve_sd(const SDProblem& p, const std::string& solver, const nlohmann::json& options,
                     uint64_t seed) {
   require_sd_solver(solver);
-  if (solver != "chnn-pseudo") return solve_sd_tensor(p.tensor, solver, options);
+  const SolverEntry& entry = *lookup_solver(solver);
+  if (entry.capabilities.sd_tensor) return solve_sd_tensor(p.tensor, solver, options);
   const auto t0 = std::chrono::steady_clock::now();
-  SolutionSD sol = solve_chnn_sd(p, options, seed);
+  SolutionSD sol = entry.solve_sd(p, options, seed);
   sol.summary.wall_time_s = seconds_since(t0);
   return sol;
 }

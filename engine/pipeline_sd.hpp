@@ -63,6 +63,7 @@ SDSensorSelection select_sd_sensors(const TrackFile& file, const PipelineOptions
 // ids, fewer than 2 sensors, a gate probability of 1, or a tensor over the memory budget.
 SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options);
 
+// The S-D solvers: the registry's entries with capabilities.sd (engine/solver_registry.hpp).
 const std::vector<std::string>& sd_solver_names();
 // Throws InputError listing the S-D solvers when `name` is not one.
 void require_sd_solver(const std::string& name);
@@ -76,7 +77,8 @@ PseudoTrackInput pseudo_track_input(const SDProblem& p, bool gated, double lambd
 SolutionSD solve_chnn_sd(const SDProblem& p, const nlohmann::json& options, uint64_t seed,
                          ChnnPseudoResult* raw = nullptr);
 
-// Runs a tensor S-D solver (lr, lr+ls, exact) on `tensor` alone; throws InputError for others.
+// Runs a tensor S-D solver (capabilities.sd_tensor: lr, lr+ls, exact) on `tensor` alone; throws
+// InputError for others.
 SolutionSD solve_sd_tensor(const CostTensorSD& tensor, const std::string& solver,
                            const nlohmann::json& options);
 

@@ -72,29 +72,74 @@ LagrangianOptions lagrangian_options(const nlohmann::json& o, const std::string&
   return lo;
 }
 
+namespace {
+
+// The S-D exact solver on a tensor: the S-D branch and bound started from lr+ls, whose bound may
+// already prove it optimal.
+SolutionSD solve_exact_sd_tensor(const CostTensorSD& tensor, const nlohmann::json& options) {
+  reject_unknown_keys(options, {"time_limit_s", "max_nodes"}, "exact");
+  ExactSDOptions eo;
+  read_option_number(options, "time_limit_s", eo.time_limit_s, "exact");
+  read_option_number(options, "max_nodes", eo.max_nodes, "exact");
+  eo.validate();
+  LagrangianOptions lo;
+  lo.local_search = true;
+  const SolutionSD start = solve_lagrangian_sd(tensor, lo);
+  if (start.summary.termination == Termination::kOptimal) {
+    SolutionSD sol = start;  // the relaxation's bound already proves lr+ls optimal
+    sol.summary.message = "proven optimal by the S-D relaxation's bound (no search needed)";
+    return sol;
+  }
+  SolutionSD sol = solve_exact_sd(tensor, eo, &start.tuples);
+  if (sol.summary.termination == Termination::kTimeLimit &&
+      start.summary.lower_bound > sol.summary.lower_bound)
+    set_bound_and_gap(sol.summary, start.summary.lower_bound);
+  return sol;
+}
+
+// lr, lr+ls and exact: 3-D (with dummies) and S-D on a tensor, with a time limit and a lower bound.
+SolverCapabilities relaxation_capabilities() {
+  SolverCapabilities c;
+  c.tensor3 = c.dummies = c.sd = c.sd_tensor = c.time_limit = c.lower_bound = true;
+  return c;
+}
+
+SolverEntry lagrangian_entry(const std::string& name, const std::string& description, bool with_ls) {
+  SolverEntry e = solver_entry(name, description);
+  e.solve = [name, with_ls](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
+    return solve_lagrangian3(b, lagrangian_options(o, name, with_ls));
+  };
+  e.capabilities = relaxation_capabilities();
+  e.solve_sd_tensor = [name, with_ls](const CostTensorSD& c, const nlohmann::json& o) {
+    return solve_lagrangian_sd(c, lagrangian_options(o, name, with_ls));
+  };
+  return e;
+}
+
+}  // namespace
+
 void register_relaxation_solvers(std::vector<SolverEntry>& r) {
-  r.push_back({"lr", "Lagrangian relaxation (subgradient, LAP recovery) with lower bound and gap", 1 << 30,
-               [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
-                 return solve_lagrangian3(b, lagrangian_options(o, "lr", false));
-               }});
-  r.push_back({"lr+ls", "Lagrangian relaxation, each recovered solution polished by local search", 1 << 30,
-               [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
-                 return solve_lagrangian3(b, lagrangian_options(o, "lr+ls", true));
-               }});
-  r.push_back(
-      {"exact", "branch and bound with Lagrangian bounds (proven optimum or time limit)", 30,
-       [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
-         reject_unknown_keys(
-             o, {"time_limit_s", "max_nodes", "node_subgradient_iterations", "root_max_iterations"}, "exact");
-         BranchAndBoundOptions bo;
-         read_option_number(o, "time_limit_s", bo.time_limit_s, "exact");
-         read_option_number(o, "max_nodes", bo.max_nodes, "exact");
-         read_option_number(o, "node_subgradient_iterations", bo.node_subgradient_iterations, "exact");
-         read_option_number(o, "root_max_iterations", bo.root.max_iterations, "exact");
-         bo.validate();
-         if (std::isfinite(b.miss_cost)) return solve_exact_with_dummies(b, bo);
-         return solve_branch_and_bound3(b, bo);
-       }});
+  r.push_back(lagrangian_entry(
+      "lr", "Lagrangian relaxation (subgradient, LAP recovery) with lower bound and gap", false));
+  r.push_back(lagrangian_entry(
+      "lr+ls", "Lagrangian relaxation, each recovered solution polished by local search", true));
+  SolverEntry exact =
+      solver_entry("exact", "branch and bound with Lagrangian bounds (proven optimum or time limit)", 30);
+  exact.solve = [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
+    reject_unknown_keys(
+        o, {"time_limit_s", "max_nodes", "node_subgradient_iterations", "root_max_iterations"}, "exact");
+    BranchAndBoundOptions bo;
+    read_option_number(o, "time_limit_s", bo.time_limit_s, "exact");
+    read_option_number(o, "max_nodes", bo.max_nodes, "exact");
+    read_option_number(o, "node_subgradient_iterations", bo.node_subgradient_iterations, "exact");
+    read_option_number(o, "root_max_iterations", bo.root.max_iterations, "exact");
+    bo.validate();
+    if (std::isfinite(b.miss_cost)) return solve_exact_with_dummies(b, bo);
+    return solve_branch_and_bound3(b, bo);
+  };
+  exact.capabilities = relaxation_capabilities();
+  exact.solve_sd_tensor = solve_exact_sd_tensor;
+  r.push_back(std::move(exact));
 }
 
 void register_local_search_variants(std::vector<SolverEntry>& r) {
@@ -102,30 +147,33 @@ void register_local_search_variants(std::vector<SolverEntry>& r) {
   for (std::size_t e = 0; e < n; ++e) {
     const SolverEntry base = r[e];
     const std::string name = base.name + "+ls";
-    if (base.name == "exact" || base.name.ends_with("+ls")) continue;
+    if (!base.capabilities.tensor3 || base.name == "exact" || base.name.ends_with("+ls")) continue;
     bool exists = false;
     for (const auto& x : r) exists |= x.name == name;
     if (exists) continue;
-    r.push_back({name, base.description + ", polished by local search", base.max_default_n,
-                 [base, name](const CostTensor3& b, const nlohmann::json& o, uint64_t seed) {
-                   reject_unknown_keys(o, {"max_rounds", "base"}, name);
-                   LocalSearchOptions lo;
-                   read_option_number(o, "max_rounds", lo.max_rounds, name);
-                   lo.validate();
-                   const auto t0 = std::chrono::steady_clock::now();
-                   const Solution3 start = base.solve(
-                       b, o.is_null() || !o.contains("base") ? nlohmann::json() : o.at("base"), seed);
-                   Solution3 s = solve_local_search3(b, start.tuples, lo);
-                   // Keep the base's bound (still valid) and recompute the gap for the polished result.
-                   if (!std::isnan(start.summary.lower_bound))
-                     set_bound_and_gap(s.summary, start.summary.lower_bound);
-                   s.summary.iterations = start.summary.iterations;
-                   s.summary.message = "polished " + base.name + " (objective " +
-                                       std::to_string(start.summary.objective) + ")";
-                   s.summary.wall_time_s =
-                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-                   return s;
-                 }});
+    SolverEntry v = solver_entry(name, base.description + ", polished by local search", base.max_default_n);
+    v.solve = [base, name](const CostTensor3& b, const nlohmann::json& o, uint64_t seed) {
+      reject_unknown_keys(o, {"max_rounds", "base"}, name);
+      LocalSearchOptions lo;
+      read_option_number(o, "max_rounds", lo.max_rounds, name);
+      lo.validate();
+      const auto t0 = std::chrono::steady_clock::now();
+      const Solution3 start =
+          base.solve(b, o.is_null() || !o.contains("base") ? nlohmann::json() : o.at("base"), seed);
+      Solution3 s = solve_local_search3(b, start.tuples, lo);
+      // Keep the base's bound (still valid) and recompute the gap for the polished result.
+      if (!std::isnan(start.summary.lower_bound)) set_bound_and_gap(s.summary, start.summary.lower_bound);
+      s.summary.iterations = start.summary.iterations;
+      s.summary.message =
+          "polished " + base.name + " (objective " + std::to_string(start.summary.objective) + ")";
+      s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return s;
+    };
+    // 3-D only, its own options (max_rounds, base): the base's bound is kept.
+    v.capabilities.tensor3 = true;
+    v.capabilities.dummies = base.capabilities.dummies;
+    v.capabilities.lower_bound = base.capabilities.lower_bound;
+    r.push_back(std::move(v));
   }
 }
 

@@ -1,4 +1,4 @@
-// Registry adapters of the relaxation-based 3-D solvers (kernels/lagrangian_relaxation.hpp,
+// Registry adapters of the relaxation-based 3-D and S-D solvers (kernels/lagrangian_relaxation.hpp,
 // local_search.hpp, branch_and_bound.hpp): JSON options → XxxOptions, validated, unknown keys
 // rejected. Called from make_registry() in solver_registry.cpp.
 //
@@ -8,6 +8,9 @@
 //   lr+ls    the same, each recovered solution polished by local search; adds max_rounds.
 //   exact    branch and bound. Options: time_limit_s, max_nodes, node_subgradient_iterations,
 //            root_max_iterations. Not run by `run` above n = 30 (max_default_n).
+//   lr, lr+ls, exact also solve the S-D formulation (solve_sd_tensor): kernels/lagrangian_sd.hpp
+//            with the same options; exact = kernels/assignment_sd.hpp's branch and bound (options
+//            time_limit_s, max_nodes) started from lr+ls.
 //   X+ls     for every other registered solver X: X's result polished by local search. Options:
 //            max_rounds, plus X's own options under the key "base".
 #pragma once
@@ -23,9 +26,10 @@ namespace trackassoc {
 // with the S-D solvers (engine/pipeline_sd.hpp).
 LagrangianOptions lagrangian_options(const nlohmann::json& o, const std::string& solver, bool with_ls);
 
-// Appends lr, lr+ls and exact.
+// Appends lr, lr+ls and exact (3-D and S-D; time limit, lower bound).
 void register_relaxation_solvers(std::vector<SolverEntry>& registry);
-// Appends "X+ls" for every entry X already present that is not exact and has no "+ls" twin.
+// Appends "X+ls" for every 3-D entry X already present that is not exact and has no "+ls" twin
+// (3-D only; options max_rounds and base).
 void register_local_search_variants(std::vector<SolverEntry>& registry);
 
 }  // namespace trackassoc

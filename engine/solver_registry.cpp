@@ -4,8 +4,10 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "engine/hopfield_json.hpp"
+#include "engine/pipeline_sd.hpp"
 #include "engine/relaxation_solvers.hpp"
 #include "kernels/assignment_canonical.hpp"
 #include "kernels/error.hpp"
@@ -14,48 +16,107 @@
 namespace trackassoc {
 namespace {
 
+// A 3-D solver with dummies and no other capability (the baselines).
+SolverEntry baseline_entry(std::string name, std::string description,
+                           std::function<Solution3(const CostTensor3&)> solve) {
+  SolverEntry e = solver_entry(name, std::move(description));
+  e.solve = [name, solve](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
+    reject_unknown_keys(o, {}, name);
+    return solve(b);
+  };
+  e.capabilities.tensor3 = e.capabilities.dummies = true;
+  return e;
+}
+
+// The Hopfield network `name` (kernels/hopfield.hpp; presets and options: engine/hopfield_json.hpp).
+SolverEntry hopfield_entry(const std::string& n) {
+  SolverEntry e = solver_entry(n, hopfield_preset_description(n), 200);
+  e.solve = [n](const CostTensor3& b, const nlohmann::json& o, uint64_t seed) {
+    if (!std::isfinite(b.miss_cost)) return solve_hopfield_json(n, b, o, seed);
+    // Dummy index (finite miss_cost): the networks need complete tuples, so they
+    // solve the padded cube of assignment_canonical.hpp, which is exact.
+    const CanonicalProblem3 cube = make_canonical(b);
+    Solution3 s = solve_hopfield_json(n, cube.tensor, o, seed);
+    s.tuples = to_original(cube, s.tuples);
+    finish_summary(b, s.tuples, std::numeric_limits<double>::quiet_NaN(), s.summary);
+    s.summary.message += "; dummy indices padded to n1+n2+n3";
+    return s;
+  };
+  e.capabilities.tensor3 = e.capabilities.dummies = true;
+  e.capabilities.schedules = hopfield_preset_schedules(n);
+  e.capabilities.restarts = true;
+  return e;
+}
+
+// seed 004's CHNN with pseudo-tracks: S-D only, on the whole problem (it needs the distances λ).
+SolverEntry chnn_pseudo_entry() {
+  SolverEntry e =
+      solver_entry("chnn-pseudo", "continuous Hopfield network with pseudo-tracks (seed 004), S-D only");
+  e.capabilities.sd = true;
+  e.solve_sd = [](const SDProblem& p, const nlohmann::json& o, uint64_t seed) {
+    return solve_chnn_sd(p, o, seed);
+  };
+  return e;
+}
+
+// Each flag with its solve function (a registry bug, not an input error).
+void check_entry(const SolverEntry& e) {
+  const SolverCapabilities& c = e.capabilities;
+  if (c.tensor3 != static_cast<bool>(e.solve) || c.sd_tensor != static_cast<bool>(e.solve_sd_tensor) ||
+      c.sd != (c.sd_tensor || static_cast<bool>(e.solve_sd)) || (c.dummies && !c.tensor3))
+    throw std::logic_error("solver registry: the capabilities of '" + e.name +
+                           "' do not match its solve functions");
+}
+
 std::vector<SolverEntry> make_registry() {
   std::vector<SolverEntry> r;
-  r.push_back({"greedy", "cheapest free tuple first (baseline)", 1 << 30,
-               [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
-                 reject_unknown_keys(o, {}, "greedy");
-                 return solve_greedy3(b, GreedyOptions{});
-               }});
-  r.push_back({"pairwise", "sequential pairwise LAP: 1-2, then the pairs against 3", 1 << 30,
-               [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
-                 reject_unknown_keys(o, {}, "pairwise");
-                 return solve_pairwise3(b, PairwiseOptions{});
-               }});
+  r.push_back(baseline_entry("greedy", "cheapest free tuple first (baseline)",
+                             [](const CostTensor3& b) { return solve_greedy3(b, GreedyOptions{}); }));
+  r.push_back(baseline_entry("pairwise", "sequential pairwise LAP: 1-2, then the pairs against 3",
+                             [](const CostTensor3& b) { return solve_pairwise3(b, PairwiseOptions{}); }));
   register_relaxation_solvers(r);  // lr, lr+ls, exact
-  // Hopfield solvers (kernels/hopfield.hpp; options: engine/hopfield_json.hpp).
-  for (const char* name : {"hopfield", "hopfield-paper", "chnn"}) {
-    const std::string n = name;
-    const std::string desc =
-        n == "hopfield" ? "discrete 3-D Hopfield network, full-plane energy, mean-field start (seed 000)"
-        : n == "hopfield-paper"
-            ? "discrete 3-D Hopfield network as printed (seed 000 Eq. 11, A=B=C=300, D=200, E=1100)"
-            : "continuous Hopfield network with gain annealing (CHNN, seed 004)";
-    r.push_back({n, desc, 200, [n](const CostTensor3& b, const nlohmann::json& o, uint64_t seed) {
-                   if (!std::isfinite(b.miss_cost)) return solve_hopfield_json(n, b, o, seed);
-                   // Dummy index (finite miss_cost): the networks need complete tuples, so they
-                   // solve the padded cube of assignment_canonical.hpp, which is exact.
-                   const CanonicalProblem3 cube = make_canonical(b);
-                   Solution3 s = solve_hopfield_json(n, cube.tensor, o, seed);
-                   s.tuples = to_original(cube, s.tuples);
-                   finish_summary(b, s.tuples, std::numeric_limits<double>::quiet_NaN(), s.summary);
-                   s.summary.message += "; dummy indices padded to n1+n2+n3";
-                   return s;
-                 }});
-  }
-  // Further solvers register here.
-  register_local_search_variants(r);  // "X+ls" for every solver above: keep this last
+  for (const std::string& n : hopfield_preset_names()) r.push_back(hopfield_entry(n));
+  // Further 3-D solvers register here.
+  register_local_search_variants(r);  // "X+ls" for every 3-D solver above: keep this after them
+  r.push_back(chnn_pseudo_entry());   // S-D only
+  for (const auto& e : r) check_entry(e);
   return r;
 }
 
 }  // namespace
 
-const std::vector<SolverEntry>& solver_registry() {
+const std::vector<SolverEntry>& all_solvers() {
   static const std::vector<SolverEntry> registry = make_registry();
+  return registry;
+}
+
+const SolverEntry* lookup_solver(const std::string& name) {
+  for (const auto& e : all_solvers())
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+std::vector<std::string> solver_names_with(bool SolverCapabilities::*flag) {
+  std::vector<std::string> names;
+  for (const auto& e : all_solvers())
+    if (e.capabilities.*flag) names.push_back(e.name);
+  return names;
+}
+
+std::string list_names(const std::vector<std::string>& names, const std::string& last) {
+  std::string list;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == names.size() ? last : ", ") + names[i];
+  return list;
+}
+
+const std::vector<SolverEntry>& solver_registry() {
+  static const std::vector<SolverEntry> registry = [] {
+    std::vector<SolverEntry> r;
+    for (const auto& e : all_solvers())
+      if (e.capabilities.tensor3) r.push_back(e);
+    return r;
+  }();
   return registry;
 }
 
@@ -65,6 +126,13 @@ const SolverEntry& find_solver(const std::string& name) {
   std::vector<std::string> names;
   for (const auto& e : solver_registry()) names.push_back(e.name);
   throw InputError("--solver: " + unknown_name_message("solver", name, names));
+}
+
+std::vector<std::string> hopfield_solver_names() {
+  std::vector<std::string> names;
+  for (const auto& e : solver_registry())
+    if (!e.capabilities.schedules.empty()) names.push_back(e.name);
+  return names;
 }
 
 namespace {

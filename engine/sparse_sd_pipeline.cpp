@@ -8,6 +8,7 @@
 #include <map>
 
 #include "engine/pipeline_sd.hpp"
+#include "engine/solver_registry.hpp"
 #include "kernels/error.hpp"
 #include "kernels/lap.hpp"
 #include "kernels/parallel.hpp"
@@ -256,7 +257,13 @@ nlohmann::json SparseSDOptions::to_json() const {
 }
 
 const std::vector<std::string>& sparse_sd_solver_names() {
-  static const std::vector<std::string> names{"lr+ls", "lr", "exact"};
+  // The registry's tensor S-D solvers, the pipeline's default (lr+ls) first.
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n = solver_names_with(&SolverCapabilities::sd_tensor);
+    const auto it = std::find(n.begin(), n.end(), "lr+ls");
+    if (it != n.end()) std::rotate(n.begin(), it, it + 1);
+    return n;
+  }();
   return names;
 }
 

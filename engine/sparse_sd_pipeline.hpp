@@ -83,7 +83,8 @@ struct SparseSDProblem {
 // probability of 1 (the gate is the miss cost), or no common time at all.
 SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOptions& options);
 
-// Solvers of the components: lr, lr+ls (default) and exact.
+// Solvers of the components: the registry's tensor S-D solvers (capabilities.sd_tensor), the
+// default first: lr+ls, lr, exact.
 const std::vector<std::string>& sparse_sd_solver_names();
 void require_sparse_sd_solver(const std::string& name);
 

@@ -22,6 +22,9 @@
 
 namespace trackassoc {
 
+const char* hopfield_network_name(HopfieldNetwork n) {
+  return n == HopfieldNetwork::kContinuous ? "continuous" : "discrete";
+}
 const char* hopfield_schedule_name(HopfieldSchedule s) {
   switch (s) {
     case HopfieldSchedule::kSync:
@@ -30,16 +33,17 @@ const char* hopfield_schedule_name(HopfieldSchedule s) {
       return "async";
     case HopfieldSchedule::kDiagonal:
       return "diagonal";
-    case HopfieldSchedule::kContinuous:
-      return "continuous";
   }
   return "?";
 }
 HopfieldSchedule parse_hopfield_schedule(const std::string& s) {
-  for (auto v : {HopfieldSchedule::kSync, HopfieldSchedule::kAsync, HopfieldSchedule::kDiagonal,
-                 HopfieldSchedule::kContinuous})
+  for (auto v : {HopfieldSchedule::kSync, HopfieldSchedule::kAsync, HopfieldSchedule::kDiagonal})
     if (s == hopfield_schedule_name(v)) return v;
-  throw InputError("schedule: expected sync, async, diagonal or continuous, found '" + s + "'");
+  throw InputError("schedule: expected sync, async or diagonal, found '" + s + "'");
+}
+const char* hopfield_schedule_label(const HopfieldOptions& o) {
+  return o.network == HopfieldNetwork::kContinuous ? hopfield_network_name(o.network)
+                                                   : hopfield_schedule_name(o.schedule);
 }
 const char* hopfield_init_name(HopfieldInit s) {
   switch (s) {
@@ -106,11 +110,12 @@ void HopfieldOptions::validate() const {
     for (float x : {weights.A, weights.B, weights.C, weights.D, weights.E})
       require(x >= 0 && std::isfinite(x), "weights", "A, B, C, D, E must be finite and >= 0");
   }
-  if (schedule == HopfieldSchedule::kDiagonal) {
+  const bool discrete = network == HopfieldNetwork::kDiscrete;
+  if (discrete && schedule == HopfieldSchedule::kDiagonal) {
     require(energy == HopfieldEnergy::kFullPlane, "schedule 'diagonal'", "needs the full-plane energy");
     require(auto_weights || weights.D == 0.f, "schedule 'diagonal'", "needs D = 0");
   }
-  if (schedule == HopfieldSchedule::kContinuous)
+  if (!discrete)
     require(energy == HopfieldEnergy::kFullPlane, "schedule 'continuous'", "needs the full-plane energy");
 }
 
@@ -436,14 +441,15 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
     result.raw_validity_rate = 1.0;
     return result;
   }
-  if (options.schedule == HopfieldSchedule::kDiagonal)
+  const bool discrete = options.network == HopfieldNetwork::kDiscrete;
+  if (discrete && options.schedule == HopfieldSchedule::kDiagonal)
     require(cost.n1 <= cost.n2 && cost.n1 <= cost.n3, "schedule 'diagonal'", "needs n1 <= n2 and n1 <= n3");
   // Shared by every restart, built once (the serial part of the solve: keep it O(n1n2n3) and small).
   std::unique_ptr<const OrderedSweepPlan> cost_plan;
-  if (options.schedule == HopfieldSchedule::kAsync && options.order == HopfieldOrder::kCost)
+  if (discrete && options.schedule == HopfieldSchedule::kAsync && options.order == HopfieldOrder::kCost)
     cost_plan = std::make_unique<const OrderedSweepPlan>(ascending_cost_order(c.c), c);
   std::shared_ptr<const DiagonalCost> diagonal_cost;
-  if (options.schedule == HopfieldSchedule::kDiagonal)
+  if (discrete && options.schedule == HopfieldSchedule::kDiagonal)
     diagonal_cost = std::make_shared<const DiagonalCost>(c);
   std::vector<RestartOutput> outs(options.restarts);
   // One task per restart, balanced dynamically (restarts differ in their number of sweeps; a
@@ -455,10 +461,9 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
       0, options.restarts,
       [&](int32_t r) {
         tbb::this_task_arena::isolate([&] {
-          outs[r] =
-              options.schedule == HopfieldSchedule::kContinuous
-                  ? run_continuous(cost, c, options, result.weights, seed, r)
-                  : run_discrete(cost, c, options, result.weights, cost_plan.get(), diagonal_cost, seed, r);
+          outs[r] = !discrete ? run_continuous(cost, c, options, result.weights, seed, r)
+                              : run_discrete(cost, c, options, result.weights, cost_plan.get(), diagonal_cost,
+                                             seed, r);
         });
       },
       tbb::simple_partitioner());
@@ -480,9 +485,9 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   sum.iterations = total_sweeps;
   for (auto& o : outs) result.restarts.push_back(std::move(o.record));
   sum.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  sum.message = std::string(hopfield_schedule_name(options.schedule)) + " " +
-                hopfield_energy_name(options.energy) + ": raw validity " + std::to_string(raw) + "/" +
-                std::to_string(options.restarts) + ", best restart " + std::to_string(best);
+  sum.message = std::string(hopfield_schedule_label(options)) + " " + hopfield_energy_name(options.energy) +
+                ": raw validity " + std::to_string(raw) + "/" + std::to_string(options.restarts) +
+                ", best restart " + std::to_string(best);
   return result;
 }
 

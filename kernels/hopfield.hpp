@@ -51,7 +51,13 @@
 
 namespace trackassoc {
 
-enum class HopfieldSchedule { kSync, kAsync, kDiagonal, kContinuous };
+// Which network runs: the discrete network (seed 000 Eq. 9–10) or the continuous one (CHNN,
+// seed 004; kernels/hopfield_continuous.hpp), whose Euler steps are sync or async by
+// HopfieldOptions::continuous_async.
+enum class HopfieldNetwork { kDiscrete, kContinuous };
+// Update order of the discrete network's sweeps (kernels/hopfield_discrete.hpp,
+// kernels/hopfield_diagonal.hpp): all neurons at once, one at a time, or by diagonal blocks.
+enum class HopfieldSchedule { kSync, kAsync, kDiagonal };
 // Initial state of the discrete network: all off; random with density init_density·N/K; the
 // cost-ordered greedy assignment; or the mean-field state (the continuous network of this restart
 // annealed with the continuous options, thresholded at V > ½).
@@ -63,6 +69,7 @@ enum class HopfieldInit { kZero, kRandom, kGreedy, kMeanField };
 // kSliceRandom falls back to kRandom.
 enum class HopfieldOrder { kRandom, kSliceRandom, kCost };
 
+const char* hopfield_network_name(HopfieldNetwork n);  // "discrete" | "continuous"
 const char* hopfield_schedule_name(HopfieldSchedule s);
 HopfieldSchedule parse_hopfield_schedule(const std::string& s);  // InputError naming the value
 const char* hopfield_init_name(HopfieldInit s);
@@ -79,7 +86,8 @@ struct SliceRandomOrder {
 
 struct HopfieldOptions {
   HopfieldEnergy energy = HopfieldEnergy::kFullPlane;
-  HopfieldSchedule schedule = HopfieldSchedule::kAsync;
+  HopfieldNetwork network = HopfieldNetwork::kDiscrete;
+  HopfieldSchedule schedule = HopfieldSchedule::kAsync;  // the discrete network's sweeps
   // true: A = B = C = 1, D = 0 (printed energy: D = 1) and E just below the fixed-point bound
   // (fixed_point_E_bound) on the normalised cost; false: `weights` as given (N is always set to
   // min(n1, n2, n3)).
@@ -97,8 +105,8 @@ struct HopfieldOptions {
   // Glauber temperature (async only): T_s = T0·(1 − s/anneal_sweeps) for s < anneal_sweeps, then 0.
   double temperature = 0.0;
   double damping = 1.0;  // sync: share of neurons updated per sweep, (0, 1]
-  // continuous (CHNN)
-  bool continuous_async = false;
+  // continuous (CHNN, and the mean-field start of the discrete network)
+  bool continuous_async = false;  // async Euler steps (neuron by neuron) instead of sync (Jacobi)
   double dt = 0.05, tau = 0.0;
   double u0_start = 0.5, u0_end = 0.02;  // gain 1/u₀ annealed geometrically over gain_anneal_steps
   // 250 of the 300 steps anneal the gain (100 until session 4): at the same step budget and time
@@ -142,6 +150,9 @@ struct HopfieldResult {
   int32_t best_restart = -1;
   HopfieldWeights weights;  // the final weights used (normalised-cost units)
 };
+
+// "continuous" for the continuous network, else the discrete schedule's name (the summary message).
+const char* hopfield_schedule_label(const HopfieldOptions& options);
 
 // Indices 0..K−1 in ascending order of c, ties in ascending index (the order of std::stable_sort
 // by c), by an LSD radix sort of the float keys: O(K), serial. The async "cost" order; c must not

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "kernels/error.hpp"
+#include "kernels/lagrangian_subgradient.hpp"
 #include "kernels/lap.hpp"
 #include "kernels/parallel.hpp"
 
@@ -111,123 +112,48 @@ LagrangianRun run_lagrangian(const CanonicalProblem3& p, const LagrangianOptions
             "multiplier size mismatch");
     mu = initial_multipliers;
   }
-  run.best_multipliers = mu;
-  std::vector<double> c(static_cast<std::size_t>(n1) * n2), g(n3), direction(n3, 0.0), recovery;
+  std::vector<double> c(static_cast<std::size_t>(n1) * n2), recovery;
   std::vector<int32_t> arg(static_cast<std::size_t>(n1) * n2), count(n3);
-  double theta = options.theta;
-  int since_better = 0;
-  double delta0 = -1.0;
+  LapResult lap;
   const double round_tol = 1e-7;
 
-  auto converged = [&]() {
-    const double abs_gap = run.upper_bound - run.lower_bound;
-    if (abs_gap <= options.absolute_gap_tolerance) return Termination::kOptimal;
-    if (p.integer_costs && abs_gap < 1.0 - round_tol) return Termination::kOptimal;
-    if (abs_gap / std::max(std::abs(run.upper_bound), 1e-9) <= options.relative_gap_tolerance)
-      return Termination::kGapTolerance;
-    return Termination::kIterationLimit;  // "not yet"
-  };
-
-  for (int iter = 0; iter < options.max_iterations; ++iter) {
-    run.iterations = iter + 1;
-    reduce_over_k(b, mu, c, arg);
-    const LapResult lap = solve_lap(c, n1, n2);
-    if (!lap.feasible) {
-      // No (i, j) matching of finite cost even with k free: the problem is infeasible.
-      run.termination = Termination::kInfeasible;
-      run.lower_bound = kInf;
-      return run;
-    }
+  SubgradientProblem problem;
+  problem.integer_costs = p.integer_costs;
+  problem.nonnegative = !equality;
+  problem.dual = [&](const std::vector<double>& m, double& bound, std::vector<double>& g) {
+    reduce_over_k(b, m, c, arg);
+    lap = solve_lap(c, n1, n2);
+    // No (i, j) matching of finite cost even with k free: the problem is infeasible.
+    if (!lap.feasible) return false;
     double mu_sum = 0.0;
-    for (int32_t k = 0; k < n3; ++k) mu_sum += mu[k];
-    double bound = lap.cost - mu_sum;  // L(μ), Pattipati Eq. 14
+    for (int32_t k = 0; k < n3; ++k) mu_sum += m[k];
+    bound = lap.cost - mu_sum;  // L(μ), Pattipati Eq. 14
     if (p.integer_costs) bound = std::ceil(bound - round_tol * std::max(1.0, std::abs(bound)));
-    if (bound > run.lower_bound) {
-      run.lower_bound = bound;
-      run.best_multipliers = mu;
-      since_better = 0;
-    } else if (++since_better >= options.theta_patience) {
-      theta *= 0.5;
-      since_better = 0;
-    }
-
-    // Feasible recovery (and polish) → upper bound.
-    std::vector<Tuple3> feasible = recover_feasible(b, lap.row_to_col, recovery);
-    if (!feasible.empty()) {
-      if (options.local_search) polish_canonical(b, feasible, options.local_search_options);
-      const double ub = tuples_cost(b, feasible);
-      if (ub < run.upper_bound) {
-        run.upper_bound = ub;
-        run.best_tuples = std::move(feasible);
-      }
-    }
-
-    const Termination t = converged();
-    if (t != Termination::kIterationLimit && std::isfinite(run.upper_bound)) {
-      run.termination = t;
-      return run;
-    }
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > options.time_limit_s) {
-      run.termination = Termination::kTimeLimit;
-      return run;
-    }
-    if (theta < options.min_theta) break;
-
     // Subgradient g_k = Σ x_·· k − 1, projected for the "≤ 1" case (μ_k = 0 and g_k < 0 cannot move).
     std::fill(count.begin(), count.end(), 0);
     for (int32_t i = 0; i < n1; ++i) ++count[arg[static_cast<std::size_t>(i) * n2 + lap.row_to_col[i]]];
-    double g2 = 0.0;
     for (int32_t k = 0; k < n3; ++k) {
       g[k] = count[k] - 1.0;
-      if (!equality && mu[k] <= 0.0 && g[k] < 0.0) g[k] = 0.0;
-      g2 += g[k] * g[k];
+      if (!equality && m[k] <= 0.0 && g[k] < 0.0) g[k] = 0.0;
     }
-    if (g2 == 0.0) {
-      // The relaxed solution satisfies the relaxed constraints (with complementary slackness on
-      // the "≤" ones): it is optimal, and recovery found it.
-      run.lower_bound = std::max(run.lower_bound, std::min(run.upper_bound, bound));
-      run.termination = Termination::kOptimal;
-      if (run.upper_bound - run.lower_bound > options.absolute_gap_tolerance) run.termination = converged();
-      if (run.termination == Termination::kIterationLimit) break;
-      return run;
-    }
-    // Target: the best upper bound (if none yet, 5 % above the bound).
-    const double target =
-        std::isfinite(run.upper_bound) ? run.upper_bound : bound + 0.05 * std::max(1.0, std::abs(bound));
-    const double gap = std::max(target - bound, 1e-12 * std::max(1.0, std::abs(bound)));
-    if (delta0 < 0.0) delta0 = gap;
-    double step = 0.0;
-    switch (options.step_rule) {
-      case StepRule::kPolyak:
-        direction = g;
-        step = theta * gap / g2;
-        break;
-      case StepRule::kDiminishing:
-        direction = g;
-        step = options.theta * delta0 / (g2 * std::sqrt(iter + 1.0));
-        break;
-      case StepRule::kDeflected: {
-        double gd = 0.0, dd = 0.0;
-        for (int32_t k = 0; k < n3; ++k) {
-          gd += g[k] * direction[k];
-          dd += direction[k] * direction[k];
-        }
-        const double beta = (iter > 0 && dd > 0.0) ? std::max(0.0, -1.5 * gd / dd) : 0.0;
-        double d2 = 0.0;
-        for (int32_t k = 0; k < n3; ++k) {
-          direction[k] = g[k] + beta * direction[k];
-          d2 += direction[k] * direction[k];
-        }
-        step = theta * gap / std::max(d2, 1e-300);
-        break;
-      }
-    }
-    for (int32_t k = 0; k < n3; ++k) {
-      mu[k] += step * direction[k];
-      if (!equality) mu[k] = std::max(mu[k], 0.0);
-    }
-  }
-  run.termination = std::isfinite(run.upper_bound) ? Termination::kIterationLimit : Termination::kInfeasible;
+    return true;
+  };
+  // Feasible recovery (and polish) → upper bound.
+  problem.primal = [&](const std::vector<double>&, double incumbent) {
+    std::vector<Tuple3> feasible = recover_feasible(b, lap.row_to_col, recovery);
+    if (feasible.empty()) return incumbent;
+    if (options.local_search) polish_canonical(b, feasible, options.local_search_options);
+    const double ub = tuples_cost(b, feasible);
+    if (!(ub < incumbent)) return incumbent;
+    run.best_tuples = std::move(feasible);
+    return ub;
+  };
+  SubgradientResult r = run_subgradient(problem, std::move(mu), options, t0);
+  run.upper_bound = r.upper_bound;
+  run.lower_bound = r.lower_bound;
+  run.best_multipliers = std::move(r.best_multipliers);
+  run.iterations = r.iterations;
+  run.termination = r.termination;
   return run;
 }
 

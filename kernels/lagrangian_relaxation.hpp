@@ -11,7 +11,8 @@
 //
 // a 2-D LAP solved by Jonker–Volgenant. For any μ (μ ≥ 0 when n3 > n1, since the relaxed
 // constraints are then "≤ 1") L(μ) is a lower bound on the optimum. μ is improved by projected
-// subgradient ascent on g_k = (Σ_ij x_ijk) − 1:
+// subgradient ascent on g_k = (Σ_ij x_ijk) − 1 (the driver of kernels/lagrangian_subgradient.hpp,
+// shared with the S-D relaxation):
 //   - Polyak:      μ ← μ + θ (UB − L(μ)) g / ‖g‖²,   θ halved after `theta_patience` iterations
 //                  without a better bound (Held, Wolfe, Crowder 1974);
 //   - diminishing: μ ← μ + θ Δ₀ g / (‖g‖² √(t+1)),  Δ₀ = UB − L at the first iteration;

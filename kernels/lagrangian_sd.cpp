@@ -6,6 +6,7 @@
 #include <string>
 
 #include "kernels/error.hpp"
+#include "kernels/lagrangian_subgradient.hpp"
 #include "kernels/parallel.hpp"
 
 namespace trackassoc {
@@ -123,34 +124,28 @@ SolutionSD solve_lagrangian_sd(const CostTensorSD& c, const LagrangianOptions& o
   }
   const int32_t n0 = c.n[0], n1 = c.n[1];
   const std::size_t R = c.stride[1];  // block of sensors 3 … S for one (i_1, i_2)
+  // μ_s(i) for s ≥ 3 (positions 2 … S−1), the dummy's entry fixed at 0; the driver's flat μ lists
+  // them sensor by sensor from offset[s].
   std::vector<std::vector<double>> mu(S);
-  for (int32_t s = 0; s < S; ++s) mu[s].assign(static_cast<std::size_t>(c.n[s]) + 1, 0.0);
-  std::vector<std::vector<double>> g(S), direction(S);
-  for (int32_t s = 2; s < S; ++s) {
-    g[s].assign(c.n[s], 0.0);
-    direction[s].assign(c.n[s], 0.0);
+  std::vector<std::size_t> offset(S, 0);
+  std::size_t flat = 0;
+  for (int32_t s = 0; s < S; ++s) {
+    mu[s].assign(static_cast<std::size_t>(c.n[s]) + 1, 0.0);
+    offset[s] = flat;
+    if (s >= 2) flat += c.n[s];
   }
 
-  double lower = -kInf, upper = kInf, theta = options.theta, delta0 = -1.0;
-  int since_better = 0;
-  std::vector<int32_t> best;
+  std::vector<int32_t> best, pairs;
   std::vector<double> p, d(static_cast<std::size_t>(n0 + 1) * (n1 + 1)), e, e_new;
   std::vector<std::size_t> arg(d.size());
   SolutionSD sol;
   sol.S = S;
-  Termination termination = Termination::kIterationLimit;
-  int64_t iterations = 0;
 
-  auto converged = [&]() {
-    const double abs_gap = upper - lower;
-    if (abs_gap <= options.absolute_gap_tolerance) return Termination::kOptimal;
-    if (abs_gap / std::max(std::abs(upper), 1e-9) <= options.relative_gap_tolerance)
-      return Termination::kGapTolerance;
-    return Termination::kIterationLimit;
-  };
-
-  for (int iter = 0; iter < options.max_iterations; ++iter) {
-    iterations = iter + 1;
+  SubgradientProblem problem;
+  problem.zero_subgradient_is_optimal = true;  // the relaxed constraints are equalities
+  problem.dual = [&](const std::vector<double>& m, double& bound, std::vector<double>& g) {
+    for (int32_t s = 2; s < S; ++s)
+      for (int32_t i = 0; i < c.n[s]; ++i) mu[s][i] = m[offset[s] + i];
     // d(i_1, i_2) = min over the tail of c̃ (Deb et al. Eq. 12), parallel over i_1.
     tail_penalty(c, mu, 2, p);
     parallel_for_range(static_cast<std::size_t>(n0) + 1, 2, [&](std::size_t b, std::size_t end) {
@@ -177,30 +172,20 @@ SolutionSD solve_lagrangian_sd(const CostTensorSD& c, const LagrangianOptions& o
     e_new.assign(d.begin() + static_cast<std::ptrdiff_t>(e.size()),
                  d.begin() + static_cast<std::ptrdiff_t>(e.size()) + n1);
     const DimensionMatch lap = match_dimension(e, e_new, n0, n1);
-    if (!lap.feasible) {
-      termination = Termination::kInfeasible;
-      lower = kInf;
-      break;
-    }
+    if (!lap.feasible) return false;
     double mu_sum = 0.0;
     for (int32_t s = 2; s < S; ++s)
       for (int32_t i = 0; i < c.n[s]; ++i) mu_sum += mu[s][i];
-    const double bound = lap.cost + free_sum + mu_sum;
-    if (bound > lower) {
-      lower = bound;
-      since_better = 0;
-    } else if (++since_better >= options.theta_patience) {
-      theta *= 0.5;
-      since_better = 0;
-    }
+    bound = lap.cost + free_sum + mu_sum;
 
-    // The relaxed solution's tuples: usage counts for the subgradient, and the (i_1, i_2) pairs.
-    std::vector<int32_t> pairs, t(S);
-    for (int32_t s = 2; s < S; ++s) std::fill(g[s].begin(), g[s].end(), 1.0);
+    // The relaxed solution's tuples: g_s(i) = 1 − uses of index i, and the (i_1, i_2) pairs.
+    std::vector<int32_t> t(S);
+    pairs.clear();
+    std::fill(g.begin(), g.end(), 1.0);
     auto use_tail = [&](std::size_t r) {
       decode_tail(c, 2, r, t.data());
       for (int32_t s = 2; s < S; ++s)
-        if (t[s] >= 0) g[s][t[s]] -= 1.0;
+        if (t[s] >= 0) g[offset[s] + t[s]] -= 1.0;
     };
     for (int32_t i = 0; i < n0; ++i) {
       const int32_t j = lap.tuple_index[i];
@@ -214,64 +199,22 @@ SolutionSD solve_lagrangian_sd(const CostTensorSD& c, const LagrangianOptions& o
       pairs.insert(pairs.end(), S - 2, kNoTrack);
     }
     for (std::size_t r : free_chosen) use_tail(r);
-
-    // Feasible recovery and polish → upper bound.
+    return true;
+  };
+  // Feasible recovery and polish → upper bound.
+  problem.primal = [&](const std::vector<double>&, double incumbent) {
     std::vector<int32_t> feasible = recover(c, mu, std::move(pairs));
-    if (!feasible.empty() && is_valid_assignment_sd(c, feasible)) {
-      if (options.local_search) polish_sd(c, feasible, options.local_search_options);
-      const double ub = assignment_cost_sd(c, feasible);
-      if (ub < upper) {
-        upper = ub;
-        best = std::move(feasible);
-      }
-    }
-
-    double g2 = 0.0;
-    for (int32_t s = 2; s < S; ++s)
-      for (double x : g[s]) g2 += x * x;
-    if (g2 == 0.0) {  // the relaxed solution is feasible, hence optimal
-      lower = std::max(lower, std::min(upper, bound));
-      termination = converged();
-      if (termination == Termination::kIterationLimit) termination = Termination::kOptimal;
-      break;
-    }
-    termination = converged();
-    if (termination != Termination::kIterationLimit && std::isfinite(upper)) break;
-    if (seconds_since(t0) > options.time_limit_s) {
-      termination = Termination::kTimeLimit;
-      break;
-    }
-    if (theta < options.min_theta) break;
-
-    const double target = std::isfinite(upper) ? upper : bound + 0.05 * std::max(1.0, std::abs(bound));
-    const double gap = std::max(target - bound, 1e-12 * std::max(1.0, std::abs(bound)));
-    if (delta0 < 0.0) delta0 = gap;
-    double step = 0.0;
-    if (options.step_rule == StepRule::kDeflected) {
-      double gd = 0.0, dd2 = 0.0;
-      for (int32_t s = 2; s < S; ++s)
-        for (int32_t i = 0; i < c.n[s]; ++i) {
-          gd += g[s][i] * direction[s][i];
-          dd2 += direction[s][i] * direction[s][i];
-        }
-      const double beta = (iter > 0 && dd2 > 0.0) ? std::max(0.0, -1.5 * gd / dd2) : 0.0;
-      double n2 = 0.0;
-      for (int32_t s = 2; s < S; ++s)
-        for (int32_t i = 0; i < c.n[s]; ++i) {
-          direction[s][i] = g[s][i] + beta * direction[s][i];
-          n2 += direction[s][i] * direction[s][i];
-        }
-      step = theta * gap / std::max(n2, 1e-300);
-    } else {
-      for (int32_t s = 2; s < S; ++s) direction[s] = g[s];
-      step = options.step_rule == StepRule::kPolyak ? theta * gap / g2
-                                                    : options.theta * delta0 / (g2 * std::sqrt(iter + 1.0));
-    }
-    for (int32_t s = 2; s < S; ++s)
-      for (int32_t i = 0; i < c.n[s]; ++i) mu[s][i] += step * direction[s][i];
-  }
-  if (termination == Termination::kIterationLimit && !std::isfinite(upper))
-    termination = Termination::kInfeasible;
+    if (feasible.empty() || !is_valid_assignment_sd(c, feasible)) return incumbent;
+    if (options.local_search) polish_sd(c, feasible, options.local_search_options);
+    const double ub = assignment_cost_sd(c, feasible);
+    if (!(ub < incumbent)) return incumbent;
+    best = std::move(feasible);
+    return ub;
+  };
+  const SubgradientResult run = run_subgradient(problem, std::vector<double>(flat, 0.0), options, t0);
+  const double lower = run.lower_bound;
+  const Termination termination = run.termination;
+  const int64_t iterations = run.iterations;
   sol.tuples = std::move(best);
   sol.summary.iterations = iterations;
   sol.summary.termination = termination;

@@ -13,7 +13,8 @@
 // L(μ) is a lower bound on the optimum for every μ (the relaxed constraints are equalities, so μ is
 // free in sign). μ is improved by subgradient ascent on g_s(i) = 1 − (uses of index i of sensor s
 // in the relaxed solution), with the step rules of the 3-D solver (Polyak with θ halving, or
-// diminishing, or Camerini–Fratta–Maffioli deflection; kernels/lagrangian_relaxation.hpp).
+// diminishing, or Camerini–Fratta–Maffioli deflection; the driver of kernels/lagrangian_subgradient.hpp,
+// shared with kernels/lagrangian_relaxation.hpp).
 //
 // Feasible recovery each iteration (Deb et al. §IV): keep the LAP's (i_1, i_2) pairs, then for
 // s = 3 … S match the partial tuples to sensor s by match_dimension on the costs minimised over the

@@ -51,18 +51,20 @@ struct Config {
 
 std::vector<Config> all_configs() {
   std::vector<Config> v;
-  for (HopfieldSchedule s : {HopfieldSchedule::kSync, HopfieldSchedule::kAsync, HopfieldSchedule::kDiagonal,
-                             HopfieldSchedule::kContinuous})
-    for (HopfieldEnergy e : {HopfieldEnergy::kFullPlane, HopfieldEnergy::kPrinted}) {
-      if (e == HopfieldEnergy::kPrinted &&
-          (s == HopfieldSchedule::kDiagonal || s == HopfieldSchedule::kContinuous))
-        continue;
-      HopfieldOptions o;
-      o.schedule = s;
-      o.energy = e;
-      o.restarts = 3;
-      v.push_back({hopfield_schedule_name(s), o});
-    }
+  for (HopfieldNetwork n : {HopfieldNetwork::kDiscrete, HopfieldNetwork::kContinuous})
+    for (HopfieldSchedule s :
+         {HopfieldSchedule::kSync, HopfieldSchedule::kAsync, HopfieldSchedule::kDiagonal})
+      for (HopfieldEnergy e : {HopfieldEnergy::kFullPlane, HopfieldEnergy::kPrinted}) {
+        const bool continuous = n == HopfieldNetwork::kContinuous;
+        if (continuous && s != HopfieldSchedule::kAsync) continue;  // one continuous configuration
+        if (e == HopfieldEnergy::kPrinted && (s == HopfieldSchedule::kDiagonal || continuous)) continue;
+        HopfieldOptions o;
+        o.network = n;
+        o.schedule = s;
+        o.energy = e;
+        o.restarts = 3;
+        v.push_back({hopfield_schedule_label(o), o});
+      }
   for (HopfieldInit init : {HopfieldInit::kZero, HopfieldInit::kRandom, HopfieldInit::kGreedy}) {
     HopfieldOptions o;
     o.init = init;
@@ -82,7 +84,7 @@ std::vector<Config> all_configs() {
   v.push_back({"sync-damped", d});
   v.push_back({"paper", hopfield_preset("hopfield-paper")});
   HopfieldOptions ca;
-  ca.schedule = HopfieldSchedule::kContinuous;
+  ca.network = HopfieldNetwork::kContinuous;
   ca.continuous_async = true;
   ca.restarts = 2;
   v.push_back({"continuous-async", ca});

@@ -56,8 +56,11 @@ void register_solve3d(CLI::App& app) {
       "--json", args->json,
       "Print one JSON object: objective, lower_bound, gap, abs_gap, feasible, runtime_s, termination, "
       "iterations, assignment (list of 0-based [i, j, k]; -1 = no index of that dimension)");
+  std::vector<std::string> timed;  // the 3-D solvers whose capabilities include a time limit
+  for (const auto& e : solver_registry())
+    if (e.capabilities.time_limit) timed.push_back(e.name);
   cmd->add_option("--time-limit", args->time_limit,
-                  "Time limit in seconds for lr, lr+ls and exact (0 = solver default)")
+                  "Time limit in seconds for " + list_names(timed) + " (0 = solver default)")
       ->check(at_least(0));
   cmd->add_option("--options", args->options,
                   "Solver options as a JSON object, e.g. '{\"step_rule\": \"deflected\"}'")
@@ -70,7 +73,7 @@ void register_solve3d(CLI::App& app) {
     nlohmann::json options = parse_solver_options(args->options);
     merge_hopfield_flags(args->hopfield, solver.name, options);
     if (args->time_limit > 0.0) {
-      if (solver.name != "lr" && solver.name != "lr+ls" && solver.name != "exact")
+      if (!solver.capabilities.time_limit)
         throw InputError("--time-limit: solver '" + solver.name + "' is one-pass and takes no time limit");
       if (options.is_null()) options = nlohmann::json::object();
       options["time_limit_s"] = args->time_limit;

@@ -164,6 +164,7 @@ void finish_experiment_command(CLI::App* cmd, const std::shared_ptr<ExperimentAr
 
 #include "engine/hopfield_json.hpp"
 #include "engine/pipeline.hpp"
+#include "engine/solver_registry.hpp"
 #include "io/json_input.hpp"
 #include "io/memory_budget.hpp"
 #include "kernels/error.hpp"
@@ -282,8 +283,10 @@ struct HopfieldFlags {
 // The registry's Hopfield solvers (engine/hopfield_json.hpp presets).
 inline constexpr std::array<const char*, 3> kHopfieldSolvers{"hopfield", "hopfield-paper", "chnn"};
 
+// Whether `name` takes the Hopfield options (a 3-D registry entry that lists schedules).
 inline bool is_hopfield_solver(const std::string& name) {
-  return std::find(kHopfieldSolvers.begin(), kHopfieldSolvers.end(), name) != kHopfieldSolvers.end();
+  const SolverEntry* e = lookup_solver(name);
+  return e && e->capabilities.tensor3 && !e->capabilities.schedules.empty();
 }
 
 inline void add_hopfield_flags(CLI::App* cmd, HopfieldFlags& f, bool with_trace) {
@@ -300,15 +303,12 @@ inline void add_hopfield_flags(CLI::App* cmd, HopfieldFlags& f, bool with_trace)
         "Hopfield solvers: record the energy after every sweep of every restart (/associations/NAME/energy)");
 }
 
-// Why Hopfield solver `solver` cannot run `schedule` (its options' own error), or "" if it can.
+// Why Hopfield solver `solver` cannot run `schedule` (the text of its options' error), or "" if
+// the registry lists the schedule among the solver's capabilities.
 inline std::string hopfield_schedule_rejection(const std::string& solver, const std::string& schedule) {
-  try {
-    bool polish = false;
-    hopfield_options_from_json(solver, nlohmann::json{{"schedule", schedule}}, polish);
-    return "";
-  } catch (const InputError& e) {
-    return e.what();
-  }
+  const auto& own = find_solver(solver).capabilities.schedules;
+  if (std::find(own.begin(), own.end(), schedule) != own.end()) return "";
+  return hopfield_preset_schedule_error(solver, schedule);
 }
 
 // Merges the flags into `options` of solver `solver`; an InputError when a flag is given for a
@@ -316,9 +316,8 @@ inline std::string hopfield_schedule_rejection(const std::string& solver, const 
 inline void merge_hopfield_flags(const HopfieldFlags& f, const std::string& solver, nlohmann::json& options) {
   if (!f.any()) return;
   if (!is_hopfield_solver(solver))
-    throw InputError(
-        "--schedule/--restarts/--polish/--trace: only for hopfield, hopfield-paper and chnn, not '" + solver +
-        "'");
+    throw InputError("--schedule/--restarts/--polish/--trace: only for " + list_names(hopfield_solver_names()) +
+                     ", not '" + solver + "'");
   if (options.is_null()) options = nlohmann::json::object();
   if (!f.schedule.empty()) options["schedule"] = f.schedule;
   if (f.restarts > 0) options["restarts"] = f.restarts;

@@ -1,0 +1,151 @@
+// The solver registry's capability flags are true to behaviour (issue 16 item 2): for every entry,
+// the time limit, the schedules and the restarts it is flagged for are accepted and no others, a
+// lower bound is reported iff flagged, and the S-D entries solve a small S-D instance (exact and
+// lr+ls to the brute-force optimum). The name queries that the pipelines and the CLI use return
+// the lists they had before the registry was merged.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/pipeline_sd.hpp"
+#include "engine/solver_registry.hpp"
+#include "engine/sparse_sd_pipeline.hpp"
+#include "kernels/random.hpp"
+#include "tests/solver_test_support.hpp"
+
+namespace trackassoc {
+namespace {
+
+using namespace testing_support;
+using nlohmann::json;
+
+CostTensor3 cube3(uint64_t seed) {
+  CostTensor3 b(3, 3, 3);
+  CounterRng rng(seed, 21, 0);
+  for (float& v : b.cost) v = static_cast<float>(rng.uniform(0.0, 10.0));
+  return b;
+}
+
+// S = 3 with dummies, sizes 2, 3, 2; every tuple finite.
+CostTensorSD small_sd(uint64_t seed) {
+  CostTensorSD c({2, 3, 2}, 0.f);
+  CounterRng rng(seed, 22, 0);
+  for (float& v : c.cost) v = static_cast<float>(rng.uniform(-6.0, 4.0));
+  return c;
+}
+
+bool accepts3(const SolverEntry& e, const CostTensor3& b, const json& options) {
+  try {
+    e.solve(b, options, 1);
+    return true;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
+bool accepts_sd(const SolverEntry& e, const CostTensorSD& c, const json& options) {
+  try {
+    e.solve_sd_tensor(c, options);
+    return true;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
+bool listed(const std::vector<std::string>& v, const std::string& s) {
+  return std::find(v.begin(), v.end(), s) != v.end();
+}
+
+TEST(SolverRegistry, ThreeDimensionalFlagsMatchBehaviour) {
+  const CostTensor3 b = cube3(1);
+  const std::vector<std::string> candidates{"sync", "async", "diagonal", "continuous", "zigzag"};
+  int checked = 0;
+  for (const SolverEntry& e : all_solvers()) {
+    if (!e.capabilities.tensor3) continue;
+    SCOPED_TRACE(e.name);
+    const SolverCapabilities& c = e.capabilities;
+    EXPECT_EQ(accepts3(e, b, json{{"time_limit_s", 30.0}}), c.time_limit);
+    EXPECT_EQ(accepts3(e, b, json{{"restarts", 2}}), c.restarts);
+    for (const std::string& s : candidates) {
+      SCOPED_TRACE("schedule " + s);
+      EXPECT_EQ(accepts3(e, b, json{{"schedule", s}}), listed(c.schedules, s));
+    }
+    const Solution3 s = e.solve(b, json::object(), 1);
+    expect_consistent(b, s);
+    EXPECT_EQ(!std::isnan(s.summary.lower_bound), c.lower_bound);
+    if (c.lower_bound) EXPECT_LE(s.summary.lower_bound, brute_force_optimum(b) + 1e-4);
+    if (c.dummies) {
+      CostTensor3 d = b;
+      d.miss_cost = 2.0f;
+      expect_consistent(d, e.solve(d, json::object(), 1));
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 13);
+}
+
+TEST(SolverRegistry, SDFlagsMatchBehaviour) {
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    const CostTensorSD c = small_sd(seed);
+    const double optimum = brute_force_sd(c);
+    ASSERT_TRUE(std::isfinite(optimum));
+    for (const SolverEntry& e : all_solvers()) {
+      if (!e.capabilities.sd_tensor) continue;
+      SCOPED_TRACE(e.name + " seed " + std::to_string(seed));
+      EXPECT_EQ(accepts_sd(e, c, json{{"time_limit_s", 30.0}}), e.capabilities.time_limit);
+      EXPECT_EQ(accepts_sd(e, c, json{{"restarts", 2}}), e.capabilities.restarts);
+      EXPECT_EQ(accepts_sd(e, c, json{{"schedule", "sync"}}), !e.capabilities.schedules.empty());
+      const SolutionSD s = e.solve_sd_tensor(c, json::object());
+      EXPECT_TRUE(is_valid_assignment_sd(c, s.tuples));
+      EXPECT_NEAR(s.summary.objective, assignment_cost_sd(c, s.tuples), 1e-4);
+      EXPECT_GE(s.summary.objective, optimum - 1e-4);
+      EXPECT_EQ(!std::isnan(s.summary.lower_bound), e.capabilities.lower_bound);
+      if (e.capabilities.lower_bound) EXPECT_LE(s.summary.lower_bound, optimum + 1e-4);
+      if (e.name == "exact" || e.name == "lr+ls") EXPECT_NEAR(s.summary.objective, optimum, 1e-4);
+    }
+  }
+}
+
+TEST(SolverRegistry, EveryFlagHasItsSolveFunction) {
+  for (const SolverEntry& e : all_solvers()) {
+    SCOPED_TRACE(e.name);
+    EXPECT_EQ(static_cast<bool>(e.solve), e.capabilities.tensor3);
+    EXPECT_EQ(static_cast<bool>(e.solve_sd_tensor), e.capabilities.sd_tensor);
+    EXPECT_EQ(static_cast<bool>(e.solve_sd) || e.capabilities.sd_tensor, e.capabilities.sd);
+    EXPECT_FALSE(e.description.empty());
+  }
+}
+
+// The queries give the lists that were written out by hand before (solve3d --help, `run`, the
+// S-D and sparse S-D pipelines' checks, the Hopfield flags).
+TEST(SolverRegistry, NameQueriesKeepTheirLists) {
+  std::vector<std::string> three_d;
+  for (const SolverEntry& e : solver_registry()) three_d.push_back(e.name);
+  EXPECT_EQ(three_d, (std::vector<std::string>{"greedy", "pairwise", "lr", "lr+ls", "exact", "hopfield",
+                                               "hopfield-paper", "chnn", "greedy+ls", "pairwise+ls",
+                                               "hopfield+ls", "hopfield-paper+ls", "chnn+ls"}));
+  EXPECT_EQ(sd_solver_names(), (std::vector<std::string>{"lr", "lr+ls", "exact", "chnn-pseudo"}));
+  EXPECT_EQ(sparse_sd_solver_names(), (std::vector<std::string>{"lr+ls", "lr", "exact"}));
+  EXPECT_EQ(hopfield_solver_names(), (std::vector<std::string>{"hopfield", "hopfield-paper", "chnn"}));
+  EXPECT_EQ(solver_names_with(&SolverCapabilities::time_limit),
+            (std::vector<std::string>{"lr", "lr+ls", "exact"}));
+  EXPECT_EQ(list_names(hopfield_solver_names()), "hopfield, hopfield-paper and chnn");
+  EXPECT_EQ(list_names({"a"}), "a");
+  EXPECT_EQ(find_solver("chnn").capabilities.schedules,
+            (std::vector<std::string>{"sync", "async", "continuous"}));
+  EXPECT_EQ(find_solver("hopfield").capabilities.schedules,
+            (std::vector<std::string>{"sync", "async", "diagonal"}));
+  // The printed energy of hopfield-paper has no diagonal schedule (it needs the full-plane energy).
+  EXPECT_EQ(find_solver("hopfield-paper").capabilities.schedules,
+            (std::vector<std::string>{"sync", "async"}));
+  // chnn-pseudo is an S-D solver only: not a 3-D name, and require_sd_solver accepts it.
+  EXPECT_THROW(find_solver("chnn-pseudo"), InputError);
+  EXPECT_NO_THROW(require_sd_solver("chnn-pseudo"));
+  EXPECT_THROW(require_sd_solver("hopfield"), InputError);
+  EXPECT_THROW(require_sparse_sd_solver("chnn-pseudo"), InputError);
+  EXPECT_EQ(lookup_solver("nonexistent"), nullptr);
+}
+
+}  // namespace
+}  // namespace trackassoc
