@@ -14,17 +14,6 @@
 
 namespace trackassoc {
 
-const char* bearing_reading_name(BearingReading r) {
-  return r == BearingReading::kErratum ? "erratum" : "literal";
-}
-
-BearingReading parse_bearing_reading(const std::string& name) {
-  if (name == "erratum") return BearingReading::kErratum;
-  if (name == "literal") return BearingReading::kLiteral;
-  throw InputError("--sigma-bearing-reading: expected erratum (σθ1 = 0.1°) or literal (1°), got '" + name +
-                   "'");
-}
-
 FtaaOptions Seed001Options::paper_ftaa() {
   FtaaOptions f;
   f.association_quality = 6;  // seed 001 §1: "generally m ≥ 6, D ≥ 6"
@@ -225,7 +214,7 @@ Seed001Result run_seed001(const Seed001Options& o) {
           out.se[m][k].assign(steps, 0.0);
           out.n[m][k].assign(steps, 0.0);
         }
-        const std::string name = fusion_method_name(method[m].method);
+        const std::string name = enum_name(method[m].method);
         const FuzzyPipelineResult res =
             run_fuzzy_pipeline(sim.tracks, scenario.sensors, method[m], name, &sim.measurements);
         const PacketTable& p = res.packets;

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "engine/option_fields.hpp"
 #include "kernels/assignment_types.hpp"
 #include "kernels/hopfield.hpp"
 
@@ -24,9 +25,17 @@ namespace trackassoc {
 // (continuous network, seed 004). Throws InputError for another name.
 HopfieldOptions hopfield_preset(const std::string& name);
 
+// The options declared once (engine/option_fields.hpp), in the order of the keys above; their
+// help() lists key, default, range and doc.
+const OptionFields<HopfieldOptions>& hopfield_option_fields();
+
 // The preset overridden by `options`; `polish` mirrors the "polish" key.
 HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohmann::json& options,
                                            bool& polish);
+
+// The fields of `options` as JSON (A..E only when the weights are not automatic): read back by
+// hopfield_options_from_json with the same preset, it gives `options` again.
+nlohmann::json hopfield_options_to_json(const HopfieldOptions& options);
 
 // Runs the solver: Solution3 with the energy trace (restarts × sweeps) when "trace" is set; the
 // summary message carries the raw validity rate.

@@ -41,33 +41,6 @@ HopfieldSchedule parse_hopfield_schedule(const std::string& s) {
     if (s == hopfield_schedule_name(v)) return v;
   throw InputError("schedule: expected sync, async, diagonal or continuous, found '" + s + "'");
 }
-const char* hopfield_init_name(HopfieldInit s) {
-  switch (s) {
-    case HopfieldInit::kZero:
-      return "zero";
-    case HopfieldInit::kRandom:
-      return "random";
-    case HopfieldInit::kGreedy:
-      return "greedy";
-    case HopfieldInit::kMeanField:
-      return "mean_field";
-  }
-  return "?";
-}
-HopfieldInit parse_hopfield_init(const std::string& s) {
-  for (auto v : {HopfieldInit::kZero, HopfieldInit::kRandom, HopfieldInit::kGreedy, HopfieldInit::kMeanField})
-    if (s == hopfield_init_name(v)) return v;
-  throw InputError("init: expected zero, random, greedy or mean_field, found '" + s + "'");
-}
-const char* hopfield_order_name(HopfieldOrder s) {
-  return s == HopfieldOrder::kRandom ? "random"
-                                     : (s == HopfieldOrder::kSliceRandom ? "slice_random" : "cost");
-}
-HopfieldOrder parse_hopfield_order(const std::string& s) {
-  for (auto v : {HopfieldOrder::kRandom, HopfieldOrder::kSliceRandom, HopfieldOrder::kCost})
-    if (s == hopfield_order_name(v)) return v;
-  throw InputError("order: expected random, slice_random or cost, found '" + s + "'");
-}
 
 void SliceRandomOrder::draw(int32_t n1, int32_t n2, int32_t n3, CounterRng& rng) {
   if (slices.size() != static_cast<std::size_t>(n1)) {
@@ -481,7 +454,7 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   for (auto& o : outs) result.restarts.push_back(std::move(o.record));
   sum.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
   sum.message = std::string(hopfield_schedule_name(options.schedule)) + " " +
-                hopfield_energy_name(options.energy) + ": raw validity " + std::to_string(raw) + "/" +
+                enum_name(options.energy) + ": raw validity " + std::to_string(raw) + "/" +
                 std::to_string(options.restarts) + ", best restart " + std::to_string(best);
   return result;
 }

@@ -111,7 +111,7 @@ void register_associate(CLI::App& app) {
       if (args->pipeline.sparse)
         throw InputError("--sparse: applies to the 3-D assignment solvers, not to '" + args->solver + "'");
       const FuzzyPipelineOptions fuzzy =
-          fuzzy_pipeline_options(parse_fusion_method(args->solver), solver_options);
+          fuzzy_pipeline_options(parse_enum<FusionMethod>(args->solver, "--solver"), solver_options);
       TrackFile file = read_track_file(args->input);
       const std::string name = args->name.empty() ? args->solver : args->name;
       const FuzzyPipelineResult res = associate_fuzzy(file, fuzzy, name);

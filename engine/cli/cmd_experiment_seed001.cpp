@@ -20,7 +20,7 @@ std::string reason(const Seed001Options& o, const Seed001Result& r, bool ftaa) {
   const Seed001MethodResult& m = ftaa ? r.ftaa : r.fuzzy;
   const double* paper = ftaa ? Seed001Paper::ftaa_rmse : Seed001Paper::proposed_rmse;
   const double ratio = 0.5 * (m.mean_rmse[0] / paper[0] + m.mean_rmse[1] / paper[1]);
-  std::string s = std::string(bearing_reading_name(o.bearing_reading)) + ", " + (ftaa ? "FTAA" : "proposed") +
+  std::string s = std::string(enum_name(o.bearing_reading)) + ", " + (ftaa ? "FTAA" : "proposed") +
                   ": ours/paper " + fmt(ratio, "%.2f") + "; ";
   if (o.bearing_reading == BearingReading::kLiteral) {
     const double cross = o.design_range * std::numbers::pi / 180.0;  // node 1's cross-range σ
@@ -103,7 +103,7 @@ void register_experiment_seed001(CLI::App& experiment) {
     o.seed = args->common.seed;
     o.ftaa.gate = o.fuzzy.gate;
     o.packet_source = args->packets == "plot" ? PacketSource::kPlot : PacketSource::kTrack;
-    o.bearing_reading = parse_bearing_reading(args->reading);
+    o.bearing_reading = parse_enum<BearingReading>(args->reading, "--sigma-bearing-reading");
     Seed001Options other = o;
     other.bearing_reading =
         o.bearing_reading == BearingReading::kErratum ? BearingReading::kLiteral : BearingReading::kErratum;
@@ -129,7 +129,7 @@ void register_experiment_seed001(CLI::App& experiment) {
       const Seed001MethodResult& m = ftaa ? rr.ftaa : rr.fuzzy;
       const double* paper_rmse = ftaa ? Seed001Paper::ftaa_rmse : Seed001Paper::proposed_rmse;
       const double paper_time = ftaa ? Seed001Paper::ftaa_time_s : Seed001Paper::proposed_time_s;
-      t.add({bearing_reading_name(oo.bearing_reading), ftaa ? "FTAA" : "proposed",
+      t.add({enum_name(oo.bearing_reading), ftaa ? "FTAA" : "proposed",
              fmt(m.mean_rmse[0], "%.1f"), fmt(paper_rmse[0], "%.1f"), fmt(m.mean_rmse[1], "%.1f"),
              fmt(paper_rmse[1], "%.1f"), fmt(ftaa ? rr.model.ftaa_rmse : rr.model.proposed_rmse, "%.0f"),
              fmt(1e6 * m.time_per_association_s, "%.2f"), fmt(1e6 * paper_time, "%.0f"),
@@ -148,11 +148,11 @@ void register_experiment_seed001(CLI::App& experiment) {
     std::cout
         << "  times: the paper's are MATLAB 2009 wall times per association (its Table 2 has the proposed\n"
            "  method slower, contradicting its text); ours are C++ per decision.\n"
-        << "proposed / FTAA RMSE (" << bearing_reading_name(o1.bearing_reading)
+        << "proposed / FTAA RMSE (" << enum_name(o1.bearing_reading)
         << "): " << fmt(r1.fuzzy.mean_rmse[0] / r1.ftaa.mean_rmse[0], "%.2f") << " (S1), "
         << fmt(r1.fuzzy.mean_rmse[1] / r1.ftaa.mean_rmse[1], "%.2f") << " (S2); paper: 0.34, 0.36.\n"
         << "wall time " << fmt(r.wall_time_s + q.wall_time_s, "%.2f") << " s; "
-        << bearing_reading_name(o.bearing_reading) << " reading -> " << args->output << "\n";
+        << enum_name(o.bearing_reading) << " reading -> " << args->output << "\n";
     if (!args->plots.empty()) {
       const std::string script = std::string(TRACKASSOC_DATA_DIR) + "/../scripts/plot.py";
       const std::string command =

@@ -174,7 +174,7 @@ void register_train_siamese(CLI::App& app) {
     // the single ranges are the options' own (--validation-fraction in [0, 1), ...).
     SiameseModel<float> model;
     model.shape = args->shape;
-    model.shape.architecture = parse_pair_architecture(args->architecture);
+    model.shape.architecture = parse_enum<PairArchitecture>(args->architecture, "architecture");
     model.normalisation = args->normalisation;
     model.normalisation.validate();
     model.shape.validate();
