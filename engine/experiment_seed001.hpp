@@ -62,7 +62,9 @@ namespace trackassoc {
 enum class BearingReading { kErratum, kLiteral };
 inline constexpr EnumName<BearingReading> kBearingReadingNames[]{
     {BearingReading::kErratum, "erratum", "σθ1 = 0.1°"}, {BearingReading::kLiteral, "literal", "1°"}};
-constexpr std::span<const EnumName<BearingReading>> enum_names(BearingReading) { return kBearingReadingNames; }
+constexpr std::span<const EnumName<BearingReading>> enum_names(BearingReading) {
+  return kBearingReadingNames;
+}
 
 struct Seed001Options {
   int runs = 100;

@@ -68,7 +68,8 @@ LoadedSiameseModel read_in_process(const std::string& path) {
   m.shape.hidden = dim("hidden");
   m.shape.fc = dim("fc");
   try {
-    m.shape.architecture = parse_enum<PairArchitecture>(root.read_string_attribute("architecture"), "architecture");
+    m.shape.architecture =
+        parse_enum<PairArchitecture>(root.read_string_attribute("architecture"), "architecture");
     m.shape.validate();
     m.normalisation.x0 = root.read_double_attribute("x0");
     m.normalisation.y0 = root.read_double_attribute("y0");

@@ -51,8 +51,8 @@ enum class AlphaBetaGainMode {
   kFixed,   // the user's alpha, beta
   kKalata,  // steady-state gains from the tracking index (default)
 };
-inline constexpr EnumName<AlphaBetaGainMode> kAlphaBetaGainModeNames[]{{AlphaBetaGainMode::kFixed, "fixed"},
-                                                                       {AlphaBetaGainMode::kKalata, "kalata"}};
+inline constexpr EnumName<AlphaBetaGainMode> kAlphaBetaGainModeNames[]{
+    {AlphaBetaGainMode::kFixed, "fixed"}, {AlphaBetaGainMode::kKalata, "kalata"}};
 constexpr std::span<const EnumName<AlphaBetaGainMode>> enum_names(AlphaBetaGainMode) {
   return kAlphaBetaGainModeNames;
 }

@@ -80,7 +80,9 @@ enum class AlignmentMethod {
 };
 inline constexpr EnumName<AlignmentMethod> kAlignmentMethodNames[]{{AlignmentMethod::kTwoSided, "two-sided"},
                                                                    {AlignmentMethod::kForward, "forward"}};
-constexpr std::span<const EnumName<AlignmentMethod>> enum_names(AlignmentMethod) { return kAlignmentMethodNames; }
+constexpr std::span<const EnumName<AlignmentMethod>> enum_names(AlignmentMethod) {
+  return kAlignmentMethodNames;
+}
 
 struct AlignmentOptions {
   AlignmentMethod method = AlignmentMethod::kTwoSided;

@@ -17,7 +17,8 @@
 namespace trackassoc {
 
 enum class CostForm { kChain, kAllPairs };
-inline constexpr EnumName<CostForm> kCostFormNames[]{{CostForm::kChain, "chain"}, {CostForm::kAllPairs, "all-pairs"}};
+inline constexpr EnumName<CostForm> kCostFormNames[]{{CostForm::kChain, "chain"},
+                                                     {CostForm::kAllPairs, "all-pairs"}};
 constexpr std::span<const EnumName<CostForm>> enum_names(CostForm) { return kCostFormNames; }
 
 struct CostTensorOptions {

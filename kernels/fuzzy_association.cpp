@@ -16,7 +16,6 @@ double gaussian_membership(double u, double u_max) {
   return std::exp(-r * r);  // seed 001 Eq. 5
 }
 
-
 void SynthesisOptions::validate(std::size_t n) const {
   const std::string w = "SynthesisOptions.";
   require(std::isfinite(q) && q > 0.0, w + "q", "expected q > 0, got " + std::to_string(q));

@@ -453,9 +453,9 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   sum.iterations = total_sweeps;
   for (auto& o : outs) result.restarts.push_back(std::move(o.record));
   sum.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  sum.message = std::string(hopfield_schedule_name(options.schedule)) + " " +
-                enum_name(options.energy) + ": raw validity " + std::to_string(raw) + "/" +
-                std::to_string(options.restarts) + ", best restart " + std::to_string(best);
+  sum.message = std::string(hopfield_schedule_name(options.schedule)) + " " + enum_name(options.energy) +
+                ": raw validity " + std::to_string(raw) + "/" + std::to_string(options.restarts) +
+                ", best restart " + std::to_string(best);
   return result;
 }
 

@@ -42,7 +42,9 @@ namespace trackassoc {
 enum class HopfieldEnergy { kFullPlane, kPrinted };
 inline constexpr EnumName<HopfieldEnergy> kHopfieldEnergyNames[]{{HopfieldEnergy::kFullPlane, "full_plane"},
                                                                  {HopfieldEnergy::kPrinted, "printed"}};
-constexpr std::span<const EnumName<HopfieldEnergy>> enum_names(HopfieldEnergy) { return kHopfieldEnergyNames; }
+constexpr std::span<const EnumName<HopfieldEnergy>> enum_names(HopfieldEnergy) {
+  return kHopfieldEnergyNames;
+}
 
 // Penalty coefficients of either energy. N is the target number of active neurons
 // (min(n1, n2, n3) for an assignment).

@@ -43,8 +43,9 @@
 namespace trackassoc {
 
 enum class StepRule { kPolyak, kDiminishing, kDeflected };
-inline constexpr EnumName<StepRule> kStepRuleNames[]{
-    {StepRule::kPolyak, "polyak"}, {StepRule::kDiminishing, "diminishing"}, {StepRule::kDeflected, "deflected"}};
+inline constexpr EnumName<StepRule> kStepRuleNames[]{{StepRule::kPolyak, "polyak"},
+                                                     {StepRule::kDiminishing, "diminishing"},
+                                                     {StepRule::kDeflected, "deflected"}};
 constexpr std::span<const EnumName<StepRule>> enum_names(StepRule) { return kStepRuleNames; }
 
 struct LagrangianOptions {

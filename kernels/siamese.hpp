@@ -40,9 +40,10 @@ namespace trackassoc {
 // begins), and the head reads the final state (LSTM: H; BiLSTM: [h_fwd(end); h_bwd(start)], 2H)
 // instead of |e1 − e2|.
 enum class PairArchitecture { kSiamese = 0, kConcatLstm = 1, kConcatBiLstm = 2 };
-inline constexpr EnumName<PairArchitecture> kPairArchitectureNames[]{{PairArchitecture::kSiamese, "siamese"},
-                                                                     {PairArchitecture::kConcatLstm, "lstm"},
-                                                                     {PairArchitecture::kConcatBiLstm, "bilstm"}};
+inline constexpr EnumName<PairArchitecture> kPairArchitectureNames[]{
+    {PairArchitecture::kSiamese, "siamese"},
+    {PairArchitecture::kConcatLstm, "lstm"},
+    {PairArchitecture::kConcatBiLstm, "bilstm"}};
 constexpr std::span<const EnumName<PairArchitecture>> enum_names(PairArchitecture) {
   return kPairArchitectureNames;
 }

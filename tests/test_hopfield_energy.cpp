@@ -267,8 +267,7 @@ TEST(HopfieldDiscrete, NoFlipSkipEqualsAReferenceThatReadsEveryNeuron) {
           const int64_t fr = reference_async_sweep(form, w, c, ref, cost_order);
           ASSERT_EQ(async_sweep_planned(planned, plan), fr) << variant << " sweep " << sweep;
           ASSERT_EQ(async_sweep(plain, cost_order), fr);
-          ASSERT_EQ(planned.V, ref) << enum_name(form) << " variant " << variant << " sweep "
-                                    << sweep;
+          ASSERT_EQ(planned.V, ref) << enum_name(form) << " variant " << variant << " sweep " << sweep;
           ASSERT_EQ(plain.V, ref);
           rng.shuffle(std::span<uint32_t>(random_order));
           const int64_t fq = reference_async_sweep(form, w, c, ref_random, random_order);

@@ -129,9 +129,9 @@ void register_experiment_seed001(CLI::App& experiment) {
       const Seed001MethodResult& m = ftaa ? rr.ftaa : rr.fuzzy;
       const double* paper_rmse = ftaa ? Seed001Paper::ftaa_rmse : Seed001Paper::proposed_rmse;
       const double paper_time = ftaa ? Seed001Paper::ftaa_time_s : Seed001Paper::proposed_time_s;
-      t.add({enum_name(oo.bearing_reading), ftaa ? "FTAA" : "proposed",
-             fmt(m.mean_rmse[0], "%.1f"), fmt(paper_rmse[0], "%.1f"), fmt(m.mean_rmse[1], "%.1f"),
-             fmt(paper_rmse[1], "%.1f"), fmt(ftaa ? rr.model.ftaa_rmse : rr.model.proposed_rmse, "%.0f"),
+      t.add({enum_name(oo.bearing_reading), ftaa ? "FTAA" : "proposed", fmt(m.mean_rmse[0], "%.1f"),
+             fmt(paper_rmse[0], "%.1f"), fmt(m.mean_rmse[1], "%.1f"), fmt(paper_rmse[1], "%.1f"),
+             fmt(ftaa ? rr.model.ftaa_rmse : rr.model.proposed_rmse, "%.0f"),
              fmt(1e6 * m.time_per_association_s, "%.2f"), fmt(1e6 * paper_time, "%.0f"),
              percent(m.correct_rate), fmt(m.system_tracks_per_run, "%.2f")});
     };
