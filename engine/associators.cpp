@@ -133,7 +133,7 @@ class ThreeSensorAssociator final : public TrackAssociator {
 class FusionCentreAssociator final : public TrackAssociator {
  public:
   explicit FusionCentreAssociator(const AssociatorOptions& o)
-      : o_(o), fuzzy_(fuzzy_pipeline_options(parse_fusion_method(o.solver), o.solver_options)) {}
+      : o_(o), fuzzy_(fuzzy_pipeline_options(parse_enum<FusionMethod>(o.solver, "--solver"), o.solver_options)) {}
   AssociationPath path() const override { return AssociationPath::kFusionCentre; }
   AssociationOutcome associate(const TrackFile& file) const override {
     FuzzyPipelineResult res = run_fuzzy_pipeline(file.tracks, file.sensors, fuzzy_, group_name(o_),

@@ -16,17 +16,6 @@
 
 namespace trackassoc {
 
-const char* bearing_reading_name(BearingReading r) {
-  return r == BearingReading::kErratum ? "erratum" : "literal";
-}
-
-BearingReading parse_bearing_reading(const std::string& name) {
-  if (name == "erratum") return BearingReading::kErratum;
-  if (name == "literal") return BearingReading::kLiteral;
-  throw InputError("--sigma-bearing-reading: expected erratum (σθ1 = 0.1°) or literal (1°), got '" + name +
-                   "'");
-}
-
 FtaaOptions Seed001Options::paper_ftaa() {
   FtaaOptions f;
   f.association_quality = 6;  // seed 001 §1: "generally m ≥ 6, D ≥ 6"
@@ -227,7 +216,7 @@ Seed001Result run_seed001(const Seed001Options& o) {
           out.se[m][k].assign(steps, 0.0);
           out.n[m][k].assign(steps, 0.0);
         }
-        const std::string name = fusion_method_name(method[m].method);
+        const std::string name = enum_name(method[m].method);
         const FuzzyPipelineResult res =
             run_fuzzy_pipeline(sim.tracks, scenario.sensors, method[m], name, &sim.measurements);
         const PacketTable& p = res.packets;
@@ -314,7 +303,7 @@ std::string reason(const Seed001Options& o, const Seed001Result& r, bool ftaa) {
   const Seed001MethodResult& m = ftaa ? r.ftaa : r.fuzzy;
   const double* paper = ftaa ? Seed001Paper::ftaa_rmse : Seed001Paper::proposed_rmse;
   const double ratio = 0.5 * (m.mean_rmse[0] / paper[0] + m.mean_rmse[1] / paper[1]);
-  std::string s = std::string(bearing_reading_name(o.bearing_reading)) + ", " + (ftaa ? "FTAA" : "proposed") +
+  std::string s = std::string(enum_name(o.bearing_reading)) + ", " + (ftaa ? "FTAA" : "proposed") +
                   ": ours/paper " + cli::fmt(ratio, "%.2f") + "; ";
   if (o.bearing_reading == BearingReading::kLiteral) {
     const double cross = o.design_range * std::numbers::pi / 180.0;  // node 1's cross-range σ
@@ -372,7 +361,7 @@ void run_seed001_study(const Seed001Options& o, const std::string& output, std::
     const Seed001MethodResult& m = ftaa ? rr.ftaa : rr.fuzzy;
     const double* paper_rmse = ftaa ? Seed001Paper::ftaa_rmse : Seed001Paper::proposed_rmse;
     const double paper_time = ftaa ? Seed001Paper::ftaa_time_s : Seed001Paper::proposed_time_s;
-    t.add({bearing_reading_name(oo.bearing_reading), ftaa ? "FTAA" : "proposed",
+    t.add({enum_name(oo.bearing_reading), ftaa ? "FTAA" : "proposed",
            cli::fmt(m.mean_rmse[0], "%.1f"), cli::fmt(paper_rmse[0], "%.1f"),
            cli::fmt(m.mean_rmse[1], "%.1f"), cli::fmt(paper_rmse[1], "%.1f"),
            cli::fmt(ftaa ? rr.model.ftaa_rmse : rr.model.proposed_rmse, "%.0f"),
@@ -391,11 +380,11 @@ void run_seed001_study(const Seed001Options& o, const std::string& output, std::
     for (bool ftaa : {true, false}) out << "  " << reason(*p, p == &o1 ? r1 : r2, ftaa) << "\n";
   out << "  times: the paper's are MATLAB 2009 wall times per association (its Table 2 has the proposed\n"
          "  method slower, contradicting its text); ours are C++ per decision.\n"
-      << "proposed / FTAA RMSE (" << bearing_reading_name(o1.bearing_reading)
+      << "proposed / FTAA RMSE (" << enum_name(o1.bearing_reading)
       << "): " << cli::fmt(r1.fuzzy.mean_rmse[0] / r1.ftaa.mean_rmse[0], "%.2f") << " (S1), "
       << cli::fmt(r1.fuzzy.mean_rmse[1] / r1.ftaa.mean_rmse[1], "%.2f") << " (S2); paper: 0.34, 0.36.\n"
       << "wall time " << cli::fmt(r.wall_time_s + q.wall_time_s, "%.2f") << " s; "
-      << bearing_reading_name(o.bearing_reading) << " reading -> " << output << "\n";
+      << enum_name(o.bearing_reading) << " reading -> " << output << "\n";
 }
 
 }  // namespace trackassoc

@@ -61,8 +61,11 @@ namespace trackassoc {
 
 // σθ₁: 0.1° (erratum, default) or 1° as printed.
 enum class BearingReading { kErratum, kLiteral };
-const char* bearing_reading_name(BearingReading r);             // "erratum" | "literal"
-BearingReading parse_bearing_reading(const std::string& name);  // throws InputError
+inline constexpr EnumName<BearingReading> kBearingReadingNames[]{
+    {BearingReading::kErratum, "erratum", "σθ1 = 0.1°"}, {BearingReading::kLiteral, "literal", "1°"}};
+constexpr std::span<const EnumName<BearingReading>> enum_names(BearingReading) {
+  return kBearingReadingNames;
+}
 
 struct Seed001Options {
   int runs = 100;

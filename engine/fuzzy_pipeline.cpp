@@ -12,14 +12,6 @@
 
 namespace trackassoc {
 
-FusionMethod parse_fusion_method(const std::string& name) {
-  if (name == "fuzzy") return FusionMethod::kFuzzy;
-  if (name == "ftaa") return FusionMethod::kFtaa;
-  throw InputError("--solver: expected fuzzy or ftaa, got '" + name + "'");
-}
-
-const char* fusion_method_name(FusionMethod m) { return m == FusionMethod::kFuzzy ? "fuzzy" : "ftaa"; }
-
 void FuzzyPipelineOptions::validate() const {
   require(std::isfinite(packet_period) && packet_period >= 0, "packet_period", "expected >= 0 [s]");
   if (method == FusionMethod::kFuzzy)
@@ -28,121 +20,94 @@ void FuzzyPipelineOptions::validate() const {
     ftaa.validate();
 }
 
-nlohmann::json FuzzyPipelineOptions::to_json() const {
-  nlohmann::json j;
-  j["method"] = fusion_method_name(method);
-  j["packet_period"] = packet_period;
-  j["packets"] = packet_source == PacketSource::kPlot ? "plot" : "track";
-  const FactorScales& sc = method == FusionMethod::kFuzzy ? fuzzy.scales : ftaa.scales;
-  const SynthesisOptions& sy = method == FusionMethod::kFuzzy ? fuzzy.synthesis : ftaa.synthesis;
-  j["u_max_position"] = sc.position;
-  j["u_max_speed"] = sc.speed;
-  j["u_max_heading"] = sc.heading;
-  j["synthesis"] = synthesis_name(sy.function);
-  j["weights"] = sy.weights;
-  j["q"] = sy.q;
-  if (method == FusionMethod::kFuzzy) {
-    j["gate"] = fuzzy.gate;
-    j["weighting"] = weighting_name(fuzzy.weighting);
-    j["min_degree"] = fuzzy.min_degree;
-    j["track_timeout"] = fuzzy.track_timeout;
-    const AlphaBetaOptions& ab = fuzzy.smoother;
-    j["smoother"] = {{"gains", ab.gains == AlphaBetaGainMode::kKalata ? "kalata" : "fixed"},
-                     {"alpha", ab.alpha},
-                     {"beta", ab.beta},
-                     {"process_noise", ab.process_noise},
-                     {"measurement_noise", ab.measurement_noise}};
-  } else {
-    j["gate"] = ftaa.gate;
-    j["threshold"] = ftaa.threshold;
-    j["association_quality"] = ftaa.association_quality;
-    j["separation_quality"] = ftaa.separation_quality;
-    j["track_timeout"] = ftaa.track_timeout;
-  }
-  return j;
-}
-
 namespace {
 
-double number(const nlohmann::json& j, const std::string& key) {
-  if (!j.is_number()) throw InputError("--options: key '" + key + "': expected a number, got " + j.dump());
-  return j.get<double>();
+using O = FuzzyPipelineOptions;
+
+const OptionFields<AlphaBetaOptions>& smoother_fields() {
+  using A = AlphaBetaOptions;
+  static const OptionFields<A> fields{{
+      field("gains", &A::gains, "", "Kalata steady-state gains from σ_w, σ_v, or fixed α, β"),
+      field("alpha", &A::alpha, "(0, 2)", "fixed gains: α"),
+      field("beta", &A::beta, "(0, 4 − 2α)", "fixed gains: β"),
+      field("process_noise", &A::process_noise, "> 0", "Kalata gains: σ_w [m/s²]"),
+      field("measurement_noise", &A::measurement_noise, "> 0", "Kalata gains: σ_v [m]"),
+  }};
+  return fields;
+}
+
+// The keys of both methods; `m` is the method's own options (fuzzy or ftaa).
+template <class M>
+std::vector<OptionField<O>> common_fields(M O::*m) {
+  return {
+      {"method", "the solver's name", "as written in the options attribute; must be the solver's own name",
+       [](O& o, const nlohmann::json& v, const std::string& key, const std::string& solver) {
+         if (!v.is_string() || v.get<std::string>() != enum_name(o.method))
+           throw InputError("solver '" + solver + "' options: '" + key + "' must be \"" +
+                            enum_name(o.method) + "\", the solver's own name");
+       },
+       [](const O& o) -> std::optional<nlohmann::json> { return enum_name(o.method); }},
+      field("packet_period", &O::packet_period, ">= 0",
+            "[s] one packet per local track and period; 0 = every row"),
+      field("packets", &O::packet_source, "", "a packet is a /tracks row's position, or its plot"),
+      field("u_max_position", path(m, &M::scales, &FactorScales::position), "> 0",
+            "u_max of Eq. 5, position [m]"),
+      field("u_max_speed", path(m, &M::scales, &FactorScales::speed), "> 0", "u_max of Eq. 5, speed [m/s]"),
+      field("u_max_heading", path(m, &M::scales, &FactorScales::heading), "> 0",
+            "u_max of Eq. 5, heading [rad]"),
+      field("synthesis", path(m, &M::synthesis, &SynthesisOptions::function), "", "synthesis function"),
+      field("weights", path(m, &M::synthesis, &SynthesisOptions::weights), "3 numbers >= 0, sum 1",
+            "a_l of Eq. 11–12"),
+      field("q", path(m, &M::synthesis, &SynthesisOptions::q), "> 0", "exponent of Eq. 9 and 12"),
+      field("gate", path(m, &M::gate), "> 0", "[m] gate on the position difference u1"),
+      field("track_timeout", path(m, &M::track_timeout), ">= 0",
+            "[s] drop a track silent for longer; 0 = never"),
+  };
+}
+
+const OptionFields<O>& fuzzy_fields() {
+  using F = FuzzyAssociationOptions;
+  static const OptionFields<O> fields{[] {
+    auto f = common_fields(&O::fuzzy);
+    f.push_back(field("weighting", path(&O::fuzzy, &F::weighting), "", "reliability weighting of μ"));
+    f.push_back(
+        field("min_degree", path(&O::fuzzy, &F::min_degree), "[0, 1]", "μ below this never associates"));
+    f.push_back(object_field("smoother", path(&O::fuzzy, &F::smoother), smoother_fields(),
+                             "alpha-beta smoother of the system tracks"));
+    return f;
+  }()};
+  return fields;
+}
+
+const OptionFields<O>& ftaa_fields() {
+  using F = FtaaOptions;
+  static const OptionFields<O> fields{[] {
+    auto f = common_fields(&O::ftaa);
+    f.push_back(
+        field("threshold", path(&O::ftaa, &F::threshold), "[0, 1]", "a scan succeeds when S >= this"));
+    f.push_back(field("association_quality", path(&O::ftaa, &F::association_quality), ">= 1",
+                      "M: consecutive successes to associate"));
+    f.push_back(field("separation_quality", path(&O::ftaa, &F::separation_quality), ">= 1",
+                      "D_max: consecutive failures to separate"));
+    return f;
+  }()};
+  return fields;
 }
 
 }  // namespace
 
+const OptionFields<FuzzyPipelineOptions>& fuzzy_pipeline_option_fields(FusionMethod method) {
+  return method == FusionMethod::kFuzzy ? fuzzy_fields() : ftaa_fields();
+}
+
+nlohmann::json FuzzyPipelineOptions::to_json() const {
+  return fuzzy_pipeline_option_fields(method).write(*this);
+}
+
 FuzzyPipelineOptions fuzzy_pipeline_options(FusionMethod method, const nlohmann::json& j) {
-  if (!j.is_object()) throw InputError("--options: expected a JSON object");
   FuzzyPipelineOptions o;
   o.method = method;
-  const bool fz = method == FusionMethod::kFuzzy;
-  FactorScales& sc = fz ? o.fuzzy.scales : o.ftaa.scales;
-  SynthesisOptions& sy = fz ? o.fuzzy.synthesis : o.ftaa.synthesis;
-  for (const auto& [key, v] : j.items()) {
-    if (key == "method") {  // as to_json() writes it, so a stored /associations options attribute reads back
-      if (!v.is_string() || v.get<std::string>() != fusion_method_name(method))
-        throw InputError(std::string("--options: key 'method': expected \"") + fusion_method_name(method) +
-                         "\", the solver's own name");
-    } else if (key == "packet_period")
-      o.packet_period = number(v, key);
-    else if (key == "packets") {
-      const std::string src = v.is_string() ? v.get<std::string>() : "";
-      if (src != "track" && src != "plot")
-        throw InputError("--options: key 'packets': expected \"track\" or \"plot\"");
-      o.packet_source = src == "plot" ? PacketSource::kPlot : PacketSource::kTrack;
-    } else if (key == "gate")
-      (fz ? o.fuzzy.gate : o.ftaa.gate) = number(v, key);
-    else if (key == "u_max_position")
-      sc.position = number(v, key);
-    else if (key == "u_max_speed")
-      sc.speed = number(v, key);
-    else if (key == "u_max_heading")
-      sc.heading = number(v, key);
-    else if (key == "q")
-      sy.q = number(v, key);
-    else if (key == "track_timeout")
-      (fz ? o.fuzzy.track_timeout : o.ftaa.track_timeout) = number(v, key);
-    else if (key == "synthesis") {
-      if (!v.is_string()) throw InputError("--options: key 'synthesis': expected a string");
-      sy.function = parse_synthesis(v.get<std::string>());
-    } else if (key == "weights") {
-      if (!v.is_array()) throw InputError("--options: key 'weights': expected an array of 3 numbers");
-      sy.weights.clear();
-      for (const auto& w : v) sy.weights.push_back(number(w, key));
-    } else if (fz && key == "weighting") {
-      if (!v.is_string()) throw InputError("--options: key 'weighting': expected a string");
-      o.fuzzy.weighting = parse_weighting(v.get<std::string>());
-    } else if (fz && key == "min_degree")
-      o.fuzzy.min_degree = number(v, key);
-    else if (fz && key == "smoother") {
-      if (!v.is_object()) throw InputError("--options: key 'smoother': expected an object");
-      AlphaBetaOptions& ab = o.fuzzy.smoother;
-      for (const auto& [k2, v2] : v.items()) {
-        if (k2 == "gains") {
-          const std::string g = v2.is_string() ? v2.get<std::string>() : "";
-          if (g != "kalata" && g != "fixed")
-            throw InputError("--options: smoother.gains: expected kalata or fixed");
-          ab.gains = g == "kalata" ? AlphaBetaGainMode::kKalata : AlphaBetaGainMode::kFixed;
-        } else if (k2 == "alpha")
-          ab.alpha = number(v2, k2);
-        else if (k2 == "beta")
-          ab.beta = number(v2, k2);
-        else if (k2 == "process_noise")
-          ab.process_noise = number(v2, k2);
-        else if (k2 == "measurement_noise")
-          ab.measurement_noise = number(v2, k2);
-        else
-          throw InputError("--options: unknown key 'smoother." + k2 + "'");
-      }
-    } else if (!fz && key == "threshold")
-      o.ftaa.threshold = number(v, key);
-    else if (!fz && key == "association_quality")
-      o.ftaa.association_quality = static_cast<int>(number(v, key));
-    else if (!fz && key == "separation_quality")
-      o.ftaa.separation_quality = static_cast<int>(number(v, key));
-    else
-      throw InputError("--options: unknown key '" + key + "' for solver " + fusion_method_name(method));
-  }
+  fuzzy_pipeline_option_fields(method).read(j, o, enum_name(method));
   o.validate();
   return o;
 }
@@ -237,7 +202,7 @@ FuzzyPipelineResult run_fuzzy_pipeline(const TrackTable& tracks, const std::vect
   // System tracks in processing order.
   SystemTrackRecord& st = res.system_tracks;
   st.name = name;
-  st.method = fusion_method_name(options.method);
+  st.method = enum_name(options.method);
   st.options_json = options.to_json().dump();
   for (std::size_t i : arrival_order(p.t)) {
     if (f.system_track[i] < 0) continue;
@@ -299,7 +264,7 @@ FuzzyPipelineResult run_fuzzy_pipeline(const TrackTable& tracks, const std::vect
   AssociationRecord& a = res.association;
   a.name = name;
   a.num_sensors = static_cast<int32_t>(S);
-  a.solver = fusion_method_name(options.method);
+  a.solver = enum_name(options.method);
   a.options_json = st.options_json;
   auto push = [&](const std::vector<int32_t>& dense, double cost) {
     for (int32_t l : dense) a.tuples.push_back(l < 0 ? -1 : p.local_track[l]);

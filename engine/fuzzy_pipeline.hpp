@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/option_fields.hpp"
 #include "io/track_file.hpp"
 #include "kernels/ftaa.hpp"
 #include "kernels/fuzzy_association.hpp"
@@ -35,7 +36,13 @@
 namespace trackassoc {
 
 enum class FusionMethod { kFuzzy, kFtaa };
+inline constexpr EnumName<FusionMethod> kFusionMethodNames[]{{FusionMethod::kFuzzy, "fuzzy"},
+                                                             {FusionMethod::kFtaa, "ftaa"}};
+constexpr std::span<const EnumName<FusionMethod>> enum_names(FusionMethod) { return kFusionMethodNames; }
 enum class PacketSource { kTrack, kPlot };
+inline constexpr EnumName<PacketSource> kPacketSourceNames[]{{PacketSource::kTrack, "track"},
+                                                             {PacketSource::kPlot, "plot"}};
+constexpr std::span<const EnumName<PacketSource>> enum_names(PacketSource) { return kPacketSourceNames; }
 
 struct FuzzyPipelineOptions {
   FusionMethod method = FusionMethod::kFuzzy;
@@ -54,8 +61,8 @@ struct FuzzyPipelineOptions {
 // measurement_noise}; for ftaa: threshold, association_quality, separation_quality, track_timeout.
 // Unknown keys are an InputError naming the key.
 FuzzyPipelineOptions fuzzy_pipeline_options(FusionMethod method, const nlohmann::json& options);
-FusionMethod parse_fusion_method(const std::string& name);  // "fuzzy" | "ftaa"
-const char* fusion_method_name(FusionMethod m);
+// The keys of each method, declared once (engine/option_fields.hpp): read, write (to_json), help.
+const OptionFields<FuzzyPipelineOptions>& fuzzy_pipeline_option_fields(FusionMethod method);
 
 // Packets built from a track table, in table row order.
 struct PacketTable {

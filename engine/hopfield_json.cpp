@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/solver_registry.hpp"
+#include "engine/option_fields.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc {
@@ -125,160 +125,106 @@ std::vector<std::string> hopfield_preset_schedules(const std::string& name) {
 
 namespace {
 
-// The keys hopfield_options_from_json reads (engine/hopfield_json.hpp), for the message on an unknown one.
-const std::vector<std::string> kHopfieldKeys{"energy",
-                                             "schedule",
-                                             "restarts",
-                                             "max_sweeps",
-                                             "init",
-                                             "init_density",
-                                             "greedy_noise",
-                                             "order",
-                                             "anneal_E_factor",
-                                             "anneal_sweeps",
-                                             "temperature",
-                                             "damping",
-                                             "continuous_async",
-                                             "dt",
-                                             "tau",
-                                             "u0_start",
-                                             "u0_end",
-                                             "gain_anneal_steps",
-                                             "noise",
-                                             "self_excitation",
-                                             "tolerance",
-                                             "mean_field_steps",
-                                             "repair",
-                                             "trace",
-                                             "polish",
-                                             "A",
-                                             "B",
-                                             "C",
-                                             "D",
-                                             "E"};
-
-// The checks of read_option_number (engine/solver_registry.hpp): type, integer, and the field's range
-// (5e9 for an int32 count, 1e300 for a float weight).
-template <class T>
-T get_number(const nlohmann::json& j, const std::string& key, const std::string& solver) {
-  T value{};
-  read_option_number(nlohmann::json{{key, j}}, key.c_str(), value, solver);
-  return value;
+// The "schedule" key. Each registry name is one network, and `schedule` picks among that network's
+// schedules: chnn steps its Euler equations sync (Jacobi) or async (neuron by neuron); hopfield and
+// hopfield-paper are discrete. (A schedule that swapped the network would leave a record named
+// "chnn" that ran the discrete network.)
+void read_schedule(HopfieldOptions& o, const nlohmann::json& v, const std::string& key,
+                   const std::string& solver) {
+  if (!v.is_string()) throw InputError("solver '" + solver + "' options: '" + key + "' must be a string");
+  const std::string value = v.get<std::string>();
+  const std::string why = hopfield_schedule_error(o.network, value);
+  if (!why.empty()) throw InputError(why);
+  set_hopfield_schedule(o, value);
 }
 
-std::string get_string(const nlohmann::json& j, const std::string& key, const std::string& solver) {
-  if (!j.is_string()) throw InputError("solver '" + solver + "' options: '" + key + "' must be a string");
-  return j.get<std::string>();
+// What read_schedule reads back: the continuous network's step order, or the discrete schedule.
+std::optional<nlohmann::json> write_schedule(const HopfieldOptions& o) {
+  if (o.network == HopfieldNetwork::kContinuous) return o.continuous_async ? "async" : "sync";
+  return hopfield_schedule_name(o.schedule);
 }
 
-bool get_bool(const nlohmann::json& j, const std::string& key, const std::string& solver) {
-  if (!j.is_boolean())
-    throw InputError("solver '" + solver + "' options: '" + key + "' must be true or false");
-  return j.get<bool>();
+// A, B, C, D, E: giving any of them switches off the automatic weights; the others keep the
+// preset's values (automatic: A = B = C = 1, D = 0, E = 1.4985).
+OptionField<HopfieldOptions> weight_field(const char* key, float HopfieldWeights::*w, const char* doc) {
+  OptionField<HopfieldOptions> f = field(key, path(&HopfieldOptions::weights, w), "finite, >= 0", doc);
+  auto read = f.read;
+  f.read = [read](HopfieldOptions& o, const nlohmann::json& v, const std::string& k,
+                  const std::string& solver) {
+    if (o.auto_weights) {
+      o.weights = HopfieldWeights{1.f, 1.f, 1.f, 0.f, 1.4985f, 0};
+      o.auto_weights = false;
+    }
+    read(o, v, k, solver);
+  };
+  auto write = f.write;
+  f.write = [write](const HopfieldOptions& o) { return o.auto_weights ? std::nullopt : write(o); };
+  return f;
 }
 
 }  // namespace
 
+const OptionFields<HopfieldOptions>& hopfield_option_fields() {
+  using O = HopfieldOptions;
+  static const OptionFields<O> fields{{
+      field("energy", &O::energy, "", "energy function: seed 000 Eq. 11 on the full planes, or as printed"),
+      {"schedule", "sync | async | diagonal; chnn: sync | async | continuous",
+       "update schedule of the solver's own network (chnn: its Euler steps; continuous = sync)",
+       read_schedule, write_schedule},
+      field("restarts", &O::restarts, "1..100000",
+            "independent restarts; the best repaired assignment is kept"),
+      field("max_sweeps", &O::max_sweeps, ">= 1", "discrete sweeps, or continuous Euler steps"),
+      field("init", &O::init, "", "initial state of the discrete network"),
+      field("init_density", &O::init_density, "> 0",
+            "random init: each neuron on with probability density·N/K"),
+      field("greedy_noise", &O::greedy_noise, ">= 0",
+            "greedy init, restarts >= 1: cost order of ĉ + noise·U(0,1)"),
+      field("order", &O::order, "", "async visiting order within a sweep"),
+      field("anneal_E_factor", &O::anneal_E_factor, ">= 1",
+            "E annealing: E_s = E·factor^(1 − s/anneal_sweeps)"),
+      field("anneal_sweeps", &O::anneal_sweeps, ">= 0", "sweeps of E and temperature annealing"),
+      field("temperature", &O::temperature, ">= 0", "Glauber temperature T0 (async), annealed to 0"),
+      field("damping", &O::damping, "(0, 1]", "sync: share of neurons updated per sweep"),
+      field("continuous_async", &O::continuous_async, "", "continuous network: async Euler steps"),
+      field("dt", &O::dt, "> 0", "continuous: Euler step"),
+      field("tau", &O::tau, ">= 0", "continuous: decay time constant (0 = no decay)"),
+      field("u0_start", &O::u0_start, "> 0", "continuous: initial gain parameter u0"),
+      field("u0_end", &O::u0_end, "> 0", "continuous: final gain parameter u0"),
+      field("gain_anneal_steps", &O::gain_anneal_steps, ">= 0",
+            "continuous: steps of geometric gain annealing"),
+      field("noise", &O::noise, ">= 0", "continuous: initial u noise, in units of u0_start"),
+      field("self_excitation", &O::self_excitation, "[0, 1]", "continuous: λ (1 = multilinear energy)"),
+      field("tolerance", &O::tolerance, "> 0", "continuous: stop when max |ΔV| < tolerance"),
+      field("mean_field_steps", &O::mean_field_steps, ">= 1",
+            "init mean_field: Euler steps of the continuous phase"),
+      field("repair", &O::repair, "", "repair of an invalid final state"),
+      field("trace", &O::trace, "", "record the energy after every sweep, per restart"),
+      field("polish", &O::polish, "", "LAP local search on every restart's assignment"),
+      weight_field("A", &HopfieldWeights::A,
+                   "penalty of the sensor-1 planes, seed 000 Eq. 11 (unset: automatic)"),
+      weight_field("B", &HopfieldWeights::B, "penalty of the sensor-2 planes"),
+      weight_field("C", &HopfieldWeights::C, "penalty of the sensor-3 planes"),
+      weight_field("D", &HopfieldWeights::D, "penalty of M != N active neurons"),
+      weight_field("E", &HopfieldWeights::E, "weight of the normalised cost"),
+  }};
+  return fields;
+}
+
 HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohmann::json& options,
                                            bool& polish) {
   HopfieldOptions o = hopfield_preset(name);
-  polish = false;
-  if (options.is_null()) return o;
-  if (!options.is_object()) throw InputError("solver '" + name + "' options: expected a JSON object");
-  bool weights_given = false;
-  HopfieldWeights w = o.auto_weights ? HopfieldWeights{1.f, 1.f, 1.f, 0.f, 1.4985f, 0} : o.weights;
-  for (auto it = options.begin(); it != options.end(); ++it) {
-    const std::string& k = it.key();
-    const nlohmann::json& v = it.value();
-    try {
-      if (k == "energy") {
-        const std::string e = get_string(v, k, name);
-        if (e == "full_plane")
-          o.energy = HopfieldEnergy::kFullPlane;
-        else if (e == "printed")
-          o.energy = HopfieldEnergy::kPrinted;
-        else
-          throw InputError("energy: expected full_plane or printed, found '" + e + "'");
-      } else if (k == "schedule") {
-        const std::string value = get_string(v, k, name);
-        const std::string why = hopfield_schedule_error(o.network, value);
-        if (!why.empty()) throw InputError(why);
-        set_hopfield_schedule(o, value);
-      } else if (k == "restarts")
-        o.restarts = get_number<int32_t>(v, k, name);
-      else if (k == "max_sweeps")
-        o.max_sweeps = get_number<int32_t>(v, k, name);
-      else if (k == "init")
-        o.init = parse_hopfield_init(get_string(v, k, name));
-      else if (k == "init_density")
-        o.init_density = get_number<double>(v, k, name);
-      else if (k == "greedy_noise")
-        o.greedy_noise = get_number<double>(v, k, name);
-      else if (k == "order")
-        o.order = parse_hopfield_order(get_string(v, k, name));
-      else if (k == "anneal_E_factor")
-        o.anneal_E_factor = get_number<double>(v, k, name);
-      else if (k == "anneal_sweeps")
-        o.anneal_sweeps = get_number<int32_t>(v, k, name);
-      else if (k == "temperature")
-        o.temperature = get_number<double>(v, k, name);
-      else if (k == "damping")
-        o.damping = get_number<double>(v, k, name);
-      else if (k == "continuous_async")
-        o.continuous_async = get_bool(v, k, name);
-      else if (k == "dt")
-        o.dt = get_number<double>(v, k, name);
-      else if (k == "tau")
-        o.tau = get_number<double>(v, k, name);
-      else if (k == "u0_start")
-        o.u0_start = get_number<double>(v, k, name);
-      else if (k == "u0_end")
-        o.u0_end = get_number<double>(v, k, name);
-      else if (k == "gain_anneal_steps")
-        o.gain_anneal_steps = get_number<int32_t>(v, k, name);
-      else if (k == "noise")
-        o.noise = get_number<double>(v, k, name);
-      else if (k == "self_excitation")
-        o.self_excitation = get_number<double>(v, k, name);
-      else if (k == "tolerance")
-        o.tolerance = get_number<double>(v, k, name);
-      else if (k == "mean_field_steps")
-        o.mean_field_steps = get_number<int32_t>(v, k, name);
-      else if (k == "repair") {
-        const std::string r = get_string(v, k, name);
-        if (r == "greedy")
-          o.repair = HopfieldRepair::kGreedy;
-        else if (r == "lap")
-          o.repair = HopfieldRepair::kLap;
-        else
-          throw InputError("repair: expected greedy or lap, found '" + r + "'");
-      } else if (k == "trace")
-        o.trace = get_bool(v, k, name);
-      else if (k == "polish")
-        o.polish = polish = get_bool(v, k, name);
-      else if (k == "A" || k == "B" || k == "C" || k == "D" || k == "E") {
-        const float x = get_number<float>(v, k, name);
-        weights_given = true;
-        (k == "A" ? w.A : k == "B" ? w.B : k == "C" ? w.C : k == "D" ? w.D : w.E) = x;
-      } else {
-        throw InputError(unknown_name_message("key", k, kHopfieldKeys));
-      }
-    } catch (const InputError& e) {
-      const std::string msg = e.what();
-      if (msg.rfind("solver '", 0) == 0) throw;
-      throw InputError("solver '" + name + "' options: " + msg);
-    }
-  }
-  if (weights_given) {
-    o.auto_weights = false;
-    o.weights = w;
-  }
+  hopfield_option_fields().read(options, o, name);
+  polish = o.polish;
   try {
     o.validate();
   } catch (const InputError& e) {
     throw InputError("solver '" + name + "' options: " + std::string(e.what()));
   }
   return o;
+}
+
+nlohmann::json hopfield_options_to_json(const HopfieldOptions& options) {
+  return hopfield_option_fields().write(options);
 }
 
 Solution3 solve_hopfield_json(const std::string& name, const CostTensor3& cost, const nlohmann::json& options,

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/option_fields.hpp"
 #include "kernels/assignment_types.hpp"
 #include "kernels/hopfield.hpp"
 
@@ -42,9 +43,17 @@ std::string hopfield_preset_schedule_error(const std::string& name, const std::s
 // The schedules the preset `name` runs (the registry's capabilities.schedules).
 std::vector<std::string> hopfield_preset_schedules(const std::string& name);
 
+// The options declared once (engine/option_fields.hpp), in the order of the keys above; their
+// help() lists key, default, range and doc.
+const OptionFields<HopfieldOptions>& hopfield_option_fields();
+
 // The preset overridden by `options`; `polish` mirrors the "polish" key.
 HopfieldOptions hopfield_options_from_json(const std::string& name, const nlohmann::json& options,
                                            bool& polish);
+
+// The fields of `options` as JSON (A..E only when the weights are not automatic): read back by
+// hopfield_options_from_json with the same preset, it gives `options` again.
+nlohmann::json hopfield_options_to_json(const HopfieldOptions& options);
 
 // Runs the solver: Solution3 with the energy trace (restarts × sweeps) when "trace" is set; the
 // summary message carries the raw validity rate.

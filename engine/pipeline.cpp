@@ -20,8 +20,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-const char* cost_form_name(CostForm f) { return f == CostForm::kChain ? "chain" : "all-pairs"; }
-
 }  // namespace
 
 void PipelineOptions::validate() const {
@@ -49,16 +47,12 @@ PipelineOptions PipelineOptions::paper() {
   return o;
 }
 
-namespace {
-const char* gate_name(GateMethod g) { return g == GateMethod::kCalibrated ? "calibrated" : "chi2-sum"; }
-}  // namespace
-
 nlohmann::json PipelineOptions::to_json() const {
   return {{"sensors", sensors},
           {"common_period", common_period},
           {"common_span", span_union ? "union" : "intersection"},
-          {"alignment", alignment.method == AlignmentMethod::kTwoSided ? "two-sided" : "forward"},
-          {"gate", gate_name(statistic.gate)},
+          {"alignment", enum_name(alignment.method)},
+          {"gate", enum_name(statistic.gate)},
           {"cap_probability", statistic.cap_probability},
           {"scans_per_independent", statistic.scans_per_independent},
           {"process_noise", alignment.process_noise},
@@ -67,7 +61,7 @@ nlohmann::json PipelineOptions::to_json() const {
           {"cross_correlation", statistic.cross_correlation},
           {"common_process_noise", statistic.common_process_noise},
           {"gate_probability", statistic.gate_probability},
-          {"cost_form", cost_form_name(cost.form)},
+          {"cost_form", enum_name(cost.form)},
           {"gated_pair_cost", cost.gated_pair_cost}};
 }
 

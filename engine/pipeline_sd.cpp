@@ -76,39 +76,41 @@ void split_forbidden(const CostTensorSD& c, std::vector<int32_t>& tuples) {
   tuples.swap(out);
 }
 
-ChnnPseudoOptions chnn_options(const nlohmann::json& o, uint64_t seed, bool& gated, double& margin,
-                               int32_t& reference) {
-  reject_unknown_keys(o,
-                      {"A", "B", "C", "D", "dt", "tau", "u0", "max_steps", "tolerance", "noise", "gated",
-                       "lambda_margin", "reference", "leftover_passes"},
-                      "chnn-pseudo");
-  ChnnPseudoOptions c;
-  c.seed = seed;
-  const std::string name = "chnn-pseudo";
-  read_option_number(o, "A", c.A, name);
-  read_option_number(o, "B", c.B, name);
-  read_option_number(o, "C", c.C, name);
-  read_option_number(o, "D", c.D, name);
-  read_option_number(o, "dt", c.dt, name);
-  read_option_number(o, "tau", c.tau, name);
-  read_option_number(o, "u0", c.u0, name);
-  read_option_number(o, "max_steps", c.max_steps, name);
-  read_option_number(o, "tolerance", c.tolerance, name);
-  read_option_number(o, "noise", c.noise, name);
-  read_option_number(o, "leftover_passes", c.leftover_passes, name);
-  read_option_number(o, "lambda_margin", margin, name);
-  read_option_number(o, "reference", reference, name);
-  if (!o.is_null() && o.contains("gated")) {
-    if (!o.at("gated").is_boolean())
-      throw InputError("solver 'chnn-pseudo' options: 'gated' must be true or false");
-    gated = o.at("gated").get<bool>();
-  }
-  require(margin > 0.0 && std::isfinite(margin), "chnn-pseudo options: lambda_margin", "must be > 0");
-  c.validate();
+ChnnPseudoSolverOptions chnn_options(const nlohmann::json& o, uint64_t seed, ChnnPseudoSolverOptions c) {
+  c.network.seed = seed;
+  chnn_pseudo_option_fields().read(o, c, "chnn-pseudo");
+  require(c.lambda_margin > 0.0 && std::isfinite(c.lambda_margin), "chnn-pseudo options: lambda_margin",
+          "must be > 0");
+  c.network.validate();
   return c;
 }
 
 }  // namespace
+
+const OptionFields<ChnnPseudoSolverOptions>& chnn_pseudo_option_fields() {
+  using O = ChnnPseudoSolverOptions;
+  using N = ChnnPseudoOptions;
+  static const OptionFields<O> fields{{
+      field("A", path(&O::network, &N::A), ">= 0", "energy weight of term 1 (seed 004 Eq. 7)"),
+      field("B", path(&O::network, &N::B), "> 0", "energy weight of term 2"),
+      field("C", path(&O::network, &N::C), "> 0", "energy weight of term 3"),
+      field("D", path(&O::network, &N::D), ">= 0", "energy weight of term 4"),
+      field("dt", path(&O::network, &N::dt), "> 0", "Euler step"),
+      field("tau", path(&O::network, &N::tau), ">= 0", "decay time constant (0 = no decay)"),
+      field("u0", path(&O::network, &N::u0), "> 0", "gain 1/u0 of V = ½(1 + tanh(u/u0))"),
+      field("max_steps", path(&O::network, &N::max_steps), ">= 1", "Euler steps per pass at most"),
+      field("tolerance", path(&O::network, &N::tolerance), "> 0",
+            "converged when max |Δu|/u0 of a step is below"),
+      field("noise", path(&O::network, &N::noise), ">= 0", "initial u noise·N(0,1)"),
+      field("gated", &O::gated, "", "λ = +inf outside the gate (Eq. 12)"),
+      field("lambda_margin", &O::lambda_margin, "> 0", "pseudo-track cost (1 + margin)·γ"),
+      field("reference", &O::reference, "a sensor position",
+            "the sensor taken first (default: the most tracks)"),
+      field("leftover_passes", path(&O::network, &N::leftover_passes), ">= -1",
+            "extra passes over the tracks left alone (−1 = S − 2, 0 = the paper's one pass)"),
+  }};
+  return fields;
+}
 
 const std::vector<std::string>& sd_solver_names() {
   static const std::vector<std::string> names = solver_names_with(&SolverCapabilities::sd);
@@ -227,13 +229,13 @@ PseudoTrackInput pseudo_track_input(const SDProblem& p, bool gated, double lambd
 SolutionSD solve_chnn_sd(const SDProblem& p, const nlohmann::json& options, uint64_t seed,
                          ChnnPseudoResult* raw) {
   SolutionSD sol;
-  bool gated = true;
-  double margin = 0.1;
-  int32_t reference = 0;
+  ChnnPseudoSolverOptions defaults;
   for (int32_t s = 1; s < p.S(); ++s)
-    if (p.aligned[s].n_tracks() > p.aligned[reference].n_tracks()) reference = s;
-  const ChnnPseudoOptions co = chnn_options(options, seed, gated, margin, reference);
-  const ChnnPseudoResult r = solve_chnn_pseudo(pseudo_track_input(p, gated, margin, reference), co);
+    if (p.aligned[s].n_tracks() > p.aligned[defaults.reference].n_tracks()) defaults.reference = s;
+  const ChnnPseudoSolverOptions co = chnn_options(options, seed, defaults);
+  const int32_t reference = co.reference;
+  const ChnnPseudoResult r =
+      solve_chnn_pseudo(pseudo_track_input(p, co.gated, co.lambda_margin, reference), co.network);
   // Back to tensor order: position 0 is `reference`, then the others in order.
   const int32_t S = p.S();
   std::vector<int32_t> order{reference};

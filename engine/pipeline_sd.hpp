@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/option_fields.hpp"
 #include "engine/pipeline.hpp"
 #include "kernels/assignment_sd.hpp"
 #include "kernels/chnn_pseudo.hpp"
@@ -71,6 +72,15 @@ void require_sd_solver(const std::string& name);
 // Seed 004's inputs from the problem: distances λ (gated: +inf outside the gate, Eq. 12), and
 // pseudo-track costs (1 + margin)·γ; sensors reordered so that `reference` comes first.
 PseudoTrackInput pseudo_track_input(const SDProblem& p, bool gated, double lambda_margin, int32_t reference);
+
+// The options of chnn-pseudo (header comment): the network's, and how its inputs are built.
+struct ChnnPseudoSolverOptions {
+  ChnnPseudoOptions network;  // seed: the run's seed, not an option
+  bool gated = true;
+  double lambda_margin = 0.1;
+  int32_t reference = 0;  // solve_chnn_sd's default: the sensor with the most tracks
+};
+const OptionFields<ChnnPseudoSolverOptions>& chnn_pseudo_option_fields();
 
 // The chnn-pseudo solver alone; `raw`, when given, receives the network's own result (neurons,
 // Euler steps, convergence).

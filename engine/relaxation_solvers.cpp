@@ -42,34 +42,82 @@ Solution3 solve_exact_with_dummies(const CostTensor3& b, const BranchAndBoundOpt
 
 }  // namespace
 
+const OptionFields<LagrangianOptions>& lagrangian_option_fields(bool with_ls) {
+  using O = LagrangianOptions;
+  auto make = [](bool ls) {
+    std::vector<OptionField<O>> f{
+        field("max_iterations", &O::max_iterations, ">= 1", "subgradient iterations"),
+        field("relative_gap_tolerance", &O::relative_gap_tolerance, ">= 0",
+              "stop when (UB − LB) / max(|UB|, 1e-9) <= this"),
+        field("absolute_gap_tolerance", &O::absolute_gap_tolerance, ">= 0",
+              "stop (optimal) when UB − LB <= this"),
+        field("time_limit_s", &O::time_limit_s, "> 0", "wall-time limit [s] (default: none)"),
+        field("step_rule", &O::step_rule, "", "subgradient step rule"),
+        field("theta", &O::theta, "(0, 2]", "initial step scale θ"),
+        field("theta_patience", &O::theta_patience, ">= 1",
+              "halve θ after this many iterations without a better bound"),
+        field("min_theta", &O::min_theta, "(0, theta]", "stop when θ falls below this")};
+    if (ls)
+      f.push_back(field("max_rounds", path(&O::local_search_options, &LocalSearchOptions::max_rounds), ">= 1",
+                        "local search rounds per recovered solution (a round tries all three moves)"));
+    return OptionFields<O>(std::move(f));
+  };
+  static const OptionFields<O> lr = make(false), lr_ls = make(true);
+  return with_ls ? lr_ls : lr;
+}
+
 LagrangianOptions lagrangian_options(const nlohmann::json& o, const std::string& solver, bool with_ls) {
-  std::vector<std::string> keys{"max_iterations",
-                                "relative_gap_tolerance",
-                                "absolute_gap_tolerance",
-                                "time_limit_s",
-                                "step_rule",
-                                "theta",
-                                "theta_patience",
-                                "min_theta"};
-  if (with_ls) keys.push_back("max_rounds");
-  reject_unknown_keys(o, keys, solver);
   LagrangianOptions lo;
-  read_option_number(o, "max_iterations", lo.max_iterations, solver);
-  read_option_number(o, "relative_gap_tolerance", lo.relative_gap_tolerance, solver);
-  read_option_number(o, "absolute_gap_tolerance", lo.absolute_gap_tolerance, solver);
-  read_option_number(o, "time_limit_s", lo.time_limit_s, solver);
-  read_option_number(o, "theta", lo.theta, solver);
-  read_option_number(o, "theta_patience", lo.theta_patience, solver);
-  read_option_number(o, "min_theta", lo.min_theta, solver);
-  if (!o.is_null() && o.contains("step_rule")) {
-    if (!o.at("step_rule").is_string())
-      throw InputError("solver '" + solver + "' options: 'step_rule' must be a string");
-    lo.step_rule = parse_step_rule(o.at("step_rule").get<std::string>());
-  }
+  lagrangian_option_fields(with_ls).read(o, lo, solver);
   lo.local_search = with_ls;
-  read_option_number(o, "max_rounds", lo.local_search_options.max_rounds, solver);
   lo.validate();
   return lo;
+}
+
+const OptionFields<BranchAndBoundOptions>& exact_option_fields() {
+  using O = BranchAndBoundOptions;
+  static const OptionFields<O> fields{{
+      field("time_limit_s", &O::time_limit_s, "> 0",
+            "wall-time limit [s]; then the best tuples and the bound"),
+      field("max_nodes", &O::max_nodes, ">= 1", "search-tree nodes at most"),
+      field("node_subgradient_iterations", &O::node_subgradient_iterations, ">= 1",
+            "subgradient steps per node to sharpen its bound"),
+      field("root_max_iterations", path(&O::root, &LagrangianOptions::max_iterations), ">= 1",
+            "subgradient iterations of the root relaxation"),
+  }};
+  return fields;
+}
+
+const OptionFields<ExactSDOptions>& exact_sd_option_fields() {
+  using O = ExactSDOptions;
+  static const OptionFields<O> fields{{
+      field("time_limit_s", &O::time_limit_s, "> 0",
+            "wall-time limit [s]; then the best tuples and the bound"),
+      field("max_nodes", &O::max_nodes, ">= 1", "search-tree nodes at most"),
+  }};
+  return fields;
+}
+
+ExactSDOptions exact_sd_options(const nlohmann::json& o, const std::string& solver) {
+  ExactSDOptions eo;
+  exact_sd_option_fields().read(o, eo, solver);
+  eo.validate();
+  return eo;
+}
+
+const OptionFields<PolishOptions>& polish_option_fields() {
+  using O = PolishOptions;
+  static const OptionFields<O> fields{{
+      field("max_rounds", path(&O::local_search, &LocalSearchOptions::max_rounds), ">= 1",
+            "local search rounds (a round tries all three moves)"),
+      {"base", "{...}", "the options of the base solver",
+       [](O& o, const nlohmann::json& v, const std::string&, const std::string&) { o.base = v; },
+       [](const O& o) -> std::optional<nlohmann::json> {
+         if (o.base.is_null()) return std::nullopt;
+         return o.base;
+       }},
+  }};
+  return fields;
 }
 
 namespace {
@@ -77,11 +125,7 @@ namespace {
 // The S-D exact solver on a tensor: the S-D branch and bound started from lr+ls, whose bound may
 // already prove it optimal.
 SolutionSD solve_exact_sd_tensor(const CostTensorSD& tensor, const nlohmann::json& options) {
-  reject_unknown_keys(options, {"time_limit_s", "max_nodes"}, "exact");
-  ExactSDOptions eo;
-  read_option_number(options, "time_limit_s", eo.time_limit_s, "exact");
-  read_option_number(options, "max_nodes", eo.max_nodes, "exact");
-  eo.validate();
+  const ExactSDOptions eo = exact_sd_options(options, "exact");
   LagrangianOptions lo;
   lo.local_search = true;
   const SolutionSD start = solve_lagrangian_sd(tensor, lo);
@@ -126,13 +170,8 @@ void register_relaxation_solvers(std::vector<SolverEntry>& r) {
   SolverEntry exact =
       solver_entry("exact", "branch and bound with Lagrangian bounds (proven optimum or time limit)", 30);
   exact.solve = [](const CostTensor3& b, const nlohmann::json& o, uint64_t) {
-    reject_unknown_keys(
-        o, {"time_limit_s", "max_nodes", "node_subgradient_iterations", "root_max_iterations"}, "exact");
     BranchAndBoundOptions bo;
-    read_option_number(o, "time_limit_s", bo.time_limit_s, "exact");
-    read_option_number(o, "max_nodes", bo.max_nodes, "exact");
-    read_option_number(o, "node_subgradient_iterations", bo.node_subgradient_iterations, "exact");
-    read_option_number(o, "root_max_iterations", bo.root.max_iterations, "exact");
+    exact_option_fields().read(o, bo, "exact");
     bo.validate();
     if (std::isfinite(b.miss_cost)) return solve_exact_with_dummies(b, bo);
     return solve_branch_and_bound3(b, bo);
@@ -153,14 +192,12 @@ void register_local_search_variants(std::vector<SolverEntry>& r) {
     if (exists) continue;
     SolverEntry v = solver_entry(name, base.description + ", polished by local search", base.max_default_n);
     v.solve = [base, name](const CostTensor3& b, const nlohmann::json& o, uint64_t seed) {
-      reject_unknown_keys(o, {"max_rounds", "base"}, name);
-      LocalSearchOptions lo;
-      read_option_number(o, "max_rounds", lo.max_rounds, name);
-      lo.validate();
+      PolishOptions po;
+      polish_option_fields().read(o, po, name);
+      po.local_search.validate();
       const auto t0 = std::chrono::steady_clock::now();
-      const Solution3 start =
-          base.solve(b, o.is_null() || !o.contains("base") ? nlohmann::json() : o.at("base"), seed);
-      Solution3 s = solve_local_search3(b, start.tuples, lo);
+      const Solution3 start = base.solve(b, po.base, seed);
+      Solution3 s = solve_local_search3(b, start.tuples, po.local_search);
       // Keep the base's bound (still valid) and recompute the gap for the polished result.
       if (!std::isnan(start.summary.lower_bound)) set_bound_and_gap(s.summary, start.summary.lower_bound);
       s.summary.iterations = start.summary.iterations;

@@ -18,13 +18,30 @@
 #include <vector>
 
 #include "engine/solver_registry.hpp"
+#include "kernels/assignment_sd.hpp"
+#include "kernels/branch_and_bound.hpp"
 #include "kernels/lagrangian_relaxation.hpp"
+#include "kernels/local_search.hpp"
 
 namespace trackassoc {
+
+// The option fields of each solver (engine/option_fields.hpp: read, write, help), in the order of
+// the keys above.
+const OptionFields<LagrangianOptions>& lagrangian_option_fields(bool with_ls);
+const OptionFields<BranchAndBoundOptions>& exact_option_fields();
+const OptionFields<ExactSDOptions>& exact_sd_option_fields();  // the S-D exact: time_limit_s, max_nodes
+// X+ls: the local search's max_rounds, and the base solver's own options (passed on unread).
+struct PolishOptions {
+  LocalSearchOptions local_search;
+  nlohmann::json base;
+};
+const OptionFields<PolishOptions>& polish_option_fields();
 
 // JSON → LagrangianOptions for lr (and lr+ls when with_ls, adding max_rounds); validated. Shared
 // with the S-D solvers (engine/pipeline_sd.hpp).
 LagrangianOptions lagrangian_options(const nlohmann::json& o, const std::string& solver, bool with_ls);
+// JSON → ExactSDOptions of the S-D exact solver; validated.
+ExactSDOptions exact_sd_options(const nlohmann::json& o, const std::string& solver);
 
 // Appends lr, lr+ls and exact (3-D and S-D; time limit, lower bound).
 void register_relaxation_solvers(std::vector<SolverEntry>& registry);

@@ -24,7 +24,7 @@ MatrixX<float> embed_tracks(const SiameseModel<float>& model, const TrackSequenc
                             int batch_tracks) {
   require(model.shape.architecture == PairArchitecture::kSiamese, "model",
           "only a Siamese model embeds single tracks; this one is " +
-              std::string(to_string(model.shape.architecture)));
+              std::string(enum_name(model.shape.architecture)));
   const std::size_t n = static_cast<std::size_t>(tracks.size());
   MatrixX<float> e(model.shape.embedding(), static_cast<Eigen::Index>(n));
   const std::size_t b = static_cast<std::size_t>(std::max(1, batch_tracks));

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "engine/solver_registry.hpp"
+#include "engine/option_fields.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc {
@@ -22,51 +22,38 @@ void SiameseTrackFileOptions::validate() const {
   require(association.batch_tracks >= 1, "--options: batch_tracks", "expected >= 1");
 }
 
+const OptionFields<SiameseTrackFileOptions>& siamese_track_file_option_fields() {
+  using O = SiameseTrackFileOptions;
+  static const OptionFields<O> fields{{
+      {"sensors", "two /sensors ids", "the two sensors (default: the first two of /sensors)",
+       [](O& o, const nlohmann::json& v, const std::string& key, const std::string& solver) {
+         auto id = [](const nlohmann::json& x) {
+           return x.is_number_integer() && (x.is_number_unsigned() ? in_limits<int32_t>(x.get<uint64_t>())
+                                                                   : in_limits<int32_t>(x.get<int64_t>()));
+         };
+         if (!v.is_array() || v.size() != 2 || !id(v[0]) || !id(v[1]))
+           throw InputError("solver '" + solver + "' options: '" + key +
+                            "' must be two /sensors ids (int32), e.g. [0, 1]");
+         o.sensors = {v[0].get<int32_t>(), v[1].get<int32_t>()};
+       },
+       [](const O& o) -> std::optional<nlohmann::json> { return o.sensors; }},
+      field("points", &O::points, "", "the points of a track: its position estimates, or its plots"),
+      field("threshold", path(&O::association, &SiameseAssociationOptions::probability_threshold), "(0, 1)",
+            "p_min of the LAP (seed 003)"),
+      field("time_origin", &O::time_origin, "finite", "[s], subtracted from every time"),
+      field("batch_tracks", path(&O::association, &SiameseAssociationOptions::batch_tracks), ">= 1",
+            "tracks per embedding batch (one TBB task)"),
+  }};
+  return fields;
+}
+
 nlohmann::json SiameseTrackFileOptions::to_json() const {
-  nlohmann::json j;
-  j["sensors"] = sensors;
-  j["points"] = points == PacketSource::kPlot ? "plot" : "track";
-  j["time_origin"] = time_origin;
-  j["threshold"] = association.probability_threshold;
-  j["batch_tracks"] = association.batch_tracks;
-  return j;
+  return siamese_track_file_option_fields().write(*this);
 }
 
 SiameseTrackFileOptions siamese_track_file_options(const nlohmann::json& j) {
-  if (!j.is_null() && !j.is_object()) throw InputError("--options: expected a JSON object");
   SiameseTrackFileOptions o;
-  auto number = [](const nlohmann::json& v, const std::string& key) {
-    if (!v.is_number()) throw InputError("--options: key '" + key + "': expected a number, got " + v.dump());
-    return v.get<double>();
-  };
-  if (j.is_object())
-    for (const auto& [key, v] : j.items()) {
-      if (key == "sensors") {
-        auto id = [](const nlohmann::json& x) {
-          return x.is_number_unsigned() ? in_limits<int32_t>(x.get<uint64_t>())
-                                        : in_limits<int32_t>(x.get<int64_t>());
-        };
-        if (!v.is_array() || v.size() != 2 || !v[0].is_number_integer() || !v[1].is_number_integer() ||
-            !id(v[0]) || !id(v[1]))
-          throw InputError("--options: key 'sensors': expected two /sensors ids (int32), e.g. [0, 1]");
-        o.sensors = {v[0].get<int32_t>(), v[1].get<int32_t>()};
-      } else if (key == "points") {
-        const std::string src = v.is_string() ? v.get<std::string>() : "";
-        if (src != "track" && src != "plot")
-          throw InputError("--options: key 'points': expected \"track\" or \"plot\"");
-        o.points = src == "plot" ? PacketSource::kPlot : PacketSource::kTrack;
-      } else if (key == "threshold") {
-        o.association.probability_threshold = number(v, key);
-      } else if (key == "time_origin") {
-        o.time_origin = number(v, key);
-      } else if (key == "batch_tracks") {
-        read_option_number(j, "batch_tracks", o.association.batch_tracks, "siamese");  // integer, in range
-      } else {
-        throw InputError(
-            "--options: unknown key '" + key +
-            "' for solver siamese (known: sensors, points, threshold, time_origin, batch_tracks)");
-      }
-    }
+  siamese_track_file_option_fields().read(j, o, "siamese");
   o.validate();
   return o;
 }

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "engine/fuzzy_pipeline.hpp"
+#include "engine/option_fields.hpp"
 #include "engine/siamese_pipeline.hpp"
 #include "io/track_file.hpp"
 
@@ -47,6 +48,8 @@ struct SiameseTrackFileOptions {
 // From the CLI's --options JSON. Keys (all optional): sensors [id, id], points ("track" | "plot"),
 // threshold (p_min in (0, 1)), time_origin [s], batch_tracks. Unknown keys are an InputError.
 SiameseTrackFileOptions siamese_track_file_options(const nlohmann::json& options);
+// The keys above, declared once (engine/option_fields.hpp): read, write (to_json), help.
+const OptionFields<SiameseTrackFileOptions>& siamese_track_file_option_fields();
 
 struct SiameseTrackFileResult {
   AssociationRecord record;

@@ -25,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/option_fields.hpp"
 #include "kernels/assignment_sd.hpp"
 #include "kernels/assignment_types.hpp"
 #include "kernels/error.hpp"
@@ -81,47 +82,7 @@ const SolverEntry& find_solver(const std::string& name);
 // --schedule/--restarts/--polish/--trace flags): "hopfield", "hopfield-paper", "chnn".
 std::vector<std::string> hopfield_solver_names();
 
-// Whether `v` lies in the range of T (for float: finite and within ±max).
-template <class T, class V>
-bool in_limits(V v) {
-  if constexpr (std::is_floating_point_v<V>) {
-    if (!std::isfinite(v)) return false;
-    if constexpr (std::is_integral_v<T>)
-      return v >= static_cast<V>(std::numeric_limits<T>::lowest()) &&
-             v <= static_cast<V>(std::numeric_limits<T>::max());
-    else
-      return v >= -static_cast<V>(std::numeric_limits<T>::max()) &&
-             v <= static_cast<V>(std::numeric_limits<T>::max());
-  } else if constexpr (std::is_floating_point_v<T>) {
-    return true;
-  } else {
-    return std::in_range<T>(v);
-  }
-}
-
-// Reads an optional number; a wrong type, or a value the field cannot hold, is an InputError
-// naming solver and key.
-template <class T>
-void read_option_number(const nlohmann::json& o, const char* key, T& target, const std::string& solver) {
-  if (o.is_null() || !o.contains(key)) return;
-  const auto& v = o.at(key);
-  if (!v.is_number()) throw InputError("solver '" + solver + "' options: '" + key + "' must be a number");
-  if constexpr (std::is_integral_v<T>) {
-    if (!v.is_number_integer())
-      throw InputError("solver '" + solver + "' options: '" + key + "' must be an integer");
-  }
-  // A value the field cannot hold is an input error, never a wrapped integer or an inf float.
-  const bool fits = v.is_number_integer() ? (v.is_number_unsigned() ? in_limits<T>(v.template get<uint64_t>())
-                                                                    : in_limits<T>(v.template get<int64_t>()))
-                                          : in_limits<T>(v.template get<double>());
-  if (!fits) {
-    std::ostringstream range;
-    range << std::numeric_limits<T>::lowest() << " to " << std::numeric_limits<T>::max();
-    throw InputError("solver '" + solver + "' options: '" + key + "' = " + v.dump() +
-                     " is out of range for the field (" + range.str() + ")");
-  }
-  target = v.get<T>();
-}
+// in_limits and read_option_number: engine/option_fields.hpp (options declared once).
 
 // Helper for solver adapters: throws InputError if `options` has a key not in `known`.
 void reject_unknown_keys(const nlohmann::json& options, const std::vector<std::string>& known,

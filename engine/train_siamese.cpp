@@ -46,7 +46,7 @@ TrainSiameseResult train_siamese_on_dataset(const TrainSiameseOptions& a, std::o
   // the single ranges are the options' own (--validation-fraction in [0, 1), ...).
   SiameseModel<float> model;
   model.shape = a.shape;
-  model.shape.architecture = parse_pair_architecture(a.architecture);
+  model.shape.architecture = parse_enum<PairArchitecture>(a.architecture, "architecture");
   model.normalisation = a.normalisation;
   model.normalisation.validate();
   model.shape.validate();

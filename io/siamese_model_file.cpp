@@ -68,7 +68,8 @@ LoadedSiameseModel read_in_process(const std::string& path) {
   m.shape.hidden = dim("hidden");
   m.shape.fc = dim("fc");
   try {
-    m.shape.architecture = parse_pair_architecture(root.read_string_attribute("architecture"));
+    m.shape.architecture =
+        parse_enum<PairArchitecture>(root.read_string_attribute("architecture"), "architecture");
     m.shape.validate();
     m.normalisation.x0 = root.read_double_attribute("x0");
     m.normalisation.y0 = root.read_double_attribute("y0");
@@ -119,7 +120,7 @@ void write_siamese_model(const std::string& path, const SiameseModel<float>& mod
     root.write_attribute("input", int32_t{model.shape.input});
     root.write_attribute("hidden", int32_t{model.shape.hidden});
     root.write_attribute("fc", int32_t{model.shape.fc});
-    root.write_attribute("architecture", std::string(to_string(model.shape.architecture)));
+    root.write_attribute("architecture", std::string(enum_name(model.shape.architecture)));
     const TrackNormalisation& n = model.normalisation;
     root.write_attribute("x0", n.x0);
     root.write_attribute("y0", n.y0);

@@ -43,12 +43,19 @@
 #include <span>
 #include <vector>
 
+#include "kernels/enum_names.hpp"
+
 namespace trackassoc {
 
 enum class AlphaBetaGainMode {
   kFixed,   // the user's alpha, beta
   kKalata,  // steady-state gains from the tracking index (default)
 };
+inline constexpr EnumName<AlphaBetaGainMode> kAlphaBetaGainModeNames[]{
+    {AlphaBetaGainMode::kFixed, "fixed"}, {AlphaBetaGainMode::kKalata, "kalata"}};
+constexpr std::span<const EnumName<AlphaBetaGainMode>> enum_names(AlphaBetaGainMode) {
+  return kAlphaBetaGainModeNames;
+}
 
 struct AlphaBetaOptions {
   AlphaBetaGainMode gains = AlphaBetaGainMode::kKalata;

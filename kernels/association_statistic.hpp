@@ -54,6 +54,7 @@
 #include <span>
 #include <vector>
 
+#include "kernels/enum_names.hpp"
 #include "kernels/types.hpp"
 
 namespace trackassoc {
@@ -77,6 +78,11 @@ enum class AlignmentMethod {
   kTwoSided,  // the nearest report, before or after the common time (recorded data; default)
   kForward,   // the latest report at or before the common time, predicted forward (seed 000)
 };
+inline constexpr EnumName<AlignmentMethod> kAlignmentMethodNames[]{{AlignmentMethod::kTwoSided, "two-sided"},
+                                                                   {AlignmentMethod::kForward, "forward"}};
+constexpr std::span<const EnumName<AlignmentMethod>> enum_names(AlignmentMethod) {
+  return kAlignmentMethodNames;
+}
 
 struct AlignmentOptions {
   AlignmentMethod method = AlignmentMethod::kTwoSided;
@@ -110,6 +116,9 @@ enum class GateMethod {
   kCalibrated,    // capped terms, f·χ²(n·D/f) (default; see the header comment)
   kChiSquareSum,  // λ ≤ χ²_p(n·D), seed 000 as printed (independent scans)
 };
+inline constexpr EnumName<GateMethod> kGateMethodNames[]{{GateMethod::kCalibrated, "calibrated"},
+                                                         {GateMethod::kChiSquareSum, "chi2-sum"}};
+constexpr std::span<const EnumName<GateMethod>> enum_names(GateMethod) { return kGateMethodNames; }
 
 struct StatisticOptions {
   bool correlated = false;         // Bar-Shalom–Campo correlated-error form

@@ -17,6 +17,9 @@
 namespace trackassoc {
 
 enum class CostForm { kChain, kAllPairs };
+inline constexpr EnumName<CostForm> kCostFormNames[]{{CostForm::kChain, "chain"},
+                                                     {CostForm::kAllPairs, "all-pairs"}};
+constexpr std::span<const EnumName<CostForm>> enum_names(CostForm) { return kCostFormNames; }
 
 struct CostTensorOptions {
   CostForm form = CostForm::kChain;  // the pipelines default to all-pairs (engine/pipeline.hpp)

@@ -16,33 +16,6 @@ double gaussian_membership(double u, double u_max) {
   return std::exp(-r * r);  // seed 001 Eq. 5
 }
 
-const char* synthesis_name(SynthesisFunction f) {
-  switch (f) {
-    case SynthesisFunction::kPowerMean:
-      return "power-mean";
-    case SynthesisFunction::kGeometricMean:
-      return "geometric-mean";
-    case SynthesisFunction::kWeightedMean:
-      return "weighted-mean";
-    case SynthesisFunction::kWeightedPowerMean:
-      return "weighted-power-mean";
-    case SynthesisFunction::kMinMaxMean:
-      return "min-max-mean";
-  }
-  return "unknown";
-}
-
-SynthesisFunction parse_synthesis(const std::string& name) {
-  for (auto f :
-       {SynthesisFunction::kPowerMean, SynthesisFunction::kGeometricMean, SynthesisFunction::kWeightedMean,
-        SynthesisFunction::kWeightedPowerMean, SynthesisFunction::kMinMaxMean})
-    if (name == synthesis_name(f)) return f;
-  throw InputError(
-      "synthesis: expected power-mean (Eq. 9), geometric-mean (Eq. 10), weighted-mean (Eq. 11), "
-      "weighted-power-mean (Eq. 12) or min-max-mean (Eq. 13), got '" +
-      name + "'");
-}
-
 void SynthesisOptions::validate(std::size_t n) const {
   const std::string w = "SynthesisOptions.";
   require(std::isfinite(q) && q > 0.0, w + "q", "expected q > 0, got " + std::to_string(q));
@@ -153,27 +126,6 @@ std::vector<std::size_t> arrival_order(std::span<const double> t) {
 void FusionOutput::resize(std::size_t n) {
   system_track.assign(n, -1);
   for (auto* c : {&x, &y, &vx, &vy, &degree}) c->assign(n, std::numeric_limits<double>::quiet_NaN());
-}
-
-const char* weighting_name(ReliabilityWeighting w) {
-  switch (w) {
-    case ReliabilityWeighting::kNone:
-      return "none";
-    case ReliabilityWeighting::kTemporaryTrack:
-      return "temporary";
-    case ReliabilityWeighting::kSystemTrack:
-      return "system";
-    case ReliabilityWeighting::kProduct:
-      return "product";
-  }
-  return "unknown";
-}
-
-ReliabilityWeighting parse_weighting(const std::string& name) {
-  for (auto w : {ReliabilityWeighting::kNone, ReliabilityWeighting::kTemporaryTrack,
-                 ReliabilityWeighting::kSystemTrack, ReliabilityWeighting::kProduct})
-    if (name == weighting_name(w)) return w;
-  throw InputError("weighting: expected none, temporary, system or product, got '" + name + "'");
 }
 
 AlphaBetaOptions FuzzyAssociationOptions::default_smoother() {

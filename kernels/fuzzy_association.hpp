@@ -41,6 +41,7 @@
 
 #include "kernels/alpha_beta.hpp"
 #include "kernels/assignment_types.hpp"
+#include "kernels/enum_names.hpp"
 
 namespace trackassoc {
 
@@ -56,8 +57,15 @@ enum class SynthesisFunction {
   kWeightedPowerMean,  // Eq. 12: [Σ a_l d_l^q]^(1/q)
   kMinMaxMean,         // Eq. 13: (min d_l + max d_l) / 2
 };
-const char* synthesis_name(SynthesisFunction f);
-SynthesisFunction parse_synthesis(const std::string& name);  // throws InputError
+inline constexpr EnumName<SynthesisFunction> kSynthesisFunctionNames[]{
+    {SynthesisFunction::kPowerMean, "power-mean", "Eq. 9"},
+    {SynthesisFunction::kGeometricMean, "geometric-mean", "Eq. 10"},
+    {SynthesisFunction::kWeightedMean, "weighted-mean", "Eq. 11"},
+    {SynthesisFunction::kWeightedPowerMean, "weighted-power-mean", "Eq. 12"},
+    {SynthesisFunction::kMinMaxMean, "min-max-mean", "Eq. 13"}};
+constexpr std::span<const EnumName<SynthesisFunction>> enum_names(SynthesisFunction) {
+  return kSynthesisFunctionNames;
+}
 
 struct SynthesisOptions {
   SynthesisFunction function = SynthesisFunction::kWeightedMean;
@@ -137,8 +145,14 @@ enum class ReliabilityWeighting {
   kSystemTrack,     // μ = ω'_j·S, ω'_j of the system track's latest packet
   kProduct,         // μ = ω'_T·ω'_j·S (default)
 };
-const char* weighting_name(ReliabilityWeighting w);
-ReliabilityWeighting parse_weighting(const std::string& name);
+inline constexpr EnumName<ReliabilityWeighting> kReliabilityWeightingNames[]{
+    {ReliabilityWeighting::kNone, "none"},
+    {ReliabilityWeighting::kTemporaryTrack, "temporary"},
+    {ReliabilityWeighting::kSystemTrack, "system"},
+    {ReliabilityWeighting::kProduct, "product"}};
+constexpr std::span<const EnumName<ReliabilityWeighting>> enum_names(ReliabilityWeighting) {
+  return kReliabilityWeightingNames;
+}
 
 struct FuzzyAssociationOptions {
   FactorScales scales;

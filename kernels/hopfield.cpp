@@ -45,33 +45,6 @@ const char* hopfield_schedule_label(const HopfieldOptions& o) {
   return o.network == HopfieldNetwork::kContinuous ? hopfield_network_name(o.network)
                                                    : hopfield_schedule_name(o.schedule);
 }
-const char* hopfield_init_name(HopfieldInit s) {
-  switch (s) {
-    case HopfieldInit::kZero:
-      return "zero";
-    case HopfieldInit::kRandom:
-      return "random";
-    case HopfieldInit::kGreedy:
-      return "greedy";
-    case HopfieldInit::kMeanField:
-      return "mean_field";
-  }
-  return "?";
-}
-HopfieldInit parse_hopfield_init(const std::string& s) {
-  for (auto v : {HopfieldInit::kZero, HopfieldInit::kRandom, HopfieldInit::kGreedy, HopfieldInit::kMeanField})
-    if (s == hopfield_init_name(v)) return v;
-  throw InputError("init: expected zero, random, greedy or mean_field, found '" + s + "'");
-}
-const char* hopfield_order_name(HopfieldOrder s) {
-  return s == HopfieldOrder::kRandom ? "random"
-                                     : (s == HopfieldOrder::kSliceRandom ? "slice_random" : "cost");
-}
-HopfieldOrder parse_hopfield_order(const std::string& s) {
-  for (auto v : {HopfieldOrder::kRandom, HopfieldOrder::kSliceRandom, HopfieldOrder::kCost})
-    if (s == hopfield_order_name(v)) return v;
-  throw InputError("order: expected random, slice_random or cost, found '" + s + "'");
-}
 
 void SliceRandomOrder::draw(int32_t n1, int32_t n2, int32_t n3, CounterRng& rng) {
   if (slices.size() != static_cast<std::size_t>(n1)) {
@@ -485,7 +458,7 @@ HopfieldResult solve_hopfield(const CostTensor3& cost, const HopfieldOptions& op
   sum.iterations = total_sweeps;
   for (auto& o : outs) result.restarts.push_back(std::move(o.record));
   sum.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  sum.message = std::string(hopfield_schedule_label(options)) + " " + hopfield_energy_name(options.energy) +
+  sum.message = std::string(hopfield_schedule_label(options)) + " " + enum_name(options.energy) +
                 ": raw validity " + std::to_string(raw) + "/" + std::to_string(options.restarts) +
                 ", best restart " + std::to_string(best);
   return result;

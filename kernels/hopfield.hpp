@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "kernels/assignment_types.hpp"
+#include "kernels/enum_names.hpp"
 #include "kernels/hopfield_decode.hpp"
 #include "kernels/hopfield_energy.hpp"
 #include "kernels/random.hpp"
@@ -72,10 +73,15 @@ enum class HopfieldOrder { kRandom, kSliceRandom, kCost };
 const char* hopfield_network_name(HopfieldNetwork n);  // "discrete" | "continuous"
 const char* hopfield_schedule_name(HopfieldSchedule s);
 HopfieldSchedule parse_hopfield_schedule(const std::string& s);  // InputError naming the value
-const char* hopfield_init_name(HopfieldInit s);
-HopfieldInit parse_hopfield_init(const std::string& s);
-const char* hopfield_order_name(HopfieldOrder s);
-HopfieldOrder parse_hopfield_order(const std::string& s);
+inline constexpr EnumName<HopfieldInit> kHopfieldInitNames[]{{HopfieldInit::kZero, "zero"},
+                                                             {HopfieldInit::kRandom, "random"},
+                                                             {HopfieldInit::kGreedy, "greedy"},
+                                                             {HopfieldInit::kMeanField, "mean_field"}};
+constexpr std::span<const EnumName<HopfieldInit>> enum_names(HopfieldInit) { return kHopfieldInitNames; }
+inline constexpr EnumName<HopfieldOrder> kHopfieldOrderNames[]{{HopfieldOrder::kRandom, "random"},
+                                                               {HopfieldOrder::kSliceRandom, "slice_random"},
+                                                               {HopfieldOrder::kCost, "cost"}};
+constexpr std::span<const EnumName<HopfieldOrder>> enum_names(HopfieldOrder) { return kHopfieldOrderNames; }
 // The kSliceRandom order of one sweep (for async_sweep_slices): the slices in random order, one
 // random permutation of the (j, k) pairs per sweep, entered at a random rotation in every slice.
 // n2 + n1 + n2·n3 random draws per sweep instead of n1·n2·n3.

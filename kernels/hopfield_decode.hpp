@@ -16,10 +16,16 @@
 #include <vector>
 
 #include "kernels/assignment_types.hpp"
+#include "kernels/enum_names.hpp"
 
 namespace trackassoc {
 
 enum class HopfieldRepair { kGreedy, kLap };
+inline constexpr EnumName<HopfieldRepair> kHopfieldRepairNames[]{{HopfieldRepair::kGreedy, "greedy"},
+                                                                 {HopfieldRepair::kLap, "lap"}};
+constexpr std::span<const EnumName<HopfieldRepair>> enum_names(HopfieldRepair) {
+  return kHopfieldRepairNames;
+}
 
 // True when the 0/1 state (standard layout) is a valid assignment.
 bool is_valid_state(std::span<const uint8_t> V, int32_t n1, int32_t n2, int32_t n3);

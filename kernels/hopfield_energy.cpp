@@ -9,10 +9,6 @@
 
 namespace trackassoc {
 
-const char* hopfield_energy_name(HopfieldEnergy e) {
-  return e == HopfieldEnergy::kFullPlane ? "full_plane" : "printed";
-}
-
 NormalisedCost normalise_cost(const CostTensor3& cost, float inf_margin) {
   NormalisedCost out;
   out.n1 = cost.n1;

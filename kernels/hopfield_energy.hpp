@@ -35,11 +35,16 @@
 #include <vector>
 
 #include "kernels/assignment_types.hpp"
+#include "kernels/enum_names.hpp"
 
 namespace trackassoc {
 
 enum class HopfieldEnergy { kFullPlane, kPrinted };
-const char* hopfield_energy_name(HopfieldEnergy e);
+inline constexpr EnumName<HopfieldEnergy> kHopfieldEnergyNames[]{{HopfieldEnergy::kFullPlane, "full_plane"},
+                                                                 {HopfieldEnergy::kPrinted, "printed"}};
+constexpr std::span<const EnumName<HopfieldEnergy>> enum_names(HopfieldEnergy) {
+  return kHopfieldEnergyNames;
+}
 
 // Penalty coefficients of either energy. N is the target number of active neurons
 // (min(n1, n2, n3) for an assignment).

@@ -12,24 +12,6 @@
 
 namespace trackassoc {
 
-const char* step_rule_name(StepRule r) {
-  switch (r) {
-    case StepRule::kPolyak:
-      return "polyak";
-    case StepRule::kDiminishing:
-      return "diminishing";
-    case StepRule::kDeflected:
-      return "deflected";
-  }
-  return "unknown";
-}
-
-StepRule parse_step_rule(const std::string& name) {
-  for (StepRule r : {StepRule::kPolyak, StepRule::kDiminishing, StepRule::kDeflected})
-    if (name == step_rule_name(r)) return r;
-  throw InputError("step_rule: unknown rule '" + name + "'; expected polyak, diminishing or deflected");
-}
-
 void LagrangianOptions::validate() const {
   require(max_iterations >= 1, "LagrangianOptions.max_iterations",
           "must be >= 1, got " + std::to_string(max_iterations));
@@ -168,7 +150,7 @@ Solution3 solve_lagrangian3(const CostTensor3& cost, const LagrangianOptions& op
   s.summary.termination = run.termination;
   finish_summary(cost, s.tuples, run.lower_bound, s.summary);
   if (!s.summary.feasible) s.summary.termination = Termination::kInfeasible;
-  s.summary.message = std::string("step rule ") + step_rule_name(options.step_rule) +
+  s.summary.message = std::string("step rule ") + enum_name(options.step_rule) +
                       (p.padded ? "; dummy indices padded to n1+n2+n3" : "");
   s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;

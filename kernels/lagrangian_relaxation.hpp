@@ -38,13 +38,16 @@
 
 #include "kernels/assignment_canonical.hpp"
 #include "kernels/assignment_types.hpp"
+#include "kernels/enum_names.hpp"
 #include "kernels/local_search.hpp"
 
 namespace trackassoc {
 
 enum class StepRule { kPolyak, kDiminishing, kDeflected };
-const char* step_rule_name(StepRule r);
-StepRule parse_step_rule(const std::string& name);  // InputError on unknown names
+inline constexpr EnumName<StepRule> kStepRuleNames[]{{StepRule::kPolyak, "polyak"},
+                                                     {StepRule::kDiminishing, "diminishing"},
+                                                     {StepRule::kDeflected, "deflected"}};
+constexpr std::span<const EnumName<StepRule>> enum_names(StepRule) { return kStepRuleNames; }
 
 struct LagrangianOptions {
   int max_iterations = 300;

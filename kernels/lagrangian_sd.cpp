@@ -222,7 +222,7 @@ SolutionSD solve_lagrangian_sd(const CostTensorSD& c, const LagrangianOptions& o
                     std::isfinite(lower) || lower > 0 ? lower : std::numeric_limits<double>::quiet_NaN(),
                     sol.summary);
   if (!sol.summary.feasible) sol.summary.termination = Termination::kInfeasible;
-  sol.summary.message = std::string("S-D relaxation, step rule ") + step_rule_name(options.step_rule);
+  sol.summary.message = std::string("S-D relaxation, step rule ") + enum_name(options.step_rule);
   sol.summary.wall_time_s = seconds_since(t0);
   return sol;
 }

@@ -11,25 +11,6 @@
 
 namespace trackassoc {
 
-const char* to_string(PairArchitecture a) {
-  switch (a) {
-    case PairArchitecture::kSiamese:
-      return "siamese";
-    case PairArchitecture::kConcatLstm:
-      return "lstm";
-    case PairArchitecture::kConcatBiLstm:
-      return "bilstm";
-  }
-  return "unknown";
-}
-
-PairArchitecture parse_pair_architecture(const std::string& name) {
-  if (name == "siamese") return PairArchitecture::kSiamese;
-  if (name == "lstm") return PairArchitecture::kConcatLstm;
-  if (name == "bilstm") return PairArchitecture::kConcatBiLstm;
-  throw InputError("architecture: expected siamese, lstm or bilstm, got '" + name + "'");
-}
-
 void SiameseShape::validate() const {
   require(input == 3, "SiameseShape.input", "must be 3 (x, y, t), got " + std::to_string(input));
   require(hidden >= 1 && hidden <= 4096, "SiameseShape.hidden",

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "kernels/bilstm.hpp"
+#include "kernels/enum_names.hpp"
 
 namespace trackassoc {
 
@@ -39,8 +40,13 @@ namespace trackassoc {
 // begins), and the head reads the final state (LSTM: H; BiLSTM: [h_fwd(end); h_bwd(start)], 2H)
 // instead of |e1 − e2|.
 enum class PairArchitecture { kSiamese = 0, kConcatLstm = 1, kConcatBiLstm = 2 };
-const char* to_string(PairArchitecture a);
-PairArchitecture parse_pair_architecture(const std::string& name);  // siamese | lstm | bilstm
+inline constexpr EnumName<PairArchitecture> kPairArchitectureNames[]{
+    {PairArchitecture::kSiamese, "siamese"},
+    {PairArchitecture::kConcatLstm, "lstm"},
+    {PairArchitecture::kConcatBiLstm, "bilstm"}};
+constexpr std::span<const EnumName<PairArchitecture>> enum_names(PairArchitecture) {
+  return kPairArchitectureNames;
+}
 
 struct SiameseShape {
   int input = 3;    // features per point: x, y, t

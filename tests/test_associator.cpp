@@ -159,7 +159,7 @@ TEST(Associator, FusionCentreIsRunFuzzyPipelineWithItsSystemTracks) {
     const AssociationOutcome out = a->associate(file);
     const FuzzyPipelineResult want =
         run_fuzzy_pipeline(file.tracks, file.sensors,
-                           fuzzy_pipeline_options(parse_fusion_method(solver), nlohmann::json::object()),
+                           fuzzy_pipeline_options(parse_enum<FusionMethod>(solver, "--solver"), nlohmann::json::object()),
                            "fc", file.measurements ? &*file.measurements : nullptr);
     expect_same_tuples(out.record, want.association);
     ASSERT_TRUE(out.system_tracks.has_value());

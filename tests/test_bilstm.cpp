@@ -128,7 +128,7 @@ TEST_P(PairModelGradient, LossGradientMatchesCentralDifferences) {
 INSTANTIATE_TEST_SUITE_P(Architectures, PairModelGradient,
                          ::testing::Values(PairArchitecture::kSiamese, PairArchitecture::kConcatLstm,
                                            PairArchitecture::kConcatBiLstm),
-                         [](const auto& info) { return std::string(to_string(info.param)); });
+                         [](const auto& info) { return std::string(enum_name(info.param)); });
 
 TEST(Siamese, ConcatenatedPairBaselinesDependOnTheOrder) {
   // seed 003 §2.3: h(x1 x2) ≠ h(x2 x1) for the concatenated pair; the Siamese score is symmetric.
@@ -139,7 +139,7 @@ TEST(Siamese, ConcatenatedPairBaselinesDependOnTheOrder) {
     VectorX<double> ab, ba;
     siamese_pair_logits(model, make_model_pair_batch<double>(model, a, idx, b, idx), ab);
     siamese_pair_logits(model, make_model_pair_batch<double>(model, b, idx, a, idx), ba);
-    for (int i = 0; i < 3; ++i) EXPECT_GT(std::abs(ab[i] - ba[i]), 1e-9) << to_string(arch) << " " << i;
+    for (int i = 0; i < 3; ++i) EXPECT_GT(std::abs(ab[i] - ba[i]), 1e-9) << enum_name(arch) << " " << i;
     // The concatenated sequence is as long as both tracks.
     const auto batch = make_model_pair_batch<double>(model, a, idx, b, idx);
     EXPECT_EQ(batch.batch(), 3);

@@ -42,8 +42,8 @@ TEST(Seed001Experiment, ScenarioIsThePapers) {
   for (int k = 1; k < 4; ++k) EXPECT_EQ(l.sensors[k].sigma_bearing, s.sensors[k].sigma_bearing);
   EXPECT_NEAR(s.sensors[1].sigma_bearing, 0.12 * kDeg, 1e-15);
   EXPECT_NEAR(s.sensors[2].sigma_bearing, 0.1 * kDeg, 1e-15);
-  EXPECT_EQ(parse_bearing_reading("literal"), BearingReading::kLiteral);
-  EXPECT_THROW(parse_bearing_reading("1deg"), InputError);
+  EXPECT_EQ(parse_enum<BearingReading>("literal", "reading"), BearingReading::kLiteral);
+  EXPECT_THROW(parse_enum<BearingReading>("1deg", "reading"), InputError);
 }
 
 TEST(Seed001Experiment, ErratumMakesTheCovariancesFollowTheReliabilities) {

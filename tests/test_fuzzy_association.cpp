@@ -69,9 +69,9 @@ TEST(FuzzySynthesis, MonotoneAndBetweenMinAndMax) {
         for (auto& v : N) v = std::min(1.0, v + (rng.uniform() < 0.5 ? rng.uniform() * 0.3 : 0.0));
         const double s = synthesise(M, o), sn = synthesise(N, o);
         const double lo = *std::min_element(M.begin(), M.end()), hi = *std::max_element(M.begin(), M.end());
-        ASSERT_LE(s, sn + 1e-12) << synthesis_name(f) << " q=" << q;  // Eq. 7
-        ASSERT_GE(s, lo - 1e-12) << synthesis_name(f) << " q=" << q;  // Eq. 8
-        ASSERT_LE(s, hi + 1e-12) << synthesis_name(f) << " q=" << q;
+        ASSERT_LE(s, sn + 1e-12) << enum_name(f) << " q=" << q;  // Eq. 7
+        ASSERT_GE(s, lo - 1e-12) << enum_name(f) << " q=" << q;  // Eq. 8
+        ASSERT_LE(s, hi + 1e-12) << enum_name(f) << " q=" << q;
       }
     }
   }
@@ -86,8 +86,8 @@ TEST(FuzzySynthesis, ValidateAndParse) {
   o = SynthesisOptions{};
   o.q = 0.0;
   EXPECT_THROW(o.validate(3), InputError);
-  EXPECT_EQ(parse_synthesis("min-max-mean"), SynthesisFunction::kMinMaxMean);
-  EXPECT_THROW(parse_synthesis("eq11"), InputError);
+  EXPECT_EQ(parse_enum<SynthesisFunction>("min-max-mean", "synthesis"), SynthesisFunction::kMinMaxMean);
+  EXPECT_THROW(parse_enum<SynthesisFunction>("eq11", "synthesis"), InputError);
 }
 
 TEST(FuzzyReliability, NormalisedByTheMaximum) {

@@ -46,8 +46,8 @@ TEST(FuzzyPipeline, TuplesGroupEachTargetsTracks) {
   TrackFile f = scene_file(sc);
   for (auto method : {FusionMethod::kFuzzy, FusionMethod::kFtaa}) {
     const auto opts = fuzzy_pipeline_options(method, nlohmann::json::object());
-    const auto res = run_fuzzy_pipeline(f.tracks, f.sensors, opts, fusion_method_name(method));
-    ASSERT_EQ(res.association.num_tuples(), 2u) << fusion_method_name(method);
+    const auto res = run_fuzzy_pipeline(f.tracks, f.sensors, opts, enum_name(method));
+    ASSERT_EQ(res.association.num_tuples(), 2u) << enum_name(method);
     std::set<std::vector<int32_t>> tuples;
     for (std::size_t k = 0; k < 2; ++k)
       tuples.insert(std::vector<int32_t>(res.association.tuples.begin() + 4 * k,
@@ -145,5 +145,5 @@ TEST(FuzzyPipeline, OptionsFromJson) {
   EXPECT_THROW(
       fuzzy_pipeline_options(FusionMethod::kFtaa, nlohmann::json::parse(R"({"weights": [1, 1, 1]})")),
       InputError);
-  EXPECT_THROW(parse_fusion_method("hopfield"), InputError);
+  EXPECT_THROW(parse_enum<FusionMethod>("hopfield", "--solver"), InputError);
 }

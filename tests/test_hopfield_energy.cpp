@@ -86,7 +86,7 @@ TEST(HopfieldEnergy, IncrementalDeltaEqualsBruteForceDifference) {
               const double Eon = hopfield_energy(form, w, c, W);
               W[a] = 0;
               const double Eoff = hopfield_energy(form, w, c, W);
-              ASSERT_NEAR(Eon - Eoff, don, 1e-4 * (1 + std::abs(don))) << hopfield_energy_name(form);
+              ASSERT_NEAR(Eon - Eoff, don, 1e-4 * (1 + std::abs(don))) << enum_name(form);
               (void)E0;
             }
       }
@@ -128,7 +128,7 @@ TEST(HopfieldDiscrete, AsyncFlipNeverRaisesEnergy) {
           for (uint32_t a : order) {
             flips += async_sweep(net, std::span<const uint32_t>(&a, 1));
             const double E1 = net.energy();
-            ASSERT_LE(E1, E + 1e-6) << hopfield_energy_name(form) << " sweep " << sweep;
+            ASSERT_LE(E1, E + 1e-6) << enum_name(form) << " sweep " << sweep;
             E = E1;
           }
         }
@@ -156,7 +156,7 @@ TEST(HopfieldDiscrete, MarginalSweepsEqualNaiveReference) {
           naive.sync_sweep(ref, next);
           ref = next;
           sync_sweep(net, 1.0, 0);
-          ASSERT_EQ(net.V, ref) << "sync sweep " << s << " " << hopfield_energy_name(form);
+          ASSERT_EQ(net.V, ref) << "sync sweep " << s << " " << enum_name(form);
         }
         expect_marginals_recomputed(net);
         // async in the same random order
@@ -168,7 +168,7 @@ TEST(HopfieldDiscrete, MarginalSweepsEqualNaiveReference) {
           rng.shuffle(std::span<uint32_t>(order));
           naive.async_sweep(ref, order);
           async_sweep(net, order);
-          ASSERT_EQ(net.V, ref) << "async sweep " << s << " " << hopfield_energy_name(form);
+          ASSERT_EQ(net.V, ref) << "async sweep " << s << " " << enum_name(form);
         }
       }
 }
@@ -202,7 +202,7 @@ TEST(HopfieldDiscrete, SliceAsyncEqualsNaiveInTheSameOrder) {
           }
         naive.async_sweep(ref, order);
         async_sweep_slices(net, slices, packed, rotation);
-        ASSERT_EQ(net.V, ref) << hopfield_energy_name(form) << " sweep " << s;
+        ASSERT_EQ(net.V, ref) << enum_name(form) << " sweep " << s;
       }
       expect_marginals_recomputed(net);
     }
@@ -267,13 +267,12 @@ TEST(HopfieldDiscrete, NoFlipSkipEqualsAReferenceThatReadsEveryNeuron) {
           const int64_t fr = reference_async_sweep(form, w, c, ref, cost_order);
           ASSERT_EQ(async_sweep_planned(planned, plan), fr) << variant << " sweep " << sweep;
           ASSERT_EQ(async_sweep(plain, cost_order), fr);
-          ASSERT_EQ(planned.V, ref) << hopfield_energy_name(form) << " variant " << variant << " sweep "
-                                    << sweep;
+          ASSERT_EQ(planned.V, ref) << enum_name(form) << " variant " << variant << " sweep " << sweep;
           ASSERT_EQ(plain.V, ref);
           rng.shuffle(std::span<uint32_t>(random_order));
           const int64_t fq = reference_async_sweep(form, w, c, ref_random, random_order);
           ASSERT_EQ(async_sweep(shuffled, random_order), fq);
-          ASSERT_EQ(shuffled.V, ref_random) << hopfield_energy_name(form) << " variant " << variant;
+          ASSERT_EQ(shuffled.V, ref_random) << enum_name(form) << " variant " << variant;
           total_flips += fr + fq;
         }
         expect_marginals_recomputed(planned);

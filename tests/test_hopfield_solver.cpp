@@ -71,7 +71,7 @@ std::vector<Config> all_configs() {
     o.order = HopfieldOrder::kRandom;
     o.anneal_E_factor = 3.0;
     o.restarts = 2;
-    v.push_back({hopfield_init_name(init), o});
+    v.push_back({enum_name(init), o});
   }
   HopfieldOptions g;
   g.temperature = 0.2;

@@ -62,7 +62,7 @@ TEST(Lagrangian, EveryStepRuleGivesValidBounds) {
   const auto optima = read_known_optima(decomplib("ap3.opt"));
   for (StepRule rule : {StepRule::kPolyak, StepRule::kDiminishing, StepRule::kDeflected})
     for (const std::string name : {"ap3.10.1", "ap3.20.4", "ap3.30.2"}) {
-      SCOPED_TRACE(testing::Message() << step_rule_name(rule) << " " << name);
+      SCOPED_TRACE(testing::Message() << enum_name(rule) << " " << name);
       const CostTensor3 b = read_3dap_instance(decomplib(name + ".txt"));
       LagrangianOptions o;
       o.step_rule = rule;
@@ -126,8 +126,8 @@ TEST(Lagrangian, OptionsAreValidated) {
   o = {};
   o.relative_gap_tolerance = -1;
   EXPECT_THROW(o.validate(), InputError);
-  EXPECT_THROW(parse_step_rule("newton"), InputError);
-  EXPECT_EQ(parse_step_rule("deflected"), StepRule::kDeflected);
+  EXPECT_THROW(parse_enum<StepRule>("newton", "step_rule"), InputError);
+  EXPECT_EQ(parse_enum<StepRule>("deflected", "step_rule"), StepRule::kDeflected);
 }
 
 // Local search never worsens its start, returns a valid assignment, and reaches a point where no

@@ -75,7 +75,7 @@ TEST(LagrangianSubgradient, TheThreeDRelaxationSolvesTheSameInstance) {
 TEST(LagrangianSubgradient, BoundsStayBelowTheOptimumAndTheBestBoundIsMonotone) {
   for (StepRule rule : {StepRule::kPolyak, StepRule::kDiminishing, StepRule::kDeflected})
     for (double theta : {2.0, 1.3, 0.7}) {
-      SCOPED_TRACE(std::string(step_rule_name(rule)) + " theta " + std::to_string(theta));
+      SCOPED_TRACE(std::string(enum_name(rule)) + " theta " + std::to_string(theta));
       LagrangianOptions o;
       o.step_rule = rule;
       o.theta = theta;

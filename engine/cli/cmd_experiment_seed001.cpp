@@ -64,7 +64,7 @@ void register_experiment_seed001(CLI::App& experiment) {
                          o.ftaa.gate = o.fuzzy.gate;
                          o.packet_source =
                              args->packets == "plot" ? PacketSource::kPlot : PacketSource::kTrack;
-                         o.bearing_reading = parse_bearing_reading(args->reading);
+                         o.bearing_reading = parse_enum<BearingReading>(args->reading, "--sigma-bearing-reading");
                          run_seed001_study(o, args->output, std::cout);
                          if (plots && !args->plots.empty())
                            run_plot_script("plot.py", {"seed001", args->output, "--outdir", args->plots});
