@@ -157,6 +157,9 @@ SolverEntry lagrangian_entry(const std::string& name, const std::string& descrip
   e.solve_sd_tensor = [name, with_ls](const CostTensorSD& c, const nlohmann::json& o) {
     return solve_lagrangian_sd(c, lagrangian_options(o, name, with_ls));
   };
+  e.options_help = [name, with_ls] {
+    return lagrangian_option_fields(with_ls).help(lagrangian_options(nlohmann::json(), name, with_ls));
+  };
   return e;
 }
 
@@ -178,6 +181,7 @@ void register_relaxation_solvers(std::vector<SolverEntry>& r) {
   };
   exact.capabilities = relaxation_capabilities();
   exact.solve_sd_tensor = solve_exact_sd_tensor;
+  exact.options_help = [] { return exact_option_fields().help(BranchAndBoundOptions{}); };
   r.push_back(std::move(exact));
 }
 
@@ -210,6 +214,7 @@ void register_local_search_variants(std::vector<SolverEntry>& r) {
     v.capabilities.tensor3 = true;
     v.capabilities.dummies = base.capabilities.dummies;
     v.capabilities.lower_bound = base.capabilities.lower_bound;
+    v.options_help = [] { return polish_option_fields().help(PolishOptions{}); };
     r.push_back(std::move(v));
   }
 }

@@ -25,6 +25,7 @@ SolverEntry baseline_entry(std::string name, std::string description,
     return solve(b);
   };
   e.capabilities.tensor3 = e.capabilities.dummies = true;
+  e.options_help = [] { return std::string("  (no options)\n"); };
   return e;
 }
 
@@ -45,6 +46,7 @@ SolverEntry hopfield_entry(const std::string& n) {
   e.capabilities.tensor3 = e.capabilities.dummies = true;
   e.capabilities.schedules = hopfield_preset_schedules(n);
   e.capabilities.restarts = true;
+  e.options_help = [n] { return hopfield_option_fields().help(hopfield_preset(n)); };
   return e;
 }
 
@@ -56,6 +58,7 @@ SolverEntry chnn_pseudo_entry() {
   e.solve_sd = [](const SDProblem& p, const nlohmann::json& o, uint64_t seed) {
     return solve_chnn_sd(p, o, seed);
   };
+  e.options_help = [] { return chnn_pseudo_option_fields().help(ChnnPseudoSolverOptions{}); };
   return e;
 }
 
@@ -66,6 +69,7 @@ void check_entry(const SolverEntry& e) {
       c.sd != (c.sd_tensor || static_cast<bool>(e.solve_sd)) || (c.dummies && !c.tensor3))
     throw std::logic_error("solver registry: the capabilities of '" + e.name +
                            "' do not match its solve functions");
+  if (!e.options_help) throw std::logic_error("solver registry: '" + e.name + "' documents no options");
 }
 
 std::vector<SolverEntry> make_registry() {

@@ -54,6 +54,9 @@ struct SolverEntry {
   SolverCapabilities capabilities;
   std::function<SolutionSD(const CostTensorSD&, const nlohmann::json& options)> solve_sd_tensor;
   std::function<SolutionSD(const SDProblem&, const nlohmann::json& options, uint64_t seed)> solve_sd;
+  // Its options, one line per field (key, default, range, doc), from the fields' one declaration
+  // (engine/option_fields.hpp): `trackassoc solvers` prints it.
+  std::function<std::string()> options_help;
 };
 
 // An entry with a name, a description and no solve function or flag yet.

@@ -164,3 +164,22 @@ TEST_F(CliTest, SameSeedSameBytesForOneAndTwoThreads) {
 }
 
 }  // namespace
+
+// `trackassoc solvers` lists every registry entry with its options (engine/solver_registry.hpp);
+// an unknown name is exit 2 with a "did you mean".
+TEST_F(CliTest, SolversListsTheRegistryWithItsOptions) {
+  const auto all = run("solvers");
+  ASSERT_EQ(all.status, 0) << all.err;
+  for (const char* name : {"greedy", "pairwise", "lr", "lr+ls", "exact", "hopfield", "hopfield-paper", "chnn",
+                           "greedy+ls", "chnn+ls", "chnn-pseudo"})
+    EXPECT_NE(("\n" + all.out).find(std::string("\n") + name + ": "), std::string::npos) << name;
+  const auto one = run("solvers hopfield");
+  ASSERT_EQ(one.status, 0) << one.err;
+  EXPECT_EQ(one.out.rfind("hopfield: ", 0), 0u) << one.out;
+  EXPECT_NE(one.out.find("schedules sync, async, diagonal"), std::string::npos) << one.out;
+  EXPECT_NE(one.out.find("  restarts "), std::string::npos) << one.out;
+  EXPECT_EQ(one.out.find("hopfield-paper: "), std::string::npos);
+  const auto bad = run("solvers hopfeld");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("did you mean 'hopfield'"), std::string::npos) << bad.err;
+}

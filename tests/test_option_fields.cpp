@@ -182,12 +182,12 @@ TEST(OptionFields, HopfieldWeightsGivenInPartKeepTheAutomaticOnes) {
 TEST(OptionFields, ChnnScheduleIsItsEulerStepOrder) {
   bool polish = false;
   const HopfieldOptions o = hopfield_options_from_json("chnn", json{{"schedule", "async"}}, polish);
-  EXPECT_EQ(o.schedule, HopfieldSchedule::kContinuous);
+  EXPECT_EQ(o.network, HopfieldNetwork::kContinuous);
   EXPECT_TRUE(o.continuous_async);
   const json out = hopfield_options_to_json(o);
   EXPECT_EQ(out.at("schedule"), "async");
   const HopfieldOptions back = hopfield_options_from_json("chnn", out, polish);
-  EXPECT_EQ(back.schedule, HopfieldSchedule::kContinuous);
+  EXPECT_EQ(back.network, HopfieldNetwork::kContinuous);
   EXPECT_TRUE(back.continuous_async);
   EXPECT_EQ(hopfield_options_to_json(hopfield_preset("chnn")).at("schedule"), "sync");
 }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "engine/pipeline_sd.hpp"
 #include "engine/solver_registry.hpp"
@@ -74,7 +75,9 @@ TEST(SolverRegistry, ThreeDimensionalFlagsMatchBehaviour) {
     const Solution3 s = e.solve(b, json::object(), 1);
     expect_consistent(b, s);
     EXPECT_EQ(!std::isnan(s.summary.lower_bound), c.lower_bound);
-    if (c.lower_bound) EXPECT_LE(s.summary.lower_bound, brute_force_optimum(b) + 1e-4);
+    if (c.lower_bound) {
+      EXPECT_LE(s.summary.lower_bound, brute_force_optimum(b) + 1e-4);
+    }
     if (c.dummies) {
       CostTensor3 d = b;
       d.miss_cost = 2.0f;
@@ -101,8 +104,12 @@ TEST(SolverRegistry, SDFlagsMatchBehaviour) {
       EXPECT_NEAR(s.summary.objective, assignment_cost_sd(c, s.tuples), 1e-4);
       EXPECT_GE(s.summary.objective, optimum - 1e-4);
       EXPECT_EQ(!std::isnan(s.summary.lower_bound), e.capabilities.lower_bound);
-      if (e.capabilities.lower_bound) EXPECT_LE(s.summary.lower_bound, optimum + 1e-4);
-      if (e.name == "exact" || e.name == "lr+ls") EXPECT_NEAR(s.summary.objective, optimum, 1e-4);
+      if (e.capabilities.lower_bound) {
+        EXPECT_LE(s.summary.lower_bound, optimum + 1e-4);
+      }
+      if (e.name == "exact" || e.name == "lr+ls") {
+        EXPECT_NEAR(s.summary.objective, optimum, 1e-4);
+      }
     }
   }
 }
@@ -145,6 +152,56 @@ TEST(SolverRegistry, NameQueriesKeepTheirLists) {
   EXPECT_THROW(require_sd_solver("hopfield"), InputError);
   EXPECT_THROW(require_sparse_sd_solver("chnn-pseudo"), InputError);
   EXPECT_EQ(lookup_solver("nonexistent"), nullptr);
+}
+
+// The options listing of every entry (`trackassoc solvers`) and its unknown-key error come from the
+// same declaration: the keys the listing names are exactly the "known keys" of the error.
+TEST(SolverRegistry, OptionsHelpNamesExactlyTheKeysTheSolverAccepts) {
+  const CostTensor3 b = cube3(7);
+  int checked = 0;
+  for (const SolverEntry& e : all_solvers()) {
+    SCOPED_TRACE(e.name);
+    ASSERT_TRUE(e.options_help);
+    std::vector<std::string> listed;
+    std::istringstream lines(e.options_help());
+    std::string line;
+    bool header = true;
+    while (std::getline(lines, line)) {
+      std::istringstream words(line);
+      std::string key;
+      words >> key;
+      if (header) {  // "key  default  range  doc", or "(no options)"
+        header = false;
+        if (key == "(no") break;
+        EXPECT_EQ(key, "key");
+        continue;
+      }
+      listed.push_back(key);
+    }
+    std::string message;
+    try {
+      if (e.capabilities.tensor3)
+        e.solve(b, json{{"zz_not_a_key", 1}}, 1);
+      else
+        continue;  // chnn-pseudo needs a whole SDProblem: its fields are held by test_option_fields
+    } catch (const InputError& err) {
+      message = err.what();
+    }
+    ASSERT_NE(message.find("unknown key 'zz_not_a_key'"), std::string::npos) << message;
+    const auto at = message.find(": ", message.find("; known key"));
+    ASSERT_NE(at, std::string::npos) << message;
+    std::vector<std::string> known;
+    if (message.substr(at + 2) != "none") {
+      std::istringstream rest(message.substr(at + 2));
+      std::string k;
+      while (std::getline(rest, k, ',')) known.push_back(k.substr(k.find_first_not_of(' ')));
+    }
+    std::sort(listed.begin(), listed.end());
+    std::sort(known.begin(), known.end());
+    EXPECT_EQ(listed, known) << e.options_help() << message;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 13);
 }
 
 }  // namespace

@@ -14,7 +14,9 @@
 #include "engine/associator.hpp"
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
+#include "engine/pipeline_sd.hpp"
 #include "engine/solver_registry.hpp"
+#include "engine/sparse_sd_pipeline.hpp"
 
 namespace trackassoc::cli {
 namespace {
@@ -86,9 +88,11 @@ void register_associate(CLI::App& app) {
     std::string model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";  // --solver siamese
   };
   auto args = std::make_shared<Args>();
+  const std::vector<std::string> sparse_sd = sparse_sd_solver_names();  // the default first
   std::string solver_help =
-      "Solver. Default pipeline (every sensor, sparse S-D with dummies): lr+ls (default), lr, exact. "
-      "3-D assignment solvers (three sensors, --3d implied for names not above):";
+      "Solver. Default pipeline (every sensor, sparse S-D with dummies): " + sparse_sd.front() + " (default)";
+  for (std::size_t i = 1; i < sparse_sd.size(); ++i) solver_help += ", " + sparse_sd[i];
+  solver_help += ". 3-D assignment solvers (three sensors, --3d implied for names not above):";
   for (const auto& e : solver_registry()) solver_help += " " + e.name;
   solver_help +=
       "; or a seed 001 fusion centre over all sensors: fuzzy, ftaa (also writes /system_tracks/NAME)"
@@ -103,8 +107,8 @@ void register_associate(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--name", args->name, "Group name under /associations (default: the solver name)");
   cmd->add_flag("--sd", args->sd,
-                "S-D formulation with a dummy per sensor (any number of sensors; solvers lr, lr+ls, exact, "
-                "chnn-pseudo). Implied by more than three --sensors");
+                "S-D formulation with a dummy per sensor (any number of sensors; solvers " +
+                    list_names(sd_solver_names(), ", ") + "). Implied by more than three --sensors");
   cmd->add_flag(
       "--3d", args->three_d,
       "The three-sensor cost-tensor pipeline (seed 000 Eq. 3) for any solver, e.g. --solver lr --3d");

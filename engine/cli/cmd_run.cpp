@@ -23,12 +23,12 @@ void merge_run_hopfield_flags(const HopfieldFlags& hopfield, const std::vector<s
   bool any_hopfield = solvers.empty();
   for (const auto& s : solvers) any_hopfield |= is_hopfield_solver(s);
   if (!any_hopfield)
-    throw InputError(
-        "--schedule/--restarts/--polish/--trace: --solvers names no Hopfield solver "
-        "(hopfield, hopfield-paper, chnn)");
+    throw InputError("--schedule/--restarts/--polish/--trace: --solvers names no Hopfield solver (" +
+                     list_names(hopfield_solver_names(), ", ") + ")");
   std::vector<std::string> skipped;
   std::string rejection;
-  for (const char* s : kHopfieldSolvers) {
+  const std::vector<std::string> hopfield_solvers = hopfield_solver_names();
+  for (const std::string& s : hopfield_solvers) {
     HopfieldFlags flags = hopfield;
     if (!flags.schedule.empty() && solvers.empty()) {
       const std::string why = hopfield_schedule_rejection(s, flags.schedule);
@@ -42,7 +42,7 @@ void merge_run_hopfield_flags(const HopfieldFlags& hopfield, const std::vector<s
     merge_hopfield_flags(flags, s, o);
     solver_options[s] = o;
   }
-  if (skipped.size() == kHopfieldSolvers.size())
+  if (skipped.size() == hopfield_solvers.size())
     throw InputError("--schedule " + hopfield.schedule + ": " + rejection);
   if (!skipped.empty()) {
     std::string list;

@@ -271,17 +271,14 @@ inline nlohmann::json parse_solver_options(const std::string& text) {
   return j;
 }
 
-// --schedule, --restarts, --polish and --trace for the Hopfield solvers (hopfield, hopfield-paper,
-// chnn), merged into their solver options (engine/hopfield_json.hpp); solve3d, associate and run.
+// --schedule, --restarts, --polish and --trace for the Hopfield solvers (hopfield_solver_names()),
+// merged into their solver options (engine/hopfield_json.hpp); solve3d, associate and run.
 struct HopfieldFlags {
   std::string schedule;
   int restarts = 0;
   bool polish = false, trace = false;
   bool any() const { return !schedule.empty() || restarts > 0 || polish || trace; }
 };
-
-// The registry's Hopfield solvers (engine/hopfield_json.hpp presets).
-inline constexpr std::array<const char*, 3> kHopfieldSolvers{"hopfield", "hopfield-paper", "chnn"};
 
 // Whether `name` takes the Hopfield options (a 3-D registry entry that lists schedules).
 inline bool is_hopfield_solver(const std::string& name) {
@@ -290,10 +287,14 @@ inline bool is_hopfield_solver(const std::string& name) {
 }
 
 inline void add_hopfield_flags(CLI::App* cmd, HopfieldFlags& f, bool with_trace) {
-  cmd->add_option(
-      "--schedule", f.schedule,
-      "Hopfield solvers: sync, async or diagonal sweeps (hopfield, hopfield-paper); sync or async "
-      "Euler steps (chnn)");
+  std::string schedules;  // each Hopfield solver's own, from the registry's capability flags
+  for (const std::string& n : hopfield_solver_names())
+    schedules +=
+        (schedules.empty() ? "" : "; ") + n + ": " + list_names(find_solver(n).capabilities.schedules, ", ");
+  cmd->add_option("--schedule", f.schedule,
+                  "Hopfield solvers: the discrete network's sweeps (sync, async, diagonal) or the continuous "
+                  "network's Euler steps (sync, async; continuous = sync). Per solver: " +
+                      schedules);
   cmd->add_option("--restarts", f.restarts, "Hopfield solvers: number of restarts")
       ->check(in_range(1, std::numeric_limits<int32_t>::max()));
   cmd->add_flag("--polish", f.polish, "Hopfield solvers: polish every restart by the LAP local search");
@@ -316,8 +317,8 @@ inline std::string hopfield_schedule_rejection(const std::string& solver, const 
 inline void merge_hopfield_flags(const HopfieldFlags& f, const std::string& solver, nlohmann::json& options) {
   if (!f.any()) return;
   if (!is_hopfield_solver(solver))
-    throw InputError("--schedule/--restarts/--polish/--trace: only for " + list_names(hopfield_solver_names()) +
-                     ", not '" + solver + "'");
+    throw InputError("--schedule/--restarts/--polish/--trace: only for " +
+                     list_names(hopfield_solver_names()) + ", not '" + solver + "'");
   if (options.is_null()) options = nlohmann::json::object();
   if (!f.schedule.empty()) options["schedule"] = f.schedule;
   if (f.restarts > 0) options["restarts"] = f.restarts;
@@ -333,8 +334,9 @@ void register_dataset(CLI::App& app);        // cmd_siamese.cpp
 void register_train_siamese(CLI::App& app);  // cmd_siamese.cpp
 void register_solve3d(CLI::App& app);
 void register_filter(CLI::App& app);
-void register_import(CLI::App& app);  // cmd_import.cpp
-void register_export(CLI::App& app);  // cmd_import.cpp
+void register_import(CLI::App& app);   // cmd_import.cpp
+void register_solvers(CLI::App& app);  // cmd_solvers.cpp
+void register_export(CLI::App& app);   // cmd_import.cpp
 void register_experiment(CLI::App& app);
 // Sub-subcommands of `experiment` (engine/cli/cmd_experiment.cpp calls them).
 void register_experiment_seed000(CLI::App& experiment);

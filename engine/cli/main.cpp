@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   trackassoc::cli::register_dataset(app);
   trackassoc::cli::register_train_siamese(app);
   trackassoc::cli::register_solve3d(app);
+  trackassoc::cli::register_solvers(app);
   trackassoc::cli::register_filter(app);
   trackassoc::cli::register_import(app);
   trackassoc::cli::register_export(app);
