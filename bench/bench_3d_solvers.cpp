@@ -18,9 +18,9 @@
 #include <string>
 
 #include "io/instance_text.hpp"
-#include "kernels/branch_and_bound.hpp"
-#include "kernels/lagrangian_relaxation.hpp"
-#include "kernels/random.hpp"
+#include "kernels/assignment/branch_and_bound.hpp"
+#include "kernels/assignment/lagrangian_relaxation.hpp"
+#include "kernels/core/random.hpp"
 
 namespace trackassoc::bench {
 namespace {

@@ -9,10 +9,10 @@
 
 #include <vector>
 
-#include "kernels/association_statistic.hpp"
-#include "kernels/cost_tensor.hpp"
-#include "kernels/parallel.hpp"
-#include "kernels/random.hpp"
+#include "kernels/core/parallel.hpp"
+#include "kernels/core/random.hpp"
+#include "kernels/statistics/association_statistic.hpp"
+#include "kernels/statistics/cost_tensor.hpp"
 
 namespace trackassoc {
 namespace {

@@ -1,7 +1,7 @@
 // Filter-bank throughput (DESIGN §6: CV Kalman bank, 2-D, 10^6 tracks: ≥ 40 M updates/s on 2
 // threads and ≥ 2× a per-track Eigen loop in the same run).
 //
-//   BM_CvBank/N/threads          batched CV bank (kernels/kalman_bank.hpp), one scan per iteration
+//   BM_CvBank/N/threads          batched CV bank (kernels/filters/kalman_bank.hpp), one scan per iteration
 //   BM_EigenPerTrack/N/threads   naive baseline: one object per track with fixed-size Eigen
 //                                matrices (Matrix4d/Matrix2d, no heap), textbook formulas, the
 //                                same scan, looped (and split over TBB for 2 threads)
@@ -14,12 +14,12 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "kernels/bp_network.hpp"
-#include "kernels/cs_parallel.hpp"
-#include "kernels/imm.hpp"
-#include "kernels/kalman_bank.hpp"
-#include "kernels/parallel.hpp"
-#include "kernels/random.hpp"
+#include "kernels/core/parallel.hpp"
+#include "kernels/core/random.hpp"
+#include "kernels/filters/cs_parallel.hpp"
+#include "kernels/filters/imm.hpp"
+#include "kernels/filters/kalman_bank.hpp"
+#include "kernels/learning/bp_network.hpp"
 
 namespace {
 

@@ -1,6 +1,7 @@
 // Seed 001 fusion centres and the alpha-beta bank.
 //   BM_FuzzyAssociation/J  — the proposed method's time per packet with J targets (J system tracks
-//                            live), 4 sensors reporting every 4 s, staggered (tests/fuzzy_test_scenes.hpp).
+//                            live), 4 sensors reporting every 4 s, staggered
+//                            (tests/support/fuzzy_test_scenes.hpp).
 //   BM_Ftaa/J              — the FTAA baseline on the same stream (the peer).
 //   BM_AlphaBetaBank/n/thr — one scan (predict + update) of a 2-D bank of n tracks, 1 vs 2 threads.
 //   BM_AlphaBetaPerTrack/n — the same scan as n per-track calls (the naive loop).
@@ -10,11 +11,11 @@
 #include <cmath>
 #include <vector>
 
-#include "kernels/alpha_beta.hpp"
-#include "kernels/ftaa.hpp"
-#include "kernels/fuzzy_association.hpp"
-#include "kernels/random.hpp"
-#include "tests/fuzzy_test_scenes.hpp"
+#include "kernels/core/random.hpp"
+#include "kernels/filters/alpha_beta.hpp"
+#include "kernels/fuzzy/ftaa.hpp"
+#include "kernels/fuzzy/fuzzy_association.hpp"
+#include "tests/support/fuzzy_test_scenes.hpp"
 
 using namespace trackassoc;
 

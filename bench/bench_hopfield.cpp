@@ -1,7 +1,7 @@
 // Hopfield sweep and restart speed (DESIGN §6), with the floors measured in the same binary:
 //   - a STREAM-style copy (1 and 2 threads) gives the memory bandwidth; a sweep's memory floor is
 //     12 B per neuron (DESIGN §6) at that bandwidth, reported as counter floor_ratio = time/floor;
-//   - the naive n⁶-weight network (kernels/hopfield_energy.hpp) is the peer of the marginal-sum
+//   - the naive n⁶-weight network (kernels/hopfield/hopfield_energy.hpp) is the peer of the marginal-sum
 //     sweep at n = 10–15.
 // Thread variants use tbb::global_control with the thread count as the last Arg.
 #include <benchmark/benchmark.h>
@@ -14,12 +14,12 @@
 #include <numeric>
 #include <vector>
 
-#include "kernels/hopfield.hpp"
-#include "kernels/hopfield_continuous.hpp"
-#include "kernels/hopfield_diagonal.hpp"
-#include "kernels/hopfield_discrete.hpp"
-#include "kernels/hopfield_instances.hpp"
-#include "kernels/parallel.hpp"
+#include "kernels/core/parallel.hpp"
+#include "kernels/hopfield/hopfield.hpp"
+#include "kernels/hopfield/hopfield_continuous.hpp"
+#include "kernels/hopfield/hopfield_diagonal.hpp"
+#include "kernels/hopfield/hopfield_discrete.hpp"
+#include "tests/support/hopfield_instances.hpp"
 
 using namespace trackassoc;
 

@@ -1,4 +1,4 @@
-// Benchmarks of the Jonker–Volgenant LAP (kernels/lap.hpp) at n = 100, 1000, 2000 on uniform and
+// Benchmarks of the Jonker–Volgenant LAP (kernels/assignment/lap.hpp) at n = 100, 1000, 2000 on uniform and
 // geometric (squared-distance) costs, the matrices of bench/lap_matrices.hpp. The peer is scipy's
 // linear_sum_assignment on the same matrices: bench/lap_scipy.py (run by scripts/bench.sh or by
 // hand: /usr/bin/python3 bench/lap_scipy.py). The counter `objective` lets the two runs be checked
@@ -14,8 +14,8 @@
 #include <utility>
 
 #include "bench/lap_matrices.hpp"
-#include "kernels/lap.hpp"
-#include "kernels/parallel.hpp"
+#include "kernels/assignment/lap.hpp"
+#include "kernels/core/parallel.hpp"
 
 namespace trackassoc::bench {
 namespace {

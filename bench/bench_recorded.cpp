@@ -1,4 +1,4 @@
-// Benchmarks of the default pipeline for recorded track sets (engine/sparse_sd_pipeline.hpp), on
+// Benchmarks of the default pipeline for recorded track sets (engine/pipeline/sparse_sd_pipeline.hpp), on
 // the embedded realistic-recording family, simulated once with seed 1; 1 and 2 threads (last Arg):
 //  - BM_DefaultAssociation/scenario/threads: `associate` without flags, from the loaded file to the
 //    tuples (alignment, candidates, statistic, components, lr+ls per component).
@@ -12,10 +12,10 @@
 
 #include <map>
 
-#include "engine/pipeline_sd.hpp"
-#include "engine/simulation.hpp"
-#include "engine/sparse_sd_pipeline.hpp"
-#include "engine/workflow.hpp"
+#include "engine/pipeline/pipeline_sd.hpp"
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/workflow.hpp"
+#include "engine/simulation/simulation.hpp"
 
 namespace trackassoc::bench {
 namespace {

@@ -1,4 +1,4 @@
-// Benchmarks of the S-D association (engine/pipeline_sd.hpp), 1 and 2 threads (last Arg):
+// Benchmarks of the S-D association (engine/pipeline/pipeline_sd.hpp), 1 and 2 threads (last Arg):
 //  - BM_SDProblem/S/threads: alignment, the S(S−1)/2 pairwise statistics and the dense S-D tensor.
 //  - BM_SDLagrangian/S/threads: lr+ls on it until a 0.1 % gap or 300 iterations; counters:
 //    iterations, final relative gap.
@@ -11,9 +11,9 @@
 
 #include <map>
 
-#include "engine/pipeline_sd.hpp"
-#include "engine/workflow.hpp"
-#include "kernels/lagrangian_sd.hpp"
+#include "engine/pipeline/pipeline_sd.hpp"
+#include "engine/pipeline/workflow.hpp"
+#include "kernels/assignment/sd/lagrangian_sd.hpp"
 
 namespace trackassoc::bench {
 namespace {

@@ -6,9 +6,9 @@
 
 #include <numeric>
 
-#include "engine/dataset_seed003.hpp"
-#include "engine/siamese_pipeline.hpp"
-#include "kernels/siamese_training.hpp"
+#include "engine/pipeline/siamese_pipeline.hpp"
+#include "engine/studies/seed003/dataset_seed003.hpp"
+#include "kernels/learning/siamese_training.hpp"
 
 using namespace trackassoc;
 

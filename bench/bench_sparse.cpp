@@ -3,18 +3,18 @@
 //   statistic   — λ on candidate pairs (ours) vs the dense all-pairs statistic (peer, n ≤ 10³);
 //   problem     — alignment + candidates + λ + components, end to end;
 //   solve       — components solved in parallel with the registry's "pairwise" solver.
-// Track sets: engine/experiment_scale.hpp's synthetic_recorded_tracks at the experiment's default
-// density (4 targets per 100 km², 3-D). Args: {n, threads}.
+// Track sets: engine/studies/scale/experiment_scale.hpp's synthetic_recorded_tracks at the experiment's
+// default density (4 targets per 100 km², 3-D). Args: {n, threads}.
 #include <benchmark/benchmark.h>
 #include <oneapi/tbb/global_control.h>
 
 #include <map>
 #include <memory>
 
-#include "engine/experiment_scale.hpp"
-#include "engine/pipeline.hpp"
-#include "engine/sparse_pipeline.hpp"
-#include "kernels/sparse_candidates.hpp"
+#include "engine/pipeline/pipeline.hpp"
+#include "engine/pipeline/sparse_pipeline.hpp"
+#include "engine/studies/scale/experiment_scale.hpp"
+#include "kernels/statistics/sparse_candidates.hpp"
 
 namespace trackassoc {
 namespace {

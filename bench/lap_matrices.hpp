@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "kernels/random.hpp"
+#include "kernels/core/random.hpp"
 
 namespace trackassoc::bench {
 

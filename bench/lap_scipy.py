@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Peer benchmark: scipy.optimize.linear_sum_assignment on the matrices of bench/lap_matrices.hpp.
 
-The matrices are regenerated here bit-for-bit: CounterRng (kernels/random.hpp) is SplitMix64 over
+The matrices are regenerated here bit-for-bit: CounterRng (kernels/core/random.hpp) is SplitMix64 over
 a stream key, re-implemented with numpy uint64 arithmetic (wrap-around is the point). Prints, per
 matrix, the median wall time of `--repetitions` solves and the optimum, to compare with the
 `objective` counter of bench_lap. Run with Debian's python3-scipy: /usr/bin/python3 bench/lap_scipy.py

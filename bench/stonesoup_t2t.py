@@ -16,7 +16,7 @@ What it does
     tracks of a (of b) whose tuple has no track of b (of a) yet, so a target the middle sensor
     missed can still be linked. A link that would put two tracks of one sensor into a tuple is
     skipped. Every local track ends up in exactly one tuple (singletons included).
-    The tuples are scored with the project's rule (engine/metrics.hpp): a target tracked by >= 2
+    The tuples are scored with the project's rule (engine/pipeline/metrics.hpp): a target tracked by >= 2
     sensors is correct when one tuple holds exactly its tracks, false when one of its tracks
     shares a tuple with another target's or a false (truth -1) track, missed otherwise.
     "false tuples" counts tuples of >= 2 tracks not all of one target.
@@ -131,7 +131,7 @@ def load(path):
 def track_truths(d):
     """(sensor column, track) -> most frequent non-negative truth of its rows, -1 if none.
 
-    Ties go to the smaller id, as std::map iteration order does in engine/metrics.cpp."""
+    Ties go to the smaller id, as std::map iteration order does in engine/pipeline/metrics.cpp."""
     col = {s: i for i, s in enumerate(d["sensors"])}
     votes = defaultdict(Counter)
     for s, k, g in zip(d["sensor"], d["track"], d["truth"]):
@@ -233,7 +233,7 @@ def run_chained(tracks, times, num_sensors, associate):
 
 
 def score(tuples, truth_of):
-    """The project's rule (engine/metrics.cpp) plus the count of false multi-track tuples."""
+    """The project's rule (engine/pipeline/metrics.cpp) plus the count of false multi-track tuples."""
     members = defaultdict(set)  # target -> its (column, track) keys
     for key, g in truth_of.items():
         if g >= 0:

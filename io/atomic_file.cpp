@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <set>
 
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 

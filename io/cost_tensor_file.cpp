@@ -4,7 +4,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/hdf5_wrapper.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 

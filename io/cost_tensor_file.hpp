@@ -11,7 +11,7 @@
 
 #include <string>
 
-#include "kernels/assignment_types.hpp"
+#include "kernels/assignment/assignment_types.hpp"
 
 namespace trackassoc {
 

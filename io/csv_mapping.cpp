@@ -10,7 +10,7 @@
 #include "io/atomic_file.hpp"
 #include "io/csv_tracks.hpp"
 #include "io/json_input.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {

@@ -13,8 +13,8 @@
 #include <unordered_map>
 
 #include "io/track_validation.hpp"
-#include "kernels/error.hpp"
-#include "kernels/geodetic.hpp"
+#include "kernels/core/error.hpp"
+#include "kernels/core/geodetic.hpp"
 
 namespace trackassoc {
 namespace {

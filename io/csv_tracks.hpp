@@ -17,7 +17,7 @@
 //
 // Position: x, y[, z] as given (metres in the user's frame), or geodetic lat, lon[, alt]
 // (degrees, degrees, metres above the WGS-84 ellipsoid) converted to east, north[, up] of the
-// local tangent plane (ENU, kernels/geodetic.hpp) at the origin the user gives, or at the first
+// local tangent plane (ENU, kernels/core/geodetic.hpp) at the origin the user gives, or at the first
 // report of the file; the frame and its origin are stored in RecordingInfo. Without alt, the
 // layout is 2-D (east, north; every height = the origin's).
 // Velocity: columns vx, vy[, vz] (m/s, in the position's frame: east, north, up for geodetic

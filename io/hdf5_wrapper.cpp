@@ -6,7 +6,7 @@
 #include <new>
 
 #include "io/memory_budget.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc::h5 {
 namespace {

@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "io/memory_budget.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {

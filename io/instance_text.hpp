@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "kernels/assignment_types.hpp"
+#include "kernels/assignment/assignment_types.hpp"
 
 namespace trackassoc {
 

@@ -12,7 +12,7 @@
 #include <exception>
 #include <filesystem>
 
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {

@@ -3,7 +3,7 @@
 #include <set>
 #include <vector>
 
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <limits>
 
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "io/json_input.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {

@@ -1,5 +1,5 @@
 // Scenario JSON (DESIGN §3): read, validate and write trackassoc::Scenario.
-// Every field has a default (kernels/scenario.hpp), so a scenario file only states what differs.
+// Every field has a default (kernels/core/scenario.hpp), so a scenario file only states what differs.
 // Unknown keys and duplicated keys are errors (a misspelt key must not silently fall back to a
 // default); the message names the key path, e.g. "f.json: sensors[1].sigma_range: expected a
 // finite number > 0, found number -3".
@@ -45,7 +45,7 @@
 //       "speed_min": 100.0, "speed_max": 400.0,                             m/s, 0 <= min <= max
 //       "heading_min_deg": 0.0, "heading_max_deg": 360.0,                   min <= max
 //       "process_noise": 2.0,               σ of the white-noise acceleration, m/s², >= 0
-//       "manoeuvres": {                     optional; present = on (engine/simulation_truth.hpp)
+//       "manoeuvres": {                     optional; present = on (engine/simulation/simulation_truth.hpp)
 //         "interval_min": 20, "interval_max": 40,   s, > 0, min <= max: straight legs
 //         "duration_min": 5, "duration_max": 15,    s, > 0, min <= max: one manoeuvre
 //         "turn_rate_max_deg_s": 3.0,       >= 0; a turn's |rate| is U(max/3, max), random sign
@@ -57,7 +57,7 @@
 //       "filter": "cv",                     "cv" | "ca" | "ab" | "cs" | "cs-nn" | "imm"
 //       "process_noise": 2.0 },             m/s², >= 0
 //     "recording": {                        optional: a "recorded" track set
-//                                           (engine/simulation_recording.hpp has the rules)
+//                                           (engine/simulation/simulation_recording.hpp has the rules)
 //       "p_seen": 1.0,                      in [0, 1]: P(a sensor ever tracks a target), per pair
 //       "coverage_min": 1.0,                in (0, 1]: a local track covers a window of
 //       "coverage_max": 1.0,                in (0, 1], >= coverage_min: U(min, max)·duration
@@ -69,7 +69,7 @@
 
 #include <string>
 
-#include "kernels/scenario.hpp"
+#include "kernels/core/scenario.hpp"
 
 namespace trackassoc {
 

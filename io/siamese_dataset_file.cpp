@@ -7,8 +7,8 @@
 #include "io/atomic_file.hpp"
 #include "io/hdf5_wrapper.hpp"
 #include "io/isolated_run.hpp"
-#include "kernels/error.hpp"
-#include "kernels/siamese_training.hpp"
+#include "kernels/core/error.hpp"
+#include "kernels/learning/siamese_training.hpp"
 
 namespace trackassoc {
 namespace {

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "kernels/siamese.hpp"
+#include "kernels/learning/siamese.hpp"
 
 namespace trackassoc {
 

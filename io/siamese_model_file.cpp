@@ -6,7 +6,7 @@
 #include "io/atomic_file.hpp"
 #include "io/hdf5_wrapper.hpp"
 #include "io/isolated_run.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {

@@ -3,7 +3,7 @@
 //   /  attrs: format = "trackassoc-siamese-model", schema_version = 1, input, hidden, fc,
 //             architecture ("siamese", or "lstm" / "bilstm": the concatenated-pair baselines, whose
 //             /branch has only /forward for "lstm"),
-//             x0, y0, position_scale, t0, time_scale (the input normalisation, kernels/siamese.hpp),
+//             x0, y0, position_scale, t0, time_scale (the input normalisation, kernels/learning/siamese.hpp),
 //             training (JSON text: options and results of the training run; may be "{}")
 //   /branch/forward/Wx (4H×F), Wh (4H×H), b (4H)      float32, row-major, gate order i, f, g, o
 //   /branch/backward/Wx, Wh, b                         (PyTorch nn.LSTM weight_ih/weight_hh layout;
@@ -19,7 +19,7 @@
 
 #include <string>
 
-#include "kernels/siamese.hpp"
+#include "kernels/learning/siamese.hpp"
 
 namespace trackassoc {
 

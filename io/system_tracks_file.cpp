@@ -5,7 +5,7 @@
 #include <set>
 
 #include "io/hdf5_wrapper.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {

@@ -13,7 +13,7 @@
 #include "io/hdf5_wrapper.hpp"
 #include "io/isolated_run.hpp"
 #include "io/track_validation.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {

@@ -29,8 +29,8 @@
 #include <vector>
 
 #include "io/system_tracks_file.hpp"
-#include "kernels/assignment_types.hpp"
-#include "kernels/types.hpp"
+#include "kernels/assignment/assignment_types.hpp"
+#include "kernels/core/types.hpp"
 
 namespace trackassoc {
 
@@ -50,9 +50,10 @@ struct AssociationRecord {
   // Optional energy trace, R restarts × T sweeps, row-major; empty when not recorded.
   int32_t energy_rows = 0, energy_cols = 0;
   std::vector<float> energy;
-  RestartTable restarts;  // optional per-restart table (kernels/assignment_types.hpp); empty = none
+  RestartTable
+      restarts;  // optional per-restart table (kernels/assignment/assignment_types.hpp); empty = none
   // Optional U×2 row-major (sensor id, track): the local tracks of the associated sensors in no
-  // tuple of two or more members (engine/associator.hpp); empty = not recorded.
+  // tuple of two or more members (engine/pipeline/associator.hpp); empty = not recorded.
   std::vector<int32_t> unassociated;
   std::size_t num_tuples() const { return num_sensors ? tuples.size() / num_sensors : 0; }
 };

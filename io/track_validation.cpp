@@ -9,8 +9,8 @@
 #include <tuple>
 #include <unordered_set>
 
-#include "kernels/assignment_types.hpp"
-#include "kernels/error.hpp"
+#include "kernels/assignment/assignment_types.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc::track_validation {
 namespace {

@@ -6,7 +6,7 @@ Usage: plot_scale.py SCALE_H5|SCALE_CSV OUTPUT_PNG
 Left: wall time per stage and in total against targets per sensor, with n and n log n guides
 through the largest size, and the dense path where it ran. Right: peak resident memory of the
 sparse path (and the dense path) against n. Reads the HDF5 file written by the experiment
-(/scale/..., layout in engine/experiment_scale.hpp; needs h5py, e.g. /usr/bin/python3 on Debian)
+(/scale/..., layout in engine/studies/scale/experiment_scale.hpp; needs h5py, e.g. /usr/bin/python3 on Debian)
 or, for files of older runs, its CSV.
 """
 import csv

@@ -12,7 +12,7 @@
 
 #include "io/csv_tracks.hpp"
 #include "io/track_validation.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace {
 

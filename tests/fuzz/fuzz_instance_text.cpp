@@ -6,7 +6,7 @@
 #include <string>
 
 #include "io/instance_text.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

@@ -19,7 +19,7 @@
 
 #include "io/memory_budget.hpp"
 #include "io/track_file.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 extern "C" void __asan_set_error_report_callback(void (*callback)(const char*));
 

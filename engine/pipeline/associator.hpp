@@ -1,0 +1,120 @@
+// One association interface for every path of `associate` and `run` (issue 16 item 1), after
+// Stone Soup's TrackToTrackAssociator.associate_tracks(*track_sets): the track sets in (a schema v1
+// TrackFile and the pipeline and solver choice); the tuples with their costs, the summary and the
+// local tracks left unassociated out.
+//
+// Paths (one implementation each, engine/pipeline/associators.cpp, wrapping the existing pipelines):
+//   sparse S-D  engine/pipeline/sparse_sd_pipeline.hpp  the default: every sensor, gated candidates,
+//                                              an S-D assignment with dummies per component
+//   dense S-D   engine/pipeline/pipeline_sd.hpp         --sd, chnn-pseudo, two or more than three --sensors
+//   dense 3-D   engine/pipeline/pipeline.hpp            a 3-D solver (engine/solvers/solver_registry.hpp),
+//   n1·n2·n3 tensor sparse 3-D  engine/pipeline/sparse_pipeline.hpp     the same with --sparse: per connected
+//   component fusion      engine/fusion/fuzzy_pipeline.hpp      seed 001's fusion centre (fuzzy, ftaa); side
+//   output:
+//                                              the system tracks (/system_tracks/<name>/)
+//   siamese     engine/pipeline/siamese_track_file.hpp  seed 003's Siamese BiLSTM on two sensors
+// make_associator holds the rules that pick the path (choose_association_path), so a new path is
+// one implementation plus one line there.
+//
+// Unassociated tracks (Stone Soup #1170): every path puts each local track of the sensors it
+// associates in exactly one tuple, a track it linked to no other sensor's track being a tuple of
+// one. A local track of an associated sensor is unassociated when no tuple with two or more members
+// holds it (it is alone in its tuple, or in none).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/pipeline/pipeline.hpp"
+#include "engine/pipeline/sparse_pipeline.hpp"
+#include "io/track_file.hpp"
+
+namespace trackassoc {
+
+enum class AssociationPath { kSparseSD, kDenseSD, kDense3D, kSparse3D, kFusionCentre, kSiamese };
+const char* association_path_name(AssociationPath path);  // "sparse S-D", "S-D", "3-D", ...
+
+// The request: solver, pipeline choice and options. Defaults are those of `associate`.
+struct AssociatorOptions {
+  std::string solver = "lr+ls";  // an S-D solver, a 3-D solver (solver_registry), fuzzy, ftaa or siamese
+  bool sd = false;               // --sd: the dense S-D formulation
+  bool three_d = false;          // --3d: the three-sensor tensor for any 3-D solver
+  bool sparse = false;           // --sparse: the three-sensor sparse path
+  PipelineOptions pipeline;      // sensors (empty = the path's default), grid, alignment, gate, cost
+  nlohmann::json solver_options = nlohmann::json::object();  // the solver's own options (--options)
+  uint64_t seed = 1;
+  std::string name;           // /associations group; empty = the solver name
+  std::string siamese_model;  // --solver siamese: model file (io/siamese_model_file.hpp)
+  // Throws InputError when more than one of sd, three_d, sparse is set, or solver_options is not
+  // a JSON object.
+  void validate() const;
+};
+
+struct UnassociatedTracks {
+  int32_t sensor_id = 0;        // a /sensors id
+  std::vector<int32_t> tracks;  // its /tracks/track numbers in no tuple of two or more, ascending
+};
+
+// What `associate` reports besides the record (objective, lower bound, gap, termination and
+// runtime_s are the record's).
+struct AssociationSummary {
+  AssociationPath path = AssociationPath::kSparseSD;
+  std::vector<int32_t> sensor_ids;    // the sensors associated, in the path's order
+  std::vector<int32_t> track_counts;  // the problem's local tracks per sensor (3-D and S-D paths)
+  double runtime_s = 0.0;             // the record's run time; the fusion centre's wall time for fuzzy/FTAA
+  std::vector<StageReport> stages;    // sparse S-D: alignment, candidates, statistics, components, solve
+  int32_t components = 0;             // sparse paths: connected components
+  int64_t candidate_pairs = 0, gated_pairs = 0, fallback_components = 0;  // sparse S-D
+  int64_t local_tracks = 0, packets = 0, system_tracks = 0;               // fusion centre
+  int64_t points = 0, points_outside_domain = 0;                          // siamese
+};
+
+struct AssociationOutcome {
+  AssociationRecord record;  // /associations/<name>/: tuples, cost, objective, bound, termination
+  AssociationSummary summary;
+  std::vector<UnassociatedTracks> unassociated;    // one entry per associated sensor, in summary order
+  std::optional<SystemTrackRecord> system_tracks;  // fusion centre: /system_tracks/<name>/
+};
+
+class TrackAssociator {
+ public:
+  virtual ~TrackAssociator() = default;
+  virtual AssociationPath path() const = 0;
+  // Associates the local tracks of `file` (validated, schema v1). Throws InputError on input the
+  // path cannot take (too few sensors, a tensor over the memory budget, ...).
+  virtual AssociationOutcome associate(const TrackFile& file) const = 0;
+};
+
+// The path `associate` takes for `options` (the rules of engine/cli/cmd_associate.cpp, whose
+// messages these are). Validates the request and the solver name before any file is read.
+AssociationPath choose_association_path(const AssociatorOptions& options);
+
+// The associator of choose_association_path(options); parses the solver's options and, for
+// siamese, reads the model, so that bad input fails before the track file is read.
+std::unique_ptr<TrackAssociator> make_associator(const AssociatorOptions& options);
+// The associator of a given path (run: its default rows are the sparse S-D path for any sensors).
+std::unique_ptr<TrackAssociator> make_associator(AssociationPath path, const AssociatorOptions& options);
+
+// A three-sensor problem built once and shared by the associators of several solvers (run: every
+// 3-D solver on one tensor). Exactly one of the two is set; the record's runtime_s is then the
+// solve alone, as solve_association's and solve_sparse_association's.
+struct PreparedThreeSensorProblem {
+  std::shared_ptr<const AssociationProblem> dense;
+  std::shared_ptr<const SparseAssociationProblem> sparse;
+};
+std::unique_ptr<TrackAssociator> make_three_sensor_associator(const AssociatorOptions& options,
+                                                              PreparedThreeSensorProblem prepared);
+
+// The local tracks of the sensors `sensor_ids` in no tuple of `rec` with two or more members.
+std::vector<UnassociatedTracks> unassociated_tracks(const TrackFile& file,
+                                                    const std::vector<int32_t>& sensor_ids,
+                                                    const AssociationRecord& rec);
+
+// Adds the outcome's association (and system tracks) to `file`, replacing those of the same name.
+void store_outcome(TrackFile& file, const AssociationOutcome& outcome);
+
+}  // namespace trackassoc

@@ -1,0 +1,316 @@
+// The implementations of TrackAssociator (engine/pipeline/associator.hpp), one per path, each a thin
+// wrapper of its pipeline's entry points, and the factory with the path-choosing rules.
+#include <algorithm>
+#include <map>
+#include <set>
+#include <utility>
+
+#include "engine/fusion/fuzzy_pipeline.hpp"
+#include "engine/pipeline/associator.hpp"
+#include "engine/pipeline/pipeline_sd.hpp"
+#include "engine/pipeline/siamese_track_file.hpp"
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/workflow.hpp"
+#include "engine/solvers/solver_registry.hpp"
+#include "io/siamese_model_file.hpp"
+#include "kernels/core/error.hpp"
+
+namespace trackassoc {
+namespace {
+
+// The name of the record: --name when given, else the one the pipeline set (the solver name).
+void apply_name(const AssociatorOptions& o, AssociationRecord& rec) {
+  if (!o.name.empty()) rec.name = o.name;
+}
+std::string group_name(const AssociatorOptions& o) { return o.name.empty() ? o.solver : o.name; }
+
+// Fills the outcome's unassociated tracks from its record and summary.sensor_ids.
+AssociationOutcome finish(const TrackFile& file, AssociationOutcome out) {
+  out.unassociated = unassociated_tracks(file, out.summary.sensor_ids, out.record);
+  return out;
+}
+
+template <class Range>
+std::vector<int32_t> track_counts(const Range& aligned) {
+  std::vector<int32_t> n;
+  for (const auto& a : aligned) n.push_back(a.n_tracks());
+  return n;
+}
+
+class SparseSDAssociator final : public TrackAssociator {
+ public:
+  explicit SparseSDAssociator(const AssociatorOptions& o) : o_(o) { require_sparse_sd_solver(o.solver); }
+  AssociationPath path() const override { return AssociationPath::kSparseSD; }
+  AssociationOutcome associate(const TrackFile& file) const override {
+    SparseSDOptions so;
+    so.pipeline = o_.pipeline;
+    AssociationOutcome out;
+    out.record = associate_sparse_sd(file, o_.solver, o_.solver_options, o_.seed, so, &out.summary.stages);
+    apply_name(o_, out.record);
+    AssociationSummary& s = out.summary;
+    s.path = path();
+    s.sensor_ids = select_sd_sensors(file, o_.pipeline).ids;
+    s.runtime_s = out.record.runtime_s;
+    const auto info = nlohmann::json::parse(out.record.options_json);  // the solve report's counts
+    s.components = info.value("components", 0);
+    s.candidate_pairs = info.value("candidate_pairs", int64_t{0});
+    s.gated_pairs = info.value("gated_pairs", int64_t{0});
+    s.fallback_components = info.value("fallback_components", int64_t{0});
+    return finish(file, std::move(out));
+  }
+
+ private:
+  AssociatorOptions o_;
+};
+
+class DenseSDAssociator final : public TrackAssociator {
+ public:
+  explicit DenseSDAssociator(const AssociatorOptions& o) : o_(o) { require_sd_solver(o.solver); }
+  AssociationPath path() const override { return AssociationPath::kDenseSD; }
+  AssociationOutcome associate(const TrackFile& file) const override {
+    const SDProblem problem = build_sd_problem(file, o_.pipeline);
+    AssociationOutcome out;
+    out.record = solve_sd_association(problem, o_.solver, o_.solver_options, o_.seed, o_.pipeline);
+    apply_name(o_, out.record);
+    out.summary.path = path();
+    out.summary.sensor_ids = problem.sensor_ids;
+    out.summary.track_counts = track_counts(problem.aligned);
+    out.summary.runtime_s = out.record.runtime_s;
+    return finish(file, std::move(out));
+  }
+
+ private:
+  AssociatorOptions o_;
+};
+
+// Dense and sparse 3-D: the problem is built here, or shared (PreparedThreeSensorProblem).
+class ThreeSensorAssociator final : public TrackAssociator {
+ public:
+  ThreeSensorAssociator(const AssociatorOptions& o, bool sparse, PreparedThreeSensorProblem prepared = {})
+      : o_(o), sparse_(sparse), prepared_(std::move(prepared)) {
+    find_solver(o.solver);  // an unknown name fails before anything is read
+    sparse_options_.pipeline = o.pipeline;
+  }
+  AssociationPath path() const override {
+    return sparse_ ? AssociationPath::kSparse3D : AssociationPath::kDense3D;
+  }
+  AssociationOutcome associate(const TrackFile& file) const override {
+    AssociationOutcome out;
+    AssociationSummary& s = out.summary;
+    s.path = path();
+    if (sparse_) {
+      std::shared_ptr<const SparseAssociationProblem> p = prepared_.sparse;
+      if (!p)
+        p = std::make_shared<SparseAssociationProblem>(
+            build_sparse_association_problem(file, sparse_options_));
+      out.record = solve_sparse_association(*p, o_.solver, o_.solver_options, o_.seed, sparse_options_);
+      s.sensor_ids.assign(p->sensor_ids.begin(), p->sensor_ids.end());
+      s.track_counts = track_counts(p->aligned);
+      s.components = p->components.count;
+    } else {
+      std::shared_ptr<const AssociationProblem> p = prepared_.dense;
+      if (!p) {
+        require_dense_tensor_fits(file, o_.pipeline);
+        p = std::make_shared<AssociationProblem>(build_association_problem(file, o_.pipeline));
+      }
+      out.record = solve_association(*p, o_.solver, o_.solver_options, o_.seed, o_.pipeline);
+      s.sensor_ids.assign(p->sensor_ids.begin(), p->sensor_ids.end());
+      s.track_counts = {p->tensor.n1, p->tensor.n2, p->tensor.n3};
+    }
+    apply_name(o_, out.record);
+    s.runtime_s = out.record.runtime_s;
+    return finish(file, std::move(out));
+  }
+
+ private:
+  AssociatorOptions o_;
+  bool sparse_;
+  PreparedThreeSensorProblem prepared_;
+  SparsePipelineOptions sparse_options_;
+};
+
+// Seed 001's fusion centre over every sensor; the system tracks are its side output.
+class FusionCentreAssociator final : public TrackAssociator {
+ public:
+  explicit FusionCentreAssociator(const AssociatorOptions& o)
+      : o_(o),
+        fuzzy_(fuzzy_pipeline_options(parse_enum<FusionMethod>(o.solver, "--solver"), o.solver_options)) {}
+  AssociationPath path() const override { return AssociationPath::kFusionCentre; }
+  AssociationOutcome associate(const TrackFile& file) const override {
+    FuzzyPipelineResult res = run_fuzzy_pipeline(file.tracks, file.sensors, fuzzy_, group_name(o_),
+                                                 file.measurements ? &*file.measurements : nullptr);
+    AssociationOutcome out;
+    out.record = std::move(res.association);
+    out.system_tracks = std::move(res.system_tracks);
+    AssociationSummary& s = out.summary;
+    s.path = path();
+    for (const auto& sensor : file.sensors) s.sensor_ids.push_back(sensor.id);
+    s.runtime_s = res.fusion.summary.wall_time_s;
+    s.local_tracks = static_cast<int64_t>(res.packets.num_local());
+    s.packets = static_cast<int64_t>(res.packets.size());
+    s.system_tracks = res.fusion.num_system_tracks;
+    return finish(file, std::move(out));
+  }
+
+ private:
+  AssociatorOptions o_;
+  FuzzyPipelineOptions fuzzy_;
+};
+
+// Seed 003's Siamese BiLSTM on two sensors; the model is read before any track file.
+class SiameseAssociator final : public TrackAssociator {
+ public:
+  explicit SiameseAssociator(const AssociatorOptions& o)
+      : o_(o),
+        siamese_(siamese_track_file_options(o.solver_options)),
+        model_(read_siamese_model(o.siamese_model)) {}
+  AssociationPath path() const override { return AssociationPath::kSiamese; }
+  AssociationOutcome associate(const TrackFile& file) const override {
+    SiameseTrackFileResult res = associate_siamese_tracks(file, model_.model, siamese_, group_name(o_));
+    res.record.seed = o_.seed;
+    AssociationOutcome out;
+    out.record = std::move(res.record);
+    AssociationSummary& s = out.summary;
+    s.path = path();
+    s.sensor_ids = {res.sensor_ids[0], res.sensor_ids[1]};
+    s.track_counts = {res.tracks[0], res.tracks[1]};
+    s.runtime_s = out.record.runtime_s;
+    s.points = res.points;
+    s.points_outside_domain = res.points_outside_domain;
+    return finish(file, std::move(out));
+  }
+
+ private:
+  AssociatorOptions o_;
+  SiameseTrackFileOptions siamese_;
+  LoadedSiameseModel model_;
+};
+
+}  // namespace
+
+const char* association_path_name(AssociationPath path) {
+  switch (path) {
+    case AssociationPath::kSparseSD:
+      return "sparse S-D";
+    case AssociationPath::kDenseSD:
+      return "S-D";
+    case AssociationPath::kDense3D:
+      return "3-D";
+    case AssociationPath::kSparse3D:
+      return "sparse 3-D";
+    case AssociationPath::kFusionCentre:
+      return "fusion centre";
+    case AssociationPath::kSiamese:
+      return "siamese";
+  }
+  return "?";
+}
+
+void AssociatorOptions::validate() const {
+  if (int(sd) + int(three_d) + int(sparse) > 1)
+    throw InputError("--sd, --3d and --sparse choose different pipelines: give at most one");
+  if (solver.empty()) throw InputError("--solver: expected a solver name, got an empty string");
+  if (!solver_options.is_object())
+    throw InputError("--options: expected a JSON object, got '" + solver_options.dump().substr(0, 200) + "'");
+}
+
+AssociationPath choose_association_path(const AssociatorOptions& o) {
+  o.validate();
+  const bool explicit_pipeline = o.sd || o.three_d || o.sparse;
+  const bool fusion = o.solver == "fuzzy" || o.solver == "ftaa";
+  const bool special = fusion || o.solver == "siamese";
+  const std::size_t n_sensors = o.pipeline.sensors.size();
+  const auto& sparse_sd = sparse_sd_solver_names();
+  if (!explicit_pipeline && !special && n_sensors != 3 &&
+      std::find(sparse_sd.begin(), sparse_sd.end(), o.solver) != sparse_sd.end())
+    return AssociationPath::kSparseSD;
+  if (fusion) {  // not a 3-D tensor solver (seed 001)
+    if (o.sparse)
+      throw InputError("--sparse: applies to the 3-D assignment solvers, not to '" + o.solver + "'");
+    return AssociationPath::kFusionCentre;
+  }
+  if (o.sd || o.solver == "chnn-pseudo" || n_sensors > 3 || n_sensors == 2) {
+    if (o.sparse)
+      throw InputError("--sparse: applies to the three-sensor pipeline, not to the S-D formulation (--sd)");
+    require_sd_solver(o.solver);  // fail on an unknown name before reading anything
+    return AssociationPath::kDenseSD;
+  }
+  if (o.solver == "siamese") return AssociationPath::kSiamese;  // two sensors' plot sequences (seed 003)
+  find_solver(o.solver);  // fail on an unknown name before reading anything
+  return o.sparse ? AssociationPath::kSparse3D : AssociationPath::kDense3D;
+}
+
+std::unique_ptr<TrackAssociator> make_associator(AssociationPath path, const AssociatorOptions& o) {
+  o.validate();
+  switch (path) {
+    case AssociationPath::kSparseSD:
+      return std::make_unique<SparseSDAssociator>(o);
+    case AssociationPath::kDenseSD:
+      return std::make_unique<DenseSDAssociator>(o);
+    case AssociationPath::kDense3D:
+      return std::make_unique<ThreeSensorAssociator>(o, false);
+    case AssociationPath::kSparse3D:
+      return std::make_unique<ThreeSensorAssociator>(o, true);
+    case AssociationPath::kFusionCentre:
+      return std::make_unique<FusionCentreAssociator>(o);
+    case AssociationPath::kSiamese:
+      return std::make_unique<SiameseAssociator>(o);
+  }
+  throw InputError("association path: unknown");
+}
+
+std::unique_ptr<TrackAssociator> make_associator(const AssociatorOptions& o) {
+  return make_associator(choose_association_path(o), o);
+}
+
+std::unique_ptr<TrackAssociator> make_three_sensor_associator(const AssociatorOptions& o,
+                                                              PreparedThreeSensorProblem prepared) {
+  o.validate();
+  require(bool(prepared.dense) != bool(prepared.sparse), "PreparedThreeSensorProblem",
+          "exactly one of dense and sparse must be set");
+  const bool sparse = bool(prepared.sparse);
+  return std::make_unique<ThreeSensorAssociator>(o, sparse, std::move(prepared));
+}
+
+std::vector<UnassociatedTracks> unassociated_tracks(const TrackFile& file,
+                                                    const std::vector<int32_t>& sensor_ids,
+                                                    const AssociationRecord& rec) {
+  std::map<int32_t, int32_t> column;  // /sensors id → tuple column
+  for (int32_t c = 0; c < static_cast<int32_t>(file.sensors.size()); ++c) column[file.sensors[c].id] = c;
+  std::set<std::pair<int32_t, int32_t>> linked;  // (column, track) in a tuple of two or more
+  const int32_t S = rec.num_sensors;
+  for (std::size_t k = 0; k < rec.num_tuples(); ++k) {
+    const int32_t* row = rec.tuples.data() + k * S;
+    if (std::count_if(row, row + S, [](int32_t t) { return t >= 0; }) < 2) continue;
+    for (int32_t c = 0; c < S; ++c)
+      if (row[c] >= 0) linked.insert({c, row[c]});
+  }
+  std::vector<UnassociatedTracks> out;
+  for (int32_t id : sensor_ids) {
+    auto it = column.find(id);
+    require(it != column.end(), "sensor id", "id " + std::to_string(id) + " is not in /sensors/id");
+    std::set<int32_t> tracks;
+    for (std::size_t r = 0; r < file.tracks.size(); ++r)
+      if (file.tracks.sensor[r] == id && !linked.count({it->second, file.tracks.track[r]}))
+        tracks.insert(file.tracks.track[r]);
+    out.push_back({id, {tracks.begin(), tracks.end()}});
+  }
+  return out;
+}
+
+void store_outcome(TrackFile& file, const AssociationOutcome& outcome) {
+  const std::string& name = outcome.record.name;
+  std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == name; });
+  file.associations.push_back(outcome.record);
+  std::vector<int32_t>& rows = file.associations.back().unassociated;  // /associations/<name>/unassociated
+  rows.clear();
+  for (const UnassociatedTracks& u : outcome.unassociated)
+    for (int32_t track : u.tracks) rows.insert(rows.end(), {u.sensor_id, track});
+  if (outcome.system_tracks) {
+    std::erase_if(file.system_tracks,
+                  [&](const SystemTrackRecord& r) { return r.name == outcome.system_tracks->name; });
+    file.system_tracks.push_back(*outcome.system_tracks);
+  }
+}
+
+}  // namespace trackassoc

@@ -1,0 +1,127 @@
+#include "engine/pipeline/metrics.hpp"
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <utility>
+
+namespace trackassoc {
+
+AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vector<Sensor>& sensors,
+                                        const AssociationRecord& record) {
+  AssociationMetrics m;
+  const int32_t S = record.num_sensors;
+  const std::size_t K = record.num_tuples();
+  // Which sensors does the association cover? Those with any track in a tuple.
+  std::vector<char> covered(S, 0);
+  for (std::size_t q = 0; q < K; ++q)
+    for (int32_t s = 0; s < S; ++s)
+      if (record.tuples[q * S + s] >= 0) covered[s] = 1;
+
+  // Truth id of each (sensor column, local track): the most frequent non-negative id of its rows.
+  std::map<std::pair<int32_t, int32_t>, std::map<int32_t, int32_t>> votes;
+  std::map<int32_t, int32_t> column_of_sensor;
+  for (int32_t s = 0; s < static_cast<int32_t>(sensors.size()); ++s) column_of_sensor[sensors[s].id] = s;
+  for (std::size_t r = 0; r < tracks.size(); ++r) {
+    auto it = column_of_sensor.find(tracks.sensor[r]);
+    if (it == column_of_sensor.end() || it->second >= S || !covered[it->second]) continue;
+    ++votes[{it->second, tracks.track[r]}][tracks.truth[r]];
+  }
+  std::map<std::pair<int32_t, int32_t>, int32_t> truth_of;
+  for (const auto& [key, counts] : votes) {
+    int32_t best = -1, best_count = 0;
+    for (const auto& [id, c] : counts)
+      if (id >= 0 && c > best_count) best = id, best_count = c;
+    truth_of[key] = best;
+    if (best >= 0) m.has_truth = true;
+  }
+  if (!m.has_truth) return m;
+
+  // Tracks of each target, per covered sensor.
+  std::map<int32_t, std::set<std::pair<int32_t, int32_t>>> tracks_of_target;
+  for (const auto& [key, id] : truth_of)
+    if (id >= 0) tracks_of_target[id].insert(key);
+
+  // Tuple membership of each track.
+  std::map<std::pair<int32_t, int32_t>, std::size_t> tuple_of;
+  for (std::size_t q = 0; q < K; ++q)
+    for (int32_t s = 0; s < S; ++s)
+      if (record.tuples[q * S + s] >= 0) tuple_of[{s, record.tuples[q * S + s]}] = q;
+
+  for (const auto& [target, members] : tracks_of_target) {
+    std::set<int32_t> member_sensors;
+    for (const auto& key : members) member_sensors.insert(key.first);
+    if (member_sensors.size() < 2) continue;  // seen by one sensor only: nothing to associate
+    ++m.targets;
+    bool mixed = false;
+    std::set<std::size_t> tuples;
+    for (const auto& key : members) {
+      auto it = tuple_of.find(key);
+      if (it == tuple_of.end()) continue;  // track absent from the association: counts as split
+      tuples.insert(it->second);
+      const std::size_t q = it->second;
+      for (int32_t s = 0; s < S; ++s) {
+        const int32_t trk = record.tuples[q * S + s];
+        if (trk < 0) continue;
+        auto t = truth_of.find({s, trk});
+        const int32_t other = t == truth_of.end() ? -1 : t->second;
+        if (other != target) mixed = true;
+      }
+    }
+    bool complete = false;
+    if (!mixed && tuples.size() == 1) {
+      std::size_t grouped = 0;
+      const std::size_t q = *tuples.begin();
+      for (int32_t s = 0; s < S; ++s) grouped += record.tuples[q * S + s] >= 0;
+      complete = grouped == members.size();
+    }
+    if (mixed)
+      ++m.false_associations;
+    else if (complete)
+      ++m.correct;
+    else
+      ++m.missed;
+  }
+  // False tuples: ≥ 2 members that are not all tracks of one target (a false track, truth −1, with
+  // anything is false).
+  for (std::size_t q = 0; q < K; ++q) {
+    int32_t members = 0, first = -2;
+    bool mixed = false;
+    for (int32_t s = 0; s < S; ++s) {
+      const int32_t trk = record.tuples[q * S + s];
+      if (trk < 0) continue;
+      ++members;
+      auto t = truth_of.find({s, trk});
+      const int32_t id = t == truth_of.end() ? -1 : t->second;
+      if (id < 0 || (first != -2 && id != first)) mixed = true;
+      first = id;
+    }
+    if (members >= 2) {
+      ++m.linked_tuples;
+      m.false_tuples += mixed;
+    }
+  }
+  if (m.targets > 0) {
+    m.correct_rate = static_cast<double>(m.correct) / m.targets;
+    m.false_rate = static_cast<double>(m.false_associations) / m.targets;
+    m.missed_rate = static_cast<double>(m.missed) / m.targets;
+  }
+  return m;
+}
+
+MetricsRecord to_metrics_record(const std::string& name, const AssociationMetrics& m) {
+  MetricsRecord r;
+  r.name = name;
+  r.correct_rate = m.correct_rate;
+  r.false_rate = m.false_rate;
+  r.missed_rate = m.missed_rate;
+  r.tables["n_targets"] = {static_cast<double>(m.targets)};
+  r.tables["n_correct"] = {static_cast<double>(m.correct)};
+  r.tables["n_false"] = {static_cast<double>(m.false_associations)};
+  r.tables["n_missed"] = {static_cast<double>(m.missed)};
+  r.tables["n_linked_tuples"] = {static_cast<double>(m.linked_tuples)};
+  r.tables["n_false_tuples"] = {static_cast<double>(m.false_tuples)};
+  return r;
+}
+
+}  // namespace trackassoc

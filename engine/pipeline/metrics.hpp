@@ -1,0 +1,40 @@
+// Association metrics (DESIGN §3 /metrics, seed 000 §4 "correct association rate").
+//
+// Evaluated per target, over the sensors an association covers. A target "needs association"
+// when at least two covered sensors hold a local track of it. For each such target T:
+//   correct  — one output tuple holds exactly T's local tracks (all of them, nothing else);
+//   false    — some track of T shares a tuple with a track of another target;
+//   missed   — otherwise: T's tracks are split over several tuples but never mixed with others.
+// The three rates are fractions of the targets that need association, so they sum to 1.
+// A target seen by 3 of 4 sensors is correct when its 3 tracks are grouped (dummy for the 4th).
+// Local tracks whose truth is unknown (-1) make a target-less tuple count as false when grouped
+// with anything; a file without truth gives has_truth = false. False tuples are counted apart: a
+// tuple of ≥ 2 members is false when it joins tracks of different targets, or a false track with
+// anything.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "io/track_file.hpp"
+#include "kernels/core/types.hpp"
+
+namespace trackassoc {
+
+struct AssociationMetrics {
+  bool has_truth = false;
+  int32_t targets = 0;  // targets that need association
+  int32_t correct = 0, false_associations = 0, missed = 0;
+  // Output tuples with ≥ 2 members, and those among them that join tracks of different targets or
+  // a false track (truth −1) with anything.
+  int32_t linked_tuples = 0, false_tuples = 0;
+  double correct_rate = 0.0, false_rate = 0.0, missed_rate = 0.0;
+};
+
+// `sensors` gives the column order of record.tuples (the /sensors order).
+AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vector<Sensor>& sensors,
+                                        const AssociationRecord& record);
+
+MetricsRecord to_metrics_record(const std::string& name, const AssociationMetrics& m);
+
+}  // namespace trackassoc

@@ -1,0 +1,303 @@
+#include "engine/pipeline/pipeline_sd.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "engine/solvers/solver_registry.hpp"
+#include "kernels/core/error.hpp"
+#include "kernels/core/parallel.hpp"
+
+namespace trackassoc {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+constexpr float kForbidden = std::numeric_limits<float>::infinity();
+
+// Dense tensor from the links; parallel over the first sensor's index (dummy included).
+void fill_tensor(SDProblem& p, CostForm form) {
+  const int32_t S = p.S();
+  std::vector<int32_t> n(S);
+  for (int32_t s = 0; s < S; ++s) n[s] = p.aligned[s].n_tracks();
+  p.tensor = CostTensorSD(n, 0.f);
+  CostTensorSD& c = p.tensor;
+  parallel_for_range(static_cast<std::size_t>(n[0]) + 1, 1, [&](std::size_t b, std::size_t e) {
+    std::vector<int32_t> idx(S, 0), present;
+    present.reserve(S);
+    for (std::size_t i0 = b; i0 < e; ++i0) {
+      std::fill(idx.begin(), idx.end(), 0);
+      idx[0] = static_cast<int32_t>(i0);
+      const std::size_t base = i0 * c.stride[0];
+      for (std::size_t r = 0; r < c.stride[0]; ++r) {
+        present.clear();
+        for (int32_t s = 0; s < S; ++s)
+          if (idx[s] < n[s]) present.push_back(s);
+        double v = 0.0;
+        const std::size_t m = present.size();
+        for (std::size_t x = 0; x + 1 < m && std::isfinite(v); ++x)
+          for (std::size_t y = x + 1; y < (form == CostForm::kChain ? x + 2 : m); ++y) {
+            const int32_t a = present[x], bb = present[y];
+            v += p.link[static_cast<std::size_t>(a) * S + bb]
+                       [static_cast<std::size_t>(idx[a]) * n[bb] + idx[bb]];
+          }
+        c.cost[base + r] = static_cast<float>(v);
+        for (int32_t s = S - 1; s > 0; --s) {  // odometer over sensors 1 … S−1
+          if (++idx[s] <= n[s]) break;
+          idx[s] = 0;
+        }
+      }
+    }
+  });
+}
+
+// Members of a tuple whose tensor cost is +inf (possible only for the CHNN without Eq. 12's gate)
+// are split into tuples of one track each.
+void split_forbidden(const CostTensorSD& c, std::vector<int32_t>& tuples) {
+  const int32_t S = c.dims();
+  std::vector<int32_t> out;
+  out.reserve(tuples.size());
+  for (std::size_t k = 0; k < tuples.size(); k += S) {
+    const std::span<const int32_t> t(tuples.data() + k, S);
+    if (std::isfinite(c.at(t))) {
+      out.insert(out.end(), t.begin(), t.end());
+      continue;
+    }
+    for (int32_t s = 0; s < S; ++s)
+      if (t[s] >= 0) {
+        std::vector<int32_t> one(S, kNoTrack);
+        one[s] = t[s];
+        out.insert(out.end(), one.begin(), one.end());
+      }
+  }
+  tuples.swap(out);
+}
+
+ChnnPseudoSolverOptions chnn_options(const nlohmann::json& o, uint64_t seed, ChnnPseudoSolverOptions c) {
+  c.network.seed = seed;
+  chnn_pseudo_option_fields().read(o, c, "chnn-pseudo");
+  require(c.lambda_margin > 0.0 && std::isfinite(c.lambda_margin), "chnn-pseudo options: lambda_margin",
+          "must be > 0");
+  c.network.validate();
+  return c;
+}
+
+}  // namespace
+
+const OptionFields<ChnnPseudoSolverOptions>& chnn_pseudo_option_fields() {
+  using O = ChnnPseudoSolverOptions;
+  using N = ChnnPseudoOptions;
+  static const OptionFields<O> fields{{
+      field("A", path(&O::network, &N::A), ">= 0", "energy weight of term 1 (seed 004 Eq. 7)"),
+      field("B", path(&O::network, &N::B), "> 0", "energy weight of term 2"),
+      field("C", path(&O::network, &N::C), "> 0", "energy weight of term 3"),
+      field("D", path(&O::network, &N::D), ">= 0", "energy weight of term 4"),
+      field("dt", path(&O::network, &N::dt), "> 0", "Euler step"),
+      field("tau", path(&O::network, &N::tau), ">= 0", "decay time constant (0 = no decay)"),
+      field("u0", path(&O::network, &N::u0), "> 0", "gain 1/u0 of V = ½(1 + tanh(u/u0))"),
+      field("max_steps", path(&O::network, &N::max_steps), ">= 1", "Euler steps per pass at most"),
+      field("tolerance", path(&O::network, &N::tolerance), "> 0",
+            "converged when max |Δu|/u0 of a step is below"),
+      field("noise", path(&O::network, &N::noise), ">= 0", "initial u noise·N(0,1)"),
+      field("gated", &O::gated, "", "λ = +inf outside the gate (Eq. 12)"),
+      field("lambda_margin", &O::lambda_margin, "> 0", "pseudo-track cost (1 + margin)·γ"),
+      field("reference", &O::reference, "a sensor position",
+            "the sensor taken first (default: the most tracks)"),
+      field("leftover_passes", path(&O::network, &N::leftover_passes), ">= -1",
+            "extra passes over the tracks left alone (−1 = S − 2, 0 = the paper's one pass)"),
+  }};
+  return fields;
+}
+
+const std::vector<std::string>& sd_solver_names() {
+  static const std::vector<std::string> names = solver_names_with(&SolverCapabilities::sd);
+  return names;
+}
+
+void require_sd_solver(const std::string& name) {
+  const auto& names = sd_solver_names();
+  if (std::find(names.begin(), names.end(), name) != names.end()) return;
+  std::string known;
+  for (const auto& n : names) known += " " + n;
+  throw InputError("--solver: '" + name + "' is not an S-D solver; S-D solvers:" + known);
+}
+
+SDSensorSelection select_sd_sensors(const TrackFile& file, const PipelineOptions& options) {
+  SDSensorSelection sel;
+  std::map<int32_t, int32_t> column;
+  for (int32_t s = 0; s < static_cast<int32_t>(file.sensors.size()); ++s) column[file.sensors[s].id] = s;
+  if (options.sensors.empty())
+    for (const auto& s : file.sensors) sel.ids.push_back(s.id);
+  else
+    sel.ids = options.sensors;
+  if (sel.ids.size() < 2)
+    throw InputError("/sensors: association needs at least 2 sensors, the file has " +
+                     std::to_string(sel.ids.size()));
+  sel.period = options.common_period;
+  for (int32_t id : sel.ids) {
+    auto it = column.find(id);
+    if (it == column.end())
+      throw InputError("--sensors: sensor id " + std::to_string(id) + " is not in /sensors/id");
+    sel.columns.push_back(it->second);
+    if (options.common_period == 0.0) sel.period = std::max(sel.period, file.sensors[it->second].period);
+  }
+  require(sel.period > 0.0, "PipelineOptions.common_period", "the sensors' periods are not positive");
+  return sel;
+}
+
+SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options) {
+  options.validate();
+  require(options.statistic.gate_probability < 1.0, "--gate",
+          "the S-D formulation uses the gate as the cost of not linking two tracks; it needs a gate "
+          "probability below 1");
+  SDProblem p;
+  SDSensorSelection sel = select_sd_sensors(file, options);
+  p.file_sensors = static_cast<int32_t>(file.sensors.size());
+  p.sensor_ids = std::move(sel.ids);
+  p.sensor_columns = std::move(sel.columns);
+  const int32_t S = p.S();
+  const double period = sel.period;
+
+  const auto t0 = std::chrono::steady_clock::now();
+  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period, options.span_union);
+  for (int32_t s = 0; s < S; ++s)
+    p.aligned.push_back(align_tracks(file.tracks, p.sensor_ids[s], p.common_times, options.alignment));
+  p.pairs.resize(static_cast<std::size_t>(S) * S);
+  p.link.resize(p.pairs.size());
+  p.gate.assign(p.pairs.size(), 0.0);
+  for (int32_t a = 0; a < S; ++a)
+    for (int32_t b = a + 1; b < S; ++b) {
+      const std::size_t slot = static_cast<std::size_t>(a) * S + b;
+      PairStatistic& st = p.pairs[slot] =
+          independent_sequential_statistic(p.aligned[a], p.aligned[b], options.statistic);
+      // The link cost (λ − G(n))/f of kernels/statistics/association_statistic.hpp: ≤ 0 inside the gate.
+      const SequentialGate gate(file.tracks.dim(), options.statistic,
+                                static_cast<int32_t>(p.common_times.size()));
+      auto& link = p.link[slot];
+      link.assign(st.lambda.size(), kForbidden);
+      int32_t max_scans = 0;
+      for (std::size_t e = 0; e < st.lambda.size(); ++e) {
+        const int32_t n = st.scans(e, file.tracks.dim());
+        max_scans = std::max(max_scans, n);
+        if (!st.in_gate[e] || n <= 0) continue;
+        link[e] = static_cast<float>(gate.link_cost(st.lambda[e], n));
+      }
+      p.gate[slot] = max_scans > 0 ? gate.threshold(max_scans) : 1.0;
+    }
+  p.statistics_time_s = seconds_since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  fill_tensor(p, options.cost.form);
+  p.tensor_time_s = seconds_since(t1);
+  return p;
+}
+
+PseudoTrackInput pseudo_track_input(const SDProblem& p, bool gated, double lambda_margin, int32_t reference) {
+  const int32_t S = p.S();
+  require(reference >= 0 && reference < S, "chnn-pseudo options: reference",
+          "must be a sensor position in 0.." + std::to_string(S - 1));
+  std::vector<int32_t> order{reference};
+  for (int32_t s = 0; s < S; ++s)
+    if (s != reference) order.push_back(s);
+  PseudoTrackInput in;
+  in.n.resize(S);
+  for (int32_t s = 0; s < S; ++s) in.n[s] = p.aligned[order[s]].n_tracks();
+  in.distance.resize(static_cast<std::size_t>(S) * S);
+  in.pseudo_cost.assign(in.distance.size(), 1.0);
+  for (int32_t a = 0; a < S; ++a)
+    for (int32_t b = a + 1; b < S; ++b) {
+      const int32_t oa = order[a], ob = order[b];
+      const bool swap = oa > ob;
+      const std::size_t slot = static_cast<std::size_t>(std::min(oa, ob)) * S + std::max(oa, ob);
+      const PairStatistic& st = p.pairs[slot];
+      auto& d = in.distance[PseudoTrackInput::pair(a, b, S)];
+      d.assign(static_cast<std::size_t>(in.n[a]) * in.n[b], std::numeric_limits<double>::infinity());
+      for (int32_t i = 0; i < in.n[a]; ++i)
+        for (int32_t k = 0; k < in.n[b]; ++k) {
+          const std::size_t e =
+              swap ? static_cast<std::size_t>(k) * st.n_b + i : static_cast<std::size_t>(i) * st.n_b + k;
+          if (st.dof[e] <= 0 || (gated && !st.in_gate[e])) continue;  // Eq. 12: outside the gate → ∞
+          d[static_cast<std::size_t>(i) * in.n[b] + k] = st.lambda[e];
+        }
+      in.pseudo_cost[PseudoTrackInput::pair(a, b, S)] = (1.0 + lambda_margin) * p.gate[slot];
+    }
+  return in;
+}
+
+SolutionSD solve_chnn_sd(const SDProblem& p, const nlohmann::json& options, uint64_t seed,
+                         ChnnPseudoResult* raw) {
+  SolutionSD sol;
+  ChnnPseudoSolverOptions defaults;
+  for (int32_t s = 1; s < p.S(); ++s)
+    if (p.aligned[s].n_tracks() > p.aligned[defaults.reference].n_tracks()) defaults.reference = s;
+  const ChnnPseudoSolverOptions co = chnn_options(options, seed, defaults);
+  const int32_t reference = co.reference;
+  const ChnnPseudoResult r =
+      solve_chnn_pseudo(pseudo_track_input(p, co.gated, co.lambda_margin, reference), co.network);
+  // Back to tensor order: position 0 is `reference`, then the others in order.
+  const int32_t S = p.S();
+  std::vector<int32_t> order{reference};
+  for (int32_t s = 0; s < S; ++s)
+    if (s != reference) order.push_back(s);
+  sol.S = S;
+  sol.tuples.resize(r.solution.tuples.size());
+  for (std::size_t k = 0; k < r.solution.tuples.size(); k += S)
+    for (int32_t s = 0; s < S; ++s) sol.tuples[k + order[s]] = r.solution.tuples[k + s];
+  split_forbidden(p.tensor, sol.tuples);
+  sol.summary = r.solution.summary;
+  finish_summary_sd(p.tensor, sol.tuples, std::numeric_limits<double>::quiet_NaN(), sol.summary);
+  if (raw) *raw = r;
+  return sol;
+}
+
+SolutionSD solve_sd_tensor(const CostTensorSD& tensor, const std::string& solver,
+                           const nlohmann::json& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const SolverEntry* entry = lookup_solver(solver);
+  if (!entry || !entry->capabilities.sd_tensor) {
+    std::string known;
+    for (const auto& n : solver_names_with(&SolverCapabilities::sd_tensor)) known += " " + n;
+    throw InputError("--solver: '" + solver + "' takes no cost tensor alone; tensor S-D solvers:" + known);
+  }
+  SolutionSD sol = entry->solve_sd_tensor(tensor, options);
+  sol.summary.wall_time_s = seconds_since(t0);
+  return sol;
+}
+
+SolutionSD solve_sd(const SDProblem& p, const std::string& solver, const nlohmann::json& options,
+                    uint64_t seed) {
+  require_sd_solver(solver);
+  const SolverEntry& entry = *lookup_solver(solver);
+  if (entry.capabilities.sd_tensor) return solve_sd_tensor(p.tensor, solver, options);
+  const auto t0 = std::chrono::steady_clock::now();
+  SolutionSD sol = entry.solve_sd(p, options, seed);
+  sol.summary.wall_time_s = seconds_since(t0);
+  return sol;
+}
+
+void append_tuples(const SDProblem& p, const SolutionSD& sol, AssociationRecord& rec) {
+  rec.num_sensors = p.file_sensors;
+  const int32_t S = p.S();
+  for (std::size_t k = 0; k < sol.tuples.size(); k += S) {
+    std::vector<int32_t> row(p.file_sensors, kNoTrack);
+    for (int32_t s = 0; s < S; ++s)
+      if (sol.tuples[k + s] >= 0) row[p.sensor_columns[s]] = p.aligned[s].track[sol.tuples[k + s]];
+    rec.tuples.insert(rec.tuples.end(), row.begin(), row.end());
+    rec.cost.push_back(p.tensor.at(std::span<const int32_t>(sol.tuples.data() + k, S)));
+  }
+}
+
+AssociationRecord solve_sd_association(const SDProblem& p, const std::string& solver,
+                                       const nlohmann::json& solver_options, uint64_t seed,
+                                       const PipelineOptions& options) {
+  const SolutionSD sol = solve_sd(p, solver, solver_options, seed);
+  AssociationRecord rec =
+      record_from_summary(solver, p.file_sensors, seed, solver_options, options.to_json(), sol.summary,
+                          sol.summary.wall_time_s, {{"formulation", "S-D with dummies"}});
+  append_tuples(p, sol, rec);
+  return rec;
+}
+
+}  // namespace trackassoc

@@ -1,0 +1,165 @@
+#include "engine/pipeline/run_job.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <memory>
+#include <set>
+#include <utility>
+
+#include "engine/pipeline/associator.hpp"
+#include "engine/pipeline/sparse_pipeline.hpp"
+#include "engine/pipeline/workflow.hpp"
+#include "engine/simulation/simulation.hpp"
+#include "engine/solvers/solver_registry.hpp"
+#include "engine/studies/seed000/experiment_schedules.hpp"
+#include "io/atomic_file.hpp"
+#include "kernels/core/error.hpp"
+
+namespace trackassoc {
+namespace {
+
+// The rows of the default pipeline (what `associate` does without flags), its exact solver, and
+// seed 000's gate in the same pipeline.
+const std::vector<std::string>& default_rows() {
+  static const std::vector<std::string> rows{"default", "default-exact", "default-chi2-gate"};
+  return rows;
+}
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// Every row name is a default row or a registered 3-D solver; every key of solver_options names a
+// solver and holds an object; when `strict`, also that the solver is in `solvers` (when given) and
+// reads every key of its options.
+void check_request(const std::vector<std::string>& solvers, const nlohmann::json& options, bool strict) {
+  for (const auto& s : solvers)
+    if (!contains(default_rows(), s)) find_solver(s);
+  if (!options.is_object())
+    throw InputError("--options: expected a JSON object keyed by solver name, got " +
+                     options.dump().substr(0, 200));
+  std::vector<std::string> names;
+  for (const auto& e : solver_registry()) names.push_back(e.name);
+  for (auto it = options.begin(); it != options.end(); ++it) {
+    const std::string& name = it.key();
+    if (!contains(names, name))
+      throw InputError(
+          "--options: " + unknown_name_message("solver", name, names) +
+          " (run's --options is keyed by solver name, e.g. '{\"hopfield\": {\"restarts\": 8}}')");
+    if (!it.value().is_object())
+      throw InputError("--options: '" + name + "': expected a JSON object of that solver's options, found " +
+                       it.value().dump());
+    if (!strict) continue;
+    if (!solvers.empty() && !contains(solvers, name))
+      throw InputError("--options: '" + name + "' has options but is not in --solvers");
+    find_solver(name).solve(CostTensor3(1, 1, 1), it.value(), 1);
+  }
+}
+
+}  // namespace
+
+void RunJobOptions::validate() const {
+  check_request(solvers, solver_options, false);
+  pipeline.validate();
+}
+
+void check_run_solver_options(const nlohmann::json& solver_options, const std::vector<std::string>& solvers) {
+  check_request(solvers, solver_options, true);
+}
+
+RunJobResult run_main_job(const RunJobOptions& o, const std::function<void(const RunJobResult&)>& on_scene) {
+  o.validate();
+  const Scenario scenario = load_scenario(o.scenario);
+  const SimulationResult sim = simulate(scenario, o.seed, 0);
+  RunJobResult job;
+  job.scenario_name = scenario.name;
+  job.file = simulation_to_track_file(scenario, sim);
+  TrackFile& file = job.file;
+  {
+    std::set<std::pair<int32_t, int32_t>> keys;
+    for (std::size_t r = 0; r < file.tracks.size(); ++r)
+      keys.insert({file.tracks.sensor[r], file.tracks.track[r]});
+    job.local_tracks = keys.size();
+  }
+  if (on_scene) on_scene(job);
+
+  auto chosen_by_name = [&](const std::string& name) {
+    return o.solvers.empty() || contains(o.solvers, name);
+  };
+  auto add_row = [&](AssociationRecord rec) {
+    const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
+    file.metrics.push_back(to_metrics_record(rec.name, m));
+    job.rows.push_back(
+        {rec.name, m, rec.runtime_s, rec.objective, rec.lower_bound, rec.gap, rec.termination});
+    file.associations.push_back(std::move(rec));
+  };
+  AssociatorOptions request;
+  request.seed = o.seed;
+
+  for (const auto& name : default_rows()) {
+    if (!chosen_by_name(name)) continue;
+    request.pipeline = o.pipeline;
+    if (name == "default-chi2-gate") {
+      request.pipeline.statistic.gate = GateMethod::kChiSquareSum;
+      request.pipeline.alignment.method = AlignmentMethod::kForward;
+      request.pipeline.alignment.process_noise = 1.0;
+    }
+    request.solver = name == "default-exact" ? "exact" : "lr+ls";
+    request.solver_options = nlohmann::json::object();
+    request.name = name;
+    add_row(make_associator(AssociationPath::kSparseSD, request)->associate(file).record);
+  }
+
+  // The 3-D solvers on the three-sensor tensor (dense, or sparse with o.sparse), one problem for all.
+  const bool three = file.sensors.size() == 3 || o.pipeline.sensors.size() == 3;
+  bool any_3d = false;
+  for (const auto& entry : solver_registry()) any_3d |= !o.solvers.empty() && chosen_by_name(entry.name);
+  const bool due = any_3d || o.solvers.empty();
+  job.three_d_skipped = !three && due;
+  if (!three || !due) return job;
+  PreparedThreeSensorProblem prepared;
+  int32_t n = 0;  // the size that picks the default solvers (largest component when sparse)
+  if (o.sparse) {
+    SparsePipelineOptions sparse_options;
+    sparse_options.pipeline = o.pipeline;
+    auto sparse =
+        std::make_shared<SparseAssociationProblem>(build_sparse_association_problem(file, sparse_options));
+    for (int32_t c = 0; c < sparse->components.count; ++c) {
+      const auto counts = component_track_counts(*sparse, c);
+      n = std::max({n, counts[0], counts[1], counts[2]});
+    }
+    prepared.sparse = std::move(sparse);
+  } else {
+    require_dense_tensor_fits(file, o.pipeline);
+    auto dense = std::make_shared<AssociationProblem>(build_association_problem(file, o.pipeline));
+    n = std::max({dense->tensor.n1, dense->tensor.n2, dense->tensor.n3});
+    prepared.dense = std::move(dense);
+  }
+  request.pipeline = o.pipeline;
+  request.name.clear();
+  for (const auto& entry : solver_registry()) {
+    const bool chosen = o.solvers.empty() ? n <= entry.max_default_n : chosen_by_name(entry.name);
+    if (!chosen) continue;
+    request.solver = entry.name;
+    request.solver_options =
+        o.solver_options.contains(entry.name) ? o.solver_options[entry.name] : nlohmann::json::object();
+    AssociationRecord rec = make_three_sensor_associator(request, prepared)->associate(file).record;
+    if (prepared.dense) rec.runtime_s += prepared.dense->statistics_time_s + prepared.dense->tensor_time_s;
+    add_row(std::move(rec));
+  }
+  return job;
+}
+
+void write_run_outputs(const RunJobResult& job, const std::string& output, const std::string& plot) {
+  write_track_file(output, job.file);
+  if (plot.empty()) return;
+  std::vector<SvgSeries> series;
+  for (const auto& row : job.rows)
+    series.push_back({row.name, {std::max(1e-3, 1e3 * row.runtime_s)}, {100.0 * row.metrics.correct_rate}});
+  const std::string svg =
+      svg_scatter("trackassoc run, " + job.scenario_name + ": correct association vs time",
+                  "association time [ms]", "correct association [%]", series, true);
+  write_atomically(plot, [&](const std::string& tmp) { std::ofstream(tmp) << svg; });
+}
+
+}  // namespace trackassoc

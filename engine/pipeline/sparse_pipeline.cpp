@@ -1,0 +1,374 @@
+#include "engine/pipeline/sparse_pipeline.hpp"
+
+#include <oneapi/tbb/parallel_for.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include "engine/pipeline/tuple_decoding.hpp"
+#include "engine/solvers/solver_registry.hpp"
+#include "kernels/core/error.hpp"
+#include "kernels/core/random.hpp"
+#include "kernels/statistics/scan_candidates.hpp"
+
+namespace trackassoc {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+constexpr double kMiB = 1024.0 * 1024.0;
+
+std::size_t aligned_bytes(const AlignedTracks& x) {
+  return x.state.size() * sizeof(double) + x.cov.size() * sizeof(double) + x.valid.size() +
+         (x.track.size() + x.truth.size()) * sizeof(int32_t);
+}
+
+}  // namespace
+
+double peak_rss_mib() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux: KiB
+}
+
+void SparsePipelineOptions::validate() const {
+  pipeline.validate();
+  CandidateOptions{pipeline.statistic.gate_probability, radius_scale}.validate();
+  require(!std::isnan(miss_cost) && miss_cost >= 0.f, "SparsePipelineOptions.miss_cost",
+          "must be >= 0 (+inf: every track assigned), got " + std::to_string(miss_cost));
+  require(max_component_entries >= 1, "SparsePipelineOptions.max_component_entries", "must be >= 1");
+}
+
+nlohmann::json SparsePipelineOptions::to_json() const {
+  nlohmann::json j = pipeline.to_json();
+  j["sparse"] = true;
+  j["radius_scale"] = radius_scale;
+  j["miss_cost"] = std::isinf(miss_cost) ? nlohmann::json("inf") : nlohmann::json(miss_cost);
+  j["max_component_entries"] = max_component_entries;
+  return j;
+}
+
+SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
+                                                          const SparsePipelineOptions& options) {
+  options.validate();
+  const PipelineOptions& po = options.pipeline;
+  SparseAssociationProblem p;
+  const SensorSelection sel = select_sensors(file, po);
+  p.num_sensors = sel.num_sensors;
+  p.sensor_ids = sel.ids;
+  p.sensor_columns = sel.columns;
+  const double period = sel.period;
+
+  auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, std::size_t bytes) {
+    p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), static_cast<double>(bytes) / kMiB});
+  };
+
+  auto t0 = std::chrono::steady_clock::now();
+  p.common_times =
+      common_time_grid(file.tracks, p.sensor_ids, period, po.span_union);  // as the dense pipeline
+  std::size_t bytes = 0;
+  for (int d = 0; d < 3; ++d) {
+    p.aligned[d] = align_tracks(file.tracks, p.sensor_ids[d], p.common_times, po.alignment);
+    bytes += aligned_bytes(p.aligned[d]);
+  }
+  stage("alignment", t0, bytes);
+
+  // Candidate pairs 1-2, 2-3, 1-3. The 1-3 pairs are needed by the all-pairs cost and, in both
+  // forms, by the decoding of partial tuples (engine/pipeline/pipeline.hpp decodes a gated-in 1-3 pair).
+  t0 = std::chrono::steady_clock::now();
+  const std::array<std::pair<int, int>, 3> sensor_pairs{{{0, 1}, {1, 2}, {0, 2}}};
+  std::array<CandidatePairs, 3> cand;
+  bytes = 0;
+  for (int q = 0; q < 3; ++q) {
+    cand[q] = candidate_pairs_for_gate(p.aligned[sensor_pairs[q].first], p.aligned[sensor_pairs[q].second],
+                                       po.statistic, options.radius_scale);
+    p.candidate_pairs[q] = cand[q].size();
+    bytes += cand[q].size() * 2 * sizeof(int32_t);
+  }
+  stage("candidates", t0, bytes);
+
+  t0 = std::chrono::steady_clock::now();
+  std::array<SparsePairStatistic*, 3> out{&p.s12, &p.s23, &p.s13};
+  bytes = 0;
+  for (int q = 0; q < 3; ++q) {
+    *out[q] = keep_in_gate(sparse_sequential_statistic(
+        p.aligned[sensor_pairs[q].first], p.aligned[sensor_pairs[q].second], cand[q], po.statistic));
+    CandidatePairs().a.swap(cand[q].a);
+    CandidatePairs().b.swap(cand[q].b);
+    bytes += out[q]->bytes();
+  }
+  // G, the dense rule over the matrices the cost form uses (kernels/statistics/cost_tensor.hpp).
+  if (po.cost.gated_pair_cost > 0.0) {
+    p.gated_pair_cost = po.cost.gated_pair_cost;
+  } else {
+    double max_lambda = 0.0;
+    const int used = po.cost.form == CostForm::kAllPairs ? 3 : 2;
+    for (int q = 0; q < used; ++q)
+      for (double l : out[q]->lambda)
+        if (std::isfinite(l)) max_lambda = std::max(max_lambda, l);
+    p.gated_pair_cost = std::min(std::max(10.0 * max_lambda, 1e3), 1e30);
+  }
+  stage("statistics", t0, bytes);
+
+  t0 = std::chrono::steady_clock::now();
+  p.offset[0] = 0;
+  for (int d = 0; d < 3; ++d) p.offset[d + 1] = p.offset[d] + p.aligned[d].n_tracks();
+  std::vector<int32_t> u, v;
+  u.reserve(p.s12.size() + p.s23.size() + p.s13.size());
+  v.reserve(u.capacity());
+  for (int q = 0; q < 3; ++q) {
+    const auto [da, db] = sensor_pairs[q];
+    for (std::size_t e = 0; e < out[q]->size(); ++e) {
+      u.push_back(p.offset[da] + out[q]->a[e]);
+      v.push_back(p.offset[db] + out[q]->b[e]);
+    }
+  }
+  p.components = connected_components(p.offset[3], u, v);
+  stage("clusters", t0,
+        (p.components.label.size() + p.components.nodes.size()) * sizeof(int32_t) +
+            p.components.begin.size() * sizeof(int64_t));
+  return p;
+}
+
+std::array<int32_t, 3> component_track_counts(const SparseAssociationProblem& p, int32_t c) {
+  std::array<int32_t, 3> n{0, 0, 0};
+  for (int32_t node : p.components.members(c)) {
+    int d = 0;
+    while (node >= p.offset[d + 1]) ++d;
+    ++n[d];
+  }
+  return n;
+}
+
+namespace {
+
+// One component as a dense sub-problem: local index → track row of each sensor, the pair costs
+// (λ in gate, G otherwise, phantoms G) and the tensor.
+struct ComponentProblem {
+  std::array<std::vector<int32_t>, 3> rows;  // real tracks; local indices beyond are phantoms
+  CostTensor3 tensor;
+};
+
+// A pair's cost in the tensor: float, clamped so that a sum of three stays finite (cost_tensor.cpp).
+float pair_cost(double lambda) { return static_cast<float>(std::min(lambda, 1e30)); }
+
+// Gated-in λ of the pair (ia, ib) or NaN.
+double gated_lambda(const SparsePairStatistic& s, int32_t ia, int32_t ib) {
+  const int64_t q = s.find(ia, ib);
+  return q < 0 ? std::numeric_limits<double>::quiet_NaN() : s.lambda[q];
+}
+
+ComponentProblem component_problem(const SparseAssociationProblem& p, int32_t c,
+                                   const SparsePipelineOptions& o) {
+  ComponentProblem cp;
+  for (int32_t node : p.components.members(c)) {
+    int d = 0;
+    while (node >= p.offset[d + 1]) ++d;
+    cp.rows[d].push_back(node - p.offset[d]);
+  }
+  const bool pad = std::isinf(o.miss_cost);
+  std::array<int32_t, 3> n{};
+  for (int d = 0; d < 3; ++d) n[d] = static_cast<int32_t>(cp.rows[d].size());
+  if (pad) n.fill(*std::max_element(n.begin(), n.end()));
+  const double entries = static_cast<double>(n[0]) * n[1] * n[2];
+  if (entries > static_cast<double>(o.max_component_entries))
+    throw InputError(
+        "sparse association: component " + std::to_string(c) + " holds " + std::to_string(cp.rows[0].size()) +
+        "×" + std::to_string(cp.rows[1].size()) + "×" + std::to_string(cp.rows[2].size()) +
+        " tracks, a dense sub-tensor of " + std::to_string(static_cast<long long>(entries)) +
+        " entries > max_component_entries = " + std::to_string(o.max_component_entries) +
+        "; tighten the gate (--gate) or raise the limit (no sparse-capable solver is registered)");
+  const double G = p.gated_pair_cost;
+  // Pair costs as the dense tensor has them (kernels/statistics/cost_tensor.cpp): float(λ) in the gate,
+  // float(G) otherwise, then summed in float in the same order, so that the costs are bit-identical.
+  auto pair_matrix = [&](const SparsePairStatistic& s, int da, int db) {
+    std::vector<float> m(static_cast<std::size_t>(n[da]) * n[db], pair_cost(G));
+    for (std::size_t x = 0; x < cp.rows[da].size(); ++x)
+      for (std::size_t y = 0; y < cp.rows[db].size(); ++y) {
+        const double l = gated_lambda(s, cp.rows[da][x], cp.rows[db][y]);
+        if (!std::isnan(l)) m[x * n[db] + y] = pair_cost(l);
+      }
+    return m;
+  };
+  const std::vector<float> c12 = pair_matrix(p.s12, 0, 1), c23 = pair_matrix(p.s23, 1, 2);
+  const bool all_pairs = o.pipeline.cost.form == CostForm::kAllPairs;
+  const std::vector<float> c13 = all_pairs ? pair_matrix(p.s13, 0, 2) : std::vector<float>{};
+  cp.tensor = CostTensor3(n[0], n[1], n[2]);
+  cp.tensor.miss_cost = o.miss_cost;
+  for (int32_t i = 0; i < n[0]; ++i)
+    for (int32_t j = 0; j < n[1]; ++j)
+      for (int32_t k = 0; k < n[2]; ++k) {
+        const float a = c12[static_cast<std::size_t>(i) * n[1] + j],
+                    c = c23[static_cast<std::size_t>(j) * n[2] + k];
+        cp.tensor.at(i, j, k) = all_pairs ? a + c + c13[static_cast<std::size_t>(i) * n[2] + k]
+                                          : a + c;  // seed 000 Eq. 3: λ_ij + λ_jk
+      }
+  return cp;
+}
+
+// The decoding of engine/pipeline/tuple_decoding.hpp on track rows, with sparse gate lookups.
+struct SparseDecoder {
+  const SparseAssociationProblem& p;
+  bool all_pairs;
+  std::vector<int32_t>& rows;
+  std::vector<double>& costs;
+  GatedLambda lambda() const {
+    return [this](int q, int32_t a, int32_t b) {
+      return gated_lambda(q == 0 ? p.s12 : (q == 1 ? p.s23 : p.s13), a, b);
+    };
+  }
+  EmitTuple emit() const {
+    return [this](const std::array<int32_t, 3>& t, double cost) {
+      append_output_row(p.num_sensors, p.sensor_columns, p.aligned, t, {true, true, true}, cost, rows, costs);
+    };
+  }
+  // A tuple kept whole costs what the dense tensor holds for it (float).
+  void split(const std::array<int32_t, 3>& t, std::array<std::vector<int32_t>, 3>& left_over) const {
+    split_tuple(
+        lambda(), t, all_pairs,
+        [this](double l12, double l23, double l13) -> double {
+          return all_pairs ? pair_cost(l12) + pair_cost(l23) + pair_cost(l13)
+                           : pair_cost(l12) + pair_cost(l23);
+        },
+        emit(), left_over);
+  }
+};
+
+struct ComponentResult {
+  std::vector<int32_t> rows;  // decoded output tuples, S columns
+  std::vector<double> costs;
+  SolverSummary summary;
+};
+
+}  // namespace
+
+AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, const std::string& solver,
+                                           const nlohmann::json& solver_options, uint64_t seed,
+                                           const SparsePipelineOptions& options,
+                                           std::vector<StageReport>* stages) {
+  const SolverEntry& entry = find_solver(solver);
+  AssociationRecord rec = solve_sparse_association(
+      p, [&](const CostTensor3& b, uint64_t s) { return entry.solve(b, solver_options, s); }, solver, seed,
+      options, stages);
+  nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
+                         {"pipeline", options.to_json()}};
+  rec.options_json = opts.dump();
+  return rec;
+}
+
+AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, const ComponentSolver& solve,
+                                           const std::string& solver, uint64_t seed,
+                                           const SparsePipelineOptions& options,
+                                           std::vector<StageReport>* stages) {
+  options.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool all_pairs = options.pipeline.cost.form == CostForm::kAllPairs;
+  const int32_t C = p.components.count;
+
+  // Components of one track need no solver; the others are solved largest first for balance.
+  std::vector<int32_t> work;
+  for (int32_t c = 0; c < C; ++c)
+    if (p.components.size(c) > 1) work.push_back(c);
+  std::stable_sort(work.begin(), work.end(),
+                   [&](int32_t x, int32_t y) { return p.components.size(x) > p.components.size(y); });
+  // Refuse oversized components before any work (clear error, nothing half done).
+  for (int32_t c : work) {
+    const auto n = component_track_counts(p, c);
+    const double m = std::isinf(options.miss_cost) ? std::pow(*std::max_element(n.begin(), n.end()), 3.0)
+                                                   : static_cast<double>(n[0]) * n[1] * n[2];
+    if (m > static_cast<double>(options.max_component_entries)) (void)component_problem(p, c, options);
+  }
+
+  std::vector<ComponentResult> results(C);
+  tbb::parallel_for(std::size_t{0}, work.size(), [&](std::size_t w) {
+    const int32_t c = work[w];
+    ComponentProblem cp = component_problem(p, c, options);
+    const Solution3 sol = solve(cp.tensor, stream_key(seed, static_cast<uint64_t>(c)));
+    ComponentResult& r = results[c];
+    r.summary = sol.summary;
+    std::array<std::vector<char>, 3> seen;
+    for (int d = 0; d < 3; ++d) seen[d].assign(cp.rows[d].size(), 0);
+    auto to_rows = [&](const Tuple3& t) {
+      std::array<int32_t, 3> rows{kNoTrack, kNoTrack, kNoTrack};
+      for (int d = 0; d < 3; ++d)
+        if (t[d] >= 0 && t[d] < static_cast<int32_t>(cp.rows[d].size())) {  // phantoms decode as no track
+          rows[d] = cp.rows[d][t[d]];
+          seen[d][t[d]] = 1;
+        }
+      return rows;
+    };
+    const SparseDecoder decoder{p, all_pairs, r.rows, r.costs};
+    // Tracks split off and tracks the solver left unassigned (finite miss cost: the solvers return
+    // complete tuples only) are paired by gated-in λ.
+    std::array<std::vector<int32_t>, 3> leftovers;
+    for (const Tuple3& t : sol.tuples) decoder.split(to_rows(t), leftovers);
+    for (int d = 0; d < 3; ++d)
+      for (std::size_t x = 0; x < cp.rows[d].size(); ++x)
+        if (!seen[d][x]) leftovers[d].push_back(cp.rows[d][x]);
+    pair_leftovers(decoder.lambda(), leftovers, decoder.emit());
+  });
+
+  AssociationRecord rec;
+  rec.name = solver;
+  rec.num_sensors = p.num_sensors;
+  rec.solver = solver;
+  rec.seed = seed;
+  rec.options_json = nlohmann::json({{"pipeline", options.to_json()}}).dump();
+  double objective = 0.0, bound = 0.0;
+  bool bound_known = true;
+  std::map<std::string, int64_t> terminations;
+  for (int32_t c = 0; c < C; ++c) {
+    if (p.components.size(c) == 1) {
+      const int32_t node = p.components.members(c)[0];
+      int d = 0;
+      while (node >= p.offset[d + 1]) ++d;
+      std::array<int32_t, 3> rows{kNoTrack, kNoTrack, kNoTrack};
+      rows[d] = node - p.offset[d];
+      const SparseDecoder decoder{p, all_pairs, rec.tuples, rec.cost};
+      std::array<std::vector<int32_t>, 3> alone;
+      decoder.split(rows, alone);
+      pair_leftovers(decoder.lambda(), alone, decoder.emit());
+      continue;
+    }
+    const ComponentResult& r = results[c];
+    rec.tuples.insert(rec.tuples.end(), r.rows.begin(), r.rows.end());
+    rec.cost.insert(rec.cost.end(), r.costs.begin(), r.costs.end());
+    objective += r.summary.objective;
+    if (std::isnan(r.summary.lower_bound)) bound_known = false;
+    bound += r.summary.lower_bound;
+    ++terminations[termination_name(r.summary.termination)];
+  }
+  rec.objective = objective;  // Σ component objectives (phantom pairs charged G)
+  if (bound_known && !work.empty()) {
+    rec.lower_bound = bound;
+    rec.gap = (objective - bound) / std::max(std::fabs(objective), 1e-9);
+  }
+  if (terminations.size() == 1) {
+    rec.termination = terminations.begin()->first;
+  } else {
+    for (const auto& [name, count] : terminations)
+      rec.termination += (rec.termination.empty() ? "" : ",") + name + ":" + std::to_string(count);
+  }
+  rec.runtime_s = seconds_since(t0);
+  if (stages) {
+    std::size_t bytes = rec.tuples.size() * sizeof(int32_t) + rec.cost.size() * sizeof(double);
+    stages->push_back({"solve", rec.runtime_s, peak_rss_mib(), static_cast<double>(bytes) / kMiB});
+  }
+  return rec;
+}
+
+AssociationRecord associate_sparse(const TrackFile& file, const std::string& solver,
+                                   const nlohmann::json& solver_options, uint64_t seed,
+                                   const SparsePipelineOptions& options, std::vector<StageReport>* stages) {
+  SparseAssociationProblem p = build_sparse_association_problem(file, options);
+  if (stages) *stages = p.stages;
+  return solve_sparse_association(p, solver, solver_options, seed, options, stages);
+}
+
+}  // namespace trackassoc

@@ -1,0 +1,110 @@
+// The sparse association pipeline for three sensors (DESIGN §4.3, "Sparse form"): the path for
+// recorded track sets too large for the dense n1·n2·n3 tensor.
+//
+//   local tracks → common times → alignment                       (as engine/pipeline/pipeline.hpp)
+//   → candidate pairs from a grid over time-averaged positions   (kernels/statistics/sparse_candidates.hpp)
+//   → λ on candidate pairs only, chi-square gate                  (same statistic kernel)
+//   → connected components of the gated pair graph                (kernels/assignment/clusters.hpp)
+//   → per component, in parallel (TBB): a small dense sub-tensor, any registered solver
+//   → decoding into the same AssociationRecord as the dense pipeline.
+//
+// The common time grid, the alignment, the statistic, the cost forms, the gated-pair cost and
+// the decoding rules are those of engine/pipeline/pipeline.hpp, so that dense and sparse give identical
+// associations where both fit (tests/engine/pipeline/test_sparse_pipeline.cpp).
+//
+// Sub-tensor of a component with n1, n2, n3 tracks of the three sensors:
+//  * miss_cost = +inf (default, as the dense tensor): the sub-tensor is padded to N = max(n1, n2, n3)
+//    in every dimension with phantom indices. Any pair with a phantom is charged the gated-pair
+//    cost G, exactly as a pair of tracks from two different components is charged G in the dense
+//    tensor; a phantom is decoded as "no track". So every real track is assigned, and the solver
+//    sees the same costs as the dense one inside the component.
+//  * finite miss_cost: no padding; the sub-tensor carries the miss cost and the solver uses the
+//    dummy index (kNoTrack) of kernels/assignment/assignment_types.hpp. The solvers return complete tuples
+//    only, so the tracks they leave unassigned are then paired greedily by ascending gated-in λ
+//    (a target seen by two of the three sensors is still grouped).
+// G: options.pipeline.cost.gated_pair_cost, or when 0 the dense rule (10 × the largest in-gate λ of
+// the matrices the cost form uses, at least 1e3), computed over the whole problem, not per component.
+//
+// Components whose sub-tensor exceeds `max_component_entries` are refused with an InputError
+// (no sparse-capable solver is registered yet); the message gives the component size and the fix
+// (a tighter gate).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "engine/pipeline/pipeline.hpp"
+#include "io/track_file.hpp"
+#include "kernels/assignment/clusters.hpp"
+#include "kernels/statistics/sparse_candidates.hpp"
+
+namespace trackassoc {
+
+struct SparsePipelineOptions {
+  PipelineOptions pipeline;   // sensors, common period, alignment, statistic (gate), cost form, G
+  double radius_scale = 1.0;  // CandidateOptions::radius_scale
+  float miss_cost = std::numeric_limits<float>::infinity();  // see the header comment
+  std::size_t max_component_entries = std::size_t{1} << 24;  // 64 MiB of floats per sub-tensor
+  void validate() const;
+  nlohmann::json to_json() const;
+};
+
+// Wall time and memory of one stage.
+struct StageReport {
+  std::string name;
+  double seconds = 0.0;
+  double peak_rss_mib = 0.0;  // process peak resident set (getrusage) at the end of the stage
+  double data_mib = 0.0;      // bytes held by the stage's output
+};
+
+struct SparseAssociationProblem {
+  std::array<int32_t, 3> sensor_ids{};
+  std::array<int32_t, 3> sensor_columns{};
+  int32_t num_sensors = 0;
+  std::vector<double> common_times;
+  std::array<AlignedTracks, 3> aligned;
+  std::array<std::size_t, 3> candidate_pairs{};  // index output before the gate: 12, 23, 13
+  SparsePairStatistic s12, s23, s13;             // in-gate pairs only
+  std::array<int32_t, 4> offset{};               // node of (sensor d, track i) = offset[d] + i
+  Components components;
+  double gated_pair_cost = 0.0;     // G used in every sub-tensor
+  std::vector<StageReport> stages;  // alignment, candidates, statistics, clusters
+};
+
+SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
+                                                          const SparsePipelineOptions& options);
+
+// Solves every component with `solver` (engine/solvers/solver_registry.hpp) in parallel and decodes.
+// The solver of component c gets the seed stream_key(seed, c). Appends a "solve" StageReport to
+// `stages` when given.
+AssociationRecord solve_sparse_association(const SparseAssociationProblem& problem, const std::string& solver,
+                                           const nlohmann::json& solver_options, uint64_t seed,
+                                           const SparsePipelineOptions& options,
+                                           std::vector<StageReport>* stages = nullptr);
+
+// The same with any solver callable (a custom or test solver): `solve(tensor, seed)`. `name` goes
+// to the record's solver attribute.
+using ComponentSolver = std::function<Solution3(const CostTensor3&, uint64_t seed)>;
+AssociationRecord solve_sparse_association(const SparseAssociationProblem& problem,
+                                           const ComponentSolver& solve, const std::string& name,
+                                           uint64_t seed, const SparsePipelineOptions& options,
+                                           std::vector<StageReport>* stages = nullptr);
+
+// The entry point for `associate --sparse` (the lead wires the flag): build + solve.
+AssociationRecord associate_sparse(const TrackFile& file, const std::string& solver,
+                                   const nlohmann::json& solver_options, uint64_t seed,
+                                   const SparsePipelineOptions& options,
+                                   std::vector<StageReport>* stages = nullptr);
+
+// Component sizes: counts[d] = tracks of sensor d in component c.
+std::array<int32_t, 3> component_track_counts(const SparseAssociationProblem& p, int32_t c);
+
+// Peak resident set size of this process so far [MiB] (getrusage ru_maxrss).
+double peak_rss_mib();
+
+}  // namespace trackassoc

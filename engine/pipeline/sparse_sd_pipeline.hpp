@@ -1,0 +1,110 @@
+// The default association pipeline for recorded track sets: every sensor, sparse gated
+// candidates, and an S-D assignment with dummies per connected component (DESIGN §4.3; issue 20).
+//
+//   local tracks of S ≥ 2 sensors → common times over the union of their reports
+//   → two-sided alignment (nearest report on either side) kernels/statistics/association_statistic.hpp → for
+//   every pair of sensors: candidate pairs from a per-scan index kernels/statistics/scan_candidates.hpp → the
+//   sequential statistic on candidates, the calibrated gate    (SequentialGate) → connected components of the
+//   gated pair graph                   kernels/assignment/clusters.hpp → per component, in parallel (TBB):
+//   the S-D assignment with a dummy per sensor over the
+//     component's tracks (a dense sub-tensor; lr+ls, lr or exact), or, for a component whose
+//     sub-tensor exceeds the budget, sequential LAP merging
+//   → tuples over all sensors of the file (−1 = no track), every local track in exactly one tuple.
+//
+// Cost of a tuple with the set M of real members (the S-D generalised likelihood-ratio cost with
+// the gate as the miss cost): Σ over the linked pairs {a, b} ⊂ M of (λ_ab − G(n_ab))/f, the link
+// cost of SequentialGate (≤ 0 inside the gate), where "linked" is every pair (all-pairs form,
+// default: it uses all the evidence) or consecutive members of M (chain form). A tuple of one
+// track costs 0. A tuple is allowed only if
+//   * no two of its members overlap in time and fail the gate (a tested pair outside the gate),
+//   * and its members are connected through gated-in pairs.
+// Pairs that never coexist carry no evidence (DESIGN §4.3): they neither forbid a tuple nor link it,
+// so a target seen by sensor A early and sensor C late joins through a sensor B that saw both.
+//
+// Why components are independent: a tuple is connected through gated-in pairs, so all its members
+// lie in one component of the gated pair graph; the S-D problem separates exactly.
+//
+// Fallback for huge components (a dense sub-tensor of Π(n_s + 1) entries above
+// `max_component_entries`): sensors are merged one at a time, each by a rectangular LAP with
+// "unassigned" allowed between the groups formed so far and the next sensor's tracks, cost = the
+// sum of link costs to the group's members (forbidden as above). It is what the pairwise peers do,
+// and it is reported per record (`fallback_components`).
+//
+// Complexity: alignment O(S·n·K·D³); candidates O(S²·K·n log n + hits); statistic O(hits·K·D³);
+// components O(E α(N)); solves Σ_c Π(n_{c,s} + 1) · (solver iterations), in parallel.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "engine/pipeline/pipeline.hpp"
+#include "engine/pipeline/sparse_pipeline.hpp"
+#include "kernels/assignment/clusters.hpp"
+#include "kernels/statistics/sparse_candidates.hpp"
+
+namespace trackassoc {
+
+struct SparseSDOptions {
+  PipelineOptions pipeline;   // sensors (empty = all of the file), grid, alignment, gate, cost form
+  double radius_scale = 1.0;  // ≥ 1, widens the candidate bound (kernels/statistics/scan_candidates.hpp)
+  // Largest dense sub-tensor per component, Π(n_s + 1) entries (16 Mi floats = 64 MiB); larger
+  // components are solved by sequential LAP merging.
+  std::size_t max_component_entries = std::size_t{1} << 24;
+  void validate() const;
+  nlohmann::json to_json() const;
+};
+
+struct SparseSDProblem {
+  std::vector<int32_t> sensor_ids;      // the chosen sensors, in their order
+  std::vector<int32_t> sensor_columns;  // their columns in /sensors order
+  int32_t file_sensors = 0;             // columns of the output tuples
+  int32_t dim = 4;                      // state dimension D
+  std::vector<double> common_times;
+  std::vector<AlignedTracks> aligned;
+  std::vector<int32_t> first_valid, last_valid;  // per node: first and last valid common time (−1: never)
+  std::vector<int32_t> offset;                   // node of (sensor s, track i) = offset[s] + i
+  // Gated-in pairs of every sensor pair a < b, slot a·S + b, with their link cost.
+  std::vector<SparsePairStatistic> pairs;
+  std::vector<std::vector<double>> link;
+  std::vector<std::size_t> candidate_pairs;  // index output before the gate, per slot
+  Components components;
+  std::vector<StageReport> stages;  // alignment, candidates, statistics, components
+  int32_t S() const { return static_cast<int32_t>(sensor_ids.size()); }
+  int32_t nodes() const { return offset.empty() ? 0 : offset.back(); }
+  int32_t sensor_of(int32_t node) const {  // the s with offset[s] <= node < offset[s + 1]
+    return static_cast<int32_t>(std::upper_bound(offset.begin(), offset.end(), node) - offset.begin()) - 1;
+  }
+};
+
+// Throws InputError on unknown sensor ids, fewer than 2 sensors, sensors without tracks, a gate
+// probability of 1 (the gate is the miss cost), or no common time at all.
+SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOptions& options);
+
+// Solvers of the components: the registry's tensor S-D solvers (capabilities.sd_tensor), the
+// default first: lr+ls, lr, exact.
+const std::vector<std::string>& sparse_sd_solver_names();
+void require_sparse_sd_solver(const std::string& name);
+
+struct SparseSDSolveReport {
+  int32_t components = 0, fallback_components = 0;
+  std::size_t largest_component_entries = 0;
+};
+
+// Solves every component in parallel and returns the record for /associations/<solver>/: the
+// objective and lower bound are sums over the components (the bound is NaN when a component was
+// solved by the fallback). The component c's solver gets the seed stream_key(seed, c).
+AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const std::string& solver,
+                                              const nlohmann::json& solver_options, uint64_t seed,
+                                              const SparseSDOptions& options,
+                                              SparseSDSolveReport* report = nullptr);
+
+// build + solve: the entry point of `associate` without --solver (and of `experiment recorded`).
+AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& solver,
+                                      const nlohmann::json& solver_options, uint64_t seed,
+                                      const SparseSDOptions& options,
+                                      std::vector<StageReport>* stages = nullptr);
+
+}  // namespace trackassoc

@@ -1,0 +1,283 @@
+#include "kernels/assignment/branch_and_bound.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "kernels/assignment/assignment_canonical.hpp"
+#include "kernels/assignment/lap.hpp"
+#include "kernels/core/error.hpp"
+
+namespace trackassoc {
+
+void BranchAndBoundOptions::validate() const {
+  require(time_limit_s > 0.0 && !std::isnan(time_limit_s), "BranchAndBoundOptions.time_limit_s",
+          "must be > 0");
+  require(max_nodes >= 1, "BranchAndBoundOptions.max_nodes", "must be >= 1");
+  require(node_subgradient_iterations >= 1, "BranchAndBoundOptions.node_subgradient_iterations",
+          "must be >= 1");
+  root.validate();
+}
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Child {
+  double bound;
+  int32_t j, k;
+};
+
+class Search {
+ public:
+  Search(const CanonicalProblem3& p, const BranchAndBoundOptions& o, std::chrono::steady_clock::time_point t0)
+      : p_(p), b_(p.tensor), o_(o), t0_(t0) {
+    used_j_.assign(b_.n2, 0);
+    used_k_.assign(b_.n3, 0);
+    used_i_.assign(b_.n1, 0);
+  }
+
+  std::vector<Tuple3> incumbent;
+  double incumbent_cost = kInf;
+  double open_bound = kInf;  // least bound of subtrees abandoned at the time or node limit
+  int64_t nodes = 0;
+  bool interrupted = false;
+  bool node_limit = false;
+
+  // Returns after exploring (or abandoning) the subtree below the current fixings.
+  void explore(double fixed_cost, std::vector<double> mu) {
+    ++nodes;
+    if (nodes > o_.max_nodes) node_limit = true;
+    if (node_limit || elapsed() > o_.time_limit_s) {
+      interrupted = true;
+      open_bound = std::min(open_bound, node_bound_for_interrupt(fixed_cost, mu));
+      return;
+    }
+    std::vector<int32_t> I, J, K;
+    for (int32_t i = 0; i < b_.n1; ++i)
+      if (!used_i_[i]) I.push_back(i);
+    for (int32_t j = 0; j < b_.n2; ++j)
+      if (!used_j_[j]) J.push_back(j);
+    for (int32_t k = 0; k < b_.n3; ++k)
+      if (!used_k_[k]) K.push_back(k);
+    const int32_t r = static_cast<int32_t>(I.size()), nj = static_cast<int32_t>(J.size()),
+                  nk = static_cast<int32_t>(K.size());
+    if (r == 0) {
+      if (fixed_cost < incumbent_cost) {
+        incumbent_cost = fixed_cost;
+        incumbent = fixed_;
+      }
+      return;
+    }
+    // K equality only while |K| = |I| (then every free k must be used).
+    const bool equality = nk == r;
+    std::vector<double> c(static_cast<std::size_t>(r) * nj), g(nk);
+    std::vector<int32_t> arg(static_cast<std::size_t>(r) * nj), count(nk);
+    double best_raw = -kInf;
+    LapResult best_lap;
+    std::vector<double> best_mu;
+    double theta = 2.0;
+    for (int it = 0; it < o_.node_subgradient_iterations; ++it) {
+      // c_ij = min_{k ∈ K} (b_ijk + μ_k)   (Pattipati Eq. 16 on the free indices)
+      for (int32_t a = 0; a < r; ++a)
+        for (int32_t bj = 0; bj < nj; ++bj) {
+          const float* row = b_.cost.data() + (static_cast<std::size_t>(I[a]) * b_.n2 + J[bj]) * b_.n3;
+          double best = kInf;
+          int32_t kb = 0;
+          for (int32_t q = 0; q < nk; ++q) {
+            const double x = static_cast<double>(row[K[q]]) + mu[K[q]];
+            if (x < best) {
+              best = x;
+              kb = q;
+            }
+          }
+          c[static_cast<std::size_t>(a) * nj + bj] = best;
+          arg[static_cast<std::size_t>(a) * nj + bj] = kb;
+        }
+      LapResult lap = solve_lap(c, r, nj);
+      if (!lap.feasible) return;  // no completion of finite cost
+      double mu_sum = 0.0;
+      for (int32_t k : K) mu_sum += mu[k];
+      const double raw = fixed_cost + lap.cost - mu_sum;
+      if (prunable(raw)) return;
+      // Relaxed solution → counts per free k.
+      std::fill(count.begin(), count.end(), 0);
+      for (int32_t a = 0; a < r; ++a) ++count[arg[static_cast<std::size_t>(a) * nj + lap.row_to_col[a]]];
+      double g2 = 0.0;
+      for (int32_t q = 0; q < nk; ++q) {
+        g[q] = count[q] - 1.0;
+        if (!equality && mu[K[q]] <= 0.0 && g[q] < 0.0) g[q] = 0.0;
+        g2 += g[q] * g[q];
+      }
+      bool all_distinct = true;
+      for (int32_t q = 0; q < nk; ++q) all_distinct &= count[q] <= 1;
+      if (all_distinct) {
+        // The relaxed solution is a feasible completion: a candidate incumbent.
+        double total = fixed_cost;
+        for (int32_t a = 0; a < r; ++a) {
+          const int32_t bj = lap.row_to_col[a];
+          total += b_.at(I[a], J[bj], K[arg[static_cast<std::size_t>(a) * nj + bj]]);
+        }
+        if (total < incumbent_cost) {
+          incumbent_cost = total;
+          incumbent = fixed_;
+          for (int32_t a = 0; a < r; ++a) {
+            const int32_t bj = lap.row_to_col[a];
+            incumbent.push_back({I[a], J[bj], K[arg[static_cast<std::size_t>(a) * nj + bj]]});
+          }
+        }
+        if (g2 == 0.0) return;  // complementary slackness holds: this completion is optimal here
+        if (prunable(raw)) return;
+      }
+      if (raw > best_raw) {
+        best_raw = raw;
+        best_lap = std::move(lap);
+        best_mu = mu;
+      } else {
+        theta *= 0.5;
+      }
+      if (it + 1 == o_.node_subgradient_iterations || g2 == 0.0) break;
+      const double target =
+          std::isfinite(incumbent_cost) ? incumbent_cost : raw + 0.05 * std::max(1.0, std::abs(raw));
+      const double step = theta * std::max(target - raw, 1e-9) / g2;
+      for (int32_t q = 0; q < nk; ++q) {
+        mu[K[q]] += step * g[q];
+        if (!equality) mu[K[q]] = std::max(mu[K[q]], 0.0);
+      }
+    }
+    if (best_lap.row_dual.empty()) return;
+
+    // Children of each free i from the dual certificate; branch on the i with the fewest.
+    const std::vector<double>& u = best_lap.row_dual;
+    const std::vector<double>& v = best_lap.col_dual;
+    std::vector<Child> children, best_children;
+    int32_t branch_row = -1;
+    for (int32_t a = 0; a < r; ++a) {
+      children.clear();
+      for (int32_t bj = 0; bj < nj; ++bj) {
+        const float* row = b_.cost.data() + (static_cast<std::size_t>(I[a]) * b_.n2 + J[bj]) * b_.n3;
+        const double base = best_raw - u[a] - v[bj];
+        for (int32_t q = 0; q < nk; ++q) {
+          const double child = base + static_cast<double>(row[K[q]]) + best_mu[K[q]];
+          if (!prunable(child)) children.push_back({child, J[bj], K[q]});
+        }
+        if (branch_row >= 0 && children.size() >= best_children.size()) break;
+      }
+      if (branch_row < 0 || children.size() < best_children.size()) {
+        branch_row = a;
+        best_children.swap(children);
+        if (best_children.empty()) return;  // no child can beat the incumbent
+      }
+    }
+    std::sort(best_children.begin(), best_children.end(), [](const Child& x, const Child& y) {
+      return x.bound < y.bound || (x.bound == y.bound && (x.j < y.j || (x.j == y.j && x.k < y.k)));
+    });
+    const int32_t i = I[branch_row];
+    for (std::size_t ch = 0; ch < best_children.size(); ++ch) {
+      const Child& child = best_children[ch];
+      if (prunable(child.bound)) break;  // sorted: the rest are no better
+      if (interrupted) {
+        open_bound = std::min(open_bound, child.bound);
+        break;
+      }
+      used_i_[i] = 1;
+      used_j_[child.j] = 1;
+      used_k_[child.k] = 1;
+      fixed_.push_back({i, child.j, child.k});
+      explore(fixed_cost + b_.at(i, child.j, child.k), best_mu);
+      fixed_.pop_back();
+      used_i_[i] = used_j_[child.j] = used_k_[child.k] = 0;
+    }
+  }
+
+ private:
+  double elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  }
+
+  // A bound `raw` cannot lead to a strictly better solution than the incumbent.
+  bool prunable(double raw) const {
+    if (!std::isfinite(incumbent_cost)) return raw == kInf;
+    if (p_.integer_costs) return std::ceil(raw - 1e-7 * std::max(1.0, std::abs(raw))) >= incumbent_cost;
+    return raw >= incumbent_cost - 1e-9 * std::max(1.0, std::abs(incumbent_cost));
+  }
+
+  // A cheap valid bound of an abandoned node: its fixed cost plus the minimum possible per free i.
+  double node_bound_for_interrupt(double fixed_cost, const std::vector<double>&) const {
+    double s = fixed_cost;
+    for (int32_t i = 0; i < b_.n1; ++i) {
+      if (used_i_[i]) continue;
+      double m = kInf;
+      for (int32_t j = 0; j < b_.n2; ++j) {
+        if (used_j_[j]) continue;
+        for (int32_t k = 0; k < b_.n3; ++k)
+          if (!used_k_[k]) m = std::min(m, static_cast<double>(b_.at(i, j, k)));
+      }
+      s += m;
+    }
+    return s;
+  }
+
+  const CanonicalProblem3& p_;
+  const CostTensor3& b_;
+  const BranchAndBoundOptions& o_;
+  std::chrono::steady_clock::time_point t0_;
+  std::vector<char> used_i_, used_j_, used_k_;
+  std::vector<Tuple3> fixed_;
+};
+
+}  // namespace
+
+Solution3 solve_branch_and_bound3(const CostTensor3& cost, const BranchAndBoundOptions& options) {
+  options.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  const CanonicalProblem3 p = make_canonical(cost);
+  LagrangianOptions root = options.root;
+  root.local_search = true;
+  root.time_limit_s = std::min(root.time_limit_s, options.time_limit_s);
+  const LagrangianRun run = run_lagrangian(p, root);
+
+  Solution3 s;
+  double lower_bound = run.lower_bound;
+  std::vector<Tuple3> best = run.best_tuples;
+  int64_t nodes = 0;
+  Termination termination = Termination::kOptimal;
+  if (run.termination == Termination::kInfeasible && run.best_tuples.empty() && run.lower_bound == kInf) {
+    termination = Termination::kInfeasible;
+  } else if (!(run.termination == Termination::kOptimal)) {
+    Search search(p, options, t0);
+    search.incumbent = run.best_tuples;
+    search.incumbent_cost = run.upper_bound;
+    search.explore(0.0, run.best_multipliers);
+    nodes = search.nodes;
+    best = search.incumbent;
+    if (search.interrupted) {
+      termination = search.node_limit ? Termination::kIterationLimit : Termination::kTimeLimit;
+      lower_bound = std::max(lower_bound, std::min(search.open_bound, search.incumbent_cost));
+    } else {
+      lower_bound = search.incumbent_cost;  // proven: every other subtree was pruned
+      if (!std::isfinite(search.incumbent_cost)) termination = Termination::kInfeasible;
+    }
+  } else {
+    lower_bound = run.upper_bound;
+  }
+  s.tuples = to_original(p, best);
+  s.summary.iterations = nodes;
+  s.summary.sweeps = run.iterations;
+  s.summary.termination = termination;
+  finish_summary(
+      cost, s.tuples,
+      termination == Termination::kInfeasible ? std::numeric_limits<double>::quiet_NaN() : lower_bound,
+      s.summary);
+  if (termination == Termination::kOptimal && s.summary.feasible) {
+    s.summary.lower_bound = s.summary.objective;
+    s.summary.gap = s.summary.abs_gap = 0.0;
+  }
+  s.summary.message =
+      "nodes " + std::to_string(nodes) + ", root relaxation iterations " + std::to_string(run.iterations);
+  s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return s;
+}
+
+}  // namespace trackassoc

@@ -1,0 +1,41 @@
+// Cross-covariance of two local tracks of one target from common process noise (Bar-Shalom 1981;
+// Bar-Shalom & Campo 1986; Bar-Shalom, Li, Kirubarajan 2001 §8.4): the correlated-error form of
+// the sequential statistic (seed 000 §2–§4, "节点间误差相关"; kernels/statistics/association_statistic.hpp).
+//
+// Two Kalman filters that track the same target see the same process noise w(k), so their
+// estimation errors e_a, e_b are correlated even when their measurement noises are independent:
+//
+//   e(k) = A(k)·[F e(k−1) + w(k)] − K(k) v(k),   A(k) = I − K(k)H
+//   P_ab(k) = A_a(k)·[F P_ab(k−1) Fᵀ + Q]·A_b(k)ᵀ,   P_ab(0) = 0                      (BSC recursion)
+//
+// A track file carries P(k|k) but not the gain. For a CV filter with the known F and Q, the gain
+// follows from two consecutive reported covariances:
+//
+//   P(k|k) = A(k)·P(k|k−1),   P(k|k−1) = F P(k−1|k−1) Fᵀ + Q   ⇒   A(k) = P(k|k)·P(k|k−1)⁻¹,
+//
+// exact when the common times are the filters' update times (synchronous sensors; at a common time
+// without a new report P(k) = P(k|k−1) and A = I, a pure prediction). Q is the piecewise-constant
+// white acceleration model of the local filters (kernels/filters/kalman_bank.hpp,
+// kinematic_process_noise): per axis σ_a²·[Δ⁴/4 Δ³/2; Δ³/2 Δ²]. The recursion starts at 0 at a
+// pair's first common time (independently initialised tracks); over a gap in either track it
+// restarts at 0, which underestimates the correlation there.
+//
+// Cost: A(k) once per aligned cell, O(n·K·D³); the recursion per pair and time, O(D³), in the
+// statistic's pair loop.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "kernels/statistics/association_statistic.hpp"
+
+namespace trackassoc {
+
+// Per cell (track·K + k) of `x`, A(k) as a full row-major D×D matrix; the identity where the track
+// is invalid at k or k−1. Throws InputError when F P(k−1) Fᵀ + Q is not positive definite.
+std::vector<double> gain_complements(const AlignedTracks& x, double sigma_a);
+
+// F and Q of the CV model (state = position[m], velocity[m]) over Δ for σ_a (as above).
+void cv_transition(int dim, double dt, double sigma_a, Eigen::MatrixXd& F, Eigen::MatrixXd& Q);
+
+}  // namespace trackassoc

@@ -1,0 +1,144 @@
+// `trackassoc associate --sparse` and `run --sparse` end to end: the sparse path writes the same
+// /associations/<name>/ tuples as the dense path on small scenarios whose gated components are all
+// balanced (engine/pipeline/sparse_pipeline.hpp: the dense tensor's and the sparse padding's treatment of
+// unequal counts differ otherwise; then both must still output every local track once), a dense run over
+// --memory-budget is refused before any work with a pointer to --sparse, and bad combinations are
+// rejected with exit status 2 and no output file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <vector>
+
+#include "engine/pipeline/sparse_pipeline.hpp"
+#include "io/track_file.hpp"
+#include "tests/support/cli_runner.hpp"
+
+namespace trackassoc {
+namespace {
+
+using testing_support::CliFixture;
+
+std::set<std::vector<int32_t>> tuple_set(const AssociationRecord& r) {
+  std::set<std::vector<int32_t>> s;
+  for (std::size_t k = 0; k < r.num_tuples(); ++k)
+    s.emplace(r.tuples.begin() + k * r.num_sensors, r.tuples.begin() + (k + 1) * r.num_sensors);
+  return s;
+}
+
+const AssociationRecord& only_association(const TrackFile& f) {
+  EXPECT_EQ(f.associations.size(), 1u);
+  return f.associations.front();
+}
+
+class AssociateSparseCli : public CliFixture {};
+
+// True when every connected component of the gated candidate graph holds as many tracks of each
+// of the three sensors (the condition under which sparse == dense, engine/pipeline/sparse_pipeline.hpp).
+bool all_components_balanced(const std::string& file) {
+  const SparseAssociationProblem p = build_sparse_association_problem(read_track_file(file), {});
+  for (int32_t c = 0; c < p.components.count; ++c) {
+    const auto n = component_track_counts(p, c);
+    if (n[0] != n[1] || n[1] != n[2]) return false;
+  }
+  return true;
+}
+
+void expect_each_track_once(const AssociationRecord& r) {
+  std::set<std::pair<int, int32_t>> seen;
+  for (std::size_t k = 0; k < r.num_tuples(); ++k)
+    for (int c = 0; c < r.num_sensors; ++c)
+      if (const int32_t t = r.tuples[k * r.num_sensors + c]; t >= 0) {
+        EXPECT_TRUE(seen.emplace(c, t).second);
+      }
+}
+
+TEST_F(AssociateSparseCli, SparseAndDenseGiveTheSameAssociation) {
+  // The embedded seed 000 scenarios (10 and 20 targets, three radars), three seeds each, two solvers.
+  int compared = 0, unbalanced = 0;
+  for (const std::string scenario : {"seed000", "seed000_20"})
+    for (const std::string seed : {"1", "2", "3"}) {
+      const std::string sim = path("sim_" + scenario + seed + ".h5");
+      ASSERT_EQ(run("simulate --scenario " + scenario + " --seed " + seed + " --output " + sim).status, 0);
+      const bool balanced = all_components_balanced(sim);
+      for (const std::string solver : {"pairwise", "exact"}) {
+        const std::string dense = path("dense.h5"), sparse = path("sparse.h5");
+        const auto d = run("associate --input " + sim + " --output " + dense + " --solver " + solver);
+        ASSERT_EQ(d.status, 0) << d.err;
+        const auto s =
+            run("associate --sparse --input " + sim + " --output " + sparse + " --solver " + solver);
+        ASSERT_EQ(s.status, 0) << s.err;
+        EXPECT_NE(s.out.find("components"), std::string::npos) << s.out;
+        const TrackFile a = read_track_file(dense), b = read_track_file(sparse);
+        const AssociationRecord &ra = only_association(a), &rb = only_association(b);
+        EXPECT_EQ(ra.name, solver);
+        EXPECT_EQ(rb.name, solver);
+        EXPECT_EQ(rb.solver, ra.solver);
+        EXPECT_EQ(rb.num_sensors, ra.num_sensors);
+        EXPECT_TRUE(nlohmann::json::parse(rb.options_json).at("pipeline").value("sparse", false))
+            << rb.options_json;
+        expect_each_track_once(ra);
+        expect_each_track_once(rb);
+        if (balanced) {
+          EXPECT_EQ(tuple_set(rb), tuple_set(ra)) << scenario << " seed " << seed << " " << solver;
+          ++compared;
+        } else {
+          ++unbalanced;
+        }
+      }
+    }
+  EXPECT_GE(compared, 6) << unbalanced << " runs had unbalanced components";
+  RecordProperty("compared", compared);
+  RecordProperty("unbalanced", unbalanced);
+}
+
+TEST_F(AssociateSparseCli, DenseOverTheMemoryBudgetPointsToSparse) {
+  // seed 000 with 80 targets for 4 s (3 scans): a 80x80x80 dense tensor of floats is 2 MB, while
+  // the file's tables (720 track reports of 144 bytes, 104 KB) and the common time grid (about
+  // 120 KB) fit a budget of 0.5 MiB, the global --memory-budget that every reader also checks.
+  std::ifstream in(std::string(TRACKASSOC_SOURCE_DIR) + "/data/scenarios/seed000.json");
+  nlohmann::json scenario = nlohmann::json::parse(in);
+  scenario["duration"] = 4.0;
+  scenario["random_targets"]["count"] = 80;
+  const std::string json = write("many.json", scenario.dump());
+  const std::string sim = path("sim.h5"), out = path("out.h5");
+  ASSERT_EQ(run("simulate --scenario " + json + " --output " + sim).status, 0);
+  auto r = run("associate --input " + sim + " --output " + out + " --3d --memory-budget 0.5");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--sparse"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("80x80x80"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // The same budget is no obstacle to the sparse path (components of a few tracks).
+  r = run("associate --sparse --input " + sim + " --output " + out + " --memory-budget 0.5");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  // `run` shares the flags.
+  r = run("run --scenario " + json + " --output " + path("run.h5") + " --solvers greedy --memory-budget 0.5");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--sparse"), std::string::npos) << r.err;
+  r = run("run --sparse --scenario " + json + " --output " + path("run.h5") +
+          " --solvers greedy,pairwise --memory-budget 0.5");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const TrackFile f = read_track_file(path("run.h5"));
+  EXPECT_EQ(f.associations.size(), 2u);
+}
+
+TEST_F(AssociateSparseCli, BadCombinationsAreRejected) {
+  const std::string sim = path("sim.h5"), out = path("out.h5");
+  ASSERT_EQ(run("simulate --output " + sim).status, 0);
+  auto r = run("associate --sparse --solver fuzzy --input " + sim + " --output " + out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--sparse"), std::string::npos) << r.err;
+  r = run("associate --input " + sim + " --output " + out + " --memory-budget -5");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--memory-budget"), std::string::npos) << r.err;
+  // The sparse path needs a gate (its candidates are the gated pairs).
+  r = run("associate --sparse --gate 1 --input " + sim + " --output " + out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace trackassoc

@@ -1,0 +1,353 @@
+// The default pipeline for recorded track sets (engine/pipeline/sparse_sd_pipeline.hpp) and its candidate
+// index (kernels/statistics/scan_candidates.hpp), against independent computations:
+//  * the per-scan index and the position-bound pruning are lossless: they return every pair the
+//    dense statistic gates in, and the index equals its O(n²) scan;
+//  * the association equals a brute-force optimum over all groupings of the tracks, with the
+//    tuple cost written from the dense statistic of every pair;
+//  * on the realistic-recording family the default reaches the targets, the CLI uses every
+//    sensor, and bad input is exit 2 with one line and no output.
+#include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <set>
+
+#include "engine/pipeline/metrics.hpp"
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/workflow.hpp"
+#include "engine/simulation/simulation.hpp"
+#include "io/track_file.hpp"
+#include "kernels/core/error.hpp"
+#include "kernels/core/random.hpp"
+#include "kernels/statistics/scan_candidates.hpp"
+#include "tests/support/cli_runner.hpp"
+
+namespace trackassoc {
+namespace {
+
+using testing_support::CliFixture;
+using testing_support::CliResult;
+
+TrackFile simulate_file(const std::string& scenario, int run = 0, int targets = -1) {
+  Scenario sc = load_scenario(scenario);
+  if (targets >= 0) sc.random_targets.count = targets;
+  return simulation_to_track_file(sc, simulate(sc, 1, run));
+}
+
+std::set<std::pair<int32_t, int32_t>> as_set(const CandidatePairs& c) {
+  std::set<std::pair<int32_t, int32_t>> s;
+  for (std::size_t q = 0; q < c.size(); ++q) s.insert({c.a[q], c.b[q]});
+  return s;
+}
+
+// The rows of `t` for which keep(row) holds.
+TrackTable keep_rows(const TrackTable& t, const std::function<bool(std::size_t)>& keep) {
+  TrackTable out(t.layout);
+  for (std::size_t r = 0; r < t.size(); ++r)
+    if (keep(r)) out.push_back(t.sensor[r], t.track[r], t.t[r], t.state_at(r), t.cov_at(r), t.truth[r]);
+  return out;
+}
+
+// A recorded_sync file cut so that sensor 0 reports only before t = 20 s and sensor 1 only after
+// t = 40 s (sensor 2 removed): no two tracks of different sensors ever coexist.
+TrackFile tracks_never_together() {
+  TrackFile f = simulate_file("recorded_sync");
+  f.tracks = keep_rows(f.tracks, [&](std::size_t r) {
+    return (f.tracks.sensor[r] == 0 && f.tracks.t[r] < 20.0) ||
+           (f.tracks.sensor[r] == 1 && f.tracks.t[r] > 40.0);
+  });
+  f.sensors.pop_back();
+  f.measurements.reset();
+  f.truth.reset();
+  return f;
+}
+
+TEST(ScanCandidates, LosslessAgainstTheDenseGateAndEqualToTheNaiveScan) {
+  for (const char* name : {"recorded_3s", "recorded_dense", "recorded_formation"}) {
+    const TrackFile file = simulate_file(name);
+    const PipelineOptions po;
+    const std::vector<int32_t> ids{file.sensors[0].id, file.sensors[1].id, file.sensors[2].id};
+    const std::vector<double> grid = common_time_grid(file.tracks, ids, file.sensors[2].period, true);
+    const AlignedTracks a = align_tracks(file.tracks, ids[0], grid, po.alignment);
+    const AlignedTracks b = align_tracks(file.tracks, ids[2], grid, po.alignment);
+    const double cap = SequentialGate(a.dim, po.statistic).cap();
+    const CandidatePairs fast = scan_candidate_pairs(a, b, cap);
+    EXPECT_EQ(as_set(fast), as_set(scan_candidate_pairs_all_pairs(a, b, cap))) << name;
+    const auto pruned = as_set(prune_by_position_bound(a, b, fast, po.statistic));
+    const PairStatistic dense = independent_sequential_statistic(a, b, po.statistic);
+    int gated = 0;
+    for (int32_t i = 0; i < a.n_tracks(); ++i)
+      for (int32_t j = 0; j < b.n_tracks(); ++j)
+        if (dense.in_gate[static_cast<std::size_t>(i) * b.n_tracks() + j]) {
+          ++gated;
+          EXPECT_TRUE(pruned.count({i, j})) << name << ": gated pair " << i << "," << j << " lost";
+        }
+    EXPECT_GT(gated, 5) << name;
+    EXPECT_LT(pruned.size(), static_cast<std::size_t>(a.n_tracks()) * b.n_tracks() / 2) << name;
+  }
+}
+
+// One track with a covariance 10^8 times the others' (a just-initialised or far track): the grid
+// is sized by the median radius, the wide query reads every point, and the result is still the
+// naive scan's.
+TEST(ScanCandidates, AWideCovarianceAmongSmallOnesGivesTheNaiveResult) {
+  auto make = [](int32_t sensor, uint64_t seed) {
+    AlignedTracks x;
+    x.sensor = sensor;
+    x.dim = 4;
+    x.n_times = 3;
+    CounterRng rng(seed, 0, 0);
+    for (int32_t i = 0; i < 300; ++i) {
+      x.track.push_back(i);
+      x.truth.push_back(i);
+      for (int k = 0; k < 3; ++k) {
+        x.valid.push_back(k != 1 || i % 3 != 0);
+        const double px = rng.uniform(0.0, 1e5), py = rng.uniform(0.0, 1e5);
+        for (double v : {px, py, 100.0, 0.0}) x.state.push_back(v);
+        const double var = i == 7 ? 1e12 : 1e4 * (1.0 + (i % 5));
+        for (double v : {var, 0.0, 0.0, 0.0, var, 0.0, 0.0, 1.0, 0.0, 1.0}) x.cov.push_back(v);
+      }
+    }
+    return x;
+  };
+  const AlignedTracks a = make(0, 1), b = make(1, 2);
+  for (double cap : {1.0, 18.47}) {
+    const CandidatePairs fast = scan_candidate_pairs(a, b, cap);
+    EXPECT_EQ(as_set(fast), as_set(scan_candidate_pairs_all_pairs(a, b, cap))) << cap;
+    int wide = 0;
+    for (std::size_t q = 0; q < fast.size(); ++q) wide += fast.a[q] == 7 || fast.b[q] == 7;
+    EXPECT_GT(wide, 250) << cap;  // the wide track is near everything
+  }
+}
+
+// Brute force: every grouping of the tracks into tuples with at most one track per sensor, cost
+// from the dense statistic (link (λ − G(n))/f when gated in; a tested pair outside the gate
+// forbids the tuple; pairs never together are neutral; members connected through gated pairs).
+double brute_force_optimum(const TrackFile& file, const PipelineOptions& po,
+                           const std::vector<int32_t>& keep_tracks) {
+  std::vector<int32_t> ids;
+  for (const auto& s : file.sensors) ids.push_back(s.id);
+  double period = 0.0;
+  for (const auto& s : file.sensors) period = std::max(period, s.period);
+  const std::vector<double> grid = common_time_grid(file.tracks, ids, period, true);
+  std::vector<AlignedTracks> al;
+  for (int32_t id : ids) al.push_back(align_tracks(file.tracks, id, grid, po.alignment));
+  const SequentialGate gate(al[0].dim, po.statistic);
+  struct Node {
+    int32_t s, i;
+  };
+  std::vector<Node> nodes;
+  for (int32_t s = 0; s < static_cast<int32_t>(al.size()); ++s)
+    for (int32_t i = 0; i < al[s].n_tracks(); ++i)
+      if (std::find(keep_tracks.begin(), keep_tracks.end(), al[s].truth[i]) != keep_tracks.end())
+        nodes.push_back({s, i});
+  const std::size_t N = nodes.size();
+  std::vector<std::vector<double>> link(N, std::vector<double>(N, 0.0));
+  std::vector<std::vector<int>> kind(N, std::vector<int>(N, 0));  // 1 gated, -1 forbidden, 0 neutral
+  for (std::size_t x = 0; x < N; ++x)
+    for (std::size_t y = x + 1; y < N; ++y) {
+      if (nodes[x].s == nodes[y].s) continue;
+      const auto& A = al[nodes[x].s];
+      const auto& B = al[nodes[y].s];
+      AlignedTracks one = A, two = B;  // the pair alone, through the dense kernel
+      auto keep_one = [](AlignedTracks& t, int32_t i) {
+        const int D = t.dim, P = packed_size(D);
+        const std::size_t K = t.n_times;
+        std::vector<double> st(t.state.begin() + i * K * D, t.state.begin() + (i + 1) * K * D);
+        std::vector<double> cv(t.cov.begin() + i * K * P, t.cov.begin() + (i + 1) * K * P);
+        std::vector<uint8_t> va(t.valid.begin() + i * K, t.valid.begin() + (i + 1) * K);
+        t.state = st, t.cov = cv, t.valid = va, t.track = {t.track[i]}, t.truth = {t.truth[i]};
+      };
+      keep_one(one, nodes[x].i);
+      keep_one(two, nodes[y].i);
+      const PairStatistic ps = independent_sequential_statistic(one, two, po.statistic);
+      if (ps.in_gate[0]) {
+        kind[x][y] = kind[y][x] = 1;
+        link[x][y] = link[y][x] = gate.link_cost(ps.lambda[0], ps.dof[0] / one.dim);
+      } else if (ps.dof[0] > 0) {
+        kind[x][y] = kind[y][x] = -1;
+      }
+    }
+  auto tuple_cost = [&](const std::vector<std::size_t>& m) {
+    if (m.size() <= 1) return 0.0;
+    double c = 0.0;
+    std::vector<int> comp(m.size());
+    for (std::size_t x = 0; x < m.size(); ++x) comp[x] = static_cast<int>(x);
+    for (std::size_t x = 0; x < m.size(); ++x)
+      for (std::size_t y = x + 1; y < m.size(); ++y) {
+        if (kind[m[x]][m[y]] < 0) return std::numeric_limits<double>::infinity();
+        if (kind[m[x]][m[y]] == 1) {
+          c += link[m[x]][m[y]];
+          const int from = comp[y], to = comp[x];
+          for (auto& v : comp)
+            if (v == from) v = to;
+        }
+      }
+    for (int v : comp)
+      if (v != comp[0]) return std::numeric_limits<double>::infinity();
+    return c;
+  };
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<std::size_t>> groups;
+  std::function<void(std::size_t, double)> rec = [&](std::size_t k, double acc) {
+    if (k == N) {
+      double total = 0.0;
+      for (const auto& g : groups) total += tuple_cost(g);
+      best = std::min(best, total);
+      return;
+    }
+    for (std::size_t gi = 0; gi < groups.size(); ++gi) {  // by index: rec() grows `groups`
+      bool clash = false;
+      for (std::size_t u : groups[gi]) clash |= nodes[u].s == nodes[k].s;
+      if (clash) continue;
+      groups[gi].push_back(k);
+      rec(k + 1, acc);
+      groups[gi].pop_back();
+    }
+    groups.push_back({k});
+    rec(k + 1, acc);
+    groups.pop_back();
+  };
+  rec(0, 0.0);
+  return best;
+}
+
+TEST(SparseSDPipeline, EqualsTheBruteForceOptimumOverAllGroupings) {
+  // A formation (3 members 400 m apart) and a fourth target: one component of ~12 tracks, with
+  // partial lifetimes and unequal counts.
+  for (int run = 0; run < 3; ++run) {
+    TrackFile file = simulate_file("recorded_formation", run);
+    // Keep the tracks of targets 0..3 only (and drop the false tracks).
+    const std::vector<int32_t> keep{0, 1, 2, 3};
+    file.tracks = keep_rows(file.tracks, [&](std::size_t r) {
+      return std::find(keep.begin(), keep.end(), file.tracks.truth[r]) != keep.end();
+    });
+    const double brute = brute_force_optimum(file, PipelineOptions{}, keep);
+    EXPECT_LT(brute, -10.0) << "run " << run << ": the instance links nothing";
+    SparseSDOptions so;
+    for (const char* solver : {"exact", "lr+ls"}) {
+      const AssociationRecord rec = associate_sparse_sd(file, solver, nlohmann::json::object(), 1, so);
+      double total = 0.0;
+      for (double c : rec.cost) total += c;
+      if (std::string(solver) == "exact") {
+        EXPECT_NEAR(rec.objective, brute, 1e-3 * std::max(1.0, std::fabs(brute))) << "run " << run;
+        EXPECT_NEAR(total, brute, 1e-3 * std::max(1.0, std::fabs(brute))) << "run " << run;
+      } else {
+        EXPECT_GE(rec.objective, brute - 1e-3 * std::max(1.0, std::fabs(brute)));
+      }
+    }
+  }
+}
+
+TEST(SparseSDPipeline, EveryTrackInExactlyOneTupleAndBitIdenticalForOneAndTwoThreads) {
+  const TrackFile file = simulate_file("recorded_5s");
+  std::vector<AssociationRecord> recs;
+  for (int threads : {1, 2}) {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
+    recs.push_back(associate_sparse_sd(file, "lr+ls", nlohmann::json::object(), 1, SparseSDOptions{}));
+  }
+  EXPECT_EQ(recs[0].tuples, recs[1].tuples);
+  EXPECT_EQ(recs[0].num_sensors, 5);
+  std::set<std::pair<int32_t, int32_t>> seen, all;
+  for (std::size_t r = 0; r < file.tracks.size(); ++r)
+    all.insert({file.tracks.sensor[r], file.tracks.track[r]});
+  for (std::size_t q = 0; q < recs[0].num_tuples(); ++q)
+    for (int32_t s = 0; s < 5; ++s) {
+      const int32_t trk = recs[0].tuples[q * 5 + s];
+      if (trk >= 0) {
+        EXPECT_TRUE(seen.insert({file.sensors[s].id, trk}).second);
+      }
+    }
+  EXPECT_EQ(seen, all);
+}
+
+// The family at the targets (one run each; experiment recorded measures more).
+TEST(SparseSDPipeline, DefaultOnTheRecordedFamilyIsCorrectWithFewFalseTuples) {
+  for (const char* name : {"recorded_sync", "recorded_3s", "recorded_4s", "recorded_5s", "recorded_dense"}) {
+    const TrackFile file = simulate_file(name);
+    const AssociationRecord rec =
+        associate_sparse_sd(file, "lr+ls", nlohmann::json::object(), 1, SparseSDOptions{});
+    const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
+    EXPECT_GE(m.correct_rate, 0.95) << name;
+    EXPECT_LE(m.false_tuples, std::max(1, m.linked_tuples / 50)) << name;
+  }
+}
+
+TEST(SparseSDPipeline, RefusesBadOptionsAndTracksThatNeverCoexist) {
+  TrackFile file = simulate_file("recorded_sync");
+  SparseSDOptions so;
+  so.pipeline.statistic.gate_probability = 1.0;
+  EXPECT_THROW(build_sparse_sd_problem(file, so), InputError);
+  so = {};
+  so.pipeline.sensors = {0, 7};
+  EXPECT_THROW(build_sparse_sd_problem(file, so), InputError);
+  EXPECT_THROW(require_sparse_sd_solver("hopfield"), InputError);
+  file = tracks_never_together();
+  try {
+    build_sparse_sd_problem(file, SparseSDOptions{});
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nothing to associate"), std::string::npos) << e.what();
+  }
+}
+
+// A sensor with a single report is data, not an error: its track is associated or left alone.
+TEST(SparseSDPipeline, ASensorWithOneReportIsAssociatedOrLeftAlone) {
+  TrackFile file = simulate_file("recorded_sync");
+  bool kept = false;  // sensor 2 keeps one report: its first after t = 20 s
+  file.tracks = keep_rows(file.tracks, [&](std::size_t r) {
+    if (file.tracks.sensor[r] != 2) return true;
+    if (kept || file.tracks.t[r] < 20.0) return false;
+    return kept = true;
+  });
+  const AssociationRecord rec =
+      associate_sparse_sd(file, "lr+ls", nlohmann::json::object(), 1, SparseSDOptions{});
+  const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
+  EXPECT_GE(m.correct_rate, 0.95);
+  EXPECT_EQ(m.false_tuples, 0);
+}
+
+class SparseSDCli : public CliFixture {};
+
+TEST_F(SparseSDCli, AssociateUsesEverySensorByDefaultAndBadInputIsExitTwo) {
+  const std::string sim = path("sim.h5"), out = path("out.h5");
+  ASSERT_EQ(run("simulate --scenario recorded_5s --output " + sim).status, 0);
+  CliResult r = run("associate --input " + sim + " --output " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("5 sensors (sparse S-D"), std::string::npos) << r.out;
+  const TrackFile f = read_track_file(out);
+  ASSERT_EQ(f.associations.size(), 1u);
+  EXPECT_EQ(f.associations[0].num_sensors, 5);
+  r = run("evaluate --input " + out);
+  EXPECT_EQ(r.status, 0) << r.err;
+  // A 3-D solver on five sensors is refused, never run on three of them silently.
+  r = run("associate --input " + sim + " --output " + path("o2.h5") + " --solver pairwise");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("5 sensors"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path("o2.h5")));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  // With --sensors it runs on the three named.
+  r = run("associate --input " + sim + " --output " + path("o3.h5") + " --solver pairwise --sensors 0 1 2");
+  EXPECT_EQ(r.status, 0) << r.err;
+  // Tracks that never coexist: exit 2, one line, nothing written.
+  {
+    const TrackFile bad = tracks_never_together();
+    write_track_file(path("apart.h5"), bad);
+    r = run("associate --input " + path("apart.h5") + " --output " + path("o5.h5"));
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.err.find("nothing to associate"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(path("o5.h5")));
+  }
+  // A gate of 1 is no miss cost: exit 2, nothing written.
+  r = run("associate --input " + sim + " --output " + path("o4.h5") + " --gate 1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_FALSE(std::filesystem::exists(path("o4.h5")));
+}
+
+}  // namespace
+}  // namespace trackassoc

@@ -1,0 +1,164 @@
+// Exact branch and bound (kernels/assignment/branch_and_bound.hpp) against the known optima of the public
+// benchmark sets, the DecompLib optimal solutions, and brute force on small random instances
+// (unequal sizes, dummy index).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "kernels/assignment/branch_and_bound.hpp"
+#include "kernels/core/error.hpp"
+#include "kernels/core/random.hpp"
+#include "tests/support/solver_test_support.hpp"
+
+namespace trackassoc {
+namespace {
+
+using namespace testing_support;
+
+void expect_exact(const std::string& file, const std::string& name, double optimum) {
+  SCOPED_TRACE(name);
+  const CostTensor3 b = read_3dap_instance(file);
+  const Solution3 s = solve_branch_and_bound3(b);
+  expect_consistent(b, s);
+  EXPECT_EQ(s.summary.termination, Termination::kOptimal) << s.summary.message;
+  EXPECT_DOUBLE_EQ(s.summary.objective, optimum);
+  EXPECT_DOUBLE_EQ(s.summary.lower_bound, optimum);
+  EXPECT_EQ(s.summary.gap, 0.0);
+}
+
+TEST(Exact, BalasSaltzmanUpTo12) {
+  const auto optima = read_known_optima(balas_saltzman("bs.opt"));
+  int solved = 0;
+  for (int n : {4, 6, 8, 10, 12})
+    for (int r = 1; r <= 5; ++r) {
+      const std::string name = "bs." + std::to_string(n) + "." + std::to_string(r);
+      ASSERT_TRUE(optima.count(name)) << name;
+      expect_exact(balas_saltzman(name + ".txt"), name, optima.at(name));
+      ++solved;
+    }
+  EXPECT_EQ(solved, 25);
+}
+
+TEST(Exact, DecompLibUpTo20) {
+  const auto optima = read_known_optima(decomplib("ap3.opt"));
+  int solved = 0;
+  for (int n : {5, 10, 20})
+    for (int r = 1; r <= 10; ++r) {
+      const std::string name = "ap3." + std::to_string(n) + "." + std::to_string(r);
+      ASSERT_TRUE(optima.count(name)) << name;
+      expect_exact(decomplib(name + ".txt"), name, optima.at(name));
+      ++solved;
+    }
+  EXPECT_EQ(solved, 30);
+}
+
+// The DecompLib .sol files: their (1-based) assignment costs exactly the ap3.opt optimum, which
+// confirms our reading of the index order ("first index slowest").
+TEST(Exact, DecompLibSolutionFilesAgreeWithOptima) {
+  const auto optima = read_known_optima(decomplib("ap3.opt"));
+  for (const std::string name : {"ap3.5.1", "ap3.10.3", "ap3.20.7"}) {
+    const CostTensor3 b = read_3dap_instance(decomplib(name + ".txt"));
+    const Solution3File sol = read_3dap_solution(decomplib(name + ".sol"));
+    EXPECT_EQ(sol.optimum, optima.at(name));
+    EXPECT_TRUE(is_valid_assignment(b, sol.tuples));
+    EXPECT_DOUBLE_EQ(assignment_cost(b, sol.tuples), sol.optimum);
+    // And exact finds a solution of that cost (possibly another optimal one).
+    EXPECT_DOUBLE_EQ(solve_branch_and_bound3(b).summary.objective, sol.optimum);
+  }
+}
+
+CostTensor3 random_tensor(CounterRng& rng, int n1, int n2, int n3, bool integer) {
+  CostTensor3 b(n1, n2, n3);
+  for (auto& x : b.cost)
+    x = integer ? static_cast<float>(rng.uniform_int(20)) : static_cast<float>(rng.uniform(0.0, 10.0));
+  return b;
+}
+
+TEST(Exact, MatchesBruteForceUnequalSizes) {
+  CounterRng rng(11, 1);
+  const std::vector<std::array<int, 3>> shapes{{3, 3, 3}, {4, 4, 4}, {5, 5, 5}, {2, 3, 4}, {4, 3, 2},
+                                               {3, 5, 4}, {5, 2, 3}, {1, 4, 2}, {4, 4, 2}};
+  for (const auto& sh : shapes)
+    for (int t = 0; t < 3; ++t) {
+      const CostTensor3 b = random_tensor(rng, sh[0], sh[1], sh[2], t == 0);
+      SCOPED_TRACE(testing::Message() << sh[0] << "x" << sh[1] << "x" << sh[2] << " trial " << t);
+      const Solution3 s = solve_branch_and_bound3(b);
+      expect_consistent(b, s);
+      EXPECT_EQ(s.summary.termination, Termination::kOptimal);
+      EXPECT_NEAR(s.summary.objective, brute_force_optimum(b), 1e-4);
+    }
+}
+
+TEST(Exact, MatchesBruteForceWithDummyIndex) {
+  CounterRng rng(11, 2);
+  const std::vector<std::array<int, 3>> shapes{{2, 2, 2}, {3, 2, 2}, {2, 3, 1}, {3, 3, 3}};
+  for (const auto& sh : shapes)
+    for (int t = 0; t < 3; ++t) {
+      CostTensor3 b = random_tensor(rng, sh[0], sh[1], sh[2], t != 1);
+      b.miss_cost = t == 2 ? 2.5f : 4.f;  // cheap enough that leaving indices out sometimes wins
+      SCOPED_TRACE(testing::Message() << sh[0] << "x" << sh[1] << "x" << sh[2] << " trial " << t);
+      const Solution3 s = solve_branch_and_bound3(b);
+      expect_consistent(b, s);
+      EXPECT_EQ(s.summary.termination, Termination::kOptimal);
+      EXPECT_NEAR(s.summary.objective, brute_force_optimum(b), 1e-4);
+    }
+}
+
+TEST(Exact, ForbiddenTuplesAndInfeasibility) {
+  // Only the diagonal is allowed: optimum = its cost.
+  CostTensor3 b(3, 3, 3, std::numeric_limits<float>::infinity());
+  b.at(0, 0, 0) = 1;
+  b.at(1, 1, 1) = 2;
+  b.at(2, 2, 2) = 3;
+  const Solution3 s = solve_branch_and_bound3(b);
+  EXPECT_TRUE(s.summary.feasible);
+  EXPECT_EQ(s.summary.objective, 6.0);
+  // Two i's can only use j = 0: no complete assignment.
+  CostTensor3 c(2, 2, 2, std::numeric_limits<float>::infinity());
+  c.at(0, 0, 0) = 1;
+  c.at(1, 0, 1) = 1;
+  const Solution3 si = solve_branch_and_bound3(c);
+  EXPECT_FALSE(si.summary.feasible);
+  EXPECT_EQ(si.summary.termination, Termination::kInfeasible);
+}
+
+TEST(Exact, EmptyAndSingleton) {
+  const Solution3 e = solve_branch_and_bound3(CostTensor3(0, 3, 3));
+  EXPECT_TRUE(e.tuples.empty());
+  EXPECT_EQ(e.summary.objective, 0.0);
+  CostTensor3 one(1, 1, 1, 7.f);
+  const Solution3 s = solve_branch_and_bound3(one);
+  EXPECT_EQ(s.tuples, (std::vector<Tuple3>{{0, 0, 0}}));
+  EXPECT_EQ(s.summary.objective, 7.0);
+}
+
+// A time limit too short to finish: a valid incumbent and a lower bound not above the optimum.
+TEST(Exact, TimeLimitReportsValidBound) {
+  const auto optima = read_known_optima(balas_saltzman("bs.opt"));
+  const CostTensor3 b = read_3dap_instance(balas_saltzman("bs.12.1.txt"));
+  BranchAndBoundOptions o;
+  o.max_nodes = 1;
+  o.root.max_iterations = 3;
+  const Solution3 s = solve_branch_and_bound3(b, o);
+  expect_consistent(b, s);
+  EXPECT_LE(s.summary.lower_bound, optima.at("bs.12.1") + 1e-9);
+  EXPECT_GE(s.summary.objective, optima.at("bs.12.1"));
+  if (s.summary.termination != Termination::kOptimal) {
+    EXPECT_EQ(s.summary.termination, Termination::kIterationLimit);
+  }
+}
+
+TEST(Exact, OptionsAreValidated) {
+  BranchAndBoundOptions o;
+  o.time_limit_s = 0;
+  EXPECT_THROW(solve_branch_and_bound3(CostTensor3(2, 2, 2), o), InputError);
+  o = {};
+  o.node_subgradient_iterations = 0;
+  EXPECT_THROW(o.validate(), InputError);
+  CostTensor3 nan(2, 2, 2);
+  nan.cost[3] = std::nanf("");
+  EXPECT_THROW(solve_branch_and_bound3(nan), InputError);
+}
+
+}  // namespace
+}  // namespace trackassoc
