@@ -1,22 +1,24 @@
 // trackassoc associate --input F.h5 --output G.h5 [--solver NAME] [--3d | --sparse | --sd]
 // The input is a simulation file or a recorded track file (schema v1). The output holds the
 // input's content plus /associations/<name>/ (and /system_tracks/<name>/ for fuzzy and ftaa).
-// Default: every sensor of the file, the sparse S-D pipeline (engine/sparse_sd_pipeline.hpp) with
+// Default: every sensor of the file, the sparse S-D pipeline (engine/pipeline/sparse_sd_pipeline.hpp) with
 // the calibrated gate, all-pairs cost, solver lr+ls (also lr, exact). A 3-D solver name (greedy,
 // pairwise, hopfield, ...) or --3d selects the three-sensor tensor pipeline, which takes exactly
 // three sensors: a file with more needs --sensors (never a silent drop). --sparse: the same on
-// gated candidate tuples and connected components (engine/sparse_pipeline.hpp). The path is
-// chosen, and run, by the association interface (engine/associator.hpp); this command parses the
+// gated candidate tuples and connected components (engine/pipeline/sparse_pipeline.hpp). The path is
+// chosen, and run, by the association interface (engine/pipeline/associator.hpp); this command parses the
 // flags, calls it, writes the file and prints, ending with the unassociated local tracks of each
 // sensor (those in no tuple of two or more).
 #include <iostream>
 
-#include "engine/associator.hpp"
+#include "engine/cli/association_flags.hpp"
 #include "engine/cli/common.hpp"
+#include "engine/cli/hopfield_flags.hpp"
 #include "engine/cli/table.hpp"
-#include "engine/pipeline_sd.hpp"
-#include "engine/solver_registry.hpp"
-#include "engine/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/associator.hpp"
+#include "engine/pipeline/pipeline_sd.hpp"
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/solvers/solver_registry.hpp"
 
 namespace trackassoc::cli {
 namespace {

@@ -4,7 +4,7 @@
 
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
-#include "engine/metrics.hpp"
+#include "engine/pipeline/metrics.hpp"
 
 namespace trackassoc::cli {
 

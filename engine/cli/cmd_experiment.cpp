@@ -2,7 +2,7 @@
 // experiment is a sub-subcommand registered by one line below; it writes its results (HDF5 or
 // CSV/JSON), prints a table beside the paper's numbers and saves a plot.
 #include "engine/cli/common.hpp"
-#include "engine/experiments.hpp"
+#include "engine/studies/experiments.hpp"
 
 namespace trackassoc::cli {
 

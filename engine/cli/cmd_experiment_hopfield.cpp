@@ -1,10 +1,11 @@
-// trackassoc experiment schedules | seed000: the Hopfield experiments (engine/experiment_schedules.hpp,
-// engine/experiment_seed000.hpp).
+// trackassoc experiment schedules | seed000: the Hopfield experiments
+// (engine/studies/seed000/experiment_schedules.hpp, engine/studies/seed000/experiment_seed000.hpp).
 #include <iostream>
 
 #include "engine/cli/common.hpp"
-#include "engine/experiment_schedules.hpp"
-#include "engine/experiment_seed000.hpp"
+#include "engine/cli/study_command.hpp"
+#include "engine/studies/seed000/experiment_schedules.hpp"
+#include "engine/studies/seed000/experiment_seed000.hpp"
 
 namespace trackassoc::cli {
 

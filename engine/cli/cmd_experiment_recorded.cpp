@@ -1,9 +1,10 @@
 // trackassoc experiment recorded: the default association on the realistic-recording family, with
-// Stone Soup on the same files (engine/experiment_recorded.hpp).
+// Stone Soup on the same files (engine/studies/recorded/experiment_recorded.hpp).
 #include <iostream>
 
 #include "engine/cli/common.hpp"
-#include "engine/experiment_recorded.hpp"
+#include "engine/cli/study_command.hpp"
+#include "engine/studies/recorded/experiment_recorded.hpp"
 
 namespace trackassoc::cli {
 

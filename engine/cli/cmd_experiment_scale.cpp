@@ -1,16 +1,18 @@
 // trackassoc experiment scale (issue 6): the sparse path from 10² to 10⁴ targets per sensor.
 // Prints the table (time per stage, peak memory, correct rate, dense beside it where it fits),
-// writes DIR/scale.h5 (the result, layout in engine/experiment_scale.hpp) and, for a quick look,
-// DIR/scale.csv and DIR/scale.json, all atomically (write_scale_outputs), and draws DIR/scale.png
-// (or --plots PNG) from the HDF5 file with scripts/plot_scale.py (run_plot_script).
+// writes DIR/scale.h5 (the result, layout in engine/studies/scale/experiment_scale.hpp) and, for a quick
+// look, DIR/scale.csv and DIR/scale.json, all atomically (write_scale_outputs), and draws DIR/scale.png (or
+// --plots PNG) from the HDF5 file with scripts/plot_scale.py (run_plot_script).
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
+#include "engine/cli/association_flags.hpp"
 #include "engine/cli/common.hpp"
-#include "engine/experiment_scale.hpp"
-#include "engine/experiments.hpp"
-#include "engine/solver_registry.hpp"
+#include "engine/cli/study_command.hpp"
+#include "engine/solvers/solver_registry.hpp"
+#include "engine/studies/experiments.hpp"
+#include "engine/studies/scale/experiment_scale.hpp"
 
 namespace trackassoc::cli {
 

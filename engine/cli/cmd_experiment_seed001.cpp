@@ -1,14 +1,14 @@
 // trackassoc experiment seed001: fuzzy association with temporary tracks and reliabilities against
-// FTAA (seed 001 §4, engine/experiment_seed001.hpp). Prints Table 1–2 beside the paper's for both
-// readings of σθ₁ (0.1°, the erratum and default, and 1° as printed), with a reason per row, writes
-// run 0 of the selected reading and the RMSE curves to HDF5 (run_seed001_study), and plots with
-// scripts/plot.py.
+// FTAA (seed 001 §4, engine/studies/seed001/experiment_seed001.hpp). Prints Table 1–2 beside the paper's for
+// both readings of σθ₁ (0.1°, the erratum and default, and 1° as printed), with a reason per row, writes run
+// 0 of the selected reading and the RMSE curves to HDF5 (run_seed001_study), and plots with scripts/plot.py.
 #include <iostream>
 #include <string>
 
 #include "engine/cli/common.hpp"
-#include "engine/experiment_seed001.hpp"
-#include "engine/experiments.hpp"
+#include "engine/cli/study_command.hpp"
+#include "engine/studies/experiments.hpp"
+#include "engine/studies/seed001/experiment_seed001.hpp"
 
 namespace trackassoc::cli {
 
@@ -52,23 +52,23 @@ void register_experiment_seed001(CLI::App& experiment) {
   cmd->add_option("--gate", args->options.fuzzy.gate, "Tracking gate radius [m] (both methods)")
       ->capture_default_str()
       ->check(above(0));
-  finish_study_command(cmd, args,
-                       {.output = &args->output,
-                        .output_help = "Output HDF5 file (run 0 and the RMSE curves)",
-                        .plots = &args->plots,
-                        .plots_help = "Folder for the plots (runs scripts/plot.py seed001; empty = none)",
-                        .plots_is_folder = true},
-                       [args](std::ostream*, bool plots) {
-                         Seed001Options o = args->options;
-                         o.seed = args->common.seed;
-                         o.ftaa.gate = o.fuzzy.gate;
-                         o.packet_source =
-                             args->packets == "plot" ? PacketSource::kPlot : PacketSource::kTrack;
-                         o.bearing_reading = parse_enum<BearingReading>(args->reading, "--sigma-bearing-reading");
-                         run_seed001_study(o, args->output, std::cout);
-                         if (plots && !args->plots.empty())
-                           run_plot_script("plot.py", {"seed001", args->output, "--outdir", args->plots});
-                       });
+  finish_study_command(
+      cmd, args,
+      {.output = &args->output,
+       .output_help = "Output HDF5 file (run 0 and the RMSE curves)",
+       .plots = &args->plots,
+       .plots_help = "Folder for the plots (runs scripts/plot.py seed001; empty = none)",
+       .plots_is_folder = true},
+      [args](std::ostream*, bool plots) {
+        Seed001Options o = args->options;
+        o.seed = args->common.seed;
+        o.ftaa.gate = o.fuzzy.gate;
+        o.packet_source = args->packets == "plot" ? PacketSource::kPlot : PacketSource::kTrack;
+        o.bearing_reading = parse_enum<BearingReading>(args->reading, "--sigma-bearing-reading");
+        run_seed001_study(o, args->output, std::cout);
+        if (plots && !args->plots.empty())
+          run_plot_script("plot.py", {"seed001", args->output, "--outdir", args->plots});
+      });
 }
 
 }  // namespace trackassoc::cli

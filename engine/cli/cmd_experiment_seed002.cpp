@@ -1,10 +1,11 @@
 // trackassoc experiment seed002: Chen & Tong (2001), IMM {CS + BP network, CA} vs the CS-parallel
-// filter, Table 1 and the sensitivity sweep (engine/experiment_seed002.hpp).
+// filter, Table 1 and the sensitivity sweep (engine/studies/seed002/experiment_seed002.hpp).
 #include <iostream>
 
 #include "engine/cli/common.hpp"
-#include "engine/experiment_seed002.hpp"
-#include "engine/experiments.hpp"
+#include "engine/cli/study_command.hpp"
+#include "engine/studies/experiments.hpp"
+#include "engine/studies/seed002/experiment_seed002.hpp"
 
 namespace trackassoc::cli {
 

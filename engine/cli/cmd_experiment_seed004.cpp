@@ -1,9 +1,10 @@
 // trackassoc experiment seed004: the improved CHNN with pseudo-tracks on four asynchronous 3-D
-// sensors (engine/experiment_seed004.hpp).
+// sensors (engine/studies/seed004/experiment_seed004.hpp).
 #include <iostream>
 
 #include "engine/cli/common.hpp"
-#include "engine/experiment_seed004.hpp"
+#include "engine/cli/study_command.hpp"
+#include "engine/studies/seed004/experiment_seed004.hpp"
 
 namespace trackassoc::cli {
 

@@ -1,4 +1,4 @@
-// trackassoc run: the main job (engine/run_job.hpp). Simulates a scenario (default:
+// trackassoc run: the main job (engine/pipeline/run_job.hpp). Simulates a scenario (default:
 // `recorded_formation`), associates with the default pipeline, the same with the exact solver and
 // with seed 000's gate, and every 3-D solver that suits the size, evaluates, prints a table
 // (correct, false, missed, false tuples, time), and writes trackassoc-run.h5 and a plot of
@@ -6,9 +6,11 @@
 // the Hopfield flags into the Hopfield solvers' options, calls the job and prints.
 #include <iostream>
 
+#include "engine/cli/association_flags.hpp"
 #include "engine/cli/common.hpp"
+#include "engine/cli/hopfield_flags.hpp"
 #include "engine/cli/table.hpp"
-#include "engine/run_job.hpp"
+#include "engine/pipeline/run_job.hpp"
 
 namespace trackassoc::cli {
 namespace {

@@ -1,13 +1,13 @@
 // trackassoc dataset seed003 --output D.h5: the seed 003 (TTCSN) pair data set.
 // trackassoc train-siamese --data D.h5 --output model.h5: trains the Siamese BiLSTM, reports test
-// metrics (engine/train_siamese.hpp).
+// metrics (engine/studies/seed003/train_siamese.hpp).
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
 #include "engine/cli/common.hpp"
-#include "engine/dataset_seed003.hpp"
-#include "engine/train_siamese.hpp"
+#include "engine/studies/seed003/dataset_seed003.hpp"
+#include "engine/studies/seed003/train_siamese.hpp"
 
 namespace trackassoc::cli {
 

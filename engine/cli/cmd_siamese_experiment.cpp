@@ -1,10 +1,11 @@
 // trackassoc experiment seed003 [--model M.h5] [--data D.h5] [--output R.h5]: the seed 003 study
 // (pair test metrics on the data set's test split; association accuracy and time vs track density,
-// engine/experiment_seed003.hpp run_seed003_study).
+// engine/studies/seed003/experiment_seed003.hpp run_seed003_study).
 #include <iostream>
 
 #include "engine/cli/common.hpp"
-#include "engine/experiment_seed003.hpp"
+#include "engine/cli/study_command.hpp"
+#include "engine/studies/seed003/experiment_seed003.hpp"
 
 namespace trackassoc::cli {
 

@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "engine/cli/common.hpp"
-#include "engine/workflow.hpp"
+#include "engine/pipeline/workflow.hpp"
 
 namespace trackassoc::cli {
 

@@ -7,8 +7,10 @@
 #include <fstream>
 #include <iostream>
 
+#include "engine/cli/association_flags.hpp"
 #include "engine/cli/common.hpp"
-#include "engine/solver_registry.hpp"
+#include "engine/cli/hopfield_flags.hpp"
+#include "engine/solvers/solver_registry.hpp"
 #include "io/atomic_file.hpp"
 #include "io/cost_tensor_file.hpp"
 #include "io/instance_text.hpp"

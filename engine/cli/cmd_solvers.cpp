@@ -1,11 +1,11 @@
 // trackassoc solvers [NAME ...]
-// Lists the solver registry (engine/solver_registry.hpp): each solver's description, what it can
+// Lists the solver registry (engine/solvers/solver_registry.hpp): each solver's description, what it can
 // do (the capability flags that associate, run and solve3d read), and its options with their
-// defaults, ranges and documentation, from the options' one declaration (engine/option_fields.hpp).
+// defaults, ranges and documentation, from the options' one declaration (engine/solvers/option_fields.hpp).
 #include <iostream>
 
 #include "engine/cli/common.hpp"
-#include "engine/solver_registry.hpp"
+#include "engine/solvers/solver_registry.hpp"
 
 namespace trackassoc::cli {
 namespace {

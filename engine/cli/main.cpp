@@ -7,7 +7,7 @@
 
 #include "engine/cli/common.hpp"
 #include "io/memory_budget.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"trackassoc: multi-sensor track-to-track association engine"};
