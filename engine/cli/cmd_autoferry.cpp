@@ -1,0 +1,93 @@
+// trackassoc import autoferry --scenario N --output F.h5: one Autoferry scenario's lidar and radar
+// detections tracked into schema v1 /tracks (Piren NED) with its GNSS /truth;
+// trackassoc experiment autoferry --output DIR: all 9 scenarios tracked, associated (the default
+// pipeline) and scored on radar–lidar pairs (engine/autoferry.hpp has the rules).
+#include <iostream>
+
+#include "engine/autoferry.hpp"
+#include "engine/cli/common.hpp"
+#include "engine/cli/table.hpp"
+
+namespace trackassoc::cli {
+namespace {
+
+const char* kDataHelp = "The Autoferry data set folder (holding scenario2/ ... scenario22/)";
+const std::string kDefaultData = "../shared/datasets/autoferry";
+
+std::string labelled(const std::vector<TrackLabel>& labels, int32_t sensor) {
+  int n = 0, all = 0;
+  for (const TrackLabel& l : labels)
+    if (l.sensor == sensor) ++all, n += l.label >= 0;
+  return std::to_string(n) + "/" + std::to_string(all);
+}
+
+void add_row(TextTable& t, const std::string& name, const PairScore& p, const std::string& lidar,
+             const std::string& radar, double seconds) {
+  t.add({name, lidar, radar, std::to_string(p.true_pairs), std::to_string(p.predicted),
+         std::to_string(p.correct), std::to_string(p.unlabelled_predicted), fmt(100 * p.precision(), "%.1f"),
+         fmt(100 * p.recall(), "%.1f"), fmt(seconds, "%.2f")});
+}
+
+}  // namespace
+
+void register_autoferry(CLI::App& app) {
+  struct Args {
+    CommonOptions common;
+    std::string data = kDefaultData, output;
+    int scenario = 0;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.get_subcommand("import")->add_subcommand(
+      "autoferry",
+      "One Autoferry scenario (NTNU milliAmpere, CC0): lidar and radar detections, taken from the ownship "
+      "into the Piren NED frame (x north, y east; /tracks attr frame = NED), tracked per sensor by the GNN "
+      "tracker (engine/autoferry.hpp states every parameter), with the GNSS truth (/truth) and each local "
+      "track's truth label (/tracks/truth)");
+  cmd->add_option("--data", args->data, kDataHelp)->capture_default_str();
+  cmd->add_option("--scenario", args->scenario, "Scenario number: 2, 3, 4, 5, 6, 13, 16, 17 or 22")
+      ->required();
+  add_output_option(cmd, args->output, "Output HDF5 file")->required();
+  add_common_options(cmd, args->common);
+  cmd->callback([args] {
+    ThreadScope threads(args->common.threads);
+    check_output_paths({{args->output, "--output"}});
+    const AutoferryOptions o;
+    const AutoferryScenario sc = read_autoferry_scenario(args->data, args->scenario);
+    LocalTrackingSummary summary;
+    const TrackFile file = autoferry_track_file(sc, o, &summary);
+    write_track_file(args->output, file);
+    std::cout << "scenario " << args->scenario << ": " << sc.scans.size() << " detection entries";
+    for (const auto& s : summary.sensors)
+      std::cout << "; " << (s.sensor == kAutoferryLidar ? "lidar" : "radar") << " " << s.scans << " scans, "
+                << s.plots << " plots, " << s.confirmed_tracks << " confirmed tracks";
+    std::cout << " (" << fmt(summary.runtime_s, "%.3f") << " s) -> " << args->output << "\n";
+  });
+
+  auto eargs = std::make_shared<Args>();
+  auto* exp = app.get_subcommand("experiment")
+                  ->add_subcommand("autoferry",
+                                   "All 9 Autoferry scenarios: detections -> local tracks (lidar, radar) -> "
+                                   "association (the default pipeline of associate) -> radar-lidar pair "
+                                   "precision and recall against the GNSS truth (engine/autoferry.hpp)");
+  exp->add_option("--data", eargs->data, kDataHelp)->capture_default_str();
+  add_output_option(exp, eargs->output, "Output folder: scenarioN.h5 per scenario (\"\" = none)");
+  add_common_options(exp, eargs->common);
+  exp->callback([eargs] {
+    ThreadScope threads(eargs->common.threads);
+    const AutoferryOptions o;
+    const AutoferryExperimentResult r = run_autoferry_experiment(eargs->data, o, eargs->output);
+    TextTable t({"scenario", "lidar tracks (labelled)", "radar tracks (labelled)", "true pairs", "predicted",
+                 "correct", "unlabelled", "precision %", "recall %", "time s"});
+    for (const auto& s : r.scenarios)
+      add_row(t, std::to_string(s.scenario), s.pairs, labelled(s.labels, kAutoferryLidar),
+              labelled(s.labels, kAutoferryRadar), s.seconds);
+    add_row(t, "all", r.total, "", "", r.seconds);
+    t.print(std::cout);
+    std::cout << "pairs: radar-lidar with >= " << o.min_overlap_s << " s overlap; label: within "
+              << o.label_distance << " m of a vessel over >= " << 100 * o.label_fraction
+              << " % of a track's rows\n";
+    if (!eargs->output.empty()) std::cout << "wrote " << eargs->output << "/scenarioN.h5\n";
+  });
+}
+
+}  // namespace trackassoc::cli
