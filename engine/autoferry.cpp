@@ -33,6 +33,28 @@ double median_scan_interval(const AutoferryScenario& sc, int32_t sensor) {
   return dt[dt.size() / 2];
 }
 
+// The rows of the tracks that span at least `min_duration` [s] (first to last row).
+TrackTable drop_short_tracks(const TrackTable& in, double min_duration) {
+  std::map<std::pair<int32_t, int32_t>, std::pair<double, double>> span;
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    auto [it, fresh] =
+        span.emplace(std::make_pair(in.sensor[i], in.track[i]), std::make_pair(in.t[i], in.t[i]));
+    if (!fresh) it->second = {std::min(it->second.first, in.t[i]), std::max(it->second.second, in.t[i])};
+  }
+  TrackTable out(in.layout);
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    const auto& sp = span[{in.sensor[i], in.track[i]}];
+    if (sp.second - sp.first < min_duration) continue;
+    out.sensor.push_back(in.sensor[i]);
+    out.track.push_back(in.track[i]);
+    out.t.push_back(in.t[i]);
+    out.truth.push_back(in.truth[i]);
+    for (std::size_t c = 0; c < in.state.size(); ++c) out.state[c].push_back(in.state[c][i]);
+    for (std::size_t c = 0; c < in.cov.size(); ++c) out.cov[c].push_back(in.cov[c][i]);
+  }
+  return out;
+}
+
 }  // namespace
 
 LocalTrackingOptions AutoferryOptions::default_tracking() {
@@ -41,7 +63,8 @@ LocalTrackingOptions AutoferryOptions::default_tracking() {
   lidar.measurement_sigma = 3.0;
   lidar.delete_misses = 10;  // 5 s at 0.5 s scans
   radar.measurement_sigma = 5.0;
-  radar.delete_misses = 3;  // 5 s at 1.68 s scans
+  radar.delete_misses = 3;                                 // 5 s at 1.68 s scans
+  lidar.cluster_distance = radar.cluster_distance = 15.0;  // half Gunnerus' 31 m hull
   o.per_sensor = {{kAutoferryLidar, lidar}, {kAutoferryRadar, radar}};
   o.default_tracker = lidar;
   return o;
@@ -67,7 +90,8 @@ nlohmann::json AutoferryOptions::to_json() const {
   return {{"trackers", trackers},
           {"label_distance", label_distance},
           {"label_fraction", label_fraction},
-          {"min_overlap_s", min_overlap_s}};
+          {"min_overlap_s", min_overlap_s},
+          {"min_track_duration_s", min_track_duration_s}};
 }
 
 std::vector<TrackLabel> label_local_tracks(const TrackTable& tracks, const TruthTable& truth, double distance,
@@ -132,7 +156,8 @@ TrackFile autoferry_track_file(const AutoferryScenario& sc, const AutoferryOptio
     scans.push_back(std::move(d));
   }
   TrackFile file;
-  file.tracks = track_detections(scans, options.tracking, summary);
+  file.tracks =
+      drop_short_tracks(track_detections(scans, options.tracking, summary), options.min_track_duration_s);
   for (const int32_t id : {kAutoferryLidar, kAutoferryRadar}) {
     Sensor s;
     s.id = id;

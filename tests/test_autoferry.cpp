@@ -4,11 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <map>
+#include <sstream>
 #include <string>
 
+#include "cli_runner.hpp"
 #include "engine/autoferry.hpp"
 #include "io/autoferry.hpp"
+#include "io/track_file.hpp"
 #include "kernels/error.hpp"
 
 namespace trackassoc {
@@ -185,7 +190,73 @@ TEST(AutoferryData, Scenario2CountsAndFrame) {
   ASSERT_EQ(f.sensors.size(), 2u);
   EXPECT_NEAR(f.sensors[0].period, 0.504, 0.01);  // lidar
   EXPECT_NEAR(f.sensors[1].period, 1.679, 0.01);  // radar
-  EXPECT_GT(f.tracks.size(), 0u);
+  ASSERT_GT(f.tracks.size(), 0u);
+  // Every local track spans >= min_track_duration_s (10 s); its truth label is one value.
+  std::map<std::pair<int32_t, int32_t>, std::array<double, 3>> span;  // first t, last t, label
+  for (std::size_t i = 0; i < f.tracks.size(); ++i) {
+    auto [it, fresh] =
+        span.emplace(std::make_pair(f.tracks.sensor[i], f.tracks.track[i]),
+                     std::array<double, 3>{f.tracks.t[i], f.tracks.t[i], double(f.tracks.truth[i])});
+    it->second[0] = std::min(it->second[0], f.tracks.t[i]);
+    it->second[1] = std::max(it->second[1], f.tracks.t[i]);
+    EXPECT_EQ(it->second[2], double(f.tracks.truth[i]));
+  }
+  for (const auto& [key, s] : span) EXPECT_GE(s[1] - s[0], 10.0) << key.first << ":" << key.second;
+}
+
+using testing_support::CliFixture;
+using testing_support::run_cli;
+
+TEST_F(CliFixture, ImportAutoferryBadInputExits2AndWritesNothing) {
+  const auto out = dir_ / "a.h5";
+  auto r = run_cli("import autoferry --data " + dir_.string() + " --scenario 7 -o " + out.string(), dir_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--scenario"), std::string::npos) << r.err;
+  std::filesystem::create_directories(dir_ / "scenario2");
+  std::ofstream(dir_ / "scenario2" / "scenario2_detections.json")
+      << R"([{"sensorID": 2, "ownshipPosition": [0, 0], "time": 1, "measurement": [[1], [2, 3]]}])";
+  r = run_cli("import autoferry --data " + dir_.string() + " --scenario 2 -o " + out.string(), dir_);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("scenario2_detections.json: entry 0, field 'measurement'"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST_F(CliFixture, ImportAndExperimentAutoferryOnTheDataSet) {
+  if (!std::filesystem::exists(kData + "/scenario2")) GTEST_SKIP() << "Autoferry data absent: " << kData;
+  const auto out = dir_ / "s2.h5";
+  auto r = run_cli("import autoferry --data " + kData + " --scenario 2 -o " + out.string(), dir_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const TrackFile f = read_track_file(out.string());
+  const TrackFile expected = autoferry_track_file(read_autoferry_scenario(kData, 2), AutoferryOptions{});
+  EXPECT_EQ(f.recording.frame, "NED");
+  ASSERT_TRUE(f.recording.frame_origin.has_value());
+  EXPECT_EQ((*f.recording.frame_origin)[0], kPirenOrigin[0]);
+  EXPECT_EQ(f.tracks.t, expected.tracks.t);
+  EXPECT_EQ(f.tracks.truth, expected.tracks.truth);
+  ASSERT_TRUE(f.truth.has_value());
+  EXPECT_EQ(f.truth->size(), expected.truth->size());
+
+  // The experiment prints the totals of run_autoferry_experiment and writes one file per scenario
+  // with the default association.
+  r = run_cli("experiment autoferry --data " + kData + " -o " + (dir_ / "exp").string(), dir_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const AutoferryExperimentResult e = run_autoferry_experiment(kData, AutoferryOptions{}, "");
+  const std::size_t all = r.out.find("\nall ");
+  ASSERT_NE(all, std::string::npos) << r.out;
+  std::istringstream line(r.out.substr(all + 5));
+  int64_t true_pairs = 0, predicted = 0, correct = 0, unlabelled = 0;
+  line >> true_pairs >> predicted >> correct >> unlabelled;
+  EXPECT_EQ(true_pairs, e.total.true_pairs);
+  EXPECT_EQ(predicted, e.total.predicted);
+  EXPECT_EQ(correct, e.total.correct);
+  EXPECT_EQ(unlabelled, e.total.unlabelled_predicted);
+  EXPECT_LT(e.seconds, 10.0);  // issue 17: the whole set in <= 10 s
+  for (const int n : kAutoferryScenarios) {
+    const TrackFile s = read_track_file((dir_ / "exp" / ("scenario" + std::to_string(n) + ".h5")).string());
+    ASSERT_EQ(s.associations.size(), 1u) << n;
+    EXPECT_EQ(s.associations[0].num_sensors, 2) << n;
+  }
 }
 
 }  // namespace
