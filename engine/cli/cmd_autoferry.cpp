@@ -3,6 +3,7 @@
 // trackassoc experiment autoferry --output DIR: all 9 scenarios tracked, associated (the default
 // pipeline) and scored on radar–lidar pairs (engine/autoferry.hpp has the rules).
 #include <iostream>
+#include <set>
 
 #include "engine/autoferry.hpp"
 #include "engine/cli/common.hpp"
@@ -57,9 +58,14 @@ void register_autoferry(CLI::App& app) {
     const TrackFile file = autoferry_track_file(sc, o, &summary);
     write_track_file(args->output, file);
     std::cout << "scenario " << args->scenario << ": " << sc.scans.size() << " detection entries";
-    for (const auto& s : summary.sensors)
+    for (const auto& s : summary.sensors) {
+      std::set<int32_t> kept;
+      for (std::size_t i = 0; i < file.tracks.size(); ++i)
+        if (file.tracks.sensor[i] == s.sensor) kept.insert(file.tracks.track[i]);
       std::cout << "; " << (s.sensor == kAutoferryLidar ? "lidar" : "radar") << " " << s.scans << " scans, "
-                << s.plots << " plots, " << s.confirmed_tracks << " confirmed tracks";
+                << s.plots << " plots, " << s.confirmed_tracks << " confirmed tracks (" << kept.size()
+                << " of >= " << o.min_track_duration_s << " s kept)";
+    }
     std::cout << " (" << fmt(summary.runtime_s, "%.3f") << " s) -> " << args->output << "\n";
   });
 
