@@ -189,6 +189,24 @@ TrackFile autoferry_track_file(const AutoferryScenario& sc, const AutoferryOptio
   return file;
 }
 
+int32_t track_breaks(const std::vector<TrackLabel>& labels, int32_t sensor) {
+  std::map<int32_t, int32_t> per_vessel;
+  for (const TrackLabel& l : labels)
+    if (l.sensor == sensor && l.label >= 0) ++per_vessel[l.label];
+  int32_t breaks = 0;
+  for (const auto& [v, n] : per_vessel) breaks += n - 1;
+  return breaks;
+}
+
+void PairScore::add(const PairScore& o) {
+  true_pairs += o.true_pairs;
+  predicted += o.predicted;
+  correct += o.correct;
+  unlabelled_predicted += o.unlabelled_predicted;
+  for (const auto& [v, n] : o.correct_by_vessel) correct_by_vessel[v] += n;
+  for (const auto& [v, n] : o.false_by_vessel) false_by_vessel[v] += n;
+}
+
 double PairScore::precision() const {
   const int64_t n = predicted - unlabelled_predicted;
   return n > 0 ? static_cast<double>(correct) / static_cast<double>(n)
@@ -224,10 +242,15 @@ PairScore score_radar_lidar_pairs(const TrackFile& file, const AssociationRecord
     const TrackLabel &a = *lidar[l], &b = *radar[r];
     if (overlap(a, b) < min_overlap_s) continue;
     ++score.predicted;
-    if (a.label < 0 && b.label < 0)
+    if (a.label < 0 && b.label < 0) {
       ++score.unlabelled_predicted;
-    else if (a.label == b.label)
+    } else if (a.label == b.label) {
       ++score.correct;
+      ++score.correct_by_vessel[a.label];
+    } else {
+      if (a.label >= 0) ++score.false_by_vessel[a.label];
+      if (b.label >= 0) ++score.false_by_vessel[b.label];
+    }
   }
   return score;
 }
@@ -268,11 +291,7 @@ AutoferryExperimentResult run_autoferry_experiment(const std::string& root, cons
   for (const int n : kAutoferryScenarios) {
     const std::string path = output_dir.empty() ? "" : output_dir + "/scenario" + std::to_string(n) + ".h5";
     out.scenarios.push_back(run_autoferry_scenario(root, n, options, path));
-    const PairScore& p = out.scenarios.back().pairs;
-    out.total.true_pairs += p.true_pairs;
-    out.total.predicted += p.predicted;
-    out.total.correct += p.correct;
-    out.total.unlabelled_predicted += p.unlabelled_predicted;
+    out.total.add(out.scenarios.back().pairs);
   }
   out.seconds = seconds_since(start);
   return out;

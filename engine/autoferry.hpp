@@ -37,6 +37,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -75,10 +76,18 @@ std::vector<TrackLabel> label_local_tracks(const TrackTable& tracks, const Truth
 TrackFile autoferry_track_file(const AutoferryScenario& scenario, const AutoferryOptions& options,
                                LocalTrackingSummary* summary = nullptr);
 
+// Track breaks of one sensor: Σ over the vessels v with labelled tracks of (tracks labelled v − 1),
+// so a vessel followed by one track all along has none (duplicate tracks at one time count too).
+int32_t track_breaks(const std::vector<TrackLabel>& labels, int32_t sensor);
+
 struct PairScore {
   int64_t true_pairs = 0, predicted = 0, correct = 0, unlabelled_predicted = 0;
-  double precision() const;  // correct / (predicted − unlabelled_predicted); NaN when 0/0
-  double recall() const;     // correct / true_pairs; NaN when 0/0
+  // Per vessel: correct pairs of v; false pairs with a member labelled v (a false pair of two
+  // vessels counts for both).
+  std::map<int32_t, int64_t> correct_by_vessel, false_by_vessel;
+  void add(const PairScore& other);  // sums every count
+  double precision() const;          // correct / (predicted − unlabelled_predicted); NaN when 0/0
+  double recall() const;             // correct / true_pairs; NaN when 0/0
 };
 // Radar–lidar pair score of `rec` (tuple columns in `file.sensors` order) against the labels.
 PairScore score_radar_lidar_pairs(const TrackFile& file, const AssociationRecord& rec,

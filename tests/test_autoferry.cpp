@@ -159,6 +159,12 @@ TEST(AutoferryScoring, RadarLidarPairs) {
   EXPECT_EQ(p.unlabelled_predicted, 0);
   EXPECT_DOUBLE_EQ(p.precision(), 0.5);
   EXPECT_DOUBLE_EQ(p.recall(), 0.5);
+  // (0, 0) is vessel 1's correct pair; (1, 2) is false for vessel 2 (radar 2 is unlabelled).
+  EXPECT_EQ(p.correct_by_vessel, (std::map<int32_t, int64_t>{{1, 1}}));
+  EXPECT_EQ(p.false_by_vessel, (std::map<int32_t, int64_t>{{2, 1}}));
+  // Breaks: lidar has vessel 1 twice (tracks 0, 3) and vessel 2 once -> 1; radar none.
+  EXPECT_EQ(track_breaks(labels, kAutoferryLidar), 1);
+  EXPECT_EQ(track_breaks(labels, kAutoferryRadar), 0);
   // (2, 2): both unlabelled -> predicted but left out of precision.
   rec.tuples = {0, 0, 1, 1, 2, 2};
   p = score_radar_lidar_pairs(file, rec, labels, 10.0);
@@ -246,7 +252,8 @@ TEST_F(CliFixture, ImportAndExperimentAutoferryOnTheDataSet) {
   ASSERT_NE(all, std::string::npos) << r.out;
   std::istringstream line(r.out.substr(all + 5));
   int64_t true_pairs = 0, predicted = 0, correct = 0, unlabelled = 0;
-  line >> true_pairs >> predicted >> correct >> unlabelled;
+  std::string breaks;
+  line >> breaks >> true_pairs >> predicted >> correct >> unlabelled;
   EXPECT_EQ(true_pairs, e.total.true_pairs);
   EXPECT_EQ(predicted, e.total.predicted);
   EXPECT_EQ(correct, e.total.correct);

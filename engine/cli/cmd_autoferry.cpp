@@ -22,11 +22,26 @@ std::string labelled(const std::vector<TrackLabel>& labels, int32_t sensor) {
   return std::to_string(n) + "/" + std::to_string(all);
 }
 
+// "1: 2/0, 2: 1/1": correct/false pairs per vessel.
+std::string per_vessel(const PairScore& p) {
+  std::set<int32_t> vessels;
+  for (const auto& [v, n] : p.correct_by_vessel) vessels.insert(v);
+  for (const auto& [v, n] : p.false_by_vessel) vessels.insert(v);
+  std::string out;
+  for (const int32_t v : vessels) {
+    auto c = p.correct_by_vessel.find(v), f = p.false_by_vessel.find(v);
+    out += (out.empty() ? "" : ", ") + std::to_string(v) + ": " +
+           std::to_string(c == p.correct_by_vessel.end() ? 0 : c->second) + "/" +
+           std::to_string(f == p.false_by_vessel.end() ? 0 : f->second);
+  }
+  return out.empty() ? "-" : out;
+}
+
 void add_row(TextTable& t, const std::string& name, const PairScore& p, const std::string& lidar,
-             const std::string& radar, double seconds) {
-  t.add({name, lidar, radar, std::to_string(p.true_pairs), std::to_string(p.predicted),
+             const std::string& radar, const std::string& breaks, double seconds) {
+  t.add({name, lidar, radar, breaks, std::to_string(p.true_pairs), std::to_string(p.predicted),
          std::to_string(p.correct), std::to_string(p.unlabelled_predicted), fmt(100 * p.precision(), "%.1f"),
-         fmt(100 * p.recall(), "%.1f"), fmt(seconds, "%.2f")});
+         fmt(100 * p.recall(), "%.1f"), per_vessel(p), fmt(seconds, "%.2f")});
 }
 
 }  // namespace
@@ -82,12 +97,20 @@ void register_autoferry(CLI::App& app) {
     ThreadScope threads(eargs->common.threads);
     const AutoferryOptions o;
     const AutoferryExperimentResult r = run_autoferry_experiment(eargs->data, o, eargs->output);
-    TextTable t({"scenario", "lidar tracks (labelled)", "radar tracks (labelled)", "true pairs", "predicted",
-                 "correct", "unlabelled", "precision %", "recall %", "time s"});
-    for (const auto& s : r.scenarios)
+    TextTable t({"scenario", "lidar tracks (labelled)", "radar tracks (labelled)", "breaks lidar/radar",
+                 "true pairs", "predicted", "correct", "unlabelled", "precision %", "recall %",
+                 "vessel: correct/false", "time s"});
+    int32_t lidar_breaks = 0, radar_breaks = 0;
+    for (const auto& s : r.scenarios) {
+      const int32_t lb = track_breaks(s.labels, kAutoferryLidar),
+                    rb = track_breaks(s.labels, kAutoferryRadar);
+      lidar_breaks += lb;
+      radar_breaks += rb;
       add_row(t, std::to_string(s.scenario), s.pairs, labelled(s.labels, kAutoferryLidar),
-              labelled(s.labels, kAutoferryRadar), s.seconds);
-    add_row(t, "all", r.total, "", "", r.seconds);
+              labelled(s.labels, kAutoferryRadar), std::to_string(lb) + "/" + std::to_string(rb), s.seconds);
+    }
+    add_row(t, "all", r.total, "", "", std::to_string(lidar_breaks) + "/" + std::to_string(radar_breaks),
+            r.seconds);
     t.print(std::cout);
     std::cout << "pairs: radar-lidar with >= " << o.min_overlap_s << " s overlap; label: within "
               << o.label_distance << " m of a vessel over >= " << 100 * o.label_fraction
