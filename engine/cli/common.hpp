@@ -114,6 +114,7 @@ void register_import(CLI::App& app);   // cmd_import.cpp
 void register_solvers(CLI::App& app);  // cmd_solvers.cpp
 void register_export(CLI::App& app);   // cmd_import.cpp
 void register_experiment(CLI::App& app);
+void register_autoferry(CLI::App& app);  // cmd_autoferry.cpp: import autoferry, experiment autoferry
 // Sub-subcommands of `experiment` (engine/cli/cmd_experiment.cpp calls them).
 void register_experiment_seed000(CLI::App& experiment);
 void register_experiment_seed004(CLI::App& experiment);

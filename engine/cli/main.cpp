@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   trackassoc::cli::register_import(app);
   trackassoc::cli::register_export(app);
   trackassoc::cli::register_experiment(app);
+  trackassoc::cli::register_autoferry(app);  // after import and experiment: adds to both
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
