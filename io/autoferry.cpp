@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "io/json_input.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {
@@ -129,7 +129,9 @@ TruthTable parse_autoferry_truth(const std::string& text, const std::string& sou
     if (!list.is_array())
       throw InputError(source + ": entry " + std::to_string(i) + ": expected an array of targets");
     for (std::size_t k = 0; k < list.size(); ++k) {
-      const std::string tag = "[" + std::to_string(k) + "].";
+      std::string tag = std::to_string(k);  // "[k]." (built in place: GCC 12 -Wrestrict false positive)
+      tag.insert(tag.begin(), '[');
+      tag += "].";
       const json& g = list[k];
       const double id = finite_number(field(g, "targetID", source, i), where(source, i, tag + "targetID"));
       if (!(id >= 0 && id == std::floor(id) && id < 1e6))

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "kernels/types.hpp"
+#include "kernels/core/types.hpp"
 
 namespace trackassoc {
 

@@ -21,7 +21,7 @@ struct PipelineFlags {
   std::string gate_method = "calibrated", alignment = "two-sided";
   double correlated = -1.0;  // < 0: independent errors (not user-reachable: --correlated is in [0, 1))
   std::string solver_options = "{}";
-  bool sparse = false;  // engine/sparse_pipeline.hpp instead of the dense tensor
+  bool sparse = false;  // engine/pipeline/sparse_pipeline.hpp instead of the dense tensor
   std::string common_span = "union";
   std::string link_cost = "per-scan";
 };

@@ -1,13 +1,13 @@
 // trackassoc import autoferry --scenario N --output F.h5: one Autoferry scenario's lidar and radar
 // detections tracked into schema v1 /tracks (Piren NED) with its GNSS /truth;
 // trackassoc experiment autoferry --output DIR: all 9 scenarios tracked, associated (the default
-// pipeline) and scored on radar–lidar pairs (engine/autoferry.hpp has the rules).
+// pipeline) and scored on radar–lidar pairs (engine/studies/autoferry/autoferry.hpp has the rules).
 #include <iostream>
 #include <set>
 
-#include "engine/autoferry.hpp"
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
+#include "engine/studies/autoferry/autoferry.hpp"
 
 namespace trackassoc::cli {
 namespace {
@@ -57,7 +57,8 @@ void register_autoferry(CLI::App& app) {
       "autoferry",
       "One Autoferry scenario (NTNU milliAmpere, CC0): lidar and radar detections, taken from the ownship "
       "into the Piren NED frame (x north, y east; /tracks attr frame = NED), tracked per sensor by the GNN "
-      "tracker (engine/autoferry.hpp states every parameter), with the GNSS truth (/truth) and each local "
+      "tracker (engine/studies/autoferry/autoferry.hpp states every parameter), with the GNSS truth (/truth) "
+      "and each local "
       "track's truth label (/tracks/truth)");
   cmd->add_option("--data", args->data, kDataHelp)->capture_default_str();
   cmd->add_option("--scenario", args->scenario, "Scenario number: 2, 3, 4, 5, 6, 13, 16, 17 or 22")
@@ -86,10 +87,11 @@ void register_autoferry(CLI::App& app) {
 
   auto eargs = std::make_shared<Args>();
   auto* exp = app.get_subcommand("experiment")
-                  ->add_subcommand("autoferry",
-                                   "All 9 Autoferry scenarios: detections -> local tracks (lidar, radar) -> "
-                                   "association (the default pipeline of associate) -> radar-lidar pair "
-                                   "precision and recall against the GNSS truth (engine/autoferry.hpp)");
+                  ->add_subcommand(
+                      "autoferry",
+                      "All 9 Autoferry scenarios: detections -> local tracks (lidar, radar) -> "
+                      "association (the default pipeline of associate) -> radar-lidar pair "
+                      "precision and recall against the GNSS truth (engine/studies/autoferry/autoferry.hpp)");
   exp->add_option("--data", eargs->data, kDataHelp)->capture_default_str();
   add_output_option(exp, eargs->output, "Output folder: scenarioN.h5 per scenario (\"\" = none)");
   add_common_options(exp, eargs->common);

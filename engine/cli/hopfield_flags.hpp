@@ -14,7 +14,7 @@
 namespace trackassoc::cli {
 
 // --schedule, --restarts, --polish and --trace for the Hopfield solvers (hopfield_solver_names()),
-// merged into their solver options (engine/hopfield_json.hpp); solve3d, associate and run.
+// merged into their solver options (engine/solvers/hopfield_json.hpp); solve3d, associate and run.
 struct HopfieldFlags {
   std::string schedule;
   int restarts = 0;

@@ -1,5 +1,5 @@
 // GNN tracker with M-of-N confirmation and single-linkage clustering (see gnn_tracker.hpp).
-#include "kernels/gnn_tracker.hpp"
+#include "kernels/filters/gnn_tracker.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -7,10 +7,10 @@
 #include <limits>
 #include <numeric>
 
-#include "kernels/association_statistic.hpp"
-#include "kernels/error.hpp"
-#include "kernels/kalman_bank.hpp"
-#include "kernels/lap.hpp"
+#include "kernels/assignment/lap.hpp"
+#include "kernels/core/error.hpp"
+#include "kernels/filters/kalman_bank.hpp"
+#include "kernels/statistics/association_statistic.hpp"
 
 namespace trackassoc {
 

@@ -1,4 +1,4 @@
-// GNN tracker (kernels/gnn_tracker.hpp) and local tracking (engine/local_tracking.hpp) on
+// GNN tracker (kernels/filters/gnn_tracker.hpp) and local tracking (engine/pipeline/local_tracking.hpp) on
 // noise-free synthetic scans whose answer is worked out by hand in each test.
 #include <gtest/gtest.h>
 
@@ -6,9 +6,9 @@
 #include <numbers>
 #include <set>
 
-#include "engine/local_tracking.hpp"
-#include "kernels/error.hpp"
-#include "kernels/gnn_tracker.hpp"
+#include "engine/pipeline/local_tracking.hpp"
+#include "kernels/core/error.hpp"
+#include "kernels/filters/gnn_tracker.hpp"
 
 namespace trackassoc {
 namespace {

@@ -1,5 +1,5 @@
 // The Autoferry benchmark end to end (see autoferry.hpp).
-#include "engine/autoferry.hpp"
+#include "engine/studies/autoferry/autoferry.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -10,7 +10,7 @@
 #include <set>
 #include <utility>
 
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {
@@ -180,7 +180,7 @@ TrackFile autoferry_track_file(const AutoferryScenario& sc, const AutoferryOptio
                         {"scenario", sc.number},
                         {"t0_unix", sc.t0_unix},
                         {"sensors", {{"1", "lidar"}, {"2", "radar"}}},
-                        {"tracker", "GNN (kernels/gnn_tracker.hpp)"},
+                        {"tracker", "GNN (kernels/filters/gnn_tracker.hpp)"},
                         {"options", options.to_json()}};
   file.recording.import_json = imp.dump();
   // The ownship carries the sensors, so a fixed position means nothing; σ_range holds the

@@ -1,6 +1,6 @@
-// Autoferry reader (io/autoferry.hpp) and study (engine/autoferry.hpp): the parsers on JSON the
-// tests write, the labelling rule and the pair score on hand-made tables, and the real data set
-// (skipped with a message when ../shared/datasets/autoferry is absent).
+// Autoferry reader (io/autoferry.hpp) and study (engine/studies/autoferry/autoferry.hpp): the parsers on JSON
+// the tests write, the labelling rule and the pair score on hand-made tables, and the real data set (skipped
+// with a message when ../shared/datasets/autoferry is absent).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -10,11 +10,11 @@
 #include <sstream>
 #include <string>
 
-#include "cli_runner.hpp"
-#include "engine/autoferry.hpp"
+#include "engine/studies/autoferry/autoferry.hpp"
 #include "io/autoferry.hpp"
 #include "io/track_file.hpp"
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
+#include "tests/support/cli_runner.hpp"
 
 namespace trackassoc {
 namespace {

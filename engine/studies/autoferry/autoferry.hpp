@@ -1,6 +1,6 @@
 // The Autoferry benchmark end to end (issue 17 item 3): detections (io/autoferry.hpp) → local
-// tracks per sensor (engine/local_tracking.hpp) → association (engine/associator.hpp, the default
-// pipeline) → scoring against the GNSS truth.
+// tracks per sensor (engine/pipeline/local_tracking.hpp) → association (engine/pipeline/associator.hpp, the
+// default pipeline) → scoring against the GNSS truth.
 //
 // Local trackers (lidar, radar; EO/IR bearings are not tracked). Every parameter has a physical
 // argument; none was fitted per scenario. Two were changed after a first run over all 9 scenarios
@@ -41,8 +41,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/associator.hpp"
-#include "engine/local_tracking.hpp"
+#include "engine/pipeline/associator.hpp"
+#include "engine/pipeline/local_tracking.hpp"
 #include "io/autoferry.hpp"
 #include "io/track_file.hpp"
 

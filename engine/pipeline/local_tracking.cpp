@@ -1,5 +1,5 @@
 // Local tracking from detections (see local_tracking.hpp).
-#include "engine/local_tracking.hpp"
+#include "engine/pipeline/local_tracking.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,7 +7,7 @@
 #include <numeric>
 #include <tuple>
 
-#include "kernels/error.hpp"
+#include "kernels/core/error.hpp"
 
 namespace trackassoc {
 

@@ -8,13 +8,13 @@
 //      cluster (DBSCAN with min_pts = 1); each cluster's centroid is one measurement with
 //      covariance R = σ² I (σ = measurement_sigma: the spread of the centroid over the hull, not
 //      shrunk by the number of plots, whose errors are not independent).
-//   2. Prediction of every track to t with the CV model (kernels/kalman_bank.hpp:
+//   2. Prediction of every track to t with the CV model (kernels/filters/kalman_bank.hpp:
 //      kinematic_transition, kinematic_process_noise).
 //   3. Gating and assignment: d² = νᵀ S⁻¹ ν with ν = z − H x̂, S = H P Hᵀ + R (Bar-Shalom et al. 2001,
 //      Eq. 5.2.3-13); a pair is allowed when d² ≤ χ²₂(gate_probability); the tracks × measurements
-//      matrix of d² (+inf outside the gate) is solved by the Jonker–Volgenant LAP (kernels/lap.hpp)
-//      with a row or column left unassigned at half the gate each, so every gated pair that does
-//      not conflict with a cheaper one is assigned.
+//      matrix of d² (+inf outside the gate) is solved by the Jonker–Volgenant LAP
+//      (kernels/assignment/lap.hpp) with a row or column left unassigned at half the gate each, so every
+//      gated pair that does not conflict with a cheaper one is assigned.
 //   4. Update of the assigned tracks (Kalman update), coasting of the others.
 //   5. Track management (trackerGNN's history logic):
 //      - every unassigned measurement starts a tentative track at the measured position, velocity

@@ -1,6 +1,6 @@
 // Local tracking from unlabeled detections (issue 17 item 2): per sensor, the plots of each scan
 // are taken from the ownship's frame into the world frame and fed to a GNN tracker
-// (kernels/gnn_tracker.hpp: clustering, χ²-gated JV assignment, CV Kalman filter, M-of-N
+// (kernels/filters/gnn_tracker.hpp: clustering, χ²-gated JV assignment, CV Kalman filter, M-of-N
 // confirmation, deletion after K misses). The confirmed tracks become schema v1 /tracks rows.
 //
 // Ownship frame: a plot (a, b) measured in the ownship's axes is, in the world frame,
@@ -14,8 +14,8 @@
 #include <map>
 #include <vector>
 
-#include "kernels/gnn_tracker.hpp"
-#include "kernels/types.hpp"
+#include "kernels/core/types.hpp"
+#include "kernels/filters/gnn_tracker.hpp"
 
 namespace trackassoc {
 
