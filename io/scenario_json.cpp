@@ -25,15 +25,6 @@ constexpr double kDegToRad = kPi / 180.0;
 constexpr double kMaxSteps = 1e7;  // duration / truth_step, duration / period
 constexpr int64_t kMaxRandomTargets = 10'000'000;
 
-struct ModelName {
-  MotionModel model;
-  const char* name;
-};
-constexpr ModelName kModels[] = {{MotionModel::kConstantVelocity, "cv"},
-                                 {MotionModel::kConstantAcceleration, "ca"},
-                                 {MotionModel::kCoordinatedTurn, "ct"},
-                                 {MotionModel::kAccelerationStep, "accel_step"},
-                                 {MotionModel::kRandomManoeuvre, "random_manoeuvre"}};
 constexpr const char* kFilters[] = {"cv", "ca", "ab", "cs", "cs-nn", "imm"};
 
 // ---------------------------------------------------------------- reading
@@ -182,10 +173,10 @@ void read_segment(Reader& r, MotionSegment& m) {
   if (const json* v = r.get("model")) {
     std::string names;
     bool found = false;
-    for (const auto& mn : kModels) {
+    for (const auto& mn : enum_names(MotionModel{})) {
       names += (names.empty() ? "" : ", ") + std::string(mn.name);
       if (v->is_string() && v->get<std::string>() == mn.name) {
-        m.model = mn.model;
+        m.model = mn.value;
         found = true;
       }
     }
@@ -340,12 +331,6 @@ void write_angle(ordered_json& j, const std::string& key, const std::string& suf
 
 ordered_json vector_json(const std::array<double, 3>& v) { return ordered_json::array({v[0], v[1], v[2]}); }
 
-const char* model_name(MotionModel m) {
-  for (const auto& mn : kModels)
-    if (mn.model == m) return mn.name;
-  return "cv";
-}
-
 }  // namespace
 
 Scenario parse_scenario_json(const std::string& text, const std::string& source) {
@@ -462,7 +447,7 @@ std::string scenario_to_json(const Scenario& s) {
     o["segments"] = ordered_json::array();
     for (const MotionSegment& m : t.segments) {
       ordered_json g;
-      g["model"] = model_name(m.model);
+      g["model"] = enum_name(m.model);
       g["duration"] = m.duration;
       g["acceleration"] = vector_json(m.acceleration);
       write_angle(g, "turn_rate", "_s", m.turn_rate);

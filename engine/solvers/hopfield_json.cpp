@@ -97,7 +97,7 @@ void set_hopfield_schedule(HopfieldOptions& o, const std::string& schedule) {
   if (o.network == HopfieldNetwork::kContinuous)
     o.continuous_async = schedule == "async";  // "continuous" = "sync"
   else
-    o.schedule = parse_hopfield_schedule(schedule);
+    o.schedule = parse_enum<HopfieldSchedule>(schedule, "schedule");
 }
 
 }  // namespace
@@ -141,7 +141,7 @@ void read_schedule(HopfieldOptions& o, const nlohmann::json& v, const std::strin
 // What read_schedule reads back: the continuous network's step order, or the discrete schedule.
 std::optional<nlohmann::json> write_schedule(const HopfieldOptions& o) {
   if (o.network == HopfieldNetwork::kContinuous) return o.continuous_async ? "async" : "sync";
-  return hopfield_schedule_name(o.schedule);
+  return enum_name(o.schedule);
 }
 
 // A, B, C, D, E: giving any of them switches off the automatic weights; the others keep the

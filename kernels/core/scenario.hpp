@@ -5,9 +5,11 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "kernels/core/enum_names.hpp"
 #include "kernels/core/types.hpp"
 
 namespace trackassoc {
@@ -19,6 +21,14 @@ enum class MotionModel {
   kAccelerationStep,      // constant acceleration switched on at the segment start (seed 002)
   kRandomManoeuvre,       // new random heading/speed change every manoeuvre_period (seed 003)
 };
+// The names of the scenario JSON's "model" key (io/scenario_json.hpp).
+inline constexpr EnumName<MotionModel> kMotionModelNames[]{
+    {MotionModel::kConstantVelocity, "cv"},
+    {MotionModel::kConstantAcceleration, "ca"},
+    {MotionModel::kCoordinatedTurn, "ct"},
+    {MotionModel::kAccelerationStep, "accel_step"},
+    {MotionModel::kRandomManoeuvre, "random_manoeuvre"}};
+constexpr std::span<const EnumName<MotionModel>> enum_names(MotionModel) { return kMotionModelNames; }
 
 struct MotionSegment {
   MotionModel model = MotionModel::kConstantVelocity;

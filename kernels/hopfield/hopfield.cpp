@@ -22,28 +22,8 @@
 
 namespace trackassoc {
 
-const char* hopfield_network_name(HopfieldNetwork n) {
-  return n == HopfieldNetwork::kContinuous ? "continuous" : "discrete";
-}
-const char* hopfield_schedule_name(HopfieldSchedule s) {
-  switch (s) {
-    case HopfieldSchedule::kSync:
-      return "sync";
-    case HopfieldSchedule::kAsync:
-      return "async";
-    case HopfieldSchedule::kDiagonal:
-      return "diagonal";
-  }
-  return "?";
-}
-HopfieldSchedule parse_hopfield_schedule(const std::string& s) {
-  for (auto v : {HopfieldSchedule::kSync, HopfieldSchedule::kAsync, HopfieldSchedule::kDiagonal})
-    if (s == hopfield_schedule_name(v)) return v;
-  throw InputError("schedule: expected sync, async or diagonal, found '" + s + "'");
-}
 const char* hopfield_schedule_label(const HopfieldOptions& o) {
-  return o.network == HopfieldNetwork::kContinuous ? hopfield_network_name(o.network)
-                                                   : hopfield_schedule_name(o.schedule);
+  return o.network == HopfieldNetwork::kContinuous ? enum_name(o.network) : enum_name(o.schedule);
 }
 
 void SliceRandomOrder::draw(int32_t n1, int32_t n2, int32_t n3, CounterRng& rng) {

@@ -70,9 +70,18 @@ enum class HopfieldInit { kZero, kRandom, kGreedy, kMeanField };
 // kSliceRandom falls back to kRandom.
 enum class HopfieldOrder { kRandom, kSliceRandom, kCost };
 
-const char* hopfield_network_name(HopfieldNetwork n);  // "discrete" | "continuous"
-const char* hopfield_schedule_name(HopfieldSchedule s);
-HopfieldSchedule parse_hopfield_schedule(const std::string& s);  // InputError naming the value
+inline constexpr EnumName<HopfieldNetwork> kHopfieldNetworkNames[]{
+    {HopfieldNetwork::kDiscrete, "discrete"}, {HopfieldNetwork::kContinuous, "continuous"}};
+constexpr std::span<const EnumName<HopfieldNetwork>> enum_names(HopfieldNetwork) {
+  return kHopfieldNetworkNames;
+}
+inline constexpr EnumName<HopfieldSchedule> kHopfieldScheduleNames[]{
+    {HopfieldSchedule::kSync, "sync"},
+    {HopfieldSchedule::kAsync, "async"},
+    {HopfieldSchedule::kDiagonal, "diagonal"}};
+constexpr std::span<const EnumName<HopfieldSchedule>> enum_names(HopfieldSchedule) {
+  return kHopfieldScheduleNames;
+}
 inline constexpr EnumName<HopfieldInit> kHopfieldInitNames[]{{HopfieldInit::kZero, "zero"},
                                                              {HopfieldInit::kRandom, "random"},
                                                              {HopfieldInit::kGreedy, "greedy"},
