@@ -13,7 +13,8 @@ namespace trackassoc::cli {
 namespace {
 
 const char* kDataHelp = "The Autoferry data set folder (holding scenario2/ ... scenario22/)";
-const std::string kDefaultData = "../shared/datasets/autoferry";
+// ../shared beside the checkout (data/ is the checkout's), so the commands run from any folder.
+const std::string kDefaultData = std::string(TRACKASSOC_DATA_DIR) + "/../../shared/datasets/autoferry";
 
 std::string labelled(const std::vector<TrackLabel>& labels, int32_t sensor) {
   int n = 0, all = 0;
