@@ -39,17 +39,17 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
   cmd->add_option("--gate-method", f.gate_method,
                   "calibrated (capped scan terms, f·χ²(n·D/f), holds 0.99 on filtered tracks) or chi2-sum "
                   "(λ ≤ χ²(n·D), seed 000 as printed; rejects 12-22 % of true pairs on recorded data)")
-      ->check(CLI::IsMember({"calibrated", "chi2-sum"}))
+      ->check(enum_choices<GateMethod>())
       ->capture_default_str();
   cmd->add_option("--alignment", f.alignment,
                   "two-sided (nearest report before or after a common time) or forward (latest report "
                   "predicted forward, seed 000)")
-      ->check(CLI::IsMember({"two-sided", "forward"}))
+      ->check(enum_choices<AlignmentMethod>())
       ->capture_default_str();
   cmd->add_option("--cost-form", f.cost_form,
                   "all-pairs (every pair of sensors in a tuple) or chain (b=λij+λjk, seed 000 Eq. 3; it "
                   "separates into two LAPs, DESIGN §4.3)")
-      ->check(CLI::IsMember({"chain", "all-pairs"}))
+      ->check(enum_choices<CostForm>())
       ->capture_default_str();
   cmd->add_option("--correlated", f.correlated,
                   "Use the correlated-error statistic (Bar-Shalom–Campo) with cross-correlation RHO")

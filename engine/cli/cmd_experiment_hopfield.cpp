@@ -58,7 +58,7 @@ void register_experiment_seed000(CLI::App& experiment) {
       ->check(in_range(0, 100, true, false));
   cmd->add_option("--forms", args->o.forms, "Cost forms: chain (Eq. 3, separable) and/or all-pairs")
       ->capture_default_str()
-      ->check(CLI::IsMember({"chain", "all-pairs"}));
+      ->check(enum_choices<CostForm>());
   cmd->add_option("--solvers", args->o.solvers, "Solvers to compare")->capture_default_str();
   finish_experiment_command(cmd, args, "SVG plot ('' = none)",
                             [](const Seed000ExperimentOptions& o, std::ostream* progress) {

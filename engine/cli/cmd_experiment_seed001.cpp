@@ -35,12 +35,12 @@ void register_experiment_seed001(CLI::App& experiment) {
   cmd->add_option("--sigma-bearing-reading", args->reading,
                   "Node 1's bearing σ: erratum (0.1°, consistent with the reliabilities) or literal (1° as "
                   "printed). The table shows both; this one is written to --output")
-      ->check(CLI::IsMember({"erratum", "literal"}))
+      ->check(enum_choices<BearingReading>())
       ->capture_default_str();
   auto* packets = cmd->add_option("--packets", args->packets,
                                   "Packet content: plot (one converted measurement, the paper's) or track "
                                   "(the local track's Kalman estimate)");
-  packets->check(CLI::IsMember({"plot", "track"}))->capture_default_str();
+  packets->check(enum_choices<PacketSource>())->capture_default_str();
   cmd->add_option("--smoother-process-noise", args->options.smoother_process_noise,
                   "σ_w of the α-β (Kalata) design of the system tracks [m/s²]")
       ->capture_default_str()
@@ -52,23 +52,23 @@ void register_experiment_seed001(CLI::App& experiment) {
   cmd->add_option("--gate", args->options.fuzzy.gate, "Tracking gate radius [m] (both methods)")
       ->capture_default_str()
       ->check(above(0));
-  finish_study_command(
-      cmd, args,
-      {.output = &args->output,
-       .output_help = "Output HDF5 file (run 0 and the RMSE curves)",
-       .plots = &args->plots,
-       .plots_help = "Folder for the plots (runs scripts/plot.py seed001; empty = none)",
-       .plots_is_folder = true},
-      [args](std::ostream*, bool plots) {
-        Seed001Options o = args->options;
-        o.seed = args->common.seed;
-        o.ftaa.gate = o.fuzzy.gate;
-        o.packet_source = args->packets == "plot" ? PacketSource::kPlot : PacketSource::kTrack;
-        o.bearing_reading = parse_enum<BearingReading>(args->reading, "--sigma-bearing-reading");
-        run_seed001_study(o, args->output, std::cout);
-        if (plots && !args->plots.empty())
-          run_plot_script("plot.py", {"seed001", args->output, "--outdir", args->plots});
-      });
+  finish_study_command(cmd, args,
+                       {.output = &args->output,
+                        .output_help = "Output HDF5 file (run 0 and the RMSE curves)",
+                        .plots = &args->plots,
+                        .plots_help = "Folder for the plots (runs scripts/plot.py seed001; empty = none)",
+                        .plots_is_folder = true},
+                       [args](std::ostream*, bool plots) {
+                         Seed001Options o = args->options;
+                         o.seed = args->common.seed;
+                         o.ftaa.gate = o.fuzzy.gate;
+                         o.packet_source = parse_enum<PacketSource>(args->packets, "--packets");
+                         o.bearing_reading =
+                             parse_enum<BearingReading>(args->reading, "--sigma-bearing-reading");
+                         run_seed001_study(o, args->output, std::cout);
+                         if (plots && !args->plots.empty())
+                           run_plot_script("plot.py", {"seed001", args->output, "--outdir", args->plots});
+                       });
 }
 
 }  // namespace trackassoc::cli

@@ -98,7 +98,7 @@ void register_train_siamese(CLI::App& app) {
   cmd->add_option("--epochs", o.training.epochs, "Epoch limit")->capture_default_str()->check(at_least(1));
   cmd->add_option("--architecture", o.architecture,
                   "siamese (TTCSN), or the baselines on concatenated pairs: lstm, bilstm")
-      ->check(CLI::IsMember({"siamese", "lstm", "bilstm"}))
+      ->check(enum_choices<PairArchitecture>())
       ->capture_default_str();
   cmd->add_option("--hidden", o.shape.hidden, "BiLSTM hidden units per direction")
       ->capture_default_str()

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "io/atomic_file.hpp"
+#include "kernels/core/enum_names.hpp"
 #include "kernels/core/error.hpp"
 
 namespace trackassoc::cli {
@@ -95,6 +96,15 @@ class ThreadScope {
  private:
   std::unique_ptr<tbb::global_control> control_;
 };
+
+// CLI11's check that a flag names one enumerator of E, from E's one name table
+// (kernels/core/enum_names.hpp), so the flag, its --help and parse_enum<E> cannot drift apart.
+template <class E>
+CLI::Validator enum_choices() {
+  std::vector<std::string> names;
+  for (const auto& n : enum_names(E{})) names.emplace_back(n.name);
+  return CLI::IsMember(names);
+}
 
 // Adds --output,-o, the one name of every command's output file (or folder).
 inline CLI::Option* add_output_option(CLI::App* cmd, std::string& output, const std::string& help) {
