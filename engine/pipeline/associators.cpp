@@ -285,16 +285,18 @@ std::vector<UnassociatedTracks> unassociated_tracks(const TrackFile& file,
     for (int32_t c = 0; c < S; ++c)
       if (row[c] >= 0) linked.insert({c, row[c]});
   }
-  std::vector<UnassociatedTracks> out;
+  std::map<int32_t, std::set<int32_t>> alone;  // associated sensor id → its tracks in no such tuple
   for (int32_t id : sensor_ids) {
-    auto it = column.find(id);
-    require(it != column.end(), "sensor id", "id " + std::to_string(id) + " is not in /sensors/id");
-    std::set<int32_t> tracks;
-    for (std::size_t r = 0; r < file.tracks.size(); ++r)
-      if (file.tracks.sensor[r] == id && !linked.count({it->second, file.tracks.track[r]}))
-        tracks.insert(file.tracks.track[r]);
-    out.push_back({id, {tracks.begin(), tracks.end()}});
+    require(column.count(id), "sensor id", "id " + std::to_string(id) + " is not in /sensors/id");
+    alone[id];
   }
+  for (std::size_t r = 0; r < file.tracks.size(); ++r) {  // one pass over the rows
+    auto it = alone.find(file.tracks.sensor[r]);
+    if (it != alone.end() && !linked.count({column.at(it->first), file.tracks.track[r]}))
+      it->second.insert(file.tracks.track[r]);
+  }
+  std::vector<UnassociatedTracks> out;
+  for (int32_t id : sensor_ids) out.push_back({id, {alone[id].begin(), alone[id].end()}});
   return out;
 }
 

@@ -44,9 +44,14 @@ bool run_plot_script(const std::string& name, const std::vector<std::string>& ar
     return false;
   }
   const std::string python = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
+  // Appended piece by piece (not python + " " + ...: GCC 12 warns -Wrestrict on that, wrongly).
   std::string cmd = python;
-  for (const std::string* a = &script; a; a = nullptr) (cmd += ' ') += shell_quoted(*a);
-  for (const auto& a : args) (cmd += ' ') += shell_quoted(a);
+  cmd += ' ';
+  cmd += shell_quoted(script);
+  for (const auto& a : args) {
+    cmd += ' ';
+    cmd += shell_quoted(a);
+  }
   if (std::system(cmd.c_str()) != 0) {
     std::cerr << "trackassoc: warning: plotting failed (" << cmd << "); the HDF5 file is complete\n";
     return false;
