@@ -36,7 +36,6 @@
 namespace trackassoc {
 
 enum class AssociationPath { kSparseSD, kDenseSD, kDense3D, kSparse3D, kFusionCentre, kSiamese };
-const char* association_path_name(AssociationPath path);  // "sparse S-D", "S-D", "3-D", ...
 
 // The request: solver, pipeline choice and options. Defaults are those of `associate`.
 struct AssociatorOptions {

@@ -188,24 +188,6 @@ class SiameseAssociator final : public TrackAssociator {
 
 }  // namespace
 
-const char* association_path_name(AssociationPath path) {
-  switch (path) {
-    case AssociationPath::kSparseSD:
-      return "sparse S-D";
-    case AssociationPath::kDenseSD:
-      return "S-D";
-    case AssociationPath::kDense3D:
-      return "3-D";
-    case AssociationPath::kSparse3D:
-      return "sparse 3-D";
-    case AssociationPath::kFusionCentre:
-      return "fusion centre";
-    case AssociationPath::kSiamese:
-      return "siamese";
-  }
-  return "?";
-}
-
 void AssociatorOptions::validate() const {
   if (int(sd) + int(three_d) + int(sparse) > 1)
     throw InputError("--sd, --3d and --sparse choose different pipelines: give at most one");

@@ -77,8 +77,16 @@ std::vector<std::string> hopfield_schedule_names(HopfieldNetwork network) {
 std::string hopfield_schedule_error(HopfieldNetwork network, const std::string& schedule) {
   const std::vector<std::string> own = hopfield_schedule_names(network);
   if (std::find(own.begin(), own.end(), schedule) != own.end()) return "";
-  if (schedule != "sync" && schedule != "async" && schedule != "diagonal" && schedule != "continuous")
-    return "schedule: expected sync, async, diagonal or continuous, found '" + schedule + "'";
+  // The discrete schedules (HopfieldSchedule's name table) and "continuous" (= sync Euler steps).
+  std::string every;
+  bool known = schedule == "continuous";
+  for (const auto& n : enum_names(HopfieldSchedule{})) {
+    every += std::string(n.name) + ", ";
+    known |= schedule == n.name;
+  }
+  if (!known)
+    return "schedule: expected " + every.substr(0, every.size() - 2) + " or continuous, found '" + schedule +
+           "'";
   // Each registry name is one network, and `schedule` picks among that network's schedules: chnn
   // steps its Euler equations sync (Jacobi) or async (neuron by neuron); hopfield and
   // hopfield-paper are discrete. (A schedule that swapped the network would leave a record named
