@@ -86,12 +86,13 @@ RunJobResult run_main_job(const RunJobOptions& o, const std::function<void(const
   auto chosen_by_name = [&](const std::string& name) {
     return o.solvers.empty() || contains(o.solvers, name);
   };
-  auto add_row = [&](AssociationRecord rec) {
+  auto add_row = [&](const AssociationOutcome& out) {  // scored, and stored as `associate` stores it
+    const AssociationRecord& rec = out.record;
     const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
     file.metrics.push_back(to_metrics_record(rec.name, m));
     job.rows.push_back(
         {rec.name, m, rec.runtime_s, rec.objective, rec.lower_bound, rec.gap, rec.termination});
-    file.associations.push_back(std::move(rec));
+    store_outcome(file, out);
   };
   AssociatorOptions request;
   request.seed = o.seed;
@@ -107,7 +108,7 @@ RunJobResult run_main_job(const RunJobOptions& o, const std::function<void(const
     request.solver = name == "default-exact" ? "exact" : "lr+ls";
     request.solver_options = nlohmann::json::object();
     request.name = name;
-    add_row(make_associator(AssociationPath::kSparseSD, request)->associate(file).record);
+    add_row(make_associator(AssociationPath::kSparseSD, request)->associate(file));
   }
 
   // The 3-D solvers on the three-sensor tensor (dense, or sparse with o.sparse), one problem for all.
@@ -143,9 +144,10 @@ RunJobResult run_main_job(const RunJobOptions& o, const std::function<void(const
     request.solver = entry.name;
     request.solver_options =
         o.solver_options.contains(entry.name) ? o.solver_options[entry.name] : nlohmann::json::object();
-    AssociationRecord rec = make_three_sensor_associator(request, prepared)->associate(file).record;
-    if (prepared.dense) rec.runtime_s += prepared.dense->statistics_time_s + prepared.dense->tensor_time_s;
-    add_row(std::move(rec));
+    AssociationOutcome out = make_three_sensor_associator(request, prepared)->associate(file);
+    if (prepared.dense)
+      out.record.runtime_s += prepared.dense->statistics_time_s + prepared.dense->tensor_time_s;
+    add_row(out);
   }
   return job;
 }
