@@ -7,6 +7,7 @@
 #include "io/track_file.hpp"
 
 #include <limits>
+#include <map>
 #include <set>
 
 #include "io/atomic_file.hpp"
@@ -144,6 +145,7 @@ void write_association(const Group& parent, const AssociationRecord& a) {
   if (a.restarts.size() > 0) write_restarts(g, a.restarts);
   if (!a.unassociated.empty())
     g.write_dataset("unassociated", std::span<const int32_t>(a.unassociated), {a.unassociated.size() / 2, 2});
+  if (!a.target.empty()) g.write_dataset("target", std::span<const int32_t>(a.target), {a.target.size()});
 }
 
 void write_metrics(const Group& parent, const MetricsRecord& m) {
@@ -372,6 +374,28 @@ AssociationRecord read_association(const Group& parent, const std::string& name)
         g.fail("unassociated", "row " + std::to_string(i / 2) + ": " + std::to_string(rows[i]) +
                                    " is not an int32 sensor id or track number");
       a.unassociated.push_back(static_cast<int32_t>(rows[i]));
+    }
+  }
+  if (g.has("target")) {
+    std::vector<hsize_t> d;
+    const std::vector<int64_t> target = g.read_integers("target", 1, d);
+    if (d[0] != k)
+      g.fail("target", "expected one entry per tuple (" + std::to_string(k) + "), found " + shape_text(d));
+    std::map<std::pair<std::size_t, int32_t>, int64_t> target_of;  // (column, track) → target
+    for (std::size_t i = 0; i < k; ++i) {
+      if (target[i] < 0 || target[i] > std::numeric_limits<int32_t>::max())
+        g.fail("target", "row " + std::to_string(i) + ": expected a target number >= 0, found " +
+                             std::to_string(target[i]));
+      for (std::size_t c = 0; c < dims[1]; ++c) {
+        const int32_t track = a.tuples[i * dims[1] + c];
+        if (track < 0) continue;
+        auto [it, fresh] = target_of.emplace(std::make_pair(c, track), target[i]);
+        if (!fresh && it->second != target[i])
+          g.fail("target", "row " + std::to_string(i) + ": track " + std::to_string(track) + " of column " +
+                               std::to_string(c) + " is in targets " + std::to_string(it->second) + " and " +
+                               std::to_string(target[i]));
+      }
+      a.target.push_back(static_cast<int32_t>(target[i]));
     }
   }
   return a;

@@ -55,6 +55,10 @@ struct AssociationRecord {
   // Optional U×2 row-major (sensor id, track): the local tracks of the associated sensors in no
   // tuple of two or more members (engine/pipeline/associator.hpp); empty = not recorded.
   std::vector<int32_t> unassociated;
+  // Optional K target numbers (≥ 0), one per tuple: tuples of one number are one target followed
+  // over time by several local tracks on a sensor (track segments, engine/pipeline/track_segments.hpp);
+  // a track never appears in the tuples of two targets. Empty = every tuple is its own target.
+  std::vector<int32_t> target;
   std::size_t num_tuples() const { return num_sensors ? tuples.size() / num_sensors : 0; }
 };
 

@@ -62,6 +62,12 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
                   "White-noise acceleration σ [m/s²] used to predict tracks to common times")
       ->check(at_least(0))
       ->capture_default_str();
+  cmd->add_option("--extent-sigma", f.options.alignment.extent_sigma,
+                  "Reference-point σ [m] per axis added to every pair's position covariance: the offset "
+                  "between the points of an extended target that two sensors track, or a residual "
+                  "registration bias (0 = point targets)")
+      ->check(at_least(0))
+      ->capture_default_str();
   cmd->add_option("--options", f.solver_options, "Solver options as a JSON object, e.g. '{\"restarts\": 8}'")
       ->capture_default_str();
   cmd->add_flag("--sparse", f.sparse,

@@ -69,7 +69,12 @@ void print_outcome(const AssociationOutcome& out, const TrackFile& file, const s
     for (const auto& st : s.stages)
       std::cout << " " << st.name << " " << fmt(1e3 * st.seconds, "%.1f") << " ms;";
     std::cout << " candidate pairs " << s.candidate_pairs << ", gated " << s.gated_pairs
-              << ", fallback components " << s.fallback_components << "\n";
+              << ", fallback components " << s.fallback_components;
+    const auto info = nlohmann::json::parse(rec.options_json);
+    if (info.contains("segments_joined"))
+      std::cout << ", segments joined " << info["segments_joined"].get<int64_t>() << " (to "
+                << info["segment_targets_joined"].get<int64_t>() << " targets)";
+    std::cout << "\n";
   }
   std::cout << "unassociated local tracks:";
   for (std::size_t i = 0; i < out.unassociated.size(); ++i)
@@ -87,6 +92,8 @@ void register_associate(CLI::App& app) {
     std::string input, output, solver, name;
     HopfieldFlags hopfield;  // merged into --options
     bool sd = false, three_d = false;
+    bool no_segments = false;
+    double segment_overlap = SegmentOptions{}.max_overlap_s;
     std::string model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";  // --solver siamese
   };
   auto args = std::make_shared<Args>();
@@ -114,6 +121,16 @@ void register_associate(CLI::App& app) {
   cmd->add_flag(
       "--3d", args->three_d,
       "The three-sensor cost-tensor pipeline (seed 000 Eq. 3) for any solver, e.g. --solver lr --3d");
+  cmd->add_flag(
+      "--no-segments", args->no_segments,
+      "Default pipeline: keep the assignment's tuples, one track per sensor per target (default: the "
+      "segments of a target that follow each other on one sensor, after a track break, join it; "
+      "engine/pipeline/track_segments.hpp)");
+  cmd->add_option("--segment-overlap", args->segment_overlap,
+                  "Default pipeline: the report overlap [s] two segments of one sensor may have and still "
+                  "follow each other (a coasting old track and its successor)")
+      ->check(at_least(0))
+      ->capture_default_str();
   add_pipeline_options(cmd, args->pipeline);
   add_hopfield_flags(cmd, args->hopfield, true);
   add_common_options(cmd, args->common);
@@ -130,6 +147,8 @@ void register_associate(CLI::App& app) {
     request.seed = args->common.seed;
     request.name = args->name;
     request.siamese_model = args->model;
+    request.segments.enabled = !args->no_segments;
+    request.segments.max_overlap_s = args->segment_overlap;
     request.validate();  // --sd, --3d, --sparse: at most one, before the Hopfield flags' errors
     merge_hopfield_flags(args->hopfield, request.solver, request.solver_options);
     const auto associator = make_associator(request);  // every check before the file is read

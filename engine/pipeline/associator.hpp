@@ -18,8 +18,10 @@
 //
 // Unassociated tracks (Stone Soup #1170): every path puts each local track of the sensors it
 // associates in exactly one tuple, a track it linked to no other sensor's track being a tuple of
-// one. A local track of an associated sensor is unassociated when no tuple with two or more members
-// holds it (it is alone in its tuple, or in none).
+// one — except the segments that the sparse S-D path joins to a target
+// (engine/pipeline/track_segments.hpp), which may appear in several tuples of one target number. A
+// local track of an associated sensor is unassociated when no tuple with two or more members holds
+// it and no target of two or more tracks does (it is alone in its tuple, or in none).
 #pragma once
 
 #include <cstdint>
@@ -31,6 +33,7 @@
 
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
+#include "engine/pipeline/track_segments.hpp"
 #include "io/track_file.hpp"
 
 namespace trackassoc {
@@ -48,6 +51,7 @@ struct AssociatorOptions {
   uint64_t seed = 1;
   std::string name;           // /associations group; empty = the solver name
   std::string siamese_model;  // --solver siamese: model file (io/siamese_model_file.hpp)
+  SegmentOptions segments;    // the default (sparse S-D) path: track segments joined to targets
   // Throws InputError when more than one of sd, three_d, sparse is set, or solver_options is not
   // a JSON object.
   void validate() const;

@@ -44,6 +44,7 @@ class SparseSDAssociator final : public TrackAssociator {
   AssociationOutcome associate(const TrackFile& file) const override {
     SparseSDOptions so;
     so.pipeline = o_.pipeline;
+    so.segments = o_.segments;
     AssociationOutcome out;
     out.record = associate_sparse_sd(file, o_.solver, o_.solver_options, o_.seed, so, &out.summary.stages);
     apply_name(o_, out.record);
@@ -194,6 +195,7 @@ void AssociatorOptions::validate() const {
   if (solver.empty()) throw InputError("--solver: expected a solver name, got an empty string");
   if (!solver_options.is_object())
     throw InputError("--options: expected a JSON object, got '" + solver_options.dump().substr(0, 200) + "'");
+  segments.validate();
 }
 
 AssociationPath choose_association_path(const AssociatorOptions& o) {
@@ -259,14 +261,22 @@ std::vector<UnassociatedTracks> unassociated_tracks(const TrackFile& file,
                                                     const AssociationRecord& rec) {
   std::map<int32_t, int32_t> column;  // /sensors id → tuple column
   for (int32_t c = 0; c < static_cast<int32_t>(file.sensors.size()); ++c) column[file.sensors[c].id] = c;
-  std::set<std::pair<int32_t, int32_t>> linked;  // (column, track) in a tuple of two or more
+  // (column, track) in a tuple of two or more, or in a target (rec.target) of two or more tracks.
+  std::set<std::pair<int32_t, int32_t>> linked;
   const int32_t S = rec.num_sensors;
+  const bool targets = rec.target.size() == rec.num_tuples();
+  std::map<int32_t, std::set<std::pair<int32_t, int32_t>>> of_target;
   for (std::size_t k = 0; k < rec.num_tuples(); ++k) {
     const int32_t* row = rec.tuples.data() + k * S;
-    if (std::count_if(row, row + S, [](int32_t t) { return t >= 0; }) < 2) continue;
-    for (int32_t c = 0; c < S; ++c)
-      if (row[c] >= 0) linked.insert({c, row[c]});
+    const bool pair = std::count_if(row, row + S, [](int32_t t) { return t >= 0; }) >= 2;
+    for (int32_t c = 0; c < S; ++c) {
+      if (row[c] < 0) continue;
+      if (pair) linked.insert({c, row[c]});
+      if (targets) of_target[rec.target[k]].insert({c, row[c]});
+    }
   }
+  for (const auto& [t, members] : of_target)
+    if (members.size() >= 2) linked.insert(members.begin(), members.end());
   std::map<int32_t, std::set<int32_t>> alone;  // associated sensor id → its tracks in no such tuple
   for (int32_t id : sensor_ids) {
     require(column.count(id), "sensor id", "id " + std::to_string(id) + " is not in /sensors/id");

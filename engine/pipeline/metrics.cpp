@@ -42,11 +42,19 @@ AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vec
   for (const auto& [key, id] : truth_of)
     if (id >= 0) tracks_of_target[id].insert(key);
 
-  // Tuple membership of each track.
-  std::map<std::pair<int32_t, int32_t>, std::size_t> tuple_of;
+  // Group of each track: its tuple, or its target when the record has target numbers (segments
+  // of one target over time, engine/pipeline/track_segments.hpp); the tracks of each group.
+  const bool targets = record.target.size() == K;
+  std::map<std::pair<int32_t, int32_t>, std::size_t> group_of;
+  std::map<std::size_t, std::set<std::pair<int32_t, int32_t>>> group_tracks;
   for (std::size_t q = 0; q < K; ++q)
     for (int32_t s = 0; s < S; ++s)
-      if (record.tuples[q * S + s] >= 0) tuple_of[{s, record.tuples[q * S + s]}] = q;
+      if (record.tuples[q * S + s] >= 0) {
+        const std::pair<int32_t, int32_t> key{s, record.tuples[q * S + s]};
+        const std::size_t g = targets ? static_cast<std::size_t>(record.target[q]) : q;
+        group_of[key] = g;
+        group_tracks[g].insert(key);
+      }
 
   for (const auto& [target, members] : tracks_of_target) {
     std::set<int32_t> member_sensors;
@@ -54,27 +62,18 @@ AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vec
     if (member_sensors.size() < 2) continue;  // seen by one sensor only: nothing to associate
     ++m.targets;
     bool mixed = false;
-    std::set<std::size_t> tuples;
+    std::set<std::size_t> groups;
     for (const auto& key : members) {
-      auto it = tuple_of.find(key);
-      if (it == tuple_of.end()) continue;  // track absent from the association: counts as split
-      tuples.insert(it->second);
-      const std::size_t q = it->second;
-      for (int32_t s = 0; s < S; ++s) {
-        const int32_t trk = record.tuples[q * S + s];
-        if (trk < 0) continue;
-        auto t = truth_of.find({s, trk});
+      auto it = group_of.find(key);
+      if (it == group_of.end()) continue;  // track absent from the association: counts as split
+      groups.insert(it->second);
+      for (const auto& other_key : group_tracks[it->second]) {
+        auto t = truth_of.find(other_key);
         const int32_t other = t == truth_of.end() ? -1 : t->second;
         if (other != target) mixed = true;
       }
     }
-    bool complete = false;
-    if (!mixed && tuples.size() == 1) {
-      std::size_t grouped = 0;
-      const std::size_t q = *tuples.begin();
-      for (int32_t s = 0; s < S; ++s) grouped += record.tuples[q * S + s] >= 0;
-      complete = grouped == members.size();
-    }
+    const bool complete = !mixed && groups.size() == 1 && group_tracks[*groups.begin()] == members;
     if (mixed)
       ++m.false_associations;
     else if (complete)

@@ -2,7 +2,9 @@
 //
 // Evaluated per target, over the sensors an association covers. A target "needs association"
 // when at least two covered sensors hold a local track of it. For each such target T:
-//   correct  — one output tuple holds exactly T's local tracks (all of them, nothing else);
+//   correct  — one output tuple holds exactly T's local tracks (all of them, nothing else), or,
+//              when the record has target numbers (track segments), the tuples of one target
+//              number together hold exactly T's local tracks;
 //   false    — some track of T shares a tuple with a track of another target;
 //   missed   — otherwise: T's tracks are split over several tuples but never mixed with others.
 // The three rates are fractions of the targets that need association, so they sum to 1.

@@ -57,10 +57,12 @@ nlohmann::json PipelineOptions::to_json() const {
           {"scans_per_independent", statistic.scans_per_independent},
           {"process_noise", alignment.process_noise},
           {"max_extrapolation", alignment.max_extrapolation},
+          {"extent_sigma", alignment.extent_sigma},
           {"correlated", statistic.correlated},
           {"cross_correlation", statistic.cross_correlation},
           {"common_process_noise", statistic.common_process_noise},
           {"gate_probability", statistic.gate_probability},
+          {"link_cost", statistic.link == LinkCost::kPerScan ? "per-scan" : "per-independent-scan"},
           {"cost_form", enum_name(cost.form)},
           {"gated_pair_cost", cost.gated_pair_cost}};
 }

@@ -246,6 +246,7 @@ void SparseSDOptions::validate() const {
           "probability below 1");
   require(radius_scale >= 1.0 && std::isfinite(radius_scale), "SparseSDOptions.radius_scale", "must be >= 1");
   require(max_component_entries >= 1, "SparseSDOptions.max_component_entries", "must be >= 1");
+  segments.validate();
 }
 
 nlohmann::json SparseSDOptions::to_json() const {
@@ -253,6 +254,7 @@ nlohmann::json SparseSDOptions::to_json() const {
   j["sparse"] = true;
   j["radius_scale"] = radius_scale;
   j["max_component_entries"] = max_component_entries;
+  j["segments"] = segments.to_json();
   return j;
 }
 
@@ -453,9 +455,21 @@ AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& 
   const SparseSDProblem p = build_sparse_sd_problem(file, options);
   const auto t0 = std::chrono::steady_clock::now();
   AssociationRecord rec = solve_sparse_sd_association(p, solver, solver_options, seed, options);
+  const double solve_s = seconds_since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  if (options.segments.enabled) {
+    SegmentSummary seg;
+    rec = join_track_segments(p, file.tracks, rec, options.segments, &seg);
+    nlohmann::json info = nlohmann::json::parse(rec.options_json);
+    info["segments_joined"] = seg.joined;
+    info["segment_targets_joined"] = seg.targets_joined;
+    info["segment_rounds"] = seg.rounds;
+    rec.options_json = info.dump();
+  }
   if (stages) {
     *stages = p.stages;
-    stages->push_back({"solve", seconds_since(t0), peak_rss_mib(), 0.0});
+    stages->push_back({"solve", solve_s, peak_rss_mib(), 0.0});
+    if (options.segments.enabled) stages->push_back({"segments", seconds_since(t1), peak_rss_mib(), 0.0});
   }
   double total = 0.0;
   for (const auto& s : p.stages) total += s.seconds;

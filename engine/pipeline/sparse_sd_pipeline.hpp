@@ -9,7 +9,9 @@
 //   the S-D assignment with a dummy per sensor over the
 //     component's tracks (a dense sub-tensor; lr+ls, lr or exact), or, for a component whose
 //     sub-tensor exceeds the budget, sequential LAP merging
-//   → tuples over all sensors of the file (−1 = no track), every local track in exactly one tuple.
+//   → tuples over all sensors of the file (−1 = no track), every local track in exactly one tuple
+//   → track segments joined to their targets (engine/pipeline/track_segments.hpp): a target's
+//     tracks that follow each other on one sensor each join its tuples, with a target number.
 //
 // Cost of a tuple with the set M of real members (the S-D generalised likelihood-ratio cost with
 // the gate as the miss cost): Σ over the linked pairs {a, b} ⊂ M of (λ_ab − G(n_ab))/f, the link
@@ -42,6 +44,7 @@
 
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
+#include "engine/pipeline/track_segments.hpp"
 #include "kernels/assignment/clusters.hpp"
 #include "kernels/statistics/sparse_candidates.hpp"
 
@@ -53,6 +56,9 @@ struct SparseSDOptions {
   // Largest dense sub-tensor per component, Π(n_s + 1) entries (16 Mi floats = 64 MiB); larger
   // components are solved by sequential LAP merging.
   std::size_t max_component_entries = std::size_t{1} << 24;
+  // After the assignment, the segments of one target on one sensor joined to it
+  // (engine/pipeline/track_segments.hpp); associate_sparse_sd runs it, solve_sparse_sd_association not.
+  SegmentOptions segments;
   void validate() const;
   nlohmann::json to_json() const;
 };

@@ -166,8 +166,15 @@ GnnScanSummary GnnTracker::step(double t, std::span<const double> x, std::span<c
       ++summary.deleted;
   }
   const double v2 = options_.initial_speed_sigma * options_.initial_speed_sigma;
+  // Measurements in a confirmed track's gate (the cost matrix holds d² ≤ gate there).
+  std::vector<uint8_t> in_confirmed_gate(C, 0);
+  if (!options_.initiate_in_gate)
+    for (int32_t i = 0; i < T; ++i)
+      if (tracks_[i].number >= 0)
+        for (int32_t c = 0; c < C; ++c)
+          in_confirmed_gate[c] |= std::isfinite(cost[static_cast<std::size_t>(i) * C + c]);
   for (int32_t c = 0; c < C; ++c) {
-    if (meas_to_track[c] >= 0) continue;
+    if (meas_to_track[c] >= 0 || in_confirmed_gate[c]) continue;
     Track tr;
     tr.x << z[c].x(), z[c].y(), 0.0, 0.0;
     tr.P = Eigen::Vector4d(r2, r2, v2, v2).asDiagonal();

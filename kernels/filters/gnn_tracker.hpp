@@ -17,8 +17,9 @@
 //      gated pair that does not conflict with a cheaper one is assigned.
 //   4. Update of the assigned tracks (Kalman update), coasting of the others.
 //   5. Track management (trackerGNN's history logic):
-//      - every unassigned measurement starts a tentative track at the measured position, velocity
-//        0 with σ initial_speed_sigma per axis;
+//      - every unassigned measurement outside the gates of the confirmed tracks (or every one, with
+//        initiate_in_gate) starts a tentative track at the measured position, velocity 0 with σ
+//        initial_speed_sigma per axis;
 //      - a tentative track is confirmed when it has confirm_hits (M) hits within its first
 //        confirm_window (N) scans; it is deleted as soon as it can no longer reach M in N;
 //      - a confirmed track is deleted after delete_misses (K) consecutive misses.
@@ -47,7 +48,14 @@ struct GnnTrackerOptions {
   int confirm_hits = 2;              // M of M-of-N confirmation (trackerGNN default [2 3])
   int confirm_window = 3;            // N
   int delete_misses = 5;             // K consecutive misses delete a confirmed track (trackerGNN 5)
-  void validate() const;             // throws InputError naming the field
+  // true (default, trackerGNN's rule): every unassigned measurement starts a tentative track.
+  // false: one inside the gate of a confirmed track starts none. An extended target gives several
+  // clusters in a scan when its returns have gaps; the one not assigned lies in its track's gate
+  // and would start a duplicate track of the same target (Blackman & Popoli 1999 §6.2: initiate
+  // from the measurements no track can use). The price: a second target that stays inside a
+  // confirmed track's gate gets no track of its own until it leaves it.
+  bool initiate_in_gate = true;
+  void validate() const;  // throws InputError naming the field
 };
 
 struct GnnScanSummary {

@@ -53,6 +53,8 @@ void AlignmentOptions::validate() const {
           "AlignmentOptions.lag_inflation", "must be in [0, 100], got " + std::to_string(lag_inflation));
   require(std::isfinite(max_extrapolation) && max_extrapolation >= 0.0, "AlignmentOptions.max_extrapolation",
           "must be finite and >= 0 [s], got " + std::to_string(max_extrapolation));
+  require(std::isfinite(extent_sigma) && extent_sigma >= 0.0, "AlignmentOptions.extent_sigma",
+          "must be finite and >= 0 [m], got " + std::to_string(extent_sigma));
 }
 
 void StatisticOptions::validate() const {
@@ -170,6 +172,7 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
   out.cov.assign(static_cast<std::size_t>(n) * K * P, 0.0);
   out.valid.assign(static_cast<std::size_t>(n) * K, 0);
   const double q = options.process_noise * options.process_noise;
+  const double half_extent2 = 0.5 * options.extent_sigma * options.extent_sigma;  // σ_r²/2 per report
 
   const bool two_sided = options.method == AlignmentMethod::kTwoSided;
   for (int32_t a = 0; a < n; ++a) {
@@ -235,6 +238,7 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
           Pp(m + c, m + c) += k2 * a2 * tau2;  // (â τ)²
         }
       }
+      for (int c = 0; c < m; ++c) Pp(c, c) += half_extent2;
       double* pc = &out.cov[cell * P];
       for (int i = 0, p = 0; i < D; ++i)
         for (int j = i; j < D; ++j, ++p) pc[p] = Pp(i, j);

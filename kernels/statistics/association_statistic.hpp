@@ -100,6 +100,15 @@ struct AlignmentOptions {
   // filter read off its own covariance), times this factor²; â is the track's own velocity
   // change between its neighbouring reports. See the .cpp.
   double lag_inflation = 0.5;  // measured: tests/kernels/statistics/test_gate_calibration.cpp
+  // Reference-point σ_r [m] per position axis (0 = off: point targets, the default). Two sensors
+  // tracking an extended target follow different points of it (the centroid of the returns each
+  // sees from its own aspect: the near side of a hull for a lidar, the strongest scatterers for a
+  // radar), and a residual registration bias shifts one sensor's tracks as a whole; neither is in
+  // the local covariances, and neither averages out over scans. Each aligned report's position
+  // variance gains σ_r²/2, so every pair's C = P_a + P_b gains σ_r²·I on its position block, and
+  // the candidate bounds, the pruning and the statistic all see it (Bar-Shalom, Willett & Tian,
+  // "Tracking and Data Fusion", 2011, §8.4 on registration errors in track association).
+  double extent_sigma = 0.0;
   void validate() const;
 };
 

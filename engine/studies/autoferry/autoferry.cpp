@@ -63,15 +63,26 @@ LocalTrackingOptions AutoferryOptions::default_tracking() {
   lidar.measurement_sigma = 3.0;
   lidar.delete_misses = 10;  // 5 s at 0.5 s scans
   radar.measurement_sigma = 5.0;
-  radar.delete_misses = 3;                                 // 5 s at 1.68 s scans
-  lidar.cluster_distance = radar.cluster_distance = 15.0;  // half Gunnerus' 31 m hull
+  radar.delete_misses = 3;                                  // 5 s at 1.68 s scans
+  lidar.cluster_distance = radar.cluster_distance = 15.0;   // half Gunnerus' 31 m hull
+  lidar.initiate_in_gate = radar.initiate_in_gate = false;  // no duplicate tracks of one hull
+
   o.per_sensor = {{kAutoferryLidar, lidar}, {kAutoferryRadar, radar}};
   o.default_tracker = lidar;
   return o;
 }
 
+AssociatorOptions AutoferryOptions::default_association() {
+  AssociatorOptions o;
+  o.pipeline.alignment.extent_sigma = 8.0;
+  o.pipeline.statistic.link = LinkCost::kPerIndependentScan;
+  o.segments.enabled = true;
+  return o;
+}
+
 void AutoferryOptions::validate() const {
   tracking.validate();
+  association.validate();
   require(std::isfinite(label_distance) && label_distance > 0, "label_distance",
           "expected a finite value > 0 [m]");
   require(label_fraction > 0 && label_fraction <= 1, "label_fraction", "expected a value in (0, 1]");
@@ -86,12 +97,17 @@ nlohmann::json AutoferryOptions::to_json() const {
         {"measurement_sigma", t.measurement_sigma},     {"process_noise", t.process_noise},
         {"initial_speed_sigma", t.initial_speed_sigma}, {"gate_probability", t.gate_probability},
         {"cluster_distance", t.cluster_distance},       {"confirm_hits", t.confirm_hits},
-        {"confirm_window", t.confirm_window},           {"delete_misses", t.delete_misses}};
+        {"confirm_window", t.confirm_window},           {"delete_misses", t.delete_misses},
+        {"initiate_in_gate", t.initiate_in_gate}};
   return {{"trackers", trackers},
           {"label_distance", label_distance},
           {"label_fraction", label_fraction},
           {"min_overlap_s", min_overlap_s},
-          {"min_track_duration_s", min_track_duration_s}};
+          {"min_track_duration_s", min_track_duration_s},
+          {"association",
+           {{"pipeline", association.pipeline.to_json()},
+            {"solver", association.solver},
+            {"segments", association.segments.to_json()}}}};
 }
 
 std::vector<TrackLabel> label_local_tracks(const TrackTable& tracks, const TruthTable& truth, double distance,
@@ -264,7 +280,7 @@ AutoferryScenarioResult run_autoferry_scenario(const std::string& root, int scen
   const AutoferryScenario sc = read_autoferry_scenario(root, scenario);
   TrackFile file = autoferry_track_file(sc, options, &res.tracking);
   res.labels = label_local_tracks(file.tracks, sc.truth, options.label_distance, options.label_fraction);
-  const auto associator = make_associator(AssociatorOptions{});
+  const auto associator = make_associator(options.association);
   const AssociationOutcome outcome = associator->associate(file);
   res.association = outcome.summary;
   res.pairs = score_radar_lidar_pairs(file, outcome.record, res.labels, options.min_overlap_s);

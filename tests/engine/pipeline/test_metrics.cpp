@@ -90,5 +90,32 @@ TEST(Metrics, NoTruthIsReported) {
   EXPECT_FALSE(m.has_truth);
 }
 
+TEST(Metrics, SegmentsOfOneTargetCountAsOne) {
+  // Sensor 20 broke target 100 into tracks 0 and 2; sensor 10 followed it with track 0 all along.
+  // Tuples (0, 0, −1) and (0, 2, −1) of target number 7 hold all three tracks: correct. Without the
+  // target numbers the same tuples split the target: missed (hand count).
+  const auto tracks = make_tracks({{100, 101}, {100, 101, 100}, {}});
+  AssociationRecord r = record({{0, 0, -1}, {0, 2, -1}, {1, 1, -1}});
+  EXPECT_EQ(evaluate_association(tracks, three_sensors(), r).missed, 1);
+  r.target = {7, 7, 8};
+  const auto m = evaluate_association(tracks, three_sensors(), r);
+  EXPECT_EQ(m.targets, 2);
+  EXPECT_EQ(m.correct, 2);
+  EXPECT_EQ(m.missed, 0);
+  EXPECT_EQ(m.linked_tuples, 3);
+  EXPECT_EQ(m.false_tuples, 0);
+  // A target number that joins target 101's tuple to target 100's makes both false.
+  r.target = {7, 7, 7};
+  const auto f = evaluate_association(tracks, three_sensors(), r);
+  EXPECT_EQ(f.false_associations, 2);
+  EXPECT_EQ(f.correct, 0);
+  // One segment left out of the target: target 100 is missed, 101 still correct.
+  r = record({{0, 0, -1}, {-1, 2, -1}, {1, 1, -1}});
+  r.target = {7, 9, 8};
+  const auto s = evaluate_association(tracks, three_sensors(), r);
+  EXPECT_EQ(s.correct, 1);
+  EXPECT_EQ(s.missed, 1);
+}
+
 }  // namespace
 }  // namespace trackassoc

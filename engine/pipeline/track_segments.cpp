@@ -1,0 +1,308 @@
+// Track segments joined to their targets (see track_segments.hpp).
+#include "engine/pipeline/track_segments.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "kernels/assignment/clusters.hpp"
+#include "kernels/assignment/lap.hpp"
+#include "kernels/core/error.hpp"
+
+namespace trackassoc {
+
+void SegmentOptions::validate() const {
+  require(std::isfinite(max_overlap_s) && max_overlap_s >= 0.0, "segments.max_overlap_s",
+          "expected a finite value >= 0 [s]");
+}
+
+nlohmann::json SegmentOptions::to_json() const {
+  return {{"enabled", enabled}, {"max_overlap_s", max_overlap_s}};
+}
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The problem's nodes with their report intervals, links and targets.
+struct SegmentGraph {
+  const SparseSDProblem& p;
+  std::vector<double> first, last;                             // report interval per node
+  std::vector<std::vector<std::pair<int32_t, double>>> links;  // gated-in neighbours, link cost
+  std::unordered_map<uint64_t, double> link_of;                // (min node, max node) → link cost
+
+  static uint64_t key(int32_t u, int32_t v) {
+    if (u > v) std::swap(u, v);
+    return (static_cast<uint64_t>(static_cast<uint32_t>(u)) << 32) | static_cast<uint32_t>(v);
+  }
+  double overlap_s(int32_t u, int32_t v) const {
+    return std::min(last[u], last[v]) - std::max(first[u], first[v]);
+  }
+  // Tested by the gate: the two have common valid times (the S-D tuple rule).
+  bool tested(int32_t u, int32_t v) const {
+    if (p.first_valid[u] < 0 || p.first_valid[v] < 0) return false;
+    return std::max(p.first_valid[u], p.first_valid[v]) <= std::min(p.last_valid[u], p.last_valid[v]);
+  }
+  const double* link(int32_t u, int32_t v) const {
+    auto it = link_of.find(key(u, v));
+    return it == link_of.end() ? nullptr : &it->second;
+  }
+  int32_t node(int32_t s, int32_t track) const {  // −1 when sensor s has no such track
+    const std::vector<int32_t>& t = p.aligned[s].track;
+    auto it = std::lower_bound(t.begin(), t.end(), track);
+    return it != t.end() && *it == track ? p.offset[s] + static_cast<int32_t>(it - t.begin()) : -1;
+  }
+};
+
+SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks) {
+  SegmentGraph g{p, {}, {}, {}, {}};
+  const int32_t N = p.nodes(), S = p.S();
+  g.first.assign(N, kInf);
+  g.last.assign(N, -kInf);
+  std::unordered_map<int32_t, int32_t> sensor_index;
+  for (int32_t s = 0; s < S; ++s) sensor_index[p.sensor_ids[s]] = s;
+  for (std::size_t r = 0; r < tracks.size(); ++r) {
+    auto it = sensor_index.find(tracks.sensor[r]);
+    if (it == sensor_index.end()) continue;
+    const int32_t u = g.node(it->second, tracks.track[r]);
+    if (u < 0) continue;
+    g.first[u] = std::min(g.first[u], tracks.t[r]);
+    g.last[u] = std::max(g.last[u], tracks.t[r]);
+  }
+  g.links.resize(N);
+  for (int32_t a = 0; a < S; ++a)
+    for (int32_t b = a + 1; b < S; ++b) {
+      const std::size_t slot = static_cast<std::size_t>(a) * S + b;
+      const SparsePairStatistic& st = p.pairs[slot];
+      for (std::size_t q = 0; q < st.size(); ++q) {
+        const int32_t u = p.offset[a] + st.a[q], v = p.offset[b] + st.b[q];
+        const double c = p.link[slot][q];
+        g.links[u].push_back({v, c});
+        g.links[v].push_back({u, c});
+        g.link_of[SegmentGraph::key(u, v)] = c;
+      }
+    }
+  return g;
+}
+
+struct Target {
+  std::vector<std::vector<int32_t>> members;  // per sensor, nodes in the order they joined
+  std::size_t tuple = 0;                      // its row in the assignment
+  bool grew = false;
+};
+
+// Cost of joining free node u (sensor s) to target t, +inf when (a), (b) or (c) fails.
+double join_cost(const SegmentGraph& g, const Target& t, int32_t u, int32_t s, double max_overlap) {
+  for (int32_t m : t.members[s])
+    if (g.overlap_s(u, m) > max_overlap) return kInf;  // (a)
+  double cost = 0.0;
+  bool evidence = false;
+  for (std::size_t r = 0; r < t.members.size(); ++r) {
+    if (static_cast<int32_t>(r) == s) continue;
+    for (int32_t m : t.members[r]) {
+      const double* c = g.link(u, m);
+      if (!c) {
+        if (g.tested(u, m)) return kInf;  // (c)
+        continue;
+      }
+      cost += *c;
+      evidence |= g.overlap_s(u, m) > 0.0;  // (b)
+    }
+  }
+  return evidence ? cost : kInf;
+}
+
+// One round: the LAP per connected component of the candidate graph; returns the joins made.
+int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vector<int32_t>& target_of,
+                   double max_overlap) {
+  const SparseSDProblem& p = g.p;
+  struct Candidate {
+    int32_t u, t;
+    double cost;
+  };
+  std::vector<Candidate> cand;
+  for (int32_t u = 0; u < p.nodes(); ++u) {
+    if (target_of[u] >= 0) continue;
+    std::vector<int32_t> seen;
+    for (const auto& [v, c] : g.links[u]) {
+      const int32_t t = target_of[v];
+      if (t < 0 || std::find(seen.begin(), seen.end(), t) != seen.end()) continue;
+      seen.push_back(t);
+      const double cost = join_cost(g, targets[t], u, p.sensor_of(u), max_overlap);
+      if (std::isfinite(cost)) cand.push_back({u, t, cost});
+    }
+  }
+  if (cand.empty()) return 0;
+  // Components over free nodes (0..N−1) and targets (N..N+T−1).
+  const int32_t N = p.nodes();
+  std::vector<int32_t> eu, ev;
+  for (const Candidate& c : cand) eu.push_back(c.u), ev.push_back(N + c.t);
+  const Components comp = connected_components(N + static_cast<int32_t>(targets.size()), eu, ev);
+  std::vector<std::vector<std::size_t>> by_comp(comp.count);
+  for (std::size_t q = 0; q < cand.size(); ++q) by_comp[comp.label[cand[q].u]].push_back(q);
+  int32_t joined = 0;
+  std::vector<std::pair<int32_t, int32_t>> joins;  // (u, t)
+  for (const auto& qs : by_comp) {
+    if (qs.empty()) continue;
+    std::vector<int32_t> rows, cols;
+    for (std::size_t q : qs) rows.push_back(cand[q].u), cols.push_back(cand[q].t);
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    std::sort(cols.begin(), cols.end());
+    cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+    const int32_t R = static_cast<int32_t>(rows.size()), C = static_cast<int32_t>(cols.size());
+    std::vector<double> cost(static_cast<std::size_t>(R) * C, kInf);
+    for (std::size_t q : qs) {
+      const int32_t i =
+          static_cast<int32_t>(std::lower_bound(rows.begin(), rows.end(), cand[q].u) - rows.begin());
+      const int32_t j =
+          static_cast<int32_t>(std::lower_bound(cols.begin(), cols.end(), cand[q].t) - cols.begin());
+      cost[static_cast<std::size_t>(i) * C + j] = cand[q].cost;
+    }
+    LapOptions lap;
+    lap.allow_unassigned = true;
+    lap.unassigned_cost = 0.0;  // link costs are ≤ 0: every allowed join is worth making
+    const LapResult res = solve_lap(cost, R, C, lap);
+    for (int32_t i = 0; i < R; ++i) {
+      const int32_t j = res.row_to_col[i];
+      if (j >= 0 && std::isfinite(cost[static_cast<std::size_t>(i) * C + j]))
+        joins.push_back({rows[i], cols[j]});
+    }
+  }
+  for (const auto& [u, t] : joins) {
+    targets[t].members[p.sensor_of(u)].push_back(u);
+    targets[t].grew = true;
+    target_of[u] = t;
+    ++joined;
+  }
+  return joined;
+}
+
+// The tuple cost of a set of nodes: Σ of the link costs of its linked pairs.
+double tuple_cost(const SegmentGraph& g, const std::vector<int32_t>& nodes) {
+  double c = 0.0;
+  for (std::size_t a = 0; a < nodes.size(); ++a)
+    for (std::size_t b = a + 1; b < nodes.size(); ++b)
+      if (const double* l = g.link(nodes[a], nodes[b])) c += *l;
+  return c;
+}
+
+}  // namespace
+
+AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable& tracks,
+                                      const AssociationRecord& record, const SegmentOptions& options,
+                                      SegmentSummary* summary) {
+  options.validate();
+  const int32_t S = p.S(), W = record.num_sensors;
+  require(W == p.file_sensors, "join_track_segments", "the record's columns are not the problem's");
+  const SegmentGraph g = build_graph(p, tracks);
+  const std::size_t K = record.num_tuples();
+
+  // Targets: the assignment's tuples of ≥ 2 members.
+  std::vector<Target> targets;
+  std::vector<int32_t> target_of(p.nodes(), -1);
+  for (std::size_t k = 0; k < K; ++k) {
+    Target t;
+    t.members.resize(S);
+    t.tuple = k;
+    int32_t n = 0;
+    for (int32_t s = 0; s < S; ++s) {
+      const int32_t track = record.tuples[k * W + p.sensor_columns[s]];
+      if (track < 0) continue;
+      const int32_t u = g.node(s, track);
+      require(u >= 0, "join_track_segments", "a tuple names a track the problem does not hold");
+      t.members[s].push_back(u);
+      ++n;
+    }
+    if (n < 2) continue;
+    for (const auto& m : t.members)
+      for (int32_t u : m) target_of[u] = static_cast<int32_t>(targets.size());
+    targets.push_back(std::move(t));
+  }
+  SegmentSummary sum;
+  sum.targets = static_cast<int32_t>(targets.size());
+  if (options.enabled)
+    while (true) {
+      ++sum.rounds;
+      const int32_t j = join_round(g, targets, target_of, options.max_overlap_s);
+      sum.joined += j;
+      if (j == 0) break;
+    }
+
+  AssociationRecord out = record;
+  out.tuples.clear();
+  out.cost.clear();
+  out.target.clear();
+  int32_t next_target = 0;
+  std::vector<int32_t> row(W, -1);
+  auto emit = [&](const std::vector<int32_t>& nodes, double cost, int32_t target) {
+    std::fill(row.begin(), row.end(), -1);
+    for (int32_t u : nodes) {
+      const int32_t s = p.sensor_of(u);
+      row[p.sensor_columns[s]] = p.aligned[s].track[u - p.offset[s]];
+    }
+    out.tuples.insert(out.tuples.end(), row.begin(), row.end());
+    out.cost.push_back(cost);
+    out.target.push_back(target);
+  };
+  std::vector<int32_t> target_of_tuple(K, -1);
+  for (std::size_t t = 0; t < targets.size(); ++t)
+    target_of_tuple[targets[t].tuple] = static_cast<int32_t>(t);
+  for (std::size_t k = 0; k < K; ++k) {
+    const int32_t ti = target_of_tuple[k];
+    if (ti < 0) {
+      // A tuple of one (or none): dropped when its track joined a target.
+      std::vector<int32_t> nodes;
+      for (int32_t s = 0; s < S; ++s) {
+        const int32_t track = record.tuples[k * W + p.sensor_columns[s]];
+        if (track >= 0) nodes.push_back(g.node(s, track));
+      }
+      if (nodes.size() == 1 && target_of[nodes[0]] >= 0) continue;
+      out.tuples.insert(out.tuples.end(), record.tuples.begin() + k * W, record.tuples.begin() + (k + 1) * W);
+      out.cost.push_back(record.cost[k]);
+      out.target.push_back(next_target++);
+      continue;
+    }
+    const Target& t = targets[ti];
+    const int32_t id = next_target++;
+    if (!t.grew) {
+      out.tuples.insert(out.tuples.end(), record.tuples.begin() + k * W, record.tuples.begin() + (k + 1) * W);
+      out.cost.push_back(record.cost[k]);
+      out.target.push_back(id);
+      continue;
+    }
+    ++sum.targets_joined;
+    // Time slices at every segment's first and last report.
+    std::vector<int32_t> all;
+    std::vector<double> cuts;
+    for (const auto& m : t.members)
+      for (int32_t u : m) all.push_back(u), cuts.push_back(g.first[u]), cuts.push_back(g.last[u]);
+    std::sort(cuts.begin(), cuts.end());
+    cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+    std::vector<uint8_t> written(all.size(), 0);
+    std::vector<std::vector<int32_t>> slices;
+    for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
+      const double mid = 0.5 * (cuts[c] + cuts[c + 1]);
+      std::vector<int32_t> slice;
+      for (const auto& m : t.members) {
+        int32_t pick = -1;
+        for (int32_t u : m)
+          if (g.first[u] <= mid && mid <= g.last[u] && (pick < 0 || g.first[u] > g.first[pick])) pick = u;
+        if (pick >= 0) slice.push_back(pick);
+      }
+      if (slice.size() < 2 || std::find(slices.begin(), slices.end(), slice) != slices.end()) continue;
+      slices.push_back(slice);
+      emit(slice, tuple_cost(g, slice), id);
+      for (int32_t u : slice) written[std::find(all.begin(), all.end(), u) - all.begin()] = 1;
+    }
+    for (std::size_t q = 0; q < all.size(); ++q)
+      if (!written[q]) emit({all[q]}, 0.0, id);
+  }
+  if (summary) *summary = sum;
+  return out;
+}
+
+}  // namespace trackassoc

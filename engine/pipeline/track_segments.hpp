@@ -1,0 +1,74 @@
+// Track segments (issue 17 item 5): one target followed on one sensor by several local tracks in
+// sequence (a track break: the tracker lost the target and started a new track, or a track was
+// dropped and re-initiated), each of which must still be associated with the target's tracks on
+// the other sensors.
+//
+// The S-D assignment is one-to-one per sensor over the whole recording, so of the segments
+// s₁, s₂, … that one sensor gives a target, it links at most one with the target's track on
+// another sensor; the others stay unassociated. This pass, run after the assignment of the
+// sparse S-D pipeline (engine/pipeline/sparse_sd_pipeline.hpp), joins them. A *target* is a
+// tuple of the assignment with ≥ 2 members; it holds, per sensor, a list of segments that follow
+// each other. In rounds, until no segment joins:
+//   * every local track u in no target (sensor s) is a candidate for every target T such that
+//     (a) u follows or precedes every segment T already holds on s: their report intervals
+//         overlap by at most `max_overlap_s` (the overlap of a coasting old track and its
+//         successor);
+//     (b) u is linked — gated in by the sequential statistic, with a link cost ≤ 0
+//         (SequentialGate::link_cost) — to at least one member of T on another sensor whose
+//         report interval overlaps u's (evidence from common reports, not from extrapolation);
+//     (c) no member of T on another sensor was tested against u and failed the gate (a pair with
+//         common valid times and no gated link, the rule of the S-D tuples);
+//     with cost Σ of u's link costs to T's members on the other sensors;
+//   * one LAP over candidates × targets (kernels/assignment/lap.hpp, unassigned allowed at 0, so
+//     every allowed join is worth making) gives each target at most one new segment per round
+//     and each candidate at most one target: two segments that overlap each other never join
+//     one target on one sensor in the same round, and (a) keeps it so in later rounds.
+// A track joins at most one target, so the pass only adds links; it never undoes the assignment.
+//
+// Output (the record's tuples, over the file's sensor columns): each target's segments are cut
+// into time slices at every segment's first and last report; in each slice the tuple holds, per
+// sensor, the segment reporting then (of two overlapping segments, the later one, which took the
+// target over); consecutive equal slices merge, slices of one member are dropped. A target that
+// gained no segment gives its assignment tuple unchanged. Every track of a target appears in at
+// least one tuple (a segment in no slice of two members is written as a tuple of one), and every
+// tuple carries its target number in `target` (/associations/<name>/target, io/track_file.hpp):
+// tuples of one target are the same vessel, aircraft, ... over time. The local tracks in no
+// target keep their tuples of one with a target number of their own.
+//
+// Complexity: per round O(U·T·m) to build the candidates (U free tracks, T targets, m members per
+// target, each link looked up in a hash map) and O(max(U, T)³) for the LAP; rounds ≤ the largest
+// number of segments one target gains (a few on recorded data).
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+
+#include "io/track_file.hpp"
+
+namespace trackassoc {
+
+struct SparseSDProblem;  // engine/pipeline/sparse_sd_pipeline.hpp
+
+struct SegmentOptions {
+  bool enabled = true;         // join the segments of a target (off: the assignment's tuples)
+  double max_overlap_s = 2.0;  // [s] report overlap (a) that still counts as "one after the other"
+  void validate() const;       // throws InputError naming the field
+  nlohmann::json to_json() const;
+};
+
+struct SegmentSummary {
+  int32_t targets = 0;         // tuples of ≥ 2 members of the assignment
+  int32_t joined = 0;          // segments joined to them
+  int32_t rounds = 0;          // rounds run (the last one joins nothing)
+  int32_t targets_joined = 0;  // targets that gained at least one segment
+};
+
+// Joins the segments of `record` (the assignment of `p`, tuples over p.file_sensors columns) by the
+// rule above; `tracks` gives the report intervals. Returns the record with the tuples rewritten,
+// `target` filled, and the cost of each new tuple the sum of its members' link costs (the
+// objective and the bound stay the assignment's).
+AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable& tracks,
+                                      const AssociationRecord& record, const SegmentOptions& options,
+                                      SegmentSummary* summary = nullptr);
+
+}  // namespace trackassoc

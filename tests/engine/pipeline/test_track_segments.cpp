@@ -1,0 +1,176 @@
+// Track segments joined to their targets (engine/pipeline/track_segments.hpp), against the
+// simulator's truth: a simulated two-sensor recording in which one sensor breaks every track in
+// two (the old track ends, the new one starts a few seconds later under a new number). The truth
+// says which segments are one target; the checks are that
+//  * without the segment pass the one-to-one assignment cannot get a broken target right (missed),
+//  * with it every target is correct (evaluate_association over target numbers), each tuple's
+//    members report at the same times, and every track is in exactly one target;
+//  * segments that overlap by more than max_overlap_s (two tracks at once, not one after the
+//    other) never join one target on one sensor;
+//  * the reader refuses bad target numbers, naming the dataset.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "engine/pipeline/associator.hpp"
+#include "engine/pipeline/metrics.hpp"
+#include "engine/pipeline/workflow.hpp"
+#include "engine/simulation/simulation.hpp"
+#include "io/track_file.hpp"
+#include "kernels/core/error.hpp"
+#include "tests/support/io_test_files.hpp"
+
+namespace trackassoc {
+namespace {
+
+constexpr int32_t kRenumber = 1000;  // the second segment of track k is track k + kRenumber
+
+// recorded_sync with its first two sensors; sensor `broken` loses every track between t_end and
+// t_start (a gap, or an overlap when t_start < t_end), the rows from t_start on taking a new number.
+TrackFile broken_file(double t_end, double t_start) {
+  const Scenario sc = load_scenario("recorded_sync");
+  TrackFile f = simulation_to_track_file(sc, simulate(sc, 1, 0));
+  const int32_t keep_a = f.sensors[0].id, broken = f.sensors[1].id;
+  f.sensors.resize(2);
+  TrackTable out(f.tracks.layout);
+  for (std::size_t r = 0; r < f.tracks.size(); ++r) {
+    const int32_t s = f.tracks.sensor[r];
+    if (s != keep_a && s != broken) continue;
+    const double t = f.tracks.t[r];
+    const auto x = f.tracks.state_at(r);
+    const auto P = f.tracks.cov_at(r);
+    if (s == keep_a) {
+      out.push_back(s, f.tracks.track[r], t, x, P, f.tracks.truth[r]);
+      continue;
+    }
+    if (t < t_end) out.push_back(s, f.tracks.track[r], t, x, P, f.tracks.truth[r]);
+    if (t >= t_start) out.push_back(s, f.tracks.track[r] + kRenumber, t, x, P, f.tracks.truth[r]);
+  }
+  f.tracks = out;
+  f.measurements.reset();   // of the dropped sensor too
+  f.scenario_json.clear();  // a recorded track set now
+  return f;
+}
+
+AssociationOutcome associate(const TrackFile& f, bool segments, double max_overlap = 2.0) {
+  AssociatorOptions o;
+  o.segments.enabled = segments;
+  o.segments.max_overlap_s = max_overlap;
+  return make_associator(o)->associate(f);
+}
+
+std::map<std::pair<int32_t, int32_t>, std::pair<double, double>> spans(const TrackFile& f) {
+  std::map<std::pair<int32_t, int32_t>, std::pair<double, double>> out;
+  for (std::size_t r = 0; r < f.tracks.size(); ++r) {
+    auto [it, fresh] = out.emplace(std::make_pair(f.tracks.sensor[r], f.tracks.track[r]),
+                                   std::make_pair(f.tracks.t[r], f.tracks.t[r]));
+    it->second.first = std::min(it->second.first, f.tracks.t[r]);
+    it->second.second = std::max(it->second.second, f.tracks.t[r]);
+  }
+  return out;
+}
+
+TEST(TrackSegments, BrokenTracksJoinTheirTargets) {
+  const TrackFile f = broken_file(40.0, 43.0);
+  const AssociationOutcome plain = associate(f, false);
+  const AssociationMetrics mp = evaluate_association(f.tracks, f.sensors, plain.record);
+  ASSERT_GT(mp.targets, 3);
+  EXPECT_EQ(mp.correct, 0) << "a target of three tracks cannot be one tuple of two sensors";
+  EXPECT_TRUE(plain.record.target.empty());
+
+  const AssociationOutcome seg = associate(f, true);
+  const AssociationRecord& rec = seg.record;
+  ASSERT_EQ(rec.target.size(), rec.num_tuples());
+  const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, rec);
+  EXPECT_EQ(m.targets, mp.targets);
+  EXPECT_EQ(m.correct, m.targets);
+  EXPECT_EQ(m.false_tuples, 0);
+  // Every track in one target; the members of a tuple of two report at common times.
+  const auto span = spans(f);
+  std::map<std::pair<int32_t, int32_t>, int32_t> target_of;
+  for (std::size_t k = 0; k < rec.num_tuples(); ++k) {
+    const int32_t a = rec.tuples[2 * k], b = rec.tuples[2 * k + 1];
+    for (int c = 0; c < 2; ++c) {
+      const int32_t trk = rec.tuples[2 * k + c];
+      if (trk < 0) continue;
+      auto [it, fresh] = target_of.emplace(std::make_pair(f.sensors[c].id, trk), rec.target[k]);
+      EXPECT_EQ(it->second, rec.target[k]) << "track " << trk << " in two targets";
+    }
+    if (a >= 0 && b >= 0) {
+      const auto& sa = span.at({f.sensors[0].id, a});
+      const auto& sb = span.at({f.sensors[1].id, b});
+      EXPECT_GT(std::min(sa.second, sb.second) - std::max(sa.first, sb.first), 0.0);
+    }
+  }
+  EXPECT_EQ(target_of.size(), span.size());
+  for (const UnassociatedTracks& u : seg.unassociated) EXPECT_TRUE(u.tracks.empty()) << u.sensor_id;
+  // Written and read back with the target numbers.
+  test::TempDir dir;
+  TrackFile out = f;
+  store_outcome(out, seg);
+  write_track_file(dir.file("seg.h5"), out);
+  const TrackFile back = read_track_file(dir.file("seg.h5"));
+  ASSERT_EQ(back.associations.size(), 1u);
+  EXPECT_EQ(back.associations[0].target, rec.target);
+  EXPECT_EQ(back.associations[0].tuples, rec.tuples);
+}
+
+TEST(TrackSegments, OverlappingTracksDoNotJoin) {
+  // The new track starts 20 s before the old one ends: two tracks of one target at once.
+  const TrackFile f = broken_file(60.0, 40.0);
+  const AssociationRecord rec = associate(f, true, 2.0).record;
+  const auto span = spans(f);
+  std::map<int32_t, std::vector<int32_t>> broken_of_target;  // target → its tracks on sensor 1
+  for (std::size_t k = 0; k < rec.num_tuples(); ++k)
+    if (rec.tuples[2 * k + 1] >= 0) broken_of_target[rec.target[k]].push_back(rec.tuples[2 * k + 1]);
+  for (auto& [t, tracks] : broken_of_target) {
+    std::sort(tracks.begin(), tracks.end());
+    tracks.erase(std::unique(tracks.begin(), tracks.end()), tracks.end());
+    for (std::size_t i = 0; i < tracks.size(); ++i)
+      for (std::size_t j = i + 1; j < tracks.size(); ++j) {
+        const auto& a = span.at({f.sensors[1].id, tracks[i]});
+        const auto& b = span.at({f.sensors[1].id, tracks[j]});
+        EXPECT_LE(std::min(a.second, b.second) - std::max(a.first, b.first), 2.0);
+      }
+  }
+  // With a tolerance above the overlap the same segments do join.
+  const AssociationRecord loose = associate(f, true, 25.0).record;
+  EXPECT_EQ(evaluate_association(f.tracks, f.sensors, loose).correct,
+            evaluate_association(f.tracks, f.sensors, loose).targets);
+}
+
+TEST(TrackSegments, ReaderRefusesBadTargetNumbers) {
+  const TrackFile f = broken_file(40.0, 43.0);
+  TrackFile out = f;
+  store_outcome(out, associate(f, true));
+  test::TempDir dir;
+  auto expect_refused = [&](const std::vector<int32_t>& target, const std::string& what) {
+    TrackFile bad = out;
+    bad.associations[0].target = target;
+    const std::string path = dir.file("bad.h5");
+    write_track_file(path, bad);
+    const std::string error = test::read_error(path);
+    EXPECT_NE(error.find("/target"), std::string::npos) << what << ": " << error;
+  };
+  std::vector<int32_t> t = out.associations[0].target;
+  expect_refused({t.begin(), t.end() - 1}, "a short target dataset");
+  t[0] = -3;
+  expect_refused(t, "a negative target number");
+  t = out.associations[0].target;
+  // Two tuples sharing a track (a target of several tuples) given different numbers.
+  const AssociationRecord& r = out.associations[0];
+  bool shared = false;
+  for (std::size_t k = 0; k < r.num_tuples() && !shared; ++k)
+    for (std::size_t q = k + 1; q < r.num_tuples() && !shared; ++q)
+      if (r.tuples[2 * k] >= 0 && r.tuples[2 * k] == r.tuples[2 * q]) {
+        t[q] = t[k] + 100000;
+        shared = true;
+      }
+  ASSERT_TRUE(shared) << "the broken file should give a target of two tuples";
+  expect_refused(t, "a track in two targets");
+}
+
+}  // namespace
+}  // namespace trackassoc
