@@ -34,6 +34,7 @@
 #include <immintrin.h>
 #endif
 
+#include "kernels/assignment/lap_phases.hpp"
 #include "kernels/core/error.hpp"
 
 namespace trackassoc {
@@ -45,26 +46,18 @@ void LapOptions::validate() const {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using lap_detail::kInf;
+using lap_detail::TwoSmallest;
 
 // Work arrays of one solve, sized once.
-struct LapWorkspace {
-  std::vector<double> u, v, shortest, path, assigned, final_dist, saved_v;
-  std::vector<int32_t> col4row, row4col, scanned_rows, scanned_cols, free_rows;
+struct LapWorkspace : lap_detail::LapState {
+  std::vector<double> shortest, path, assigned, final_dist, saved_v;
+  std::vector<int32_t> scanned_rows, scanned_cols;
 
   LapWorkspace(int32_t nr, int32_t nc)
-      : u(nr, 0.0),
-        v(nc, 0.0),
-        shortest(nc),
-        path(nc, -1.0),
-        assigned(nc, 0.0),
-        final_dist(nc),
-        saved_v(nc),
-        col4row(nr, -1),
-        row4col(nc, -1) {
+      : LapState(nr, nc), shortest(nc), path(nc, -1.0), assigned(nc, 0.0), final_dist(nc), saved_v(nc) {
     scanned_rows.reserve(nr);
     scanned_cols.reserve(nc);
-    free_rows.reserve(nr);
   }
 };
 
@@ -174,28 +167,9 @@ int32_t shortest_augmenting_path(const double* cost, int32_t nc, int32_t source,
   }
 }
 
-// The two smallest reduced costs h_j = row[j] − v[j] of a row: u1 at j1, the first index of the
-// minimum, and u2 (= u1 on a tie) at j2, the first index other than j1 attaining it; −1 for +inf.
-// Sequentially: h < u1 moves (u1, j1) to (u2, j2); u1 ≤ h < u2 replaces (u2, j2). The AVX2 path
-// runs that rule per lane and merges the lanes into the same result (the global minimum's lane
-// gives j1; the second value comes from that lane's second or another lane's minimum).
-struct TwoSmallest {
-  double u1 = kInf, u2 = kInf;
-  int32_t j1 = -1, j2 = -1;
-  void add(double h, int32_t j) {
-    if (!(h < u2)) return;
-    if (h >= u1) {
-      u2 = h;
-      j2 = j;
-    } else {
-      u2 = u1;
-      j2 = j1;
-      u1 = h;
-      j1 = j;
-    }
-  }
-};
-
+// lap_detail::TwoSmallest of the row h_j = row[j] − v[j]. The AVX2 path runs TwoSmallest's rule
+// per lane and merges the lanes into the same result (the global minimum's lane gives j1; the
+// second value comes from that lane's second or another lane's minimum).
 TwoSmallest two_smallest(const double* row, const double* v, int32_t nc) {
   TwoSmallest t;
   int32_t j = 0;
@@ -283,53 +257,6 @@ void column_reduction(const double* cost, int32_t n, LapWorkspace& w) {
   }
 }
 
-// Augmenting row reduction (JV §4.1): each free row i takes the column j1 of its smallest reduced
-// cost c_ij − v_j and lowers v_j1 by the gap to the second smallest, so the pair is tight and row i
-// dual feasible; the row that owned j1 becomes free and, when v_j1 strictly dropped, is processed
-// next (an auction step with ε = 0). Equal minimum and second minimum: i takes the second column
-// instead when j1 is owned, and the displaced row waits for the next phase. Every step keeps the
-// invariant of the augmentation phase (assigned rows dual feasible with tight pairs, v only
-// decreases, free columns' v untouched), so the phase may stop at any time: `budget` caps the
-// chained steps (price wars with tiny gaps would otherwise run long). Rows left free stay in
-// `free_rows`.
-void augmenting_row_reduction(const double* cost, int32_t nc, LapWorkspace& w, int64_t& budget) {
-  std::vector<int32_t>& free_rows = w.free_rows;
-  const int32_t previous = static_cast<int32_t>(free_rows.size());
-  int32_t k = 0, num_free = 0;
-  double* const v = w.v.data();
-  while (k < previous) {
-    const int32_t i = free_rows[k++];
-    const TwoSmallest t = two_smallest(cost + static_cast<std::size_t>(i) * nc, v, nc);
-    const double u1 = t.u1, u2 = t.u2;
-    int32_t j1 = t.j1;
-    const int32_t j2 = t.j2;
-    int32_t i0 = j1 >= 0 ? w.row4col[j1] : -1;
-    // No finite entry, or a single one whose column is owned: left to the augmentation phase.
-    if (j1 < 0 || (u2 == kInf && i0 >= 0)) {
-      free_rows[num_free++] = i;
-      continue;
-    }
-    const bool dropped = u1 < u2 && u2 < kInf;
-    if (dropped) {
-      v[j1] -= u2 - u1;
-    } else if (i0 >= 0 && u2 < kInf) {  // tie: the second column may be free
-      j1 = j2;
-      i0 = w.row4col[j2];
-    }
-    w.col4row[i] = j1;
-    w.row4col[j1] = i;
-    if (i0 < 0) continue;
-    w.col4row[i0] = -1;
-    if (dropped && budget > 0) {
-      --budget;
-      free_rows[--k] = i0;  // continue the chain with the displaced row
-    } else {
-      free_rows[num_free++] = i0;
-    }
-  }
-  free_rows.resize(num_free);
-}
-
 // Core solver for nr ≤ nc on a row-major nr×nc matrix without NaN. Fills col4row (−1 for rows
 // that could not be assigned at finite cost) and returns false if any row could not be assigned.
 bool solve_rectangular(const double* cost, int32_t nr, int32_t nc, bool initialise,
@@ -345,9 +272,12 @@ bool solve_rectangular(const double* cost, int32_t nr, int32_t nc, bool initiali
     for (int32_t i = 0; i < nr; ++i) w.free_rows[i] = i;
   }
   if (initialise) {
-    int64_t budget = 8 * static_cast<int64_t>(nr) + 64;  // chained steps over both phases
+    int64_t budget = lap_detail::row_reduction_budget(nr);
+    auto smallest = [&](int32_t i) {
+      return two_smallest(cost + static_cast<std::size_t>(i) * nc, w.v.data(), nc);
+    };
     for (int phase = 0; phase < 2 && !w.free_rows.empty(); ++phase)
-      augmenting_row_reduction(cost, nc, w, budget);
+      lap_detail::augmenting_row_reduction(w, smallest, budget);
     // Explicit row duals of the assigned rows: their pairs are tight.
     for (int32_t i = 0; i < nr; ++i) {
       const int32_t j = w.col4row[i];
@@ -364,20 +294,10 @@ bool solve_rectangular(const double* cost, int32_t nr, int32_t nc, bool initiali
       feasible = false;  // the row stays unassigned; the duals were not touched
       continue;
     }
-    // Dual update (Crouse Eq. 14–15): keeps reduced costs ≥ 0 and matched pairs tight.
-    w.u[cur] += min_val;
-    for (const int32_t r : w.scanned_rows)
-      if (r != cur) w.u[r] += min_val - w.final_dist[w.col4row[r]];
-    for (const int32_t c : w.scanned_cols) w.v[c] = w.saved_v[c] - (min_val - w.final_dist[c]);
-    // Augment along the path back to the source row.
+    for (const int32_t c : w.scanned_cols) w.v[c] = w.saved_v[c];  // unpark the scanned columns
     w.assigned[sink] = 1.0;
-    int32_t j = sink;
-    while (true) {
-      const int32_t i = static_cast<int32_t>(w.path[j]);
-      w.row4col[j] = i;
-      std::swap(w.col4row[i], j);
-      if (i == cur) break;
-    }
+    lap_detail::augment(w, cur, sink, min_val, w.scanned_rows, w.scanned_cols, w.final_dist.data(),
+                        [&](int32_t j) { return static_cast<int32_t>(w.path[j]); });
   }
   col4row_out = std::move(w.col4row);
   u_out = std::move(w.u);
@@ -431,42 +351,10 @@ LapResult solve_lap(std::span<const double> cost, int32_t rows, int32_t cols, co
 
   std::vector<int32_t> col4row;
   std::vector<double> u, v;
+  bool feasible = true;
   if (nr > 0)
-    result.feasible =
-        solve_rectangular(matrix, nr, nc, options.initialise, col4row, u, v, result.augmented_rows);
-  if (result.feasible && !options.allow_unassigned) {
-    // Rectangular: free columns keep v = 0 and v only decreases (Crouse Eq. 15), so v ≤ 0 on the
-    // longer side. Square: column reduction may leave v > 0; shifting u up and v down by max v keeps
-    // every u_i + v_j and makes v ≤ 0 too.
-    u.resize(nr, 0.0);
-    v.resize(nc, 0.0);
-    if (nr == nc && nr > 0) {
-      const double shift = *std::max_element(v.begin(), v.end());
-      for (double& x : v) x -= shift;
-      for (double& x : u) x += shift;
-    }
-    result.row_dual = transpose ? std::move(v) : std::move(u);
-    result.col_dual = transpose ? std::move(u) : std::move(v);
-  }
-
-  for (int32_t r = 0; r < nr; ++r) {
-    const int32_t c = col4row[r];
-    if (c < 0) continue;
-    const double x = at(r, c);
-    if (options.allow_unassigned && !(x < two_u)) continue;  // not worth assigning: release the pair
-    const int32_t row = transpose ? c : r;
-    const int32_t col = transpose ? r : c;
-    result.row_to_col[row] = col;
-    result.col_to_row[col] = row;
-    result.cost += x;
-  }
-  if (options.allow_unassigned) {
-    int64_t unassigned = 0;
-    for (int32_t c : result.row_to_col) unassigned += (c < 0);
-    for (int32_t r : result.col_to_row) unassigned += (r < 0);
-    result.cost += options.unassigned_cost * static_cast<double>(unassigned);
-  }
-  if (!result.feasible) result.cost = kInf;
+    feasible = solve_rectangular(matrix, nr, nc, options.initialise, col4row, u, v, result.augmented_rows);
+  lap_detail::assemble_result(result, feasible, col4row, u, v, nr, nc, transpose, options, at);
   return result;
 }
 
