@@ -2,7 +2,10 @@
 // geometric (squared-distance) costs, the matrices of bench/lap_matrices.hpp. The peer is scipy's
 // linear_sum_assignment on the same matrices: bench/lap_scipy.py (run by scripts/bench.sh or by
 // hand: /usr/bin/python3 bench/lap_scipy.py). The counter `objective` lets the two runs be checked
-// against each other (same matrix, same optimum).
+// against each other (same matrix, same optimum). BM_LapPlain is the same solver without JV's
+// initialisation phases (LapOptions::initialise = false: the plain shortest augmenting path, the
+// algorithm scipy uses), so the gain of the initialisation is measured in the same run; the counter
+// `augmented` is the number of rows left to the augmentation phase.
 //
 // One LAP is inherently sequential (each augmentation depends on the last), so the thread variant
 // is a batch of 4 independent LAPs spread over the threads with parallel_for_range: the throughput
@@ -27,18 +30,26 @@ const std::vector<double>& matrix(bool geometric, int n) {
   return m;
 }
 
-void BM_Lap(benchmark::State& state, bool geometric) {
+void run_lap(benchmark::State& state, bool geometric, bool initialise) {
   const int n = static_cast<int>(state.range(0));
   const auto& c = matrix(geometric, n);
+  LapOptions options;
+  options.initialise = initialise;
   double objective = 0.0;
+  int32_t augmented = 0;
   for (auto _ : state) {
-    const LapResult r = solve_lap(c, n, n);
+    const LapResult r = solve_lap(c, n, n, options);
     objective = r.cost;
+    augmented = r.augmented_rows;
     benchmark::DoNotOptimize(r.row_to_col.data());
   }
   state.counters["objective"] = objective;
   state.counters["n"] = n;
+  state.counters["augmented"] = augmented;
 }
+
+void BM_Lap(benchmark::State& state, bool geometric) { run_lap(state, geometric, true); }
+void BM_LapPlain(benchmark::State& state, bool geometric) { run_lap(state, geometric, false); }
 
 void BM_LapBatch4(benchmark::State& state, bool geometric) {
   const int n = static_cast<int>(state.range(0));
@@ -57,6 +68,8 @@ void BM_LapBatch4(benchmark::State& state, bool geometric) {
 
 BENCHMARK_CAPTURE(BM_Lap, uniform, false)->Arg(100)->Arg(1000)->Arg(2000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Lap, geometric, true)->Arg(100)->Arg(1000)->Arg(2000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_LapPlain, uniform, false)->Arg(1000)->Arg(2000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_LapPlain, geometric, true)->Arg(1000)->Arg(2000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_LapBatch4, uniform, false)
     ->Args({1000, 1})
     ->Args({1000, 2})
