@@ -8,6 +8,7 @@
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
 #include "engine/studies/autoferry/autoferry.hpp"
+#include "engine/studies/experiments.hpp"
 
 namespace trackassoc::cli {
 namespace {
@@ -52,6 +53,7 @@ void register_autoferry(CLI::App& app) {
     CommonOptions common;
     std::string data = kDefaultData, output;
     int scenario = 0;
+    bool no_plots = false;  // experiment: no scenarioN.png
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.get_subcommand("import")->add_subcommand(
@@ -94,7 +96,11 @@ void register_autoferry(CLI::App& app) {
                       "association (the default pipeline of associate) -> radar-lidar pair "
                       "precision and recall against the GNSS truth (engine/studies/autoferry/autoferry.hpp)");
   exp->add_option("--data", eargs->data, kDataHelp)->capture_default_str();
-  add_output_option(exp, eargs->output, "Output folder: scenarioN.h5 per scenario (\"\" = none)");
+  add_output_option(
+      exp, eargs->output,
+      "Output folder: scenarioN.h5 per scenario, and scenarioN.png (detections, local tracks "
+      "coloured by the association, truth; scripts/plot_autoferry.py) unless --no-plots (\"\" = none)");
+  exp->add_flag("--no-plots", eargs->no_plots, "Write no scenarioN.png");
   add_common_options(exp, eargs->common);
   exp->callback([eargs] {
     ThreadScope threads(eargs->common.threads);
@@ -119,6 +125,9 @@ void register_autoferry(CLI::App& app) {
               << o.label_distance << " m of a vessel over >= " << 100 * o.label_fraction
               << " % of a track's rows\n";
     if (!eargs->output.empty()) std::cout << "wrote " << eargs->output << "/scenarioN.h5\n";
+    if (!eargs->output.empty() && !eargs->no_plots &&
+        run_plot_script("plot_autoferry.py", {eargs->data, eargs->output}))
+      std::cout << "wrote " << eargs->output << "/scenarioN.png\n";
   });
 }
 

@@ -89,7 +89,8 @@ TEST(Associator, SparseSDIsAssociateSparseSD) {
   EXPECT_EQ(out.summary.sensor_ids, (std::vector<int32_t>{file.sensors[0].id, file.sensors[1].id,
                                                           file.sensors[2].id, file.sensors[3].id}));
   EXPECT_GE(out.summary.components, 1);
-  EXPECT_EQ(out.summary.stages.size(), 5u);
+  EXPECT_EQ(out.summary.stages.size(), 6u);  // alignment, candidates, statistics, components, solve, segments
+  EXPECT_EQ(out.summary.stages.back().name, "segments");
   expect_unassociated(file, out);
 }
 
