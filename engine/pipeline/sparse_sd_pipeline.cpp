@@ -38,9 +38,7 @@ struct ComponentView {
     return link[static_cast<std::size_t>(a) * S + b][static_cast<std::size_t>(i) * tracks[b].size() + j];
   }
   bool overlap(int32_t a, int32_t i, int32_t b, int32_t j) const {
-    const int32_t u = node[a][i], v = node[b][j];
-    if (p->first_valid[u] < 0 || p->first_valid[v] < 0) return false;
-    return std::max(p->first_valid[u], p->first_valid[v]) <= std::min(p->last_valid[u], p->last_valid[v]);
+    return p->coexist(node[a][i], node[b][j]);
   }
 };
 

@@ -83,6 +83,12 @@ struct SparseSDProblem {
   int32_t sensor_of(int32_t node) const {  // the s with offset[s] <= node < offset[s + 1]
     return static_cast<int32_t>(std::upper_bound(offset.begin(), offset.end(), node) - offset.begin()) - 1;
   }
+  // Nodes u and v have common valid times, so the gate tested them (a pair that never coexists
+  // carries no evidence either way).
+  bool coexist(int32_t u, int32_t v) const {
+    if (first_valid[u] < 0 || first_valid[v] < 0) return false;
+    return std::max(first_valid[u], first_valid[v]) <= std::min(last_valid[u], last_valid[v]);
+  }
 };
 
 // Throws InputError on unknown sensor ids, fewer than 2 sensors, sensors without tracks, a gate

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <unordered_map>
 
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
@@ -40,11 +39,6 @@ struct SegmentGraph {
   }
   double overlap_s(int32_t u, int32_t v) const {
     return std::min(last[u], last[v]) - std::max(first[u], first[v]);
-  }
-  // Tested by the gate: the two have common valid times (the S-D tuple rule).
-  bool tested(int32_t u, int32_t v) const {
-    if (p.first_valid[u] < 0 || p.first_valid[v] < 0) return false;
-    return std::max(p.first_valid[u], p.first_valid[v]) <= std::min(p.last_valid[u], p.last_valid[v]);
   }
   const double* link(int32_t u, int32_t v) const {
     auto it = link_of.find(key(u, v));
@@ -105,7 +99,7 @@ double join_cost(const SegmentGraph& g, const Target& t, int32_t u, int32_t s, d
     for (int32_t m : t.members[r]) {
       const double* c = g.link(u, m);
       if (!c) {
-        if (g.tested(u, m)) return kInf;  // (c)
+        if (g.p.coexist(u, m)) return kInf;  // (c): tested, outside the gate
         continue;
       }
       cost += *c;
@@ -143,7 +137,6 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
   const Components comp = connected_components(N + static_cast<int32_t>(targets.size()), eu, ev);
   std::vector<std::vector<std::size_t>> by_comp(comp.count);
   for (std::size_t q = 0; q < cand.size(); ++q) by_comp[comp.label[cand[q].u]].push_back(q);
-  int32_t joined = 0;
   std::vector<std::pair<int32_t, int32_t>> joins;  // (u, t)
   for (const auto& qs : by_comp) {
     if (qs.empty()) continue;
@@ -176,9 +169,8 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
     targets[t].members[p.sensor_of(u)].push_back(u);
     targets[t].grew = true;
     target_of[u] = t;
-    ++joined;
   }
-  return joined;
+  return static_cast<int32_t>(joins.size());
 }
 
 // The tuple cost of a set of nodes: Σ of the link costs of its linked pairs.
@@ -248,6 +240,11 @@ AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable
     out.cost.push_back(cost);
     out.target.push_back(target);
   };
+  auto copy_tuple = [&](std::size_t k, int32_t target) {  // the assignment's tuple k, unchanged
+    out.tuples.insert(out.tuples.end(), record.tuples.begin() + k * W, record.tuples.begin() + (k + 1) * W);
+    out.cost.push_back(record.cost[k]);
+    out.target.push_back(target);
+  };
   std::vector<int32_t> target_of_tuple(K, -1);
   for (std::size_t t = 0; t < targets.size(); ++t)
     target_of_tuple[targets[t].tuple] = static_cast<int32_t>(t);
@@ -261,17 +258,13 @@ AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable
         if (track >= 0) nodes.push_back(g.node(s, track));
       }
       if (nodes.size() == 1 && target_of[nodes[0]] >= 0) continue;
-      out.tuples.insert(out.tuples.end(), record.tuples.begin() + k * W, record.tuples.begin() + (k + 1) * W);
-      out.cost.push_back(record.cost[k]);
-      out.target.push_back(next_target++);
+      copy_tuple(k, next_target++);
       continue;
     }
     const Target& t = targets[ti];
     const int32_t id = next_target++;
     if (!t.grew) {
-      out.tuples.insert(out.tuples.end(), record.tuples.begin() + k * W, record.tuples.begin() + (k + 1) * W);
-      out.cost.push_back(record.cost[k]);
-      out.target.push_back(id);
+      copy_tuple(k, id);
       continue;
     }
     ++sum.targets_joined;

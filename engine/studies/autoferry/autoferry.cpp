@@ -66,7 +66,6 @@ LocalTrackingOptions AutoferryOptions::default_tracking() {
   radar.delete_misses = 3;                                  // 5 s at 1.68 s scans
   lidar.cluster_distance = radar.cluster_distance = 15.0;   // half Gunnerus' 31 m hull
   lidar.initiate_in_gate = radar.initiate_in_gate = false;  // no duplicate tracks of one hull
-
   o.per_sensor = {{kAutoferryLidar, lidar}, {kAutoferryRadar, radar}};
   o.default_tracker = lidar;
   return o;
@@ -76,8 +75,7 @@ AssociatorOptions AutoferryOptions::default_association() {
   AssociatorOptions o;
   o.pipeline.alignment.extent_sigma = 8.0;
   o.pipeline.statistic.link = LinkCost::kPerIndependentScan;
-  o.segments.enabled = true;
-  return o;
+  return o;  // segments: on, the default
 }
 
 void AutoferryOptions::validate() const {
