@@ -4,11 +4,11 @@
 // Works on the canonical problem (assignment_canonical.hpp: n1 ≤ n2 ≤ n3, complete tuples).
 //  - Root: the Lagrangian relaxation with local search (lagrangian_relaxation.hpp) gives an
 //    incumbent and the multipliers μ_k of the relaxed dimension k (its bound is the LP bound).
-//    Unless that closes the gap, the relax-and-cut of clique_cuts.hpp adds the clique facets
-//    Σ_{s ∈ Q(r)} x_s ≤ 1 (Balas–Saltzman 1989) with multipliers λ ≥ 0, which lifts the bound above
-//    the LP's (on DecompLib ap3 n = 30–50 to the optimum), and improves the incumbent. When it
-//    lifts the rounded bound the search runs on the penalised costs w = b + Σ_c λ_c 1[s ∈ Q(r_c)]
-//    with the constant −Σλ (valid at every node: a relaxed cut has slack ≥ 0 in every completion);
+//    Unless that closes the gap (or the cube is padded for a dummy index), the relax-and-cut of
+//    clique_cuts.hpp adds the clique facets Σ_{s ∈ Q(r)} x_s ≤ 1 (Balas–Saltzman 1989) with multipliers λ ≥
+//    0, which lifts the bound above the LP's (on DecompLib ap3 n = 30–50 to the optimum), and improves the
+//    incumbent. When it lifts the rounded bound the search runs on the penalised costs w = b + Σ_c λ_c 1[s ∈
+//    Q(r_c)] with the constant −Σλ (valid at every node: a relaxed cut has slack ≥ 0 in every completion);
 //    else on b.
 //  - Node: some tuples are fixed; the free i, j, k form a smaller 3-D problem. Its bound is the
 //    Lagrangian bound of Pattipati Eq. 14 restricted to the free indices,
