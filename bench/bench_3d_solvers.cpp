@@ -4,7 +4,11 @@
 //    final gap, whether the 1 % target was reached.
 //  - BM_ExactBalasSaltzman/n/threads: branch and bound on the five Balas–Saltzman instances of size
 //    n (14 … 26) per iteration; counters: nodes, all_optimal.
-// The MILP peer (CBC) runs on the same Balas–Saltzman files: bench/cbc_3d.py.
+//  - BM_ExactDecompLib/n/r: branch and bound on DecompLib ap3.n.r (n = 5 … 50, r = 1 … 10), one
+//    thread (the peer's setting); counters: nodes, root_bound (after the clique cuts), optimal
+//    (proven and equal to ap3.opt).
+// The MILP peer (CBC) runs on the same files: bench/cbc_3d.py (--set decomplib; --ours merges this
+// binary's JSON output into one table, README "exact branch and bound").
 //
 // Tracking cost tensor (tracking_cost_tensor): n targets at uniform positions in a 1000 m square;
 // sensor s ∈ {1, 2, 3} reports every target with Gaussian position noise σ_s = 10, 15, 20 m
@@ -116,6 +120,31 @@ void BM_ExactBalasSaltzman(benchmark::State& state) {
       benchmark::Counter(5.0 * state.iterations(), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+void BM_ExactDecompLib(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), r = static_cast<int>(state.range(1));
+  tbb::global_control control(tbb::global_control::max_allowed_parallelism, 1);
+  const std::string dir = std::string(TRACKASSOC_SHARED_DIR) + "/benchmarks/3dap/decomplib/";
+  const std::string name = "ap3." + std::to_string(n) + "." + std::to_string(r);
+  const CostTensor3 instance = read_3dap_instance(dir + name + ".txt");
+  const double known = read_known_optima(dir + "ap3.opt").at(name);
+  Solution3 s;
+  BranchAndBoundStats stats;
+  for (auto _ : state) {
+    s = solve_branch_and_bound3(instance, {}, &stats);
+    benchmark::DoNotOptimize(s.tuples.data());
+  }
+  state.counters["nodes"] = static_cast<double>(s.summary.iterations);
+  state.counters["root_bound"] = stats.root_bound;
+  state.counters["objective"] = s.summary.objective;
+  state.counters["optimal"] =
+      s.summary.termination == Termination::kOptimal && s.summary.objective == known ? 1 : 0;
+}
+
+void decomplib_args(benchmark::internal::Benchmark* b) {
+  for (int n : {5, 10, 20, 30, 40, 50})
+    for (int r = 1; r <= 10; ++r) b->Args({n, r});
+}
+
 void lr_args(benchmark::internal::Benchmark* b) {
   for (int n : {50, 100, 200})
     for (int t : {1, 2}) b->Args({n, t});
@@ -134,6 +163,7 @@ BENCHMARK_CAPTURE(BM_LagrangianToOnePercent, lr_ls, true)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_ExactBalasSaltzman)->Apply(bs_args)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ExactDecompLib)->Apply(decomplib_args)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace trackassoc::bench

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "kernels/assignment/assignment_canonical.hpp"
+#include "kernels/assignment/clique_cuts.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/core/error.hpp"
 
@@ -18,21 +20,32 @@ void BranchAndBoundOptions::validate() const {
   require(node_subgradient_iterations >= 1, "BranchAndBoundOptions.node_subgradient_iterations",
           "must be >= 1");
   root.validate();
+  cuts.validate();
 }
 
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+std::string bound_text(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
 struct Child {
   double bound;
   int32_t j, k;
 };
 
+// The search over costs w (T = float: the tensor itself; double: the clique-penalised costs of
+// clique_cuts.hpp) whose Lagrangian carries the constant `offset` (−Σ λ); incumbents are costed on b.
+template <class T>
 class Search {
  public:
-  Search(const CanonicalProblem3& p, const BranchAndBoundOptions& o, std::chrono::steady_clock::time_point t0)
-      : p_(p), b_(p.tensor), o_(o), t0_(t0) {
+  Search(const CanonicalProblem3& p, const BranchAndBoundOptions& o, const T* w, double offset,
+         std::chrono::steady_clock::time_point t0)
+      : p_(p), b_(p.tensor), o_(o), w_(w), offset_(offset), t0_(t0) {
     used_j_.assign(b_.n2, 0);
     used_k_.assign(b_.n3, 0);
     used_i_.assign(b_.n1, 0);
@@ -46,12 +59,13 @@ class Search {
   bool node_limit = false;
 
   // Returns after exploring (or abandoning) the subtree below the current fixings.
-  void explore(double fixed_cost, std::vector<double> mu) {
+  // fixed_w: Σ w over the fixed tuples; fixed_b: their true cost.
+  void explore(double fixed_w, double fixed_b, std::vector<double> mu) {
     ++nodes;
     if (nodes > o_.max_nodes) node_limit = true;
     if (node_limit || elapsed() > o_.time_limit_s) {
       interrupted = true;
-      open_bound = std::min(open_bound, node_bound_for_interrupt(fixed_cost, mu));
+      open_bound = std::min(open_bound, node_bound_for_interrupt(fixed_w));
       return;
     }
     std::vector<int32_t> I, J, K;
@@ -64,8 +78,8 @@ class Search {
     const int32_t r = static_cast<int32_t>(I.size()), nj = static_cast<int32_t>(J.size()),
                   nk = static_cast<int32_t>(K.size());
     if (r == 0) {
-      if (fixed_cost < incumbent_cost) {
-        incumbent_cost = fixed_cost;
+      if (fixed_b < incumbent_cost) {
+        incumbent_cost = fixed_b;
         incumbent = fixed_;
       }
       return;
@@ -82,7 +96,7 @@ class Search {
       // c_ij = min_{k ∈ K} (b_ijk + μ_k)   (Pattipati Eq. 16 on the free indices)
       for (int32_t a = 0; a < r; ++a)
         for (int32_t bj = 0; bj < nj; ++bj) {
-          const float* row = b_.cost.data() + (static_cast<std::size_t>(I[a]) * b_.n2 + J[bj]) * b_.n3;
+          const T* row = w_ + (static_cast<std::size_t>(I[a]) * b_.n2 + J[bj]) * b_.n3;
           double best = kInf;
           int32_t kb = 0;
           for (int32_t q = 0; q < nk; ++q) {
@@ -99,7 +113,7 @@ class Search {
       if (!lap.feasible) return;  // no completion of finite cost
       double mu_sum = 0.0;
       for (int32_t k : K) mu_sum += mu[k];
-      const double raw = fixed_cost + lap.cost - mu_sum;
+      const double raw = fixed_w + lap.cost - mu_sum + offset_;
       if (prunable(raw)) return;
       // Relaxed solution → counts per free k.
       std::fill(count.begin(), count.end(), 0);
@@ -114,7 +128,7 @@ class Search {
       for (int32_t q = 0; q < nk; ++q) all_distinct &= count[q] <= 1;
       if (all_distinct) {
         // The relaxed solution is a feasible completion: a candidate incumbent.
-        double total = fixed_cost;
+        double total = fixed_b;
         for (int32_t a = 0; a < r; ++a) {
           const int32_t bj = lap.row_to_col[a];
           total += b_.at(I[a], J[bj], K[arg[static_cast<std::size_t>(a) * nj + bj]]);
@@ -127,7 +141,8 @@ class Search {
             incumbent.push_back({I[a], J[bj], K[arg[static_cast<std::size_t>(a) * nj + bj]]});
           }
         }
-        if (g2 == 0.0) return;  // complementary slackness holds: this completion is optimal here
+        // Without cuts, g = 0 makes raw equal to this completion's cost (complementary slackness),
+        // so the node is pruned here; with cuts their slack may keep it open.
         if (prunable(raw)) return;
       }
       if (raw > best_raw) {
@@ -156,7 +171,7 @@ class Search {
     for (int32_t a = 0; a < r; ++a) {
       children.clear();
       for (int32_t bj = 0; bj < nj; ++bj) {
-        const float* row = b_.cost.data() + (static_cast<std::size_t>(I[a]) * b_.n2 + J[bj]) * b_.n3;
+        const T* row = w_ + (static_cast<std::size_t>(I[a]) * b_.n2 + J[bj]) * b_.n3;
         const double base = best_raw - u[a] - v[bj];
         for (int32_t q = 0; q < nk; ++q) {
           const double child = base + static_cast<double>(row[K[q]]) + best_mu[K[q]];
@@ -185,7 +200,8 @@ class Search {
       used_j_[child.j] = 1;
       used_k_[child.k] = 1;
       fixed_.push_back({i, child.j, child.k});
-      explore(fixed_cost + b_.at(i, child.j, child.k), best_mu);
+      explore(fixed_w + static_cast<double>(w_[b_.index(i, child.j, child.k)]),
+              fixed_b + b_.at(i, child.j, child.k), best_mu);
       fixed_.pop_back();
       used_i_[i] = used_j_[child.j] = used_k_[child.k] = 0;
     }
@@ -203,16 +219,17 @@ class Search {
     return raw >= incumbent_cost - 1e-9 * std::max(1.0, std::abs(incumbent_cost));
   }
 
-  // A cheap valid bound of an abandoned node: its fixed cost plus the minimum possible per free i.
-  double node_bound_for_interrupt(double fixed_cost, const std::vector<double>&) const {
-    double s = fixed_cost;
+  // A cheap valid bound of an abandoned node: its fixed cost plus the minimum possible per free i
+  // (over w, plus the offset: the Lagrangian at μ = 0 with the j and k constraints relaxed too).
+  double node_bound_for_interrupt(double fixed_w) const {
+    double s = fixed_w + offset_;
     for (int32_t i = 0; i < b_.n1; ++i) {
       if (used_i_[i]) continue;
       double m = kInf;
       for (int32_t j = 0; j < b_.n2; ++j) {
         if (used_j_[j]) continue;
         for (int32_t k = 0; k < b_.n3; ++k)
-          if (!used_k_[k]) m = std::min(m, static_cast<double>(b_.at(i, j, k)));
+          if (!used_k_[k]) m = std::min(m, static_cast<double>(w_[b_.index(i, j, k)]));
       }
       s += m;
     }
@@ -222,14 +239,71 @@ class Search {
   const CanonicalProblem3& p_;
   const CostTensor3& b_;
   const BranchAndBoundOptions& o_;
+  const T* w_;
+  double offset_;
   std::chrono::steady_clock::time_point t0_;
   std::vector<char> used_i_, used_j_, used_k_;
   std::vector<Tuple3> fixed_;
 };
 
+struct SearchOutcome {
+  std::vector<Tuple3> best;
+  double lower_bound = -kInf;
+  Termination termination = Termination::kOptimal;
+  int64_t nodes = 0;
+  int passes = 0;
+};
+
+// The search below a root bound `lb`. With integer costs it first looks only for a solution of
+// cost lb (pruning at lb + 1 instead of at a poor incumbent), then lb + 1, and so on: a pass that
+// finds one ends the proof (nothing costs less than lb), a pass that completes without one proves
+// optimum ≥ lb + 1. Once the target reaches the incumbent the pass is the plain search. The node
+// limit counts over all passes.
+template <class T>
+SearchOutcome search_from_root(const CanonicalProblem3& p, const BranchAndBoundOptions& o, const T* w,
+                               double offset, const std::vector<double>& mu,
+                               const std::vector<Tuple3>& incumbent, double incumbent_cost, double lb,
+                               std::chrono::steady_clock::time_point t0) {
+  SearchOutcome out;
+  out.best = incumbent;
+  while (true) {
+    const bool targeted = p.integer_costs && std::isfinite(lb) && lb + 1.0 < incumbent_cost;
+    Search<T> state(p, o, w, offset, t0);
+    state.nodes = out.nodes;
+    if (targeted) {
+      state.incumbent_cost = lb + 1.0;  // only a solution of cost lb survives
+    } else {
+      state.incumbent = incumbent;
+      state.incumbent_cost = incumbent_cost;
+    }
+    state.explore(0.0, 0.0, mu);
+    out.nodes = state.nodes;
+    ++out.passes;
+    if (targeted && !state.incumbent.empty()) {  // cost lb: optimal
+      out.best = std::move(state.incumbent);
+      out.lower_bound = state.incumbent_cost;
+      return out;
+    }
+    if (state.interrupted) {
+      out.termination = state.node_limit ? Termination::kIterationLimit : Termination::kTimeLimit;
+      out.lower_bound = std::max(lb, std::min(state.open_bound, state.incumbent_cost));
+      if (!targeted) out.best = std::move(state.incumbent);
+      return out;
+    }
+    if (!targeted) {
+      out.best = std::move(state.incumbent);
+      out.lower_bound = state.incumbent_cost;  // proven: every other subtree was pruned
+      if (!std::isfinite(state.incumbent_cost)) out.termination = Termination::kInfeasible;
+      return out;
+    }
+    lb += 1.0;  // the pass proved that nothing costs less than lb + 1
+  }
+}
+
 }  // namespace
 
-Solution3 solve_branch_and_bound3(const CostTensor3& cost, const BranchAndBoundOptions& options) {
+Solution3 solve_branch_and_bound3(const CostTensor3& cost, const BranchAndBoundOptions& options,
+                                  BranchAndBoundStats* stats) {
   options.validate();
   const auto t0 = std::chrono::steady_clock::now();
   const CanonicalProblem3 p = make_canonical(cost);
@@ -239,28 +313,38 @@ Solution3 solve_branch_and_bound3(const CostTensor3& cost, const BranchAndBoundO
   const LagrangianRun run = run_lagrangian(p, root);
 
   Solution3 s;
-  double lower_bound = run.lower_bound;
+  double lower_bound = run.lower_bound, root_bound = run.lower_bound;
   std::vector<Tuple3> best = run.best_tuples;
   int64_t nodes = 0;
   Termination termination = Termination::kOptimal;
+  CliqueRelaxation cut;
+  SearchOutcome outcome;
   if (run.termination == Termination::kInfeasible && run.best_tuples.empty() && run.lower_bound == kInf) {
     termination = Termination::kInfeasible;
-  } else if (!(run.termination == Termination::kOptimal)) {
-    Search search(p, options, t0);
-    search.incumbent = run.best_tuples;
-    search.incumbent_cost = run.upper_bound;
-    search.explore(0.0, run.best_multipliers);
-    nodes = search.nodes;
-    best = search.incumbent;
-    if (search.interrupted) {
-      termination = search.node_limit ? Termination::kIterationLimit : Termination::kTimeLimit;
-      lower_bound = std::max(lower_bound, std::min(search.open_bound, search.incumbent_cost));
-    } else {
-      lower_bound = search.incumbent_cost;  // proven: every other subtree was pruned
-      if (!std::isfinite(search.incumbent_cost)) termination = Termination::kInfeasible;
+  } else if (run.termination == Termination::kOptimal) {
+    lower_bound = run.upper_bound;
+  } else if (options.cuts.max_rounds > 0 && !p.padded) {  // padded cubes (dummies): 4× slower with cuts
+    cut = run_clique_relaxation(p, root, options.cuts, run, t0);
+    root_bound = lower_bound = std::max(run.lower_bound, cut.lower_bound);
+    best = cut.best_tuples;
+    if (cut.termination == Termination::kOptimal) {
+      lower_bound = cut.upper_bound;
+    } else if (cut.lower_bound > run.lower_bound) {
+      outcome = search_from_root(p, options, cut.penalised.data(), -cut.lambda_sum, cut.mu, cut.best_tuples,
+                                 cut.upper_bound, root_bound, t0);
+    } else {  // the cuts did not lift the bound: search on b, from the cut phase's incumbent
+      outcome = search_from_root(p, options, p.tensor.cost.data(), 0.0, run.best_multipliers, cut.best_tuples,
+                                 cut.upper_bound, root_bound, t0);
     }
   } else {
-    lower_bound = run.upper_bound;
+    outcome = search_from_root(p, options, p.tensor.cost.data(), 0.0, run.best_multipliers, run.best_tuples,
+                               run.upper_bound, root_bound, t0);
+  }
+  if (outcome.passes > 0) {
+    best = std::move(outcome.best);
+    lower_bound = outcome.lower_bound;
+    termination = outcome.termination;
+    nodes = outcome.nodes;
   }
   s.tuples = to_original(p, best);
   s.summary.iterations = nodes;
@@ -274,9 +358,13 @@ Solution3 solve_branch_and_bound3(const CostTensor3& cost, const BranchAndBoundO
     s.summary.lower_bound = s.summary.objective;
     s.summary.gap = s.summary.abs_gap = 0.0;
   }
-  s.summary.message =
-      "nodes " + std::to_string(nodes) + ", root relaxation iterations " + std::to_string(run.iterations);
+  s.summary.message = "nodes " + std::to_string(nodes) + ", root relaxation iterations " +
+                      std::to_string(run.iterations) + ", clique cuts " + std::to_string(cut.roots.size()) +
+                      " in " + std::to_string(cut.rounds) + " rounds (" + std::to_string(cut.iterations) +
+                      " iterations), root bound " + bound_text(root_bound) + ", search passes " +
+                      std::to_string(outcome.passes);
   s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (stats) *stats = {root_bound, nodes, cut.roots.size(), cut.rounds, outcome.passes};
   return s;
 }
 

@@ -31,15 +31,13 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// c_ij = min_k (b_ijk + μ_k) and its argmin (Pattipati Eq. 16). Double, so the bound is exact up to
-// the LAP's own rounding. Parallel over i; each (i, j) is computed by one task alone.
-void reduce_over_k(const CostTensor3& b, const std::vector<double>& mu, std::vector<double>& c,
-                   std::vector<int32_t>& arg) {
-  const int32_t n2 = b.n2, n3 = b.n3;
-  parallel_for_range(static_cast<std::size_t>(b.n1), 8, [&](std::size_t begin, std::size_t end) {
+template <class T>
+void reduce_over_k_impl(const T* w, int32_t n1, int32_t n2, int32_t n3, const std::vector<double>& mu,
+                        std::vector<double>& c, std::vector<int32_t>& arg) {
+  parallel_for_range(static_cast<std::size_t>(n1), 8, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       for (int32_t j = 0; j < n2; ++j) {
-        const float* row = b.cost.data() + (i * n2 + j) * n3;
+        const T* row = w + (i * n2 + j) * n3;
         double best = kInf;
         for (int32_t k = 0; k < n3; ++k) best = std::min(best, static_cast<double>(row[k]) + mu[k]);
         int32_t kbest = 0;
@@ -50,8 +48,18 @@ void reduce_over_k(const CostTensor3& b, const std::vector<double>& mu, std::vec
   });
 }
 
-// Matches the pairs (i, j_i) to k by a LAP on b_{i j_i k}; returns the tuples, or empty if none
-// of finite cost exists.
+}  // namespace
+
+void reduce_over_k(const float* w, int32_t n1, int32_t n2, int32_t n3, const std::vector<double>& mu,
+                   std::vector<double>& c, std::vector<int32_t>& arg) {
+  reduce_over_k_impl(w, n1, n2, n3, mu, c, arg);
+}
+
+void reduce_over_k(const double* w, int32_t n1, int32_t n2, int32_t n3, const std::vector<double>& mu,
+                   std::vector<double>& c, std::vector<int32_t>& arg) {
+  reduce_over_k_impl(w, n1, n2, n3, mu, c, arg);
+}
+
 std::vector<Tuple3> recover_feasible(const CostTensor3& b, const std::vector<int32_t>& row_to_col,
                                      std::vector<double>& matrix) {
   const int32_t m = b.n1, n3 = b.n3;
@@ -72,8 +80,6 @@ double tuples_cost(const CostTensor3& b, const std::vector<Tuple3>& t) {
   for (const auto& x : t) s += b.at(x[0], x[1], x[2]);
   return s;
 }
-
-}  // namespace
 
 LagrangianRun run_lagrangian(const CanonicalProblem3& p, const LagrangianOptions& options,
                              const std::vector<double>& initial_multipliers) {
@@ -103,7 +109,7 @@ LagrangianRun run_lagrangian(const CanonicalProblem3& p, const LagrangianOptions
   problem.integer_costs = p.integer_costs;
   problem.nonnegative = !equality;
   problem.dual = [&](const std::vector<double>& m, double& bound, std::vector<double>& g) {
-    reduce_over_k(b, m, c, arg);
+    reduce_over_k(b.cost.data(), n1, n2, n3, m, c, arg);
     lap = solve_lap(c, n1, n2);
     // No (i, j) matching of finite cost even with k free: the problem is infeasible.
     if (!lap.feasible) return false;

@@ -77,6 +77,21 @@ struct LagrangianRun {
 LagrangianRun run_lagrangian(const CanonicalProblem3& p, const LagrangianOptions& options,
                              const std::vector<double>& initial_multipliers = {});
 
+// Building blocks shared with the clique relax-and-cut (clique_cuts.hpp) and branch and bound.
+// c_ij = min_k (w_ijk + μ_k) and its argmin (the first k attaining it; Pattipati Eq. 16) for a
+// row-major n1×n2×n3 cost array w: the float tensor, or penalised costs in double. Parallel over i
+// (each (i, j) computed by one task alone: bit-identical for any thread count). O(n1·n2·n3).
+void reduce_over_k(const float* w, int32_t n1, int32_t n2, int32_t n3, const std::vector<double>& mu,
+                   std::vector<double>& c, std::vector<int32_t>& arg);
+void reduce_over_k(const double* w, int32_t n1, int32_t n2, int32_t n3, const std::vector<double>& mu,
+                   std::vector<double>& c, std::vector<int32_t>& arg);
+// Matches the pairs (i, row_to_col[i]) to k by a LAP on b_{i j_i k} (Pattipati §III-C): complete
+// canonical tuples, or empty if none of finite cost exists. `matrix` is scratch.
+std::vector<Tuple3> recover_feasible(const CostTensor3& b, const std::vector<int32_t>& row_to_col,
+                                     std::vector<double>& matrix);
+// Σ b over the tuples.
+double tuples_cost(const CostTensor3& b, const std::vector<Tuple3>& t);
+
 // The solver: canonicalise, relax, map back. lower_bound, gap and abs_gap are filled.
 Solution3 solve_lagrangian3(const CostTensor3& cost, const LagrangianOptions& options = {});
 

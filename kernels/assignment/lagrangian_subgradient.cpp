@@ -108,7 +108,7 @@ SubgradientResult run_subgradient(const SubgradientProblem& problem, std::vector
     }
     for (std::size_t k = 0; k < m; ++k) {
       mu[k] += step * direction[k];
-      if (problem.nonnegative) mu[k] = std::max(mu[k], 0.0);
+      if (problem.nonnegative && k >= problem.free_sign_count) mu[k] = std::max(mu[k], 0.0);
     }
     record(bound, step);
   }

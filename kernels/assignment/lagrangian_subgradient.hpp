@@ -20,7 +20,7 @@
 //        Polyak       μ ← μ + θ Δ g / ‖g‖²
 //        diminishing  μ ← μ + θ₀ Δ₀ g / (‖g‖² √(t+1)),   Δ₀ = Δ at the first step
 //        deflected    d ← g + β d,  β = max(0, −1.5 gᵀd / ‖d‖²) (0 at t = 0),  μ ← μ + θ Δ d / ‖d‖²
-//      then μ ← max(μ, 0) when the multipliers are sign-constrained.
+//      then μ ← max(μ, 0) for the sign-constrained multipliers (all, or those past free_sign_count).
 //
 // Gap test, in this order: UB − LB ≤ absolute_gap_tolerance → optimal; with integer costs
 // UB − LB < 1 − 10⁻⁷ → optimal; (UB − LB) / max(|UB|, 10⁻⁹) ≤ relative_gap_tolerance → gap
@@ -52,6 +52,9 @@ struct SubgradientProblem {
   std::function<double(const std::vector<double>& mu, double incumbent)> primal;
   bool integer_costs = false;  // the gap test's "UB − LB < 1" (bounds rounded up by the dual)
   bool nonnegative = false;    // μ ≥ 0 (relaxed "≤ 1" constraints): project after every step
+  // With `nonnegative`: the first free_sign_count multipliers stay free in sign (relaxed equalities
+  // beside relaxed "≤" cuts, as in the clique relax-and-cut of kernels/assignment/clique_cuts.hpp).
+  std::size_t free_sign_count = 0;
   // g = 0 without a closed gap: true ends the run as optimal (relaxed equalities: the relaxed
   // solution is feasible, hence optimal); false ends it at the time limit if that has passed,
   // else as at the iteration limit (the 3-D relaxation, whose bound is rounded).

@@ -118,6 +118,10 @@ TEST(LagrangianSubgradient, ProjectionZeroSubgradientAndInfeasibility) {
   ASSERT_GE(trace.size(), 2u);
   for (double m : r.multipliers) EXPECT_GE(m, 0.0);
   EXPECT_EQ(trace[1].bound, 4.0 + 2.0 * 5.0 - 5.0);  // μ = (5, 0): L = 9
+  p.free_sign_count = 2;  // both exempt from the projection: the unconstrained ascent again
+  r = run_subgradient(p, {0.0, 0.0}, o, std::chrono::steady_clock::now());
+  EXPECT_EQ(r.best_multipliers, (std::vector<double>{5.0, -5.0}));
+  EXPECT_EQ(r.lower_bound, kOptimum);
 
   SubgradientProblem flat;  // g = 0 with L = 3 < UB = 5
   flat.dual = [](const std::vector<double>&, double& bound, std::vector<double>& g) {
