@@ -4,6 +4,7 @@
 #include <limits>
 #include <set>
 
+#include "io/hdf5_columns.hpp"
 #include "io/hdf5_wrapper.hpp"
 #include "kernels/core/error.hpp"
 
@@ -13,17 +14,7 @@ namespace {
 using h5::Group;
 
 std::vector<int32_t> read_int32_column(const Group& g, const std::string& name, std::size_t rows) {
-  std::vector<hsize_t> dims;
-  const std::vector<int64_t> wide = g.read_integers(name, 1, dims);
-  if (dims[0] != rows)
-    g.fail(name, "expected " + std::to_string(rows) + " rows, found " + std::to_string(dims[0]));
-  std::vector<int32_t> out(wide.size());
-  for (std::size_t r = 0; r < wide.size(); ++r) {
-    if (wide[r] < std::numeric_limits<int32_t>::min() || wide[r] > std::numeric_limits<int32_t>::max())
-      g.fail(name, "row " + std::to_string(r) + ": value does not fit int32");
-    out[r] = static_cast<int32_t>(wide[r]);
-  }
-  return out;
+  return h5::read_int32_column(g, name, rows, g.child_path(name == "track" ? "t" : "sensor"));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "io/atomic_file.hpp"
+#include "io/hdf5_columns.hpp"
 #include "io/hdf5_wrapper.hpp"
 #include "io/isolated_run.hpp"
 #include "io/track_validation.hpp"
@@ -20,30 +21,19 @@ namespace trackassoc {
 namespace {
 
 namespace tv = track_validation;
+using h5::columns_from_rows;
 using h5::Group;
+using h5::read_1d;
+using h5::read_layout;
+using h5::rows_from_columns;
 using h5::shape_text;
+constexpr auto read_int32 = h5::read_int32_column;
+constexpr auto read_2d = h5::read_table_2d;
 
 constexpr const char* kFormat = "trackassoc";
 constexpr int32_t kSchemaVersion = 1;
 
 // ---------------------------------------------------------------- writing helpers
-
-// [D][rows] columns to a rows×D row-major buffer.
-std::vector<double> rows_from_columns(const std::vector<std::vector<double>>& columns, std::size_t rows) {
-  const std::size_t d = columns.size();
-  std::vector<double> out(rows * d);
-  for (std::size_t c = 0; c < d; ++c)
-    for (std::size_t r = 0; r < rows; ++r) out[r * d + c] = columns[c][r];
-  return out;
-}
-
-std::vector<std::vector<double>> columns_from_rows(const std::vector<double>& data, std::size_t rows,
-                                                   std::size_t d) {
-  std::vector<std::vector<double>> out(d, std::vector<double>(rows));
-  for (std::size_t r = 0; r < rows; ++r)
-    for (std::size_t c = 0; c < d; ++c) out[c][r] = data[r * d + c];
-  return out;
-}
 
 template <typename T>
 void write_1d(const Group& g, const std::string& name, const std::vector<T>& v) {
@@ -157,51 +147,6 @@ void write_metrics(const Group& parent, const MetricsRecord& m) {
 }
 
 // ---------------------------------------------------------------- reading helpers
-
-std::vector<int32_t> read_int32(const Group& g, const std::string& name, std::size_t expected_rows,
-                                const std::string& reference) {
-  std::vector<hsize_t> dims;
-  const std::vector<int64_t> wide = g.read_integers(name, 1, dims);
-  if (reference.size() && dims[0] != expected_rows)
-    g.fail(name, "expected " + std::to_string(expected_rows) + " rows (as " + reference + "), found " +
-                     std::to_string(dims[0]));
-  std::vector<int32_t> out(wide.size());
-  for (std::size_t r = 0; r < wide.size(); ++r) {
-    if (wide[r] < std::numeric_limits<int32_t>::min() || wide[r] > std::numeric_limits<int32_t>::max())
-      g.fail(name, "row " + std::to_string(r) + ": value " + std::to_string(wide[r]) + " does not fit int32");
-    out[r] = static_cast<int32_t>(wide[r]);
-  }
-  return out;
-}
-
-std::vector<double> read_1d(const Group& g, const std::string& name, std::size_t expected_rows,
-                            const std::string& reference) {
-  std::vector<hsize_t> dims;
-  std::vector<double> v = g.read_doubles(name, 1, dims);
-  if (dims[0] != expected_rows)
-    g.fail(name, "expected " + std::to_string(expected_rows) + " rows (as " + reference + "), found " +
-                     std::to_string(dims[0]));
-  return v;
-}
-
-std::vector<double> read_2d(const Group& g, const std::string& name, std::size_t rows, std::size_t cols,
-                            const std::string& what) {
-  std::vector<hsize_t> dims;
-  std::vector<double> v = g.read_doubles(name, 2, dims);
-  if (dims[0] != rows || dims[1] != cols)
-    g.fail(name, "expected shape " + std::to_string(rows) + "x" + std::to_string(cols) + " (" + what +
-                     "), found " + shape_text(dims));
-  return v;
-}
-
-StateLayout read_layout(const Group& g, const std::string& file) {
-  const std::string layout = g.read_string_attribute("state_layout");
-  if (layout == layout_name(StateLayout::kXY_VXVY)) return StateLayout::kXY_VXVY;
-  if (layout == layout_name(StateLayout::kXYZ_VXVYVZ)) return StateLayout::kXYZ_VXVYVZ;
-  throw InputError(file + ": " + g.path() +
-                   " attribute state_layout: expected \"x,y,vx,vy\" or \"x,y,z,vx,vy,vz\", found \"" +
-                   layout + "\"");
-}
 
 std::vector<Sensor> read_sensors(const Group& root) {
   const Group g = root.open_group("sensors");
@@ -469,6 +414,9 @@ TrackFile read_track_file_in_process(const std::string& path) {
   }
   file.system_tracks = read_system_tracks(root);
   for (const auto& r : file.system_tracks) check_system_tracks(path, r, file.sensors);
+  file.fused = read_fused_tracks(root, path);
+  for (const auto& r : file.fused)
+    check_fused_tracks(path, r, file.sensors, file.associations, file.tracks.layout);
   return file;
 }
 
@@ -496,6 +444,11 @@ void write_track_file_with(const std::string& path, const TrackFile& file,
       check_system_tracks(path, r, file.sensors);
       if (!names.insert(r.name).second)
         throw InputError(path + ": /system_tracks/" + r.name + ": name used twice");
+    }
+    names.clear();
+    for (const auto& r : file.fused) {
+      check_fused_tracks(path, r, file.sensors, file.associations, file.tracks.layout);
+      if (!names.insert(r.name).second) throw InputError(path + ": /fused/" + r.name + ": name used twice");
     }
     names.clear();
     for (const auto& m : file.metrics) {
@@ -538,6 +491,7 @@ void write_track_file_with(const std::string& path, const TrackFile& file,
         for (const auto& m : file.metrics) write_metrics(g, m);
       }
       write_system_tracks(root, file.system_tracks);
+      write_fused_tracks(root, file.fused);
     }
     f.close();
   });

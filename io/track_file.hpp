@@ -14,6 +14,9 @@
 //   /metrics/<name>/       attrs correct_rate, false_rate, missed_rate; small tables as datasets
 //   /system_tracks/<name>/ track, t, state (N×4), mapping/{sensor, local_track, system_track, packets};
 //                          attrs method, options (seed 001 fusion centres, io/system_tracks_file.hpp)
+//   /fused/<name>/         tuples (K×S), tuple, t, state (N×D), cov (N×D(D+1)/2), sources, truth, omega
+//                          (ci); attrs association, rule, ci_criterion, cross_covariance, options,
+//                          state_layout (fused tracks of an association, io/fused_tracks_file.hpp)
 //
 // Only /sensors and /tracks are required. The reader validates format, version, shapes, dtypes,
 // finiteness and positive-definite covariances, and throws InputError naming file, dataset and row.
@@ -28,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "io/fused_tracks_file.hpp"
 #include "io/system_tracks_file.hpp"
 #include "kernels/assignment/assignment_types.hpp"
 #include "kernels/core/types.hpp"
@@ -96,6 +100,7 @@ struct TrackFile {
   std::vector<AssociationRecord> associations;
   std::vector<MetricsRecord> metrics;
   std::vector<SystemTrackRecord> system_tracks;  // /system_tracks/<name>/ (io/system_tracks_file.hpp)
+  std::vector<FusedTrackRecord> fused;           // /fused/<name>/ (io/fused_tracks_file.hpp)
   RecordingInfo recording;                       // optional /tracks and /sensors attributes
 };
 

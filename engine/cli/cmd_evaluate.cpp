@@ -1,12 +1,44 @@
 // trackassoc evaluate --input G.h5 [--output H.h5]: correct / false / missed association rates of
-// every association in the file, written to /metrics/<name>/ (in place, atomically, by default).
+// every association in the file, written to /metrics/<name>/, and with /truth the position RMSE
+// of every /fused group beside each sensor's (engine/fusion/fused_accuracy.hpp), written to the
+// /fused group (in place, atomically, by default).
 #include <iostream>
 
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
+#include "engine/fusion/fused_accuracy.hpp"
 #include "engine/pipeline/metrics.hpp"
 
 namespace trackassoc::cli {
+
+namespace {
+
+// The fused position RMSE of every /fused group beside each sensor's (stored in the groups).
+void print_fused_accuracy(TrackFile& file, std::ostream& os) {
+  if (file.fused.empty()) return;
+  if (!file.truth) {
+    os << "\n/fused: no /truth in the file, so no position RMSE\n";
+    return;
+  }
+  std::vector<std::string> header{"fused", "rule", "rows", "fused RMSE [m]"};
+  for (const Sensor& s : file.sensors)
+    header.push_back("sensor " + std::to_string(s.id) + " RMSE [m] (rows)");
+  TextTable table(header);
+  for (FusedTrackRecord& rec : file.fused) {
+    const FusedAccuracy a = evaluate_fused(file.tracks, file.sensors, *file.truth, rec);
+    store_fused_accuracy(rec, a);
+    std::vector<std::string> row{rec.name,
+                                 rec.rule + (rec.ci_criterion.empty() ? "" : " (" + rec.ci_criterion + ")"),
+                                 std::to_string(a.fused_rows), fmt(a.fused_rmse, "%.2f")};
+    for (std::size_t s = 0; s < a.sensor_rmse.size(); ++s)
+      row.push_back(fmt(a.sensor_rmse[s], "%.2f") + " (" + std::to_string(a.sensor_rows[s]) + ")");
+    table.add(row);
+  }
+  os << "\n";
+  table.print(os);
+}
+
+}  // namespace
 
 void register_evaluate(CLI::App& app) {
   struct Args {
@@ -20,7 +52,11 @@ void register_evaluate(CLI::App& app) {
       "sensors is correct when one output tuple holds exactly its local tracks; false when one of its "
       "tracks shares a tuple with a track of another target or a false track (truth -1); missed "
       "otherwise (rates are fractions of those targets). A false tuple joins tracks of different "
-      "targets, or a false track with anything.");
+      "targets, or a false track with anything. With /fused and /truth it also prints the fused position "
+      "RMSE "
+      "of each /fused group beside each sensor's, over the same targets and times (the members' reports at "
+      "the "
+      "fused times).");
   cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks/truth and /associations")->required();
   cmd->add_option("--output,-o", args->output,
                   "Where to write the file with /metrics (default: replace the input)");
@@ -47,6 +83,7 @@ void register_evaluate(CLI::App& app) {
       throw InputError(args->input +
                        ": /tracks/truth holds no target ids (-1 everywhere); nothing to evaluate");
     table.print(std::cout);
+    print_fused_accuracy(file, std::cout);
     write_track_file(args->output.empty() ? args->input : args->output, file);
   });
 }

@@ -115,6 +115,7 @@ inline CLI::Option* add_output_option(CLI::App* cmd, std::string& output, const 
 void register_simulate(CLI::App& app);
 void register_associate(CLI::App& app);
 void register_evaluate(CLI::App& app);
+void register_fuse(CLI::App& app);  // cmd_fuse.cpp
 void register_run(CLI::App& app);
 void register_dataset(CLI::App& app);        // cmd_siamese.cpp
 void register_train_siamese(CLI::App& app);  // cmd_siamese.cpp

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   trackassoc::cli::register_simulate(app);
   trackassoc::cli::register_associate(app);
   trackassoc::cli::register_evaluate(app);
+  trackassoc::cli::register_fuse(app);
   trackassoc::cli::register_dataset(app);
   trackassoc::cli::register_train_siamese(app);
   trackassoc::cli::register_solve3d(app);

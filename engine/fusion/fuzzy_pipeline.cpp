@@ -303,6 +303,7 @@ FuzzyPipelineResult associate_fuzzy(TrackFile& file, const FuzzyPipelineOptions&
                                                file.measurements ? &*file.measurements : nullptr);
   std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == name; });
   std::erase_if(file.system_tracks, [&](const SystemTrackRecord& r) { return r.name == name; });
+  std::erase_if(file.fused, [&](const FusedTrackRecord& r) { return r.association == name; });  // stale now
   file.associations.push_back(res.association);
   file.system_tracks.push_back(res.system_tracks);
   return res;

@@ -295,6 +295,7 @@ std::vector<UnassociatedTracks> unassociated_tracks(const TrackFile& file,
 void store_outcome(TrackFile& file, const AssociationOutcome& outcome) {
   const std::string& name = outcome.record.name;
   std::erase_if(file.associations, [&](const AssociationRecord& a) { return a.name == name; });
+  std::erase_if(file.fused, [&](const FusedTrackRecord& r) { return r.association == name; });  // stale now
   file.associations.push_back(outcome.record);
   std::vector<int32_t>& rows = file.associations.back().unassociated;  // /associations/<name>/unassociated
   rows.clear();

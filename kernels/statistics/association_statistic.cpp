@@ -338,8 +338,7 @@ class PairTerms {
           const Eigen::Map<const Eigen::Matrix<double, D, D, Eigen::RowMajor>> Aa(&gain_a_[ca * d_ * d_], d_,
                                                                                   d_),
               Ab(&gain_b_[cb * d_ * d_], d_, d_);
-          const Mat<D> prior = F_[k] * Pab * F_[k].transpose() + Q_[k];
-          Pab = Aa * prior * Ab.transpose();
+          Pab = cross_covariance_step(Aa, Ab, F_[k], Q_[k], Pab);
         } else {
           Pab.setZero();
         }

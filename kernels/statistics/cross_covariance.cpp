@@ -56,4 +56,41 @@ std::vector<double> gain_complements(const AlignedTracks& x, double sigma_a) {
   return out;
 }
 
+std::vector<double> cross_covariance_series(const AlignedTracks& a, int32_t ia,
+                                            std::span<const double> gain_a, const AlignedTracks& b,
+                                            int32_t ib, std::span<const double> gain_b, double sigma_a) {
+  const int D = a.dim;
+  const int32_t K = a.n_times;
+  require(b.dim == D && b.n_times == K && a.times.size() == static_cast<std::size_t>(K),
+          "cross_covariance_series",
+          "the aligned tracks of sensors " + std::to_string(a.sensor) + " and " + std::to_string(b.sensor) +
+              " do not share their common times");
+  require(ia >= 0 && ia < a.n_tracks() && ib >= 0 && ib < b.n_tracks(), "cross_covariance_series",
+          "track row out of range");
+  require(gain_a.size() == a.valid.size() * D * D && gain_b.size() == b.valid.size() * D * D,
+          "cross_covariance_series", "gain_complements of the wrong size");
+  using RowMap = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+  std::vector<double> out(static_cast<std::size_t>(K) * D * D, 0.0);
+  Eigen::MatrixXd Pab = Eigen::MatrixXd::Zero(D, D), F, Q;
+  bool chained = false;  // both tracks existed at k − 1
+  for (int32_t k = 0; k < K; ++k) {
+    const std::size_t ca = static_cast<std::size_t>(ia) * K + k, cb = static_cast<std::size_t>(ib) * K + k;
+    if (!a.valid[ca] || !b.valid[cb]) {
+      chained = false;
+      continue;
+    }
+    if (chained) {
+      cv_transition(D, a.times[k] - a.times[k - 1], sigma_a, F, Q);
+      Pab = cross_covariance_step(RowMap(&gain_a[ca * D * D], D, D), RowMap(&gain_b[cb * D * D], D, D), F, Q,
+                                  Pab);
+    } else {
+      Pab.setZero();
+    }
+    chained = true;
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) out[(static_cast<std::size_t>(k) * D + i) * D + j] = Pab(i, j);
+  }
+  return out;
+}
+
 }  // namespace trackassoc

@@ -21,10 +21,12 @@
 // restarts at 0, which underestimates the correlation there.
 //
 // Cost: A(k) once per aligned cell, O(n·K·D³); the recursion per pair and time, O(D³), in the
-// statistic's pair loop.
+// statistic's pair loop (kernels/statistics/association_statistic.cpp) and in track fusion
+// (cross_covariance_series; engine/fusion/track_fuser.hpp, the Bar-Shalom–Campo rule).
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 #include <vector>
 
 #include "kernels/statistics/association_statistic.hpp"
@@ -34,6 +36,19 @@ namespace trackassoc {
 // Per cell (track·K + k) of `x`, A(k) as a full row-major D×D matrix; the identity where the track
 // is invalid at k or k−1. Throws InputError when F P(k−1) Fᵀ + Q is not positive definite.
 std::vector<double> gain_complements(const AlignedTracks& x, double sigma_a);
+
+// One step of the recursion: P_ab(k) = A_a(k)·[F P_ab(k−1) Fᵀ + Q]·A_b(k)ᵀ (any Eigen matrix types).
+template <class MatA, class MatB, class Mat>
+Mat cross_covariance_step(const MatA& A_a, const MatB& A_b, const Mat& F, const Mat& Q, const Mat& P_ab) {
+  return A_a * (F * P_ab * F.transpose() + Q) * A_b.transpose();
+}
+
+// P_ab(k) of row ia of `a` and row ib of `b` at every common time, row-major D×D per time (zeros
+// where either track is invalid): 0 at the first common time where both exist and after every gap,
+// then the recursion above. gain_a, gain_b are gain_complements(a | b, sigma_a).
+std::vector<double> cross_covariance_series(const AlignedTracks& a, int32_t ia,
+                                            std::span<const double> gain_a, const AlignedTracks& b,
+                                            int32_t ib, std::span<const double> gain_b, double sigma_a);
 
 // F and Q of the CV model (state = position[m], velocity[m]) over Δ for σ_a (as above).
 void cv_transition(int dim, double dt, double sigma_a, Eigen::MatrixXd& F, Eigen::MatrixXd& Q);

@@ -237,6 +237,30 @@ inline void expect_same_file(const TrackFile& a, const TrackFile& b) {
   }
 }
 
+// One refusal of the writer: the text its InputError must contain, and how it spoils the content.
+struct SpoiledContent {
+  const char* expected;
+  std::function<void(TrackFile&)> spoil;
+};
+
+// For each case, a copy of `base` spoiled by it must make write_track_file(`path`) throw an
+// InputError that starts with `path` and contains the expected text, leaving `dir` empty.
+inline void expect_writer_refuses(const TempDir& dir, const std::string& path, const TrackFile& base,
+                                  const std::vector<SpoiledContent>& cases) {
+  for (const SpoiledContent& c : cases) {
+    TrackFile f = base;
+    c.spoil(f);
+    try {
+      write_track_file(path, f);
+      ADD_FAILURE() << "no error for: " << c.expected;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
+    }
+    EXPECT_TRUE(dir.entries().empty()) << c.expected;
+  }
+}
+
 // Opens `path` read-write with the raw C API and hands the file id to `damage`.
 inline void damage_file(const std::string& path, const std::function<void(hid_t)>& damage) {
   const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);

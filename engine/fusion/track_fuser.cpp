@@ -1,0 +1,377 @@
+// Fused tracks of an association: see the header for the time grid and the cross-covariance.
+#include "engine/fusion/track_fuser.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "io/scenario_json.hpp"
+#include "kernels/core/error.hpp"
+#include "kernels/core/parallel.hpp"
+#include "kernels/statistics/association_statistic.hpp"
+#include "kernels/statistics/cross_covariance.hpp"
+
+namespace trackassoc {
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+// One member of a tuple: its column, sensor id, track and its rows of /tracks sorted by time.
+struct Member {
+  int32_t column = 0, sensor = 0, track = 0;
+  const std::vector<std::size_t>* rows = nullptr;
+};
+
+// The fused rows of one tuple, before they are concatenated in tuple order.
+struct TupleRows {
+  std::vector<double> t;
+  std::vector<VectorXd> x;
+  std::vector<MatrixXd> P;
+  std::vector<int32_t> sources;
+  std::vector<double> omega;  // per row S weights (ci)
+  int64_t shrunk = 0;
+};
+
+// The rows of one member as a track table of their own (align_tracks reads a whole table).
+TrackTable member_table(const TrackTable& tracks, const Member& m) {
+  TrackTable sub(tracks.layout);
+  sub.reserve(m.rows->size());
+  for (std::size_t r : *m.rows) {
+    sub.sensor.push_back(m.sensor);
+    sub.track.push_back(m.track);
+    sub.t.push_back(tracks.t[r]);
+    sub.truth.push_back(tracks.truth[r]);
+    for (std::size_t c = 0; c < tracks.state.size(); ++c) sub.state[c].push_back(tracks.state[c][r]);
+    for (std::size_t c = 0; c < tracks.cov.size(); ++c) sub.cov[c].push_back(tracks.cov[c][r]);
+  }
+  return sub;
+}
+
+MatrixXd unpack(const std::vector<double>& packed, std::size_t offset, int d) {
+  MatrixXd M(d, d);
+  for (int i = 0, p = 0; i < d; ++i)
+    for (int j = i; j < d; ++j, ++p) M(i, j) = M(j, i) = packed[offset + p];
+  return M;
+}
+
+MatrixXd principal_sqrt(const MatrixXd& P) {
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> es(P);
+  return es.operatorSqrt();
+}
+
+// The fused times of a tuple: member report times covered by ≥ 2 members' spans (the header).
+std::vector<double> fused_times(const TrackTable& tracks, const std::vector<Member>& members) {
+  std::vector<std::pair<double, double>> span;
+  std::vector<double> times;
+  for (const Member& m : members) {
+    span.emplace_back(tracks.t[m.rows->front()], tracks.t[m.rows->back()]);
+    for (std::size_t r : *m.rows) times.push_back(tracks.t[r]);
+  }
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+  std::erase_if(times, [&](double t) {
+    int covering = 0;
+    for (const auto& [first, last] : span) covering += first <= t && t <= last;
+    return covering < 2;
+  });
+  return times;
+}
+
+TupleRows fuse_tuple(const TrackTable& tracks, const std::vector<Member>& members, int32_t S,
+                     const TrackFuserOptions& o) {
+  TupleRows out;
+  const std::vector<double> grid = fused_times(tracks, members);
+  if (grid.empty()) return out;
+  const int D = tracks.dim(), P = packed_size(D);
+  const int32_t K = static_cast<int32_t>(grid.size());
+  const std::size_t m = members.size();
+  // The latest report at or before each fused time, predicted (the grid lies within the spans, so
+  // every member valid at k has one); no lag inflation, which widens a gate, not an estimate.
+  AlignmentOptions align;
+  align.method = AlignmentMethod::kForward;
+  align.process_noise = o.process_noise;
+  align.max_extrapolation = std::numeric_limits<double>::max();
+  align.lag_inflation = 0.0;
+  std::vector<AlignedTracks> a(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    a[i] = align_tracks(member_table(tracks, members[i]), members[i].sensor, grid, align);
+    const double last = tracks.t[members[i].rows->back()];
+    for (int32_t k = 0; k < K; ++k) a[i].valid[k] = a[i].valid[k] && grid[k] <= last;  // not past its span
+  }
+  const bool bsc = o.rule == FusionRule::kBarShalomCampo;
+  const bool recursion = bsc && o.common_process_noise > 0.0;
+  std::vector<std::vector<double>> gain(m);
+  std::map<std::pair<std::size_t, std::size_t>, std::vector<double>> cross;  // (i < j) → P_ij per time
+  if (recursion) {
+    for (std::size_t i = 0; i < m; ++i) {
+      // A at the member's own reports, from its consecutive reported covariances (the common
+      // times are then its filter's update times, where gain_complements is exact); on the grid,
+      // that A at its report times and I elsewhere (its estimate there is a prediction).
+      std::vector<double> own;
+      for (std::size_t r : *members[i].rows) own.push_back(tracks.t[r]);
+      own.erase(std::unique(own.begin(), own.end()), own.end());
+      const TrackTable sub = member_table(tracks, members[i]);
+      const std::vector<double> own_gain =
+          gain_complements(align_tracks(sub, members[i].sensor, own, align), o.common_process_noise);
+      gain[i].assign(static_cast<std::size_t>(K) * D * D, 0.0);
+      for (int32_t k = 0; k < K; ++k) {
+        const auto at = std::lower_bound(own.begin(), own.end(), grid[k]);
+        double* g = &gain[i][static_cast<std::size_t>(k) * D * D];
+        if (at != own.end() && *at == grid[k])
+          std::copy_n(&own_gain[static_cast<std::size_t>(at - own.begin()) * D * D], D * D, g);
+        else
+          for (int r = 0; r < D; ++r) g[r * D + r] = 1.0;
+      }
+    }
+    for (std::size_t i = 0; i < m; ++i)
+      for (std::size_t j = i + 1; j < m; ++j)
+        cross[{i, j}] = cross_covariance_series(a[i], 0, gain[i], a[j], 0, gain[j], o.common_process_noise);
+  }
+  for (int32_t k = 0; k < K; ++k) {
+    std::vector<std::size_t> present;
+    std::vector<VectorXd> xs;
+    std::vector<MatrixXd> Ps;
+    for (std::size_t i = 0; i < m; ++i) {
+      if (!a[i].valid[k]) continue;
+      present.push_back(i);
+      xs.push_back(Eigen::Map<const VectorXd>(&a[i].state[static_cast<std::size_t>(k) * D], D));
+      Ps.push_back(unpack(a[i].cov, static_cast<std::size_t>(k) * P, D));
+    }
+    const std::size_t n = present.size();
+    if (n < 2) continue;  // cannot happen on the grid; kept as a guard
+    FusedEstimate f;
+    if (o.rule == FusionRule::kNaive) {
+      f = fuse_naive(xs, Ps);
+    } else if (o.rule == FusionRule::kCovarianceIntersection) {
+      f = fuse_covariance_intersection(xs, Ps, o.ci);
+      std::vector<double> w(S, 0.0);
+      for (std::size_t q = 0; q < n; ++q) w[members[present[q]].column] = f.omega[q];
+      out.omega.insert(out.omega.end(), w.begin(), w.end());
+    } else {
+      // The joint covariance: blocks P_i on the diagonal, P_ij off it.
+      MatrixXd joint = MatrixXd::Zero(n * D, n * D);
+      std::vector<MatrixXd> roots;
+      if (!recursion)
+        for (const MatrixXd& Pi : Ps) roots.push_back(principal_sqrt(Pi));
+      MatrixXd off = MatrixXd::Zero(n * D, n * D);
+      for (std::size_t p = 0; p < n; ++p) {
+        joint.block(p * D, p * D, D, D) = Ps[p];
+        for (std::size_t q = p + 1; q < n; ++q) {
+          MatrixXd Pij(D, D);
+          if (recursion) {
+            const std::vector<double>& series = cross.at({present[p], present[q]});
+            for (int r = 0; r < D; ++r)
+              for (int c = 0; c < D; ++c) Pij(r, c) = series[(static_cast<std::size_t>(k) * D + r) * D + c];
+          } else {
+            Pij = o.correlation * roots[p] * roots[q];
+          }
+          off.block(p * D, q * D, D, D) = Pij;
+          off.block(q * D, p * D, D, D) = Pij.transpose();
+        }
+      }
+      double scale = 1.0;
+      for (int attempt = 0;; ++attempt) {
+        const MatrixXd trial = joint + scale * off;
+        if (Eigen::LLT<MatrixXd>(trial).info() == Eigen::Success || attempt == 60) {
+          out.shrunk += attempt > 0;
+          joint = trial;
+          break;
+        }
+        scale *= 0.5;
+      }
+      f = n == 2 ? fuse_bar_shalom_campo(xs[0], Ps[0], xs[1], Ps[1], joint.block(0, D, D, D))
+                 : fuse_with_cross_covariance(xs, joint);
+    }
+    out.t.push_back(grid[k]);
+    out.x.push_back(f.x);
+    out.P.push_back(f.P);
+    out.sources.push_back(static_cast<int32_t>(n));
+  }
+  return out;
+}
+
+std::string rule_name(const TrackFuserOptions& o) { return enum_name(o.rule); }
+
+}  // namespace
+
+void TrackFuserOptions::validate() const {
+  ci.validate();
+  require(rule == FusionRule::kNaive || rule == FusionRule::kBarShalomCampo ||
+              rule == FusionRule::kCovarianceIntersection,
+          "TrackFuserOptions.rule", "unknown rule");
+  require(std::isfinite(process_noise) && process_noise >= 0.0 && process_noise <= 1e3,
+          "TrackFuserOptions.process_noise",
+          "must be in [0, 1000] m/s², got " + std::to_string(process_noise));
+  require(std::isfinite(common_process_noise) && common_process_noise >= 0.0 && common_process_noise <= 1e3,
+          "TrackFuserOptions.common_process_noise",
+          "must be in [0, 1000] m/s², got " + std::to_string(common_process_noise));
+  require(std::isfinite(correlation) && correlation < 1.0, "TrackFuserOptions.correlation",
+          "must be in [0, 1) (or < 0: not given), got " + std::to_string(correlation));
+  const bool sigma = common_process_noise > 0.0, rho = correlation >= 0.0;
+  if (rule == FusionRule::kBarShalomCampo)
+    require(sigma != rho, "TrackFuserOptions",
+            "rule bsc needs exactly one cross-covariance: common_process_noise (the Bar-Shalom–Campo "
+            "recursion) or correlation (rho)");
+  else
+    require(
+        !sigma && !rho, "TrackFuserOptions",
+        std::string("common_process_noise and correlation apply to rule bsc only, not ") + enum_name(rule));
+}
+
+nlohmann::json TrackFuserOptions::to_json() const {
+  nlohmann::json j{{"rule", enum_name(rule)}, {"process_noise", process_noise}};
+  if (rule == FusionRule::kCovarianceIntersection)
+    j["ci"] = {
+        {"criterion", enum_name(ci.criterion)}, {"tolerance", ci.tolerance}, {"max_sweeps", ci.max_sweeps}};
+  if (rule == FusionRule::kBarShalomCampo) {
+    if (common_process_noise > 0.0) j["common_process_noise"] = common_process_noise;
+    if (correlation >= 0.0) j["correlation"] = correlation;
+  }
+  return j;
+}
+
+FusedTrackRecord fuse_association(const TrackTable& tracks, const std::vector<Sensor>& sensors,
+                                  const AssociationRecord& association, const TrackFuserOptions& options,
+                                  const std::string& name, TrackFuserSummary* summary) {
+  const auto start = std::chrono::steady_clock::now();
+  options.validate();
+  const int32_t S = association.num_sensors;
+  require(S == static_cast<int32_t>(sensors.size()), "/associations/" + association.name + "/tuples",
+          "expected one column per /sensors entry (" + std::to_string(sensors.size()) + "), found " +
+              std::to_string(S));
+  // Rows of each (sensor, track), by time.
+  std::map<std::pair<int32_t, int32_t>, std::vector<std::size_t>> rows;
+  for (std::size_t r = 0; r < tracks.size(); ++r) rows[{tracks.sensor[r], tracks.track[r]}].push_back(r);
+  for (auto& [key, v] : rows)
+    std::stable_sort(v.begin(), v.end(),
+                     [&](std::size_t x, std::size_t y) { return tracks.t[x] < tracks.t[y]; });
+
+  const std::size_t K = association.num_tuples();
+  std::vector<std::vector<Member>> members(K);
+  std::vector<int32_t> truth(K, -1);
+  TrackFuserSummary sum;
+  sum.tuples = static_cast<int32_t>(K);
+  for (std::size_t k = 0; k < K; ++k) {
+    bool first = true, agree = true;
+    for (int32_t s = 0; s < S; ++s) {
+      const int32_t track = association.tuples[k * S + s];
+      if (track < 0) continue;
+      const auto it = rows.find({sensors[s].id, track});
+      require(it != rows.end(), "/associations/" + association.name + "/tuples",
+              "row " + std::to_string(k) + ": sensor " + std::to_string(sensors[s].id) + " has no track " +
+                  std::to_string(track) + " in /tracks");
+      members[k].push_back({s, sensors[s].id, track, &it->second});
+      const int32_t id = tracks.truth[it->second.back()];
+      if (first) truth[k] = id;
+      agree = agree && id == truth[k];
+      first = false;
+    }
+    if (!agree) truth[k] = -1;
+  }
+
+  std::vector<TupleRows> fused(K);
+  parallel_for_range(K, 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t k = lo; k < hi; ++k)
+      if (members[k].size() >= 2) fused[k] = fuse_tuple(tracks, members[k], S, options);
+  });
+
+  FusedTrackRecord rec;
+  rec.name = name;
+  rec.association = association.name;
+  rec.rule = rule_name(options);
+  rec.ci_criterion =
+      options.rule == FusionRule::kCovarianceIntersection ? enum_name(options.ci.criterion) : "";
+  rec.cross_covariance = options.rule != FusionRule::kBarShalomCampo ? "none"
+                         : options.common_process_noise > 0.0        ? "common-process-noise"
+                                                                     : "correlation";
+  rec.options_json = options.to_json().dump();
+  rec.layout = tracks.layout;
+  rec.num_sensors = S;
+  rec.tuples = association.tuples;
+  const int D = tracks.dim(), P = packed_size(D);
+  rec.state.assign(D, {});
+  rec.cov.assign(P, {});
+  for (std::size_t k = 0; k < K; ++k) {
+    const TupleRows& f = fused[k];
+    if (members[k].size() < 2)
+      ++sum.single_member;
+    else if (f.t.empty())
+      ++sum.no_overlap;
+    else
+      ++sum.fused_tuples;
+    sum.shrunk_cells += f.shrunk;
+    for (std::size_t i = 0; i < f.t.size(); ++i) {
+      rec.tuple.push_back(static_cast<int32_t>(k));
+      rec.t.push_back(f.t[i]);
+      rec.sources.push_back(f.sources[i]);
+      rec.truth.push_back(truth[k]);
+      for (int c = 0; c < D; ++c) rec.state[c].push_back(f.x[i][c]);
+      for (int r = 0, p = 0; r < D; ++r)
+        for (int c = r; c < D; ++c, ++p) rec.cov[p].push_back(f.P[i](r, c));
+    }
+    rec.omega.insert(rec.omega.end(), f.omega.begin(), f.omega.end());
+  }
+  sum.rows = static_cast<int64_t>(rec.size());
+  sum.cross_covariance = rec.cross_covariance;
+  sum.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  sum.termination = "fused " + std::to_string(sum.fused_tuples) + " of " + std::to_string(sum.tuples) +
+                    " tuples (" + std::to_string(sum.single_member) + " with fewer than two members, " +
+                    std::to_string(sum.no_overlap) + " whose members never coexist)";
+  if (summary) *summary = sum;
+  return rec;
+}
+
+TrackFuserSummary fuse_track_file(TrackFile& file, const std::string& association, const std::string& name,
+                                  TrackFuserOptions options) {
+  const AssociationRecord* rec = nullptr;
+  std::string names;
+  for (const auto& a : file.associations) {
+    names += (names.empty() ? "" : ", ") + a.name;
+    if (a.name == association) rec = &a;
+  }
+  if (file.associations.empty()) throw InputError("/associations is empty; run `trackassoc associate` first");
+  if (association.empty()) {
+    if (file.associations.size() != 1)
+      throw InputError("--association: the file has " + std::to_string(file.associations.size()) +
+                       " associations (" + names + "); name one");
+    rec = &file.associations.front();
+  }
+  if (!rec)
+    throw InputError("--association: no /associations/" + association + " in the file (it has " + names +
+                     ")");
+  std::string source;
+  if (options.rule == FusionRule::kBarShalomCampo) {
+    if (options.common_process_noise > 0.0)
+      source = "given";
+    else if (options.correlation >= 0.0)
+      source = "given";
+    else if (!file.scenario_json.empty()) {
+      const Scenario sc = parse_scenario_json(file.scenario_json, "/ attribute scenario");
+      options.common_process_noise = sc.tracker.process_noise;
+      source = "the scenario's tracker.process_noise";
+      require(options.common_process_noise > 0.0, "--rule bsc",
+              "the file's scenario has tracker.process_noise 0; give --common-process-noise SIGMA or "
+              "--correlation RHO");
+    } else {
+      throw InputError(
+          "--rule bsc: the file carries no process-noise information (no scenario); give the "
+          "cross-covariance: "
+          "--common-process-noise SIGMA (the targets' white-noise acceleration the local CV filters assume, "
+          "m/s²) or --correlation RHO (P_ab = RHO·P_a^½ P_b^½)");
+    }
+  }
+  const std::string out_name = name.empty() ? rec->name : name;
+  TrackFuserSummary summary;
+  FusedTrackRecord fused = fuse_association(file.tracks, file.sensors, *rec, options, out_name, &summary);
+  summary.cross_covariance_source = source;
+  std::erase_if(file.fused, [&](const FusedTrackRecord& r) { return r.name == out_name; });
+  file.fused.push_back(std::move(fused));
+  return summary;
+}
+
+}  // namespace trackassoc
