@@ -41,25 +41,48 @@ std::string number_text(double v) {
   return std::string(buf, r.ptr);
 }
 
-// Whitespace around a field and one pair of double quotes are not part of the value.
+// Whitespace around a field is not part of the value.
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
   return s;
 }
 
-// Splits `line` at `delimiter` into `fields` (views into line).
-void split(std::string_view line, char delimiter, std::vector<std::string_view>& fields) {
+// Splits `line` at `delimiter` into `fields` (views into line), RFC 4180 style: a field whose
+// first non-blank character is '"' runs to its closing quote, so it may hold the delimiter, and
+// "" inside it is a quote (the view keeps it doubled: a column we read is a number or a name,
+// where a quote is an error anyway). Returns false on a quoted field with no closing quote (a
+// quoted line break is not supported: records are single lines).
+bool split(std::string_view line, char delimiter, std::vector<std::string_view>& fields) {
   fields.clear();
   std::size_t start = 0;
   while (true) {
-    const std::size_t end = line.find(delimiter, start);
-    if (end == std::string_view::npos) {
-      fields.push_back(trim(line.substr(start)));
-      return;
+    std::size_t end;
+    std::size_t q = start;
+    while (q < line.size() && (line[q] == ' ' || line[q] == '\t')) ++q;
+    if (q < line.size() && line[q] == '"') {
+      std::size_t close = q + 1;
+      while (true) {
+        close = line.find('"', close);
+        if (close == std::string_view::npos) return false;
+        if (close + 1 < line.size() && line[close + 1] == '"') {
+          close += 2;  // "" inside the quotes
+          continue;
+        }
+        break;
+      }
+      end = line.find(delimiter, close + 1);
+      // The value: inside the quotes (blanks between the closing quote and the delimiter dropped).
+      const std::string_view rest = trim(
+          line.substr(close + 1, end == std::string_view::npos ? std::string_view::npos : end - close - 1));
+      if (!rest.empty()) return false;  // text after the closing quote
+      fields.push_back(line.substr(q + 1, close - q - 1));
+    } else {
+      end = line.find(delimiter, start);
+      fields.push_back(
+          trim(line.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start)));
     }
-    fields.push_back(trim(line.substr(start, end - start)));
+    if (end == std::string_view::npos) return true;
     start = end + 1;
   }
 }
@@ -164,7 +187,9 @@ std::vector<int> bind_header(std::istream& in, const std::string& source, char d
     throw InputError(source + ": empty file; expected a header row naming the columns");
   if (header.size() >= 3 && header.compare(0, 3, "\xEF\xBB\xBF") == 0) header.erase(0, 3);  // UTF-8 BOM
   std::vector<std::string_view> names;
-  split(header, delimiter, names);
+  if (!split(header, delimiter, names))
+    throw InputError(source +
+                     ": line 1 (the header): a quoted field without its closing quote, or text after it");
   columns = names.size();
   std::vector<int> slot_of(columns, -1);
   for (std::size_t s = 0; s < slots.size(); ++s) {
@@ -261,7 +286,10 @@ TrackFile import_csv_tracks(std::istream& in, const std::string& source, const C
   while (std::getline(in, line)) {
     ++line_number;
     if (trim(line).empty()) continue;  // blank lines (a trailing newline, a spreadsheet's empty rows)
-    split(line, o.delimiter, fields);
+    if (!split(line, o.delimiter, fields)) {
+      errors.add_line(line_number, "a quoted field without its closing quote, or text after it");
+      continue;
+    }
     const std::size_t before = errors.count();
     if (fields.size() != columns) {
       errors.add_line(line_number, std::to_string(fields.size()) + " fields, the header has " +

@@ -73,7 +73,8 @@ void print_outcome(const AssociationOutcome& out, const TrackFile& file, const s
     const auto info = nlohmann::json::parse(rec.options_json);
     if (info.contains("segments_joined"))
       std::cout << ", segments joined " << info["segments_joined"].get<int64_t>() << " (to "
-                << info["segment_targets_joined"].get<int64_t>() << " targets)";
+                << info["segment_targets_joined"].get<int64_t>() << " targets; duplicates "
+                << info.value("segment_duplicates_joined", int64_t{0}) << ")";
     std::cout << "\n";
   }
   std::cout << "unassociated local tracks:";
@@ -94,6 +95,7 @@ void register_associate(CLI::App& app) {
     bool sd = false, three_d = false;
     bool no_segments = false;
     double segment_overlap = SegmentOptions{}.max_overlap_s;
+    std::vector<int32_t> duplicate_sensors;
     std::string model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";  // --solver siamese
   };
   auto args = std::make_shared<Args>();
@@ -131,6 +133,11 @@ void register_associate(CLI::App& app) {
                   "follow each other (a coasting old track and its successor)")
       ->check(at_least(0))
       ->capture_default_str();
+  cmd->add_option("--duplicate-sensors", args->duplicate_sensors,
+                  "Default pipeline: sensor ids whose tracker may hold two tracks of one target at once (an "
+                  "extended target in two clusters, e.g. a lidar on a long hull); such a track joins the "
+                  "target when it passes the full-state duplicate gate with its twin (default: none)")
+      ->delimiter(',');
   add_pipeline_options(cmd, args->pipeline);
   add_hopfield_flags(cmd, args->hopfield, true);
   add_common_options(cmd, args->common);
@@ -149,6 +156,7 @@ void register_associate(CLI::App& app) {
     request.siamese_model = args->model;
     request.segments.enabled = !args->no_segments;
     request.segments.max_overlap_s = args->segment_overlap;
+    request.segments.duplicate_sensors = args->duplicate_sensors;
     request.validate();  // --sd, --3d, --sparse: at most one, before the Hopfield flags' errors
     merge_hopfield_flags(args->hopfield, request.solver, request.solver_options);
     const auto associator = make_associator(request);  // every check before the file is read

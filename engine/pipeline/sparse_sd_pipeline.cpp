@@ -460,6 +460,7 @@ AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& 
     rec = join_track_segments(p, file.tracks, rec, options.segments, &seg);
     nlohmann::json info = nlohmann::json::parse(rec.options_json);
     info["segments_joined"] = seg.joined;
+    info["segment_duplicates_joined"] = seg.duplicates;
     info["segment_targets_joined"] = seg.targets_joined;
     info["segment_rounds"] = seg.rounds;
     rec.options_json = info.dump();

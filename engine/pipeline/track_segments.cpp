@@ -1,6 +1,7 @@
 // Track segments joined to their targets (see track_segments.hpp).
 #include "engine/pipeline/track_segments.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,16 +11,48 @@
 #include "kernels/assignment/clusters.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/statistics/chi_square.hpp"
 
 namespace trackassoc {
 
 void SegmentOptions::validate() const {
   require(std::isfinite(max_overlap_s) && max_overlap_s >= 0.0, "segments.max_overlap_s",
           "expected a finite value >= 0 [s]");
+  require(duplicate_probability > 0.0 && duplicate_probability < 1.0, "segments.duplicate_probability",
+          "expected a probability in (0, 1)");
+  require(min_duplicate_times >= 1, "segments.min_duplicate_times", "expected at least 1");
 }
 
 nlohmann::json SegmentOptions::to_json() const {
-  return {{"enabled", enabled}, {"max_overlap_s", max_overlap_s}};
+  return {{"enabled", enabled},
+          {"max_overlap_s", max_overlap_s},
+          {"duplicate_sensors", duplicate_sensors},
+          {"duplicate_probability", duplicate_probability},
+          {"min_duplicate_times", min_duplicate_times}};
+}
+
+DuplicateStatistic duplicate_statistic(const AlignedTracks& a, int32_t i, int32_t j, double t_lo,
+                                       double t_hi) {
+  const int32_t K = a.n_times, D = a.dim, P = D * (D + 1) / 2;
+  require(i >= 0 && i < a.n_tracks() && j >= 0 && j < a.n_tracks(), "duplicate_statistic",
+          "track index out of range");
+  Eigen::VectorXd diff(D);
+  Eigen::MatrixXd C(D, D);
+  DuplicateStatistic out;
+  for (int32_t k = 0; k < K; ++k) {
+    const std::size_t ci = static_cast<std::size_t>(i) * K + k, cj = static_cast<std::size_t>(j) * K + k;
+    if (a.times[k] < t_lo || a.times[k] > t_hi || !a.valid[ci] || !a.valid[cj]) continue;
+    for (int32_t c = 0; c < D; ++c) diff[c] = a.state[ci * D + c] - a.state[cj * D + c];
+    const double *pi = &a.cov[ci * P], *pj = &a.cov[cj * P];  // packed upper triangles
+    for (int32_t r = 0, q = 0; r < D; ++r)
+      for (int32_t c = r; c < D; ++c, ++q) C(r, c) = C(c, r) = pi[q] + pj[q];
+    const Eigen::LLT<Eigen::MatrixXd> llt(C);
+    const double d2 =
+        llt.info() == Eigen::Success ? diff.dot(llt.solve(diff)) : std::numeric_limits<double>::infinity();
+    out.max_d2 = std::max(out.max_d2, d2);
+    ++out.times;
+  }
+  return out;
 }
 
 namespace {
@@ -43,6 +76,14 @@ struct SegmentGraph {
   const double* link(int32_t u, int32_t v) const {
     auto it = link_of.find(key(u, v));
     return it == link_of.end() ? nullptr : &it->second;
+  }
+  // Rule (a)'s duplicate test of nodes u and m of one sensor (see the header).
+  bool duplicate(int32_t u, int32_t m, double threshold, int32_t min_times) const {
+    const int32_t s = p.sensor_of(u);
+    const DuplicateStatistic d =
+        duplicate_statistic(p.aligned[s], u - p.offset[s], m - p.offset[s], std::max(first[u], first[m]),
+                            std::min(last[u], last[m]));
+    return d.times >= min_times && d.max_d2 <= threshold;
   }
   int32_t node(int32_t s, int32_t track) const {  // −1 when sensor s has no such track
     const std::vector<int32_t>& t = p.aligned[s].track;
@@ -82,6 +123,26 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks) {
   return g;
 }
 
+// Rule (a) of the header, per sensor of the problem.
+struct OverlapRule {
+  double max_overlap_s = 0.0;
+  std::vector<uint8_t> duplicates;  // per problem sensor: its tracks may be duplicates
+  double duplicate_threshold = 0.0;
+  int32_t min_duplicate_times = 1;
+};
+
+OverlapRule make_overlap_rule(const SparseSDProblem& p, const SegmentOptions& o) {
+  OverlapRule r{o.max_overlap_s, std::vector<uint8_t>(p.S(), 0),
+                chi_square_quantile(o.duplicate_probability, p.dim), o.min_duplicate_times};
+  for (const int32_t id : o.duplicate_sensors) {
+    const auto it = std::find(p.sensor_ids.begin(), p.sensor_ids.end(), id);
+    require(it != p.sensor_ids.end(), "segments.duplicate_sensors",
+            "sensor " + std::to_string(id) + " is not one of the associated sensors");
+    r.duplicates[it - p.sensor_ids.begin()] = 1;
+  }
+  return r;
+}
+
 struct Target {
   std::vector<std::vector<int32_t>> members;  // per sensor, nodes in the order they joined
   std::size_t tuple = 0;                      // its row in the assignment
@@ -89,9 +150,11 @@ struct Target {
 };
 
 // Cost of joining free node u (sensor s) to target t, +inf when (a), (b) or (c) fails.
-double join_cost(const SegmentGraph& g, const Target& t, int32_t u, int32_t s, double max_overlap) {
-  for (int32_t m : t.members[s])
-    if (g.overlap_s(u, m) > max_overlap) return kInf;  // (a)
+double join_cost(const SegmentGraph& g, const Target& t, int32_t u, int32_t s, const OverlapRule& rule) {
+  for (int32_t m : t.members[s])  // (a)
+    if (g.overlap_s(u, m) > rule.max_overlap_s &&
+        !(rule.duplicates[s] && g.duplicate(u, m, rule.duplicate_threshold, rule.min_duplicate_times)))
+      return kInf;
   double cost = 0.0;
   bool evidence = false;
   for (std::size_t r = 0; r < t.members.size(); ++r) {
@@ -109,9 +172,10 @@ double join_cost(const SegmentGraph& g, const Target& t, int32_t u, int32_t s, d
   return evidence ? cost : kInf;
 }
 
-// One round: the LAP per connected component of the candidate graph; returns the joins made.
+// One round: the LAP per connected component of the candidate graph; returns the joins made and
+// adds those that joined as duplicates (a) to *duplicates.
 int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vector<int32_t>& target_of,
-                   double max_overlap) {
+                   const OverlapRule& rule, int32_t* duplicates) {
   const SparseSDProblem& p = g.p;
   struct Candidate {
     int32_t u, t;
@@ -125,7 +189,7 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
       const int32_t t = target_of[v];
       if (t < 0 || std::find(seen.begin(), seen.end(), t) != seen.end()) continue;
       seen.push_back(t);
-      const double cost = join_cost(g, targets[t], u, p.sensor_of(u), max_overlap);
+      const double cost = join_cost(g, targets[t], u, p.sensor_of(u), rule);
       if (std::isfinite(cost)) cand.push_back({u, t, cost});
     }
   }
@@ -166,6 +230,11 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
     }
   }
   for (const auto& [u, t] : joins) {
+    for (int32_t m : targets[t].members[p.sensor_of(u)])
+      if (g.overlap_s(u, m) > rule.max_overlap_s) {
+        ++*duplicates;
+        break;
+      }
     targets[t].members[p.sensor_of(u)].push_back(u);
     targets[t].grew = true;
     target_of[u] = t;
@@ -216,10 +285,11 @@ AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable
   }
   SegmentSummary sum;
   sum.targets = static_cast<int32_t>(targets.size());
+  const OverlapRule rule = make_overlap_rule(p, options);
   if (options.enabled)
     while (true) {
       ++sum.rounds;
-      const int32_t j = join_round(g, targets, target_of, options.max_overlap_s);
+      const int32_t j = join_round(g, targets, target_of, rule, &sum.duplicates);
       sum.joined += j;
       if (j == 0) break;
     }

@@ -12,7 +12,20 @@
 //   * every local track u in no target (sensor s) is a candidate for every target T such that
 //     (a) u follows or precedes every segment T already holds on s: their report intervals
 //         overlap by at most `max_overlap_s` (the overlap of a coasting old track and its
-//         successor);
+//         successor) — or, on a sensor listed in `duplicate_sensors`, u is a *duplicate* of each
+//         segment it overlaps by more: a second track of the same target at the same time (a
+//         lidar resolves a long hull into two clusters 15–30 m apart, and each starts a track).
+//         The duplicate test, over the common times inside both report intervals (at least
+//         `min_duplicate_times` of them): every one passes the full-state gate
+//             Δᵀ (P_u + P_m)⁻¹ Δ ≤ χ²_D(duplicate_probability),
+//         Δ the difference of the aligned states (position and velocity), P the aligned
+//         covariances with the reference-point σ_r of AlignmentOptions::extent_sigma. Two tracks of
+//         one sensor share its measurements, so their errors are positively correlated and the sum
+//         P_u + P_m overstates the variance of Δ: the test is lenient on the errors and is meant
+//         to separate two points of one hull from two craft, which differ in velocity or drift
+//         apart. It is per sensor because a sensor that gives one plot per target (a radar with a
+//         beam wider than the hull) has no such duplicates, and there two tracks side by side are
+//         two craft (Autoferry scenario 17: a jet boat beside Havfruen);
 //     (b) u is linked — gated in by the sequential statistic, with a link cost ≤ 0
 //         (SequentialGate::link_cost) — to at least one member of T on another sensor whose
 //         report interval overlaps u's (evidence from common reports, not from extrapolation);
@@ -42,8 +55,10 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "io/track_file.hpp"
+#include "kernels/statistics/association_statistic.hpp"
 
 namespace trackassoc {
 
@@ -52,20 +67,35 @@ struct SparseSDProblem;  // engine/pipeline/sparse_sd_pipeline.hpp
 struct SegmentOptions {
   bool enabled = true;         // join the segments of a target (off: the assignment's tuples)
   double max_overlap_s = 2.0;  // [s] report overlap (a) that still counts as "one after the other"
-  void validate() const;       // throws InputError naming the field
+  std::vector<int32_t> duplicate_sensors;  // sensor ids whose tracks may be duplicates (a); none
+  double duplicate_probability = 0.999;    // of the per-time full-state duplicate gate (a)
+  int32_t min_duplicate_times = 3;         // common times the duplicate test needs (a)
+  void validate() const;                   // throws InputError naming the field
   nlohmann::json to_json() const;
 };
 
 struct SegmentSummary {
   int32_t targets = 0;         // tuples of ≥ 2 members of the assignment
   int32_t joined = 0;          // segments joined to them
+  int32_t duplicates = 0;      // of which duplicates (a) of a segment on their sensor
   int32_t rounds = 0;          // rounds run (the last one joins nothing)
   int32_t targets_joined = 0;  // targets that gained at least one segment
 };
 
+// Rule (a)'s duplicate statistic of tracks i and j (rows of one sensor's aligned tracks): the
+// largest per-time full-state Δᵀ(P_i + P_j)⁻¹Δ over the common times in [t_lo, t_hi] where both
+// are valid (+inf at a time whose sum is not positive definite), and the number of those times.
+struct DuplicateStatistic {
+  double max_d2 = 0.0;
+  int32_t times = 0;
+};
+DuplicateStatistic duplicate_statistic(const AlignedTracks& a, int32_t i, int32_t j, double t_lo,
+                                       double t_hi);
+
 // Joins the segments of `record` (the assignment of `p`, tuples over p.file_sensors columns) by the
-// rule above; `tracks` gives the report intervals. Returns the record with the tuples rewritten,
-// `target` filled, and the cost of each new tuple the sum of its members' link costs (the
+// rule above; `tracks` gives the report intervals. Throws InputError when
+// options.duplicate_sensors names a sensor that is not associated. Returns the record with the tuples
+// rewritten, `target` filled, and the cost of each new tuple the sum of its members' link costs (the
 // objective and the bound stay the assignment's).
 AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable& tracks,
                                       const AssociationRecord& record, const SegmentOptions& options,

@@ -294,6 +294,27 @@ TEST(CsvImport, DelimitersAndPerSensorValues) {
                   "line 2, column 'x': expected a number, found '1,5'"));
 }
 
+TEST(CsvImport, QuotedFieldsMayHoldTheDelimiter) {
+  CsvImportOptions o = cartesian();
+  o.sigma_position = parse_per_sensor_value("10", "--sigma-pos");
+  o.sigma_velocity = parse_per_sensor_value("1", "--sigma-vel");
+  // A quoted header, a quoted number, and an unmapped text column with the delimiter and a ""
+  // inside its quotes: still 6 fields a row.
+  const std::string csv =
+      "\"t\",\"sensor\",track,x,\"y\",note\n"
+      "0,3,0,\"1.5\",2,\"harbour, quay \"\"B\"\"\"\n"
+      "1,3,0, \"2.5\" ,2,plain\n";
+  const TrackFile f = import_text(csv, o);
+  ASSERT_EQ(f.tracks.size(), 2u);
+  EXPECT_EQ(f.tracks.state[0][0], 1.5);
+  EXPECT_EQ(f.tracks.state[0][1], 2.5);
+  // An unclosed quote, or text after the closing quote, names the line.
+  EXPECT_TRUE(has(error_of("t,sensor,track,x,y\n0,3,0,1,2\n1,3,0,\"2,2\n", o),
+                  "line 3: a quoted field without its closing quote"));
+  EXPECT_TRUE(has(error_of("t,sensor,track,x,y\n0,3,0,\"1\"x,2\n", o), "line 2: a quoted field"));
+  EXPECT_TRUE(has(error_of("\"t,sensor,track,x,y\n0,3,0,1,2\n", o), "line 1 (the header)"));
+}
+
 TEST(CsvImport, ExportThenImportGivesTheSameTracksAndFileAttributes) {
   TempDir dir;
   TrackFile a;

@@ -63,9 +63,9 @@ LocalTrackingOptions AutoferryOptions::default_tracking() {
   lidar.measurement_sigma = 3.0;
   lidar.delete_misses = 10;  // 5 s at 0.5 s scans
   radar.measurement_sigma = 5.0;
-  radar.delete_misses = 3;                                  // 5 s at 1.68 s scans
-  lidar.cluster_distance = radar.cluster_distance = 15.0;   // half Gunnerus' 31 m hull
-  lidar.initiate_in_gate = radar.initiate_in_gate = false;  // no duplicate tracks of one hull
+  radar.delete_misses = 3;                                 // 5 s at 1.68 s scans
+  lidar.cluster_distance = radar.cluster_distance = 15.0;  // half Gunnerus' 31 m hull
+  lidar.initiate_in_gate = false;  // no duplicate tracks of one hull (the radar: one plot per hull)
   o.per_sensor = {{kAutoferryLidar, lidar}, {kAutoferryRadar, radar}};
   o.default_tracker = lidar;
   return o;
@@ -75,7 +75,8 @@ AssociatorOptions AutoferryOptions::default_association() {
   AssociatorOptions o;
   o.pipeline.alignment.extent_sigma = 8.0;
   o.pipeline.statistic.link = LinkCost::kPerIndependentScan;
-  return o;  // segments: on, the default
+  o.segments.duplicate_sensors = {kAutoferryLidar};  // a hull in two lidar clusters: two tracks
+  return o;                                          // segments: on, the default
 }
 
 void AutoferryOptions::validate() const {

@@ -7,10 +7,14 @@
 //    members report at the same times, and every track is in exactly one target;
 //  * segments that overlap by more than max_overlap_s (two tracks at once, not one after the
 //    other) never join one target on one sensor;
+//  * a duplicate (a second track of one target on one sensor at the same time) joins its target
+//    only on a sensor listed in duplicate_sensors, and the duplicate statistic is the hand-worked
+//    one;
 //  * the reader refuses bad target numbers, naming the dataset.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <set>
 
@@ -54,10 +58,28 @@ TrackFile broken_file(double t_end, double t_start) {
   return f;
 }
 
-AssociationOutcome associate(const TrackFile& f, bool segments, double max_overlap = 2.0) {
+// recorded_sync with its first two sensors; from t_start on, sensor 1 holds a second track of
+// every target (number + kRenumber) beside the first, its position shifted by dx along x.
+TrackFile duplicate_file(double t_start, double dx) {
+  TrackFile f = broken_file(1e9, 1e9);  // the two sensors, unbroken
+  const int32_t dup = f.sensors[1].id;
+  const std::size_t n = f.tracks.size();
+  for (std::size_t r = 0; r < n; ++r) {
+    if (f.tracks.sensor[r] != dup || f.tracks.t[r] < t_start) continue;
+    auto x = f.tracks.state_at(r);
+    x[0] += dx;
+    f.tracks.push_back(dup, f.tracks.track[r] + kRenumber, f.tracks.t[r], x, f.tracks.cov_at(r),
+                       f.tracks.truth[r]);
+  }
+  return f;
+}
+
+AssociationOutcome associate(const TrackFile& f, bool segments, double max_overlap = 2.0,
+                             std::vector<int32_t> duplicate_sensors = {}) {
   AssociatorOptions o;
   o.segments.enabled = segments;
   o.segments.max_overlap_s = max_overlap;
+  o.segments.duplicate_sensors = std::move(duplicate_sensors);
   return make_associator(o)->associate(f);
 }
 
@@ -139,6 +161,77 @@ TEST(TrackSegments, OverlappingTracksDoNotJoin) {
   const AssociationRecord loose = associate(f, true, 25.0).record;
   EXPECT_EQ(evaluate_association(f.tracks, f.sensors, loose).correct,
             evaluate_association(f.tracks, f.sensors, loose).targets);
+}
+
+TEST(TrackSegments, DuplicateStatisticByHand) {
+  // Two tracks, D = 4, covariances diag(4, 4, 1, 1) each, so C = diag(8, 8, 2, 2).
+  AlignedTracks a;
+  a.dim = 4;
+  a.n_times = 4;
+  a.times = {0.0, 1.0, 2.0, 3.0};
+  a.track = {0, 1};
+  a.truth = {-1, -1};
+  a.state.assign(2 * 4 * 4, 0.0);
+  a.cov.assign(2 * 4 * 10, 0.0);
+  a.valid = {1, 1, 1, 1, 1, 1, 0, 1};
+  for (std::size_t cell = 0; cell < 8; ++cell) {
+    double* P = &a.cov[cell * 10];  // packed upper triangle: (0,0) (0,1) (0,2) (0,3) (1,1) ... (3,3)
+    P[0] = P[4] = 4.0;
+    P[7] = P[9] = 1.0;
+  }
+  auto set = [&](int track, int k, std::array<double, 4> x) {
+    std::copy(x.begin(), x.end(), a.state.begin() + (track * 4 + k) * 4);
+  };
+  set(1, 0, {4, 0, 0, 0});   // 16/8 = 2
+  set(1, 1, {0, 4, 1, 0});   // 16/8 + 1/2 = 2.5
+  set(1, 2, {40, 0, 0, 0});  // track 1 not valid at k = 2: skipped
+  set(1, 3, {0, 0, 0, 6});   // 36/2 = 18, outside [t_lo, t_hi] = [0, 2.5]
+  const DuplicateStatistic d = duplicate_statistic(a, 0, 1, 0.0, 2.5);
+  EXPECT_EQ(d.times, 2);
+  EXPECT_NEAR(d.max_d2, 2.5, 1e-12);
+  const DuplicateStatistic all = duplicate_statistic(a, 0, 1, 0.0, 3.0);
+  EXPECT_EQ(all.times, 3);
+  EXPECT_NEAR(all.max_d2, 18.0, 1e-12);
+}
+
+TEST(TrackSegments, DuplicatesJoinOnlyOnTheirSensor) {
+  const TrackFile f = duplicate_file(40.0, 3.0);
+  const int32_t dup = f.sensors[1].id;
+  // Target number of every sensor-1 track.
+  auto targets = [&](const AssociationRecord& rec) {
+    std::map<int32_t, int32_t> out;
+    for (std::size_t k = 0; k < rec.num_tuples(); ++k)
+      if (rec.tuples[2 * k + 1] >= 0) out[rec.tuples[2 * k + 1]] = rec.target[k];
+    return out;
+  };
+  const auto span = spans(f);
+  int32_t duplicates = 0;
+  for (const auto& [key, s] : span) duplicates += key.first == dup && key.second >= kRenumber;
+  ASSERT_GT(duplicates, 3);
+
+  const auto plain = targets(associate(f, true).record);  // sensor 1 not listed: no duplicate joins
+  const auto joined = targets(associate(f, true, 2.0, {dup}).record);
+  int32_t together_plain = 0, together = 0;
+  for (const auto& [key, s] : span) {
+    if (key.first != dup || key.second < kRenumber) continue;
+    const int32_t first = key.second - kRenumber;
+    together_plain += plain.at(first) == plain.at(key.second);
+    together += joined.at(first) == joined.at(key.second);
+  }
+  EXPECT_EQ(together_plain, 0);
+  EXPECT_EQ(together, duplicates);
+  // Every target right when the duplicates count as its tracks.
+  const AssociationRecord rec = associate(f, true, 2.0, {dup}).record;
+  const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, rec);
+  EXPECT_EQ(m.correct, m.targets);
+  EXPECT_EQ(m.false_tuples, 0);
+  // A sensor that is not associated is refused, by name.
+  try {
+    associate(f, true, 2.0, {12345});
+    FAIL() << "an unknown duplicate sensor was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("duplicate_sensors"), std::string::npos) << e.what();
+  }
 }
 
 TEST(TrackSegments, ReaderRefusesBadTargetNumbers) {

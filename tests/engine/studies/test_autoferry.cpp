@@ -259,6 +259,10 @@ TEST_F(CliFixture, ImportAndExperimentAutoferryOnTheDataSet) {
   EXPECT_EQ(correct, e.total.correct);
   EXPECT_EQ(unlabelled, e.total.unlabelled_predicted);
   EXPECT_LT(e.seconds, 10.0);  // issue 17: the whole set in <= 10 s
+  // Issue 17's goal over the 9 scenarios, scored against the GNSS truth: radar–lidar pair
+  // precision >= 95 % and recall >= 90 % (measured: 95.7 % and 100 %, README "Real data").
+  EXPECT_GE(e.total.precision(), 0.95);
+  EXPECT_GE(e.total.recall(), 0.90);
   for (const int n : kAutoferryScenarios) {
     const TrackFile s = read_track_file((dir_ / "exp" / ("scenario" + std::to_string(n) + ".h5")).string());
     ASSERT_EQ(s.associations.size(), 1u) << n;
