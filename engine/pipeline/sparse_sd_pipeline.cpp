@@ -10,6 +10,7 @@
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/assignment/lap.hpp"
+#include "kernels/assignment/lap_sparse.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/random.hpp"
@@ -170,7 +171,7 @@ ComponentResult solve_by_merging(const ComponentView& v, bool all_pairs) {
   r.fallback = true;
   r.lower_bound = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::vector<std::pair<int32_t, int32_t>>> groups;
-  constexpr double kForbidden = 1e300;
+  constexpr double kForbidden = std::numeric_limits<double>::infinity();  // no gain: never merged
   for (int32_t s = 0; s < v.S; ++s) {
     const int32_t nt = static_cast<int32_t>(v.tracks[s].size());
     if (nt == 0) continue;
@@ -192,11 +193,11 @@ ComponentResult solve_by_merging(const ComponentView& v, bool all_pairs) {
       LapOptions lo;
       lo.allow_unassigned = true;
       lo.unassigned_cost = 0.0;
-      col_to_row = solve_lap(cost, ng, nt, lo).col_to_row;
+      col_to_row = solve_gated_lap(cost, ng, nt, lo).col_to_row;  // sparse when large and gated
     }
     for (int32_t j = 0; j < nt; ++j) {
       const int32_t g = col_to_row[j];
-      if (g >= 0 && cost[static_cast<std::size_t>(g) * nt + j] < 0.5 * kForbidden)
+      if (g >= 0 && cost[static_cast<std::size_t>(g) * nt + j] < kForbidden)
         groups[g].emplace_back(s, j);
       else
         groups.push_back({{s, j}});

@@ -7,6 +7,7 @@
 
 #include "kernels/assignment/lagrangian_subgradient.hpp"
 #include "kernels/assignment/lap.hpp"
+#include "kernels/assignment/lap_sparse.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
 
@@ -110,7 +111,7 @@ LagrangianRun run_lagrangian(const CanonicalProblem3& p, const LagrangianOptions
   problem.nonnegative = !equality;
   problem.dual = [&](const std::vector<double>& m, double& bound, std::vector<double>& g) {
     reduce_over_k(b.cost.data(), n1, n2, n3, m, c, arg);
-    lap = solve_lap(c, n1, n2);
+    lap = solve_gated_lap(c, n1, n2);  // sparse when the tensor is gated (kernels/assignment/lap_sparse.hpp)
     // No (i, j) matching of finite cost even with k free: the problem is infeasible.
     if (!lap.feasible) return false;
     double mu_sum = 0.0;

@@ -32,10 +32,11 @@ void SparseCostView::validate() const {
               " offsets, expected rows + 1 = " + std::to_string(rows + 1));
   require(row_start[0] == 0, "SparseCostView.row_start",
           "must start at 0, got " + std::to_string(row_start[0]));
+  // Per-entry checks build their message only on failure (they run on every solve).
   for (int32_t r = 0; r < rows; ++r)
-    require(row_start[r + 1] >= row_start[r], "SparseCostView.row_start",
-            "decreases at row " + std::to_string(r) + " (" + std::to_string(row_start[r]) + " then " +
-                std::to_string(row_start[r + 1]) + ")");
+    if (row_start[r + 1] < row_start[r])
+      throw InputError("SparseCostView.row_start: decreases at row " + std::to_string(r) + " (" +
+                       std::to_string(row_start[r]) + " then " + std::to_string(row_start[r + 1]) + ")");
   const std::size_t nnz = static_cast<std::size_t>(row_start[rows]);
   require(col.size() == nnz && cost.size() == nnz, "SparseCostView",
           "row_start ends at " + std::to_string(nnz) + " but col has " + std::to_string(col.size()) +
@@ -43,14 +44,16 @@ void SparseCostView::validate() const {
   std::vector<int32_t> seen(cols, -1);  // last row that had each column
   for (int32_t r = 0; r < rows; ++r)
     for (int32_t e = row_start[r]; e < row_start[r + 1]; ++e) {
-      const std::string where =
-          "SparseCostView entry " + std::to_string(e) + " (row " + std::to_string(r) + ")";
-      require(col[e] >= 0 && col[e] < cols, where,
-              "column " + std::to_string(col[e]) + " outside [0, " + std::to_string(cols) + ")");
-      require(seen[col[e]] != r, where, "column " + std::to_string(col[e]) + " appears twice in the row");
+      auto fail = [&](const std::string& what) {
+        throw InputError("SparseCostView entry " + std::to_string(e) + " (row " + std::to_string(r) +
+                         "): " + what);
+      };
+      if (col[e] < 0 || col[e] >= cols)
+        fail("column " + std::to_string(col[e]) + " outside [0, " + std::to_string(cols) + ")");
+      if (seen[col[e]] == r) fail("column " + std::to_string(col[e]) + " appears twice in the row");
       seen[col[e]] = r;
-      require(!std::isnan(cost[e]) && cost[e] != -kInf, where,
-              "cost is " + std::to_string(cost[e]) + "; expected a finite number or +inf (absent)");
+      if (std::isnan(cost[e]) || cost[e] == -kInf)
+        fail("cost is " + std::to_string(cost[e]) + "; expected a finite number or +inf (absent)");
     }
 }
 
@@ -238,6 +241,61 @@ LapResult solve_sparse_lap(const SparseCostView& matrix, const LapOptions& optio
   lap_detail::assemble_result(result, feasible, w.col4row, w.u, w.v, p.nr, real_cols, transpose, options,
                               [&](int32_t r, int32_t c) { return p.original_of(r, c); });
   return result;
+}
+
+void GatedLapOptions::validate() const {
+  require(max_density >= 0.0 && max_density <= 1.0, "max_density", "expected a fraction in [0, 1]");
+  require(min_side >= 1, "min_side", "expected at least 1");
+}
+
+namespace {
+
+// The dispatch rule of solve_gated_lap: both sides ≥ min_side and finite entries ≤ max_density.
+bool sparse_pays(int32_t rows, int32_t cols, std::size_t finite, const GatedLapOptions& g) {
+  return rows >= g.min_side && cols >= g.min_side && g.max_density > 0.0 &&
+         static_cast<double>(finite) <= g.max_density * static_cast<double>(rows) * static_cast<double>(cols);
+}
+
+}  // namespace
+
+LapResult solve_gated_lap(std::span<const double> cost, int32_t rows, int32_t cols, const LapOptions& options,
+                          const GatedLapOptions& gated) {
+  gated.validate();
+  if (!sparse_pays(rows, cols, 0, gated)) return solve_lap(cost, rows, cols, options);
+  require(cost.size() == static_cast<std::size_t>(rows) * cols, "solve_gated_lap",
+          "cost size is not rows x cols");
+  std::size_t finite = 0;
+  for (const double c : cost) {
+    if (c < kInf) {
+      if (!sparse_pays(rows, cols, ++finite, gated)) return solve_lap(cost, rows, cols, options);
+    } else if (c != kInf) {
+      throw InputError("solve_gated_lap: NaN cost");
+    }
+  }
+  std::vector<int32_t> row_start(static_cast<std::size_t>(rows) + 1, 0), col;
+  std::vector<double> val;
+  col.reserve(finite);
+  val.reserve(finite);
+  for (int32_t r = 0; r < rows; ++r) {
+    const double* row = cost.data() + static_cast<std::size_t>(r) * cols;
+    for (int32_t c = 0; c < cols; ++c)
+      if (row[c] < kInf) col.push_back(c), val.push_back(row[c]);
+    row_start[r + 1] = static_cast<int32_t>(col.size());
+  }
+  return solve_sparse_lap(SparseCostView{rows, cols, row_start, col, val}, options);
+}
+
+LapResult solve_gated_lap(const SparseCostView& matrix, const LapOptions& options,
+                          const GatedLapOptions& gated) {
+  gated.validate();
+  matrix.validate();
+  if (sparse_pays(matrix.rows, matrix.cols, matrix.col.size(), gated))
+    return solve_sparse_lap(matrix, options);
+  std::vector<double> dense(static_cast<std::size_t>(matrix.rows) * matrix.cols, kInf);
+  for (int32_t r = 0; r < matrix.rows; ++r)
+    for (int32_t e = matrix.row_start[r]; e < matrix.row_start[r + 1]; ++e)
+      dense[static_cast<std::size_t>(r) * matrix.cols + matrix.col[e]] = matrix.cost[e];
+  return solve_lap(dense, matrix.rows, matrix.cols, options);
 }
 
 }  // namespace trackassoc

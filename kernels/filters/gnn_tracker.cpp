@@ -27,7 +27,57 @@ void GnnTrackerOptions::validate() const {
   require(confirm_hits >= 1 && confirm_hits <= confirm_window, "confirm_hits",
           "expected an integer in [1, confirm_window]");
   require(delete_misses >= 1, "delete_misses", "expected an integer >= 1");
+  lap.validate();
 }
+
+namespace {
+
+// Points of the plane bucketed in square cells of side h ≥ the search radius, so the points within
+// the radius of any position are in the 3×3 cells around it: a query costs O(points nearby)
+// instead of O(all points). h is raised so that no axis has more than 2²⁰ cells.
+class CellIndex {
+ public:
+  CellIndex(std::span<const double> x, std::span<const double> y, double radius) : x_(x), y_(y) {
+    double lo_x = 0, hi_x = 0, lo_y = 0, hi_y = 0;
+    if (!x.empty()) {
+      lo_x = *std::min_element(x.begin(), x.end()), hi_x = *std::max_element(x.begin(), x.end());
+      lo_y = *std::min_element(y.begin(), y.end()), hi_y = *std::max_element(y.begin(), y.end());
+    }
+    x0_ = lo_x, y0_ = lo_y;
+    h_ = std::max({radius, (hi_x - lo_x) * 0x1p-20, (hi_y - lo_y) * 0x1p-20, 1e-9});
+    order_.resize(x.size());
+    std::iota(order_.begin(), order_.end(), 0);
+    key_.resize(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) key_[i] = key(cell(x[i], x0_), cell(y[i], y0_));
+    std::sort(order_.begin(), order_.end(), [&](int32_t a, int32_t b) { return key_[a] < key_[b]; });
+    sorted_.resize(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) sorted_[i] = key_[order_[i]];
+  }
+  // Calls fn(j) for every point j in the 3×3 cells around (px, py) (a superset of those within h).
+  template <class Fn>
+  void for_each_near(double px, double py, Fn&& fn) const {
+    const int64_t cx = cell(px, x0_), cy = cell(py, y0_);
+    for (int64_t dx = -1; dx <= 1; ++dx)
+      for (int64_t dy = -1; dy <= 1; ++dy) {
+        const int64_t k = key(cx + dx, cy + dy);
+        auto [lo, hi] = std::equal_range(sorted_.begin(), sorted_.end(), k);
+        for (auto it = lo; it != hi; ++it) fn(order_[it - sorted_.begin()]);
+      }
+  }
+
+ private:
+  int64_t cell(double v, double origin) const {
+    const double c = std::floor((v - origin) / h_);
+    return static_cast<int64_t>(std::clamp(c, -4.0e6, 4.0e6));  // far outside: one border cell
+  }
+  static int64_t key(int64_t cx, int64_t cy) { return (cx + (int64_t{1} << 23)) * (int64_t{1} << 24) + cy; }
+  std::span<const double> x_, y_;
+  double x0_ = 0, y0_ = 0, h_ = 1;
+  std::vector<int32_t> order_;
+  std::vector<int64_t> key_, sorted_;
+};
+
+}  // namespace
 
 std::vector<int32_t> single_linkage_clusters(std::span<const double> x, std::span<const double> y,
                                              double distance) {
@@ -39,13 +89,15 @@ std::vector<int32_t> single_linkage_clusters(std::span<const double> x, std::spa
     return i;
   };
   const double d2 = distance * distance;
+  const CellIndex cells(x, y, distance);
   for (std::size_t i = 0; i < m; ++i)
-    for (std::size_t j = i + 1; j < m; ++j) {
+    cells.for_each_near(x[i], y[i], [&](int32_t j) {
+      if (j <= static_cast<int32_t>(i)) return;
       const double dx = x[i] - x[j], dy = y[i] - y[j];
-      if (dx * dx + dy * dy > d2) continue;
-      const int32_t a = find(static_cast<int32_t>(i)), b = find(static_cast<int32_t>(j));
+      if (dx * dx + dy * dy > d2) return;
+      const int32_t a = find(static_cast<int32_t>(i)), b = find(j);
       if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the root is the cluster's first plot
-    }
+    });
   std::vector<int32_t> label(m, -1), root_label(m, -1);
   int32_t next = 0;
   for (std::size_t i = 0; i < m; ++i) {
@@ -101,32 +153,43 @@ GnnScanSummary GnnTracker::step(double t, std::span<const double> x, std::span<c
   started_ = true;
   last_t_ = t;
 
-  // 3. Gated d² matrix and the LAP.
+  // 3. Gate and LAP. Candidates (track i, measurement c, d²) with d² = νᵀS_i⁻¹ν ≤ gate, found
+  // through a grid over the measurements with cells of the largest gate radius √(gate·λmax(S_i)):
+  // O(T + C + candidates), not T·C; in CSR by track for the gated LAP (sparse when large and sparse).
   const double r2 = options_.measurement_sigma * options_.measurement_sigma;
   const int32_t T = static_cast<int32_t>(tracks_.size());
-  std::vector<double> cost(static_cast<std::size_t>(T) * C, std::numeric_limits<double>::infinity());
   std::vector<Eigen::Matrix2d> S_inv(T);
+  double radius = 0.0;
   for (int32_t i = 0; i < T; ++i) {
     const Eigen::Matrix2d S = tracks_[i].P.topLeftCorner<2, 2>() + r2 * Eigen::Matrix2d::Identity();
     S_inv[i] = S.inverse();
-    for (int32_t c = 0; c < C; ++c) {
-      const Eigen::Vector2d nu = z[c] - tracks_[i].x.head<2>();
+    const double half = 0.5 * (S(0, 0) - S(1, 1)),
+                 lambda_max = 0.5 * (S(0, 0) + S(1, 1)) + std::hypot(half, S(0, 1));
+    radius = std::max(radius, std::sqrt(gate_ * lambda_max));
+  }
+  std::vector<double> zx(C), zy(C);
+  for (int32_t c = 0; c < C; ++c) zx[c] = z[c].x(), zy[c] = z[c].y();
+  const CellIndex cells(zx, zy, radius);
+  std::vector<int32_t> row_start{0}, cand;
+  std::vector<double> d2s;
+  for (int32_t i = 0; i < T; ++i) {
+    const Eigen::Vector2d p = tracks_[i].x.head<2>();
+    cells.for_each_near(p.x(), p.y(), [&](int32_t c) {
+      const Eigen::Vector2d nu = z[c] - p;
       const double d2 = nu.dot(S_inv[i] * nu);
-      if (d2 <= gate_) cost[static_cast<std::size_t>(i) * C + c] = d2;
-    }
+      if (d2 <= gate_) cand.push_back(c), d2s.push_back(d2);
+    });
+    row_start.push_back(static_cast<int32_t>(cand.size()));
   }
   std::vector<int32_t> track_to_meas(T, -1), meas_to_track(C, -1);
   if (T > 0 && C > 0) {
     LapOptions lap;
     lap.allow_unassigned = true;
     lap.unassigned_cost = 0.5 * gate_;  // a gated pair (d² ≤ gate) is never worth leaving apart
-    const LapResult res = solve_lap(cost, T, C, lap);
+    const LapResult res = solve_gated_lap(SparseCostView{T, C, row_start, cand, d2s}, lap, options_.lap);
     for (int32_t i = 0; i < T; ++i) {
-      const int32_t c = res.row_to_col[i];
-      if (c >= 0 && std::isfinite(cost[static_cast<std::size_t>(i) * C + c])) {
-        track_to_meas[i] = c;
-        meas_to_track[c] = i;
-      }
+      const int32_t c = res.row_to_col[i];  // only candidates are assigned (unassigned allowed)
+      if (c >= 0) track_to_meas[i] = c, meas_to_track[c] = i;
     }
   }
 
@@ -166,13 +229,12 @@ GnnScanSummary GnnTracker::step(double t, std::span<const double> x, std::span<c
       ++summary.deleted;
   }
   const double v2 = options_.initial_speed_sigma * options_.initial_speed_sigma;
-  // Measurements in a confirmed track's gate (the cost matrix holds d² ≤ gate there).
+  // Measurements in a confirmed track's gate (its candidates).
   std::vector<uint8_t> in_confirmed_gate(C, 0);
   if (!options_.initiate_in_gate)
     for (int32_t i = 0; i < T; ++i)
       if (tracks_[i].number >= 0)
-        for (int32_t c = 0; c < C; ++c)
-          in_confirmed_gate[c] |= std::isfinite(cost[static_cast<std::size_t>(i) * C + c]);
+        for (int32_t e = row_start[i]; e < row_start[i + 1]; ++e) in_confirmed_gate[cand[e]] = 1;
   for (int32_t c = 0; c < C; ++c) {
     if (meas_to_track[c] >= 0 || in_confirmed_gate[c]) continue;
     Track tr;

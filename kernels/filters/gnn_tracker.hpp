@@ -37,6 +37,8 @@
 #include <span>
 #include <vector>
 
+#include "kernels/assignment/lap_sparse.hpp"
+
 namespace trackassoc {
 
 struct GnnTrackerOptions {
@@ -55,6 +57,9 @@ struct GnnTrackerOptions {
   // from the measurements no track can use). The price: a second target that stays inside a
   // confirmed track's gate gets no track of its own until it leaves it.
   bool initiate_in_gate = true;
+  // The scan's gated track × measurement LAP goes to the sparse solver when it is large and sparse
+  // (kernels/assignment/lap_sparse.hpp; many targets far apart); lap.max_density = 0: always dense.
+  GatedLapOptions lap;
   void validate() const;  // throws InputError naming the field
 };
 

@@ -3,11 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <numbers>
+#include <numeric>
 #include <set>
 
 #include "engine/pipeline/local_tracking.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/random.hpp"
 #include "kernels/filters/gnn_tracker.hpp"
 
 namespace trackassoc {
@@ -30,6 +33,80 @@ TEST(SingleLinkageClusters, ChainsWithinTheDistanceAndNumbersByFirstPlot) {
   const std::vector<double> x{20, 0, 4, 8, 30}, y{0, 0, 0, 0, 0};
   EXPECT_EQ(single_linkage_clusters(x, y, 5.0), (std::vector<int32_t>{0, 1, 1, 1, 2}));
   EXPECT_EQ(single_linkage_clusters(x, y, 3.9), (std::vector<int32_t>{0, 1, 2, 3, 4}));
+}
+
+// The grid-bucketed clustering against the all-pairs union-find it replaced, on random plots with
+// clumps, one far outlier (the grid's cell clamp) and distances 0, 3, 25 and 10⁴ m.
+TEST(SingleLinkageClusters, GridEqualsAllPairs) {
+  CounterRng rng(20261202, 5);
+  std::vector<double> x, y;
+  for (int i = 0; i < 400; ++i) {
+    const double cx = 40.0 * rng.uniform_int(10), cy = 40.0 * rng.uniform_int(10);
+    x.push_back(cx + rng.normal(0.0, 4.0));
+    y.push_back(cy + rng.normal(0.0, 4.0));
+  }
+  x.push_back(3e9), y.push_back(-2e9);
+  x.push_back(x[0]), y.push_back(y[0]);  // an exact duplicate: joins at distance 0
+  for (const double d : {0.0, 3.0, 25.0, 1e4}) {
+    const std::size_t m = x.size();
+    std::vector<int32_t> parent(m);
+    std::iota(parent.begin(), parent.end(), 0);
+    std::function<int32_t(int32_t)> find = [&](int32_t i) {
+      return parent[i] == i ? i : parent[i] = find(parent[i]);
+    };
+    for (std::size_t i = 0; i < m; ++i)
+      for (std::size_t j = i + 1; j < m; ++j)
+        if (std::hypot(x[i] - x[j], y[i] - y[j]) <= d) {
+          const int32_t a = find(static_cast<int32_t>(i)), b = find(static_cast<int32_t>(j));
+          parent[std::max(a, b)] = std::min(a, b);
+        }
+    std::vector<int32_t> expected(m), root_label(m, -1);
+    int32_t next = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      const int32_t r = find(static_cast<int32_t>(i));
+      if (root_label[r] < 0) root_label[r] = next++;
+      expected[i] = root_label[r];
+    }
+    EXPECT_EQ(single_linkage_clusters(x, y, d), expected) << "distance " << d;
+  }
+}
+
+// Many targets far apart (the gated LAP goes sparse): every target's plot is assigned to its track
+// in every scan after the first (hand count: 11 scans × 300), and the sparse and the dense LAP give
+// the same tracks bit for bit.
+TEST(GnnTracker, ManyTargetsSparseAndDenseLapAgree) {
+  CounterRng rng(20261202, 6);
+  const int n = 300, scans = 12;
+  std::vector<double> px(n), py(n), vx(n), vy(n);
+  for (int i = 0; i < n; ++i) {
+    px[i] = 100.0 * (i % 20), py[i] = 100.0 * (i / 20);
+    const double h = rng.uniform(0.0, 2.0 * std::numbers::pi);
+    vx[i] = 5.0 * std::cos(h), vy[i] = 5.0 * std::sin(h);
+  }
+  GnnTrackerOptions o = test_options();
+  o.measurement_sigma = 2.0;
+  o.cluster_distance = 1.0;
+  GnnTrackerOptions dense = o;
+  dense.lap.max_density = 0.0;
+  GnnTracker a(o), b(dense);
+  std::vector<GnnTrackRow> ra, rb;
+  int assigned = 0;
+  for (int k = 0; k < scans; ++k) {
+    std::vector<double> x(n), y(n);
+    for (int i = 0; i < n; ++i) {
+      x[i] = px[i] + vx[i] * k + rng.normal(0.0, 2.0);
+      y[i] = py[i] + vy[i] * k + rng.normal(0.0, 2.0);
+    }
+    assigned += a.step(k, x, y, ra).assigned;
+    b.step(k, x, y, rb);
+  }
+  EXPECT_EQ(assigned, (scans - 1) * n);
+  EXPECT_EQ(a.confirmed_count(), n);
+  ASSERT_EQ(ra.size(), rb.size());
+  for (std::size_t r = 0; r < ra.size(); ++r) {
+    EXPECT_EQ(ra[r].track, rb[r].track);
+    EXPECT_EQ(ra[r].x, rb[r].x);
+  }
 }
 
 TEST(GnnTrackerOptions, ValidateNamesTheField) {
