@@ -59,7 +59,7 @@ bool split(std::string_view line, char delimiter, std::vector<std::string_view>&
   while (true) {
     std::size_t end;
     std::size_t q = start;
-    while (q < line.size() && (line[q] == ' ' || line[q] == '\t')) ++q;
+    while (q < line.size() && line[q] != delimiter && (line[q] == ' ' || line[q] == '\t')) ++q;
     if (q < line.size() && line[q] == '"') {
       std::size_t close = q + 1;
       while (true) {

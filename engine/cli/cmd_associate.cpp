@@ -136,7 +136,9 @@ void register_associate(CLI::App& app) {
   cmd->add_option("--duplicate-sensors", args->duplicate_sensors,
                   "Default pipeline: sensor ids whose tracker may hold two tracks of one target at once (an "
                   "extended target in two clusters, e.g. a lidar on a long hull); such a track joins the "
-                  "target when it passes the full-state duplicate gate with its twin (default: none)")
+                  "target when it passes the full-state duplicate gate chi2_D(0.999) with its twin at every "
+                  "one of >= 3 common times, and the segment rules (gated in with the target on another "
+                  "sensor, failing no gate; engine/pipeline/track_segments.hpp). Default: none")
       ->delimiter(',');
   add_pipeline_options(cmd, args->pipeline);
   add_hopfield_flags(cmd, args->hopfield, true);
@@ -157,6 +159,9 @@ void register_associate(CLI::App& app) {
     request.segments.enabled = !args->no_segments;
     request.segments.max_overlap_s = args->segment_overlap;
     request.segments.duplicate_sensors = args->duplicate_sensors;
+    if (!args->duplicate_sensors.empty() && args->no_segments)
+      throw InputError(
+          "--duplicate-sensors: duplicates join targets in the segment pass; drop --no-segments");
     request.validate();  // --sd, --3d, --sparse: at most one, before the Hopfield flags' errors
     merge_hopfield_flags(args->hopfield, request.solver, request.solver_options);
     const auto associator = make_associator(request);  // every check before the file is read

@@ -21,10 +21,20 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-// One member of a tuple: its column, sensor id, track and its rows of /tracks sorted by time.
+// One member of a tuple: its column, sensor id, track and its rows of /tracks sorted by time;
+// `handed_over`: the spans of the later-starting tracks of its target on its sensor, during which
+// the association's time slices give the target to them (engine/pipeline/track_segments.hpp).
 struct Member {
   int32_t column = 0, sensor = 0, track = 0;
   const std::vector<std::size_t>* rows = nullptr;
+  std::vector<std::pair<double, double>> handed_over;
+  // The member holds its tuple's slot at time t: inside its span and not handed over.
+  bool active(const TrackTable& tracks, double t) const {
+    if (t < tracks.t[rows->front()] || t > tracks.t[rows->back()]) return false;
+    for (const auto& [a, b] : handed_over)
+      if (a <= t && t <= b) return false;
+    return true;
+  }
 };
 
 // The fused rows of one tuple, before they are concatenated in tuple order.
@@ -64,19 +74,16 @@ MatrixXd principal_sqrt(const MatrixXd& P) {
   return es.operatorSqrt();
 }
 
-// The fused times of a tuple: member report times covered by ≥ 2 members' spans (the header).
+// The fused times of a tuple: member report times at which ≥ 2 members are active (the header).
 std::vector<double> fused_times(const TrackTable& tracks, const std::vector<Member>& members) {
-  std::vector<std::pair<double, double>> span;
   std::vector<double> times;
-  for (const Member& m : members) {
-    span.emplace_back(tracks.t[m.rows->front()], tracks.t[m.rows->back()]);
+  for (const Member& m : members)
     for (std::size_t r : *m.rows) times.push_back(tracks.t[r]);
-  }
   std::sort(times.begin(), times.end());
   times.erase(std::unique(times.begin(), times.end()), times.end());
   std::erase_if(times, [&](double t) {
     int covering = 0;
-    for (const auto& [first, last] : span) covering += first <= t && t <= last;
+    for (const Member& m : members) covering += m.active(tracks, t);
     return covering < 2;
   });
   return times;
@@ -100,8 +107,8 @@ TupleRows fuse_tuple(const TrackTable& tracks, const std::vector<Member>& member
   std::vector<AlignedTracks> a(m);
   for (std::size_t i = 0; i < m; ++i) {
     a[i] = align_tracks(member_table(tracks, members[i]), members[i].sensor, grid, align);
-    const double last = tracks.t[members[i].rows->back()];
-    for (int32_t k = 0; k < K; ++k) a[i].valid[k] = a[i].valid[k] && grid[k] <= last;  // not past its span
+    for (int32_t k = 0; k < K; ++k)  // not past its span, not while handed over
+      a[i].valid[k] = a[i].valid[k] && members[i].active(tracks, grid[k]);
   }
   const bool bsc = o.rule == FusionRule::kBarShalomCampo;
   const bool recursion = bsc && o.common_process_noise > 0.0;
@@ -272,6 +279,22 @@ FusedTrackRecord fuse_association(const TrackTable& tracks, const std::vector<Se
       first = false;
     }
     if (!agree) truth[k] = -1;
+  }
+
+  // Target numbers (segments and duplicates): a member yields its slot to the later-starting
+  // tracks of its target on its sensor while they report, as the association's slices do.
+  if (association.target.size() == K) {
+    std::map<std::pair<int32_t, int32_t>, std::vector<const std::vector<std::size_t>*>> of_target;
+    for (std::size_t k = 0; k < K; ++k)
+      for (const Member& m : members[k]) {
+        auto& v = of_target[{association.target[k], m.sensor}];
+        if (std::find(v.begin(), v.end(), m.rows) == v.end()) v.push_back(m.rows);
+      }
+    for (std::size_t k = 0; k < K; ++k)
+      for (Member& m : members[k])
+        for (const std::vector<std::size_t>* other : of_target[{association.target[k], m.sensor}])
+          if (tracks.t[other->front()] > tracks.t[m.rows->front()])
+            m.handed_over.emplace_back(tracks.t[other->front()], tracks.t[other->back()]);
   }
 
   std::vector<TupleRows> fused(K);

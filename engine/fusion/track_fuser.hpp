@@ -6,10 +6,14 @@
 //
 // Members. A tuple's members are its columns ≠ −1 (the tuple's sensors; S columns in /sensors
 // order). Tuples with fewer than two members have nothing to fuse and give no rows (counted in
-// the summary). A local track may appear in several tuples (track segments: its partners are
-// time-disjoint); each tuple is fused on its own times below, so the segments do not overlap.
+// the summary). A local track may appear in several tuples of one target (track segments, and
+// duplicate tracks of one sensor: engine/pipeline/track_segments.hpp). With the association's
+// target numbers, a member holds its tuple's slot only while no later-starting track of its
+// target on its sensor reports (the slice rule of the segment pass), so the tuples of one target
+// are fused over disjoint times and no local report is fused twice at one time.
 //
-// Time grid (asynchronous sensors). A member covers [its first report, its last report]. The
+// Time grid (asynchronous sensors). A member covers [its first report, its last report], less the
+// times it has handed over (above). The
 // fused times of a tuple are the report times of its members at which at least two members cover
 // the time: for a pair, the reports of both within the intersection of their spans. At each fused
 // time every covering member contributes its estimate there: the report itself at its own report

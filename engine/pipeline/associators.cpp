@@ -196,6 +196,8 @@ void AssociatorOptions::validate() const {
   if (!solver_options.is_object())
     throw InputError("--options: expected a JSON object, got '" + solver_options.dump().substr(0, 200) + "'");
   segments.validate();
+  if (!segments.enabled && !segments.duplicate_sensors.empty())
+    throw InputError("--duplicate-sensors: duplicates join targets in the segment pass; drop --no-segments");
 }
 
 AssociationPath choose_association_path(const AssociatorOptions& o) {

@@ -452,6 +452,7 @@ AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& 
                                       const SparseSDOptions& options, std::vector<StageReport>* stages) {
   require_sparse_sd_solver(solver);
   const SparseSDProblem p = build_sparse_sd_problem(file, options);
+  if (options.segments.enabled) check_duplicate_sensors(options.segments, p.sensor_ids);
   const auto t0 = std::chrono::steady_clock::now();
   AssociationRecord rec = solve_sparse_sd_association(p, solver, solver_options, seed, options);
   const double solve_s = seconds_since(t0);

@@ -31,6 +31,13 @@ nlohmann::json SegmentOptions::to_json() const {
           {"min_duplicate_times", min_duplicate_times}};
 }
 
+void check_duplicate_sensors(const SegmentOptions& options, const std::vector<int32_t>& sensor_ids) {
+  for (const int32_t id : options.duplicate_sensors)
+    require(std::find(sensor_ids.begin(), sensor_ids.end(), id) != sensor_ids.end(),
+            "segments.duplicate_sensors",
+            "sensor " + std::to_string(id) + " is not one of the associated sensors");
+}
+
 DuplicateStatistic duplicate_statistic(const AlignedTracks& a, int32_t i, int32_t j, double t_lo,
                                        double t_hi) {
   const int32_t K = a.n_times, D = a.dim, P = D * (D + 1) / 2;
@@ -134,12 +141,9 @@ struct OverlapRule {
 OverlapRule make_overlap_rule(const SparseSDProblem& p, const SegmentOptions& o) {
   OverlapRule r{o.max_overlap_s, std::vector<uint8_t>(p.S(), 0),
                 chi_square_quantile(o.duplicate_probability, p.dim), o.min_duplicate_times};
-  for (const int32_t id : o.duplicate_sensors) {
-    const auto it = std::find(p.sensor_ids.begin(), p.sensor_ids.end(), id);
-    require(it != p.sensor_ids.end(), "segments.duplicate_sensors",
-            "sensor " + std::to_string(id) + " is not one of the associated sensors");
-    r.duplicates[it - p.sensor_ids.begin()] = 1;
-  }
+  check_duplicate_sensors(o, p.sensor_ids);
+  for (const int32_t id : o.duplicate_sensors)
+    r.duplicates[std::find(p.sensor_ids.begin(), p.sensor_ids.end(), id) - p.sensor_ids.begin()] = 1;
   return r;
 }
 

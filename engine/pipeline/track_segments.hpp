@@ -16,16 +16,20 @@
 //         segment it overlaps by more: a second track of the same target at the same time (a
 //         lidar resolves a long hull into two clusters 15–30 m apart, and each starts a track).
 //         The duplicate test, over the common times inside both report intervals (at least
-//         `min_duplicate_times` of them): every one passes the full-state gate
+//         `min_duplicate_times` of them; the common times are the pipeline's grid, at the
+//         slowest sensor's period, not the sensor's own scans): every one passes the full-state
+//         gate
 //             Δᵀ (P_u + P_m)⁻¹ Δ ≤ χ²_D(duplicate_probability),
 //         Δ the difference of the aligned states (position and velocity), P the aligned
 //         covariances with the reference-point σ_r of AlignmentOptions::extent_sigma. Two tracks of
 //         one sensor share its measurements, so their errors are positively correlated and the sum
 //         P_u + P_m overstates the variance of Δ: the test is lenient on the errors and is meant
 //         to separate two points of one hull from two craft, which differ in velocity or drift
-//         apart. It is per sensor because a sensor that gives one plot per target (a radar with a
-//         beam wider than the hull) has no such duplicates, and there two tracks side by side are
-//         two craft (Autoferry scenario 17: a jet boat beside Havfruen);
+//         apart. Every time must pass, so a long overlap of true duplicates is refused more often
+//         (0.999ⁿ for n independent times; their errors are correlated, which helps). It is per sensor
+//         because a sensor that gives one plot per target (a radar with a beam wider than the hull) has no
+//         such duplicates, and there two tracks side by side are two craft (Autoferry scenario 17: a jet boat
+//         beside Havfruen);
 //     (b) u is linked — gated in by the sequential statistic, with a link cost ≤ 0
 //         (SequentialGate::link_cost) — to at least one member of T on another sensor whose
 //         report interval overlaps u's (evidence from common reports, not from extrapolation);
@@ -35,13 +39,17 @@
 //   * one LAP over candidates × targets (kernels/assignment/lap.hpp, unassigned allowed at 0, so
 //     every allowed join is worth making) gives each target at most one new segment per round
 //     and each candidate at most one target: two segments that overlap each other never join
-//     one target on one sensor in the same round, and (a) keeps it so in later rounds.
+//     one target on one sensor in the same round, and (a) keeps it so in later rounds unless the
+//     later one is a duplicate of the earlier (a listed sensor).
 // A track joins at most one target, so the pass only adds links; it never undoes the assignment.
 //
 // Output (the record's tuples, over the file's sensor columns): each target's segments are cut
 // into time slices at every segment's first and last report; in each slice the tuple holds, per
-// sensor, the segment reporting then (of two overlapping segments, the later one, which took the
-// target over); consecutive equal slices merge, slices of one member are dropped. A target that
+// sensor, the segment reporting then (of two overlapping segments or duplicates, the one whose
+// first report is later, which took the target over; of equal first reports, the one that joined
+// first); a slice equal to an earlier one is not written again, slices of one member are dropped
+// (the fuser, engine/fusion/track_fuser.hpp, applies the same rule to fuse each tuple over its
+// slices only). A target that
 // gained no segment gives its assignment tuple unchanged. Every track of a target appears in at
 // least one tuple (a segment in no slice of two members is written as a tuple of one), and every
 // tuple carries its target number in `target` (/associations/<name>/target, io/track_file.hpp):
@@ -81,6 +89,10 @@ struct SegmentSummary {
   int32_t rounds = 0;          // rounds run (the last one joins nothing)
   int32_t targets_joined = 0;  // targets that gained at least one segment
 };
+
+// Throws InputError (naming segments.duplicate_sensors) when a listed sensor is not among
+// `sensor_ids`, the associated sensors: checked before the assignment runs.
+void check_duplicate_sensors(const SegmentOptions& options, const std::vector<int32_t>& sensor_ids);
 
 // Rule (a)'s duplicate statistic of tracks i and j (rows of one sensor's aligned tracks): the
 // largest per-time full-state Δᵀ(P_i + P_j)⁻¹Δ over the common times in [t_lo, t_hi] where both

@@ -313,6 +313,15 @@ TEST(CsvImport, QuotedFieldsMayHoldTheDelimiter) {
                   "line 3: a quoted field without its closing quote"));
   EXPECT_TRUE(has(error_of("t,sensor,track,x,y\n0,3,0,\"1\"x,2\n", o), "line 2: a quoted field"));
   EXPECT_TRUE(has(error_of("\"t,sensor,track,x,y\n0,3,0,1,2\n", o), "line 1 (the header)"));
+  // An empty quoted field, a quoted last field before \r\n, and with tabs: an empty field before a
+  // quoted one is still a field (the blanks skipped before a quote are not the delimiter).
+  const std::string with_note = "t,sensor,track,x,y,note\n0,3,0,1,2,\"\"\n1,3,0,2,2,\"q\"\r\n";
+  EXPECT_EQ(import_text(with_note, o).tracks.size(), 2u);
+  o.delimiter = '\t';
+  const TrackFile tabs =
+      import_text("t\tsensor\ttrack\tnote\tx\ty\n0\t3\t0\t\t\"1\"\t2\n1\t3\t0\t\t4\t2\n", o);
+  ASSERT_EQ(tabs.tracks.size(), 2u);
+  EXPECT_EQ(tabs.tracks.state[0][0], 1.0);
 }
 
 TEST(CsvImport, ExportThenImportGivesTheSameTracksAndFileAttributes) {

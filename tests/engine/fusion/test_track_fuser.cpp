@@ -3,6 +3,7 @@
 // and, on simulated independent-noise sensors, a fused position RMSE below every sensor's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <iostream>
 #include <map>
@@ -146,6 +147,39 @@ TEST(TrackFuser, SegmentsOfOnePartnerAreFusedOnTheirOwnTimes) {
   for (int32_t k : r.tuple) first += k == 0, second += k == 1;
   EXPECT_EQ(first, 31);
   EXPECT_EQ(second, 25);
+}
+
+TEST(TrackFuser, DuplicateTracksOfATargetHandOverTheirSlot) {
+  // Sensor 1 holds track 1 (0–100 s, every 5 s) and, from 40 to 70 s, its duplicate 7 of the same
+  // target; the segment pass writes tuples {5, 1} and {5, 7} of target 0 (slices: 1, then 7 while
+  // it reports, then 1 again). Track 1 hands its slot over during [40, 70], so each of track 5's
+  // reports is fused once. Hand counts (union of the report times where both members are active):
+  // tuple 1 over [40, 70]: 16 (sensor 0, every 2 s) + 7 (track 7) − 4 shared = 19; tuple 0 over
+  // [0, 40): 20 + 8 − 4 = 24 and over (70, 100]: 15 + 6 − 3 = 18, 42 in all.
+  TrackTable t;
+  const MatrixXd I = MatrixXd::Identity(4, 4);
+  add_track(t, 0, 5, range(0, 100, 2), 0, 0, I);
+  add_track(t, 1, 1, range(0, 100, 5), 0, 0, I);
+  add_track(t, 1, 7, range(40, 70, 5), 0, 2, I);
+  AssociationRecord a = association(2, {5, 1, 5, 7});
+  a.target = {0, 0};
+  const FusedTrackRecord r = fuse_association(t, sensors(2), a, {}, "f");
+  int64_t rows0 = 0, rows1 = 0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    if (r.tuple[i] == 0) {
+      ++rows0;
+      EXPECT_TRUE(r.t[i] < 40 || r.t[i] > 70) << r.t[i];
+    } else {
+      ++rows1;
+      EXPECT_TRUE(r.t[i] >= 40 && r.t[i] <= 70) << r.t[i];
+    }
+  }
+  EXPECT_EQ(rows0, 42);
+  EXPECT_EQ(rows1, 19);
+  // Without target numbers the two tuples are unrelated: tuple 0 over all of [0, 100], 51 + 21 − 11.
+  a.target.clear();
+  const FusedTrackRecord plain = fuse_association(t, sensors(2), a, {}, "f");
+  EXPECT_EQ(std::count(plain.tuple.begin(), plain.tuple.end(), 0), 61);
 }
 
 TEST(TrackFuser, RuleInvariantsOnEveryRow) {

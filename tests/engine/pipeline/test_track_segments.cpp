@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -75,8 +76,9 @@ TrackFile duplicate_file(double t_start, double dx) {
 }
 
 AssociationOutcome associate(const TrackFile& f, bool segments, double max_overlap = 2.0,
-                             std::vector<int32_t> duplicate_sensors = {}) {
+                             std::vector<int32_t> duplicate_sensors = {}, SegmentOptions so = {}) {
   AssociatorOptions o;
+  o.segments = so;
   o.segments.enabled = segments;
   o.segments.max_overlap_s = max_overlap;
   o.segments.duplicate_sensors = std::move(duplicate_sensors);
@@ -164,7 +166,9 @@ TEST(TrackSegments, OverlappingTracksDoNotJoin) {
 }
 
 TEST(TrackSegments, DuplicateStatisticByHand) {
-  // Two tracks, D = 4, covariances diag(4, 4, 1, 1) each, so C = diag(8, 8, 2, 2).
+  // Two tracks, D = 4, 4 common times. Position blocks differ per track and time, with an
+  // off-diagonal term; the velocity blocks are I for both, so C_vel = 2I. A 2 × 2 position block
+  // C = [[a, b], [b, d]] gives Δᵀ C⁻¹ Δ = (d Δx² − 2b Δx Δy + a Δy²) / (ad − b²).
   AlignedTracks a;
   a.dim = 4;
   a.n_times = 4;
@@ -174,24 +178,28 @@ TEST(TrackSegments, DuplicateStatisticByHand) {
   a.state.assign(2 * 4 * 4, 0.0);
   a.cov.assign(2 * 4 * 10, 0.0);
   a.valid = {1, 1, 1, 1, 1, 1, 0, 1};
-  for (std::size_t cell = 0; cell < 8; ++cell) {
-    double* P = &a.cov[cell * 10];  // packed upper triangle: (0,0) (0,1) (0,2) (0,3) (1,1) ... (3,3)
-    P[0] = P[4] = 4.0;
-    P[7] = P[9] = 1.0;
-  }
+  // packed upper triangle: (0,0) (0,1) (0,2) (0,3) (1,1) (1,2) (1,3) (2,2) (2,3) (3,3)
+  auto cov = [&](int track, int k, double xx, double xy, double yy) {
+    double* P = &a.cov[(track * 4 + k) * 10];
+    P[0] = xx, P[1] = xy, P[4] = yy, P[7] = P[9] = 1.0;
+  };
+  cov(0, 0, 4, 1, 2), cov(1, 0, 2, 1, 6);   // C = [[6, 2], [2, 8]], det 44
+  cov(0, 1, 1, 0, 1), cov(1, 1, 3, 0, 3);   // C = 4 I
+  cov(0, 3, 1, 0, 1), cov(1, 3, -3, 0, 1);  // C = [[-2, 0], [0, 2]]: not positive definite
   auto set = [&](int track, int k, std::array<double, 4> x) {
     std::copy(x.begin(), x.end(), a.state.begin() + (track * 4 + k) * 4);
   };
-  set(1, 0, {4, 0, 0, 0});   // 16/8 = 2
-  set(1, 1, {0, 4, 1, 0});   // 16/8 + 1/2 = 2.5
+  set(1, 0, {4, 2, 0, 0});   // (8·16 − 2·2·4·2 + 6·4) / 44 = 120 / 44
+  set(1, 1, {0, 4, 1, 0});   // 16/4 + 1/2 = 4.5
   set(1, 2, {40, 0, 0, 0});  // track 1 not valid at k = 2: skipped
-  set(1, 3, {0, 0, 0, 6});   // 36/2 = 18, outside [t_lo, t_hi] = [0, 2.5]
   const DuplicateStatistic d = duplicate_statistic(a, 0, 1, 0.0, 2.5);
   EXPECT_EQ(d.times, 2);
-  EXPECT_NEAR(d.max_d2, 2.5, 1e-12);
+  EXPECT_NEAR(d.max_d2, 4.5, 1e-12);
+  EXPECT_NEAR(duplicate_statistic(a, 0, 1, 0.0, 0.5).max_d2, 120.0 / 44.0, 1e-12);
+  EXPECT_NEAR(duplicate_statistic(a, 1, 0, 0.0, 0.5).max_d2, 120.0 / 44.0, 1e-12);  // symmetric
   const DuplicateStatistic all = duplicate_statistic(a, 0, 1, 0.0, 3.0);
   EXPECT_EQ(all.times, 3);
-  EXPECT_NEAR(all.max_d2, 18.0, 1e-12);
+  EXPECT_EQ(all.max_d2, std::numeric_limits<double>::infinity());
 }
 
 TEST(TrackSegments, DuplicatesJoinOnlyOnTheirSensor) {
@@ -220,6 +228,21 @@ TEST(TrackSegments, DuplicatesJoinOnlyOnTheirSensor) {
   }
   EXPECT_EQ(together_plain, 0);
   EXPECT_EQ(together, duplicates);
+  // The duplicate gate binds: with a probability so small that χ²₄ is below the twins' statistic,
+  // or more common times than they have, no twin joins.
+  auto together_with = [&](const SegmentOptions& so) {
+    const auto m = targets(associate(f, true, 2.0, {dup}, so).record);
+    int32_t n = 0;
+    for (const auto& [key, s] : span)
+      if (key.first == dup && key.second >= kRenumber) n += m.at(key.second - kRenumber) == m.at(key.second);
+    return n;
+  };
+  SegmentOptions tight;
+  tight.duplicate_probability = 1e-12;
+  EXPECT_EQ(together_with(tight), 0);
+  SegmentOptions long_overlap;
+  long_overlap.min_duplicate_times = 100000;
+  EXPECT_EQ(together_with(long_overlap), 0);
   // Every target right when the duplicates count as its tracks.
   const AssociationRecord rec = associate(f, true, 2.0, {dup}).record;
   const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, rec);
