@@ -65,10 +65,11 @@ struct FusedTrackRecord {
   std::size_t num_tuples() const { return num_sensors ? tuples.size() / num_sensors : 0; }
 };
 
-// Checks names, the layout (that of /tracks), shapes, finiteness, positive-definite covariances, row order, that the association
-// exists with the same tuples, and the ranges of sources, truth and omega. Throws InputError
-// naming `file`, the dataset and the row.
-void check_fused_tracks(const std::string& file, const FusedTrackRecord& r, const std::vector<Sensor>& sensors,
+// Checks names, the layout (that of /tracks), shapes, finiteness, positive-definite covariances, row order,
+// that the association exists with the same tuples, and the ranges of sources, truth and omega. Throws
+// InputError naming `file`, the dataset and the row.
+void check_fused_tracks(const std::string& file, const FusedTrackRecord& r,
+                        const std::vector<Sensor>& sensors,
                         const std::vector<AssociationRecord>& associations, StateLayout tracks_layout);
 
 // Writes /fused/<name>/ for every record under `root` (nothing when `records` is empty).

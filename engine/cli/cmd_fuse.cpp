@@ -21,10 +21,9 @@ void register_fuse(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "fuse",
       "Fuse the local tracks of each tuple of an association into one track over time (/fused/NAME). Times: "
-      "the members' report times where at least two members' spans overlap; the other members are predicted "
-      "there by the CV model from their latest report. Tuples of one member and members that never coexist "
-      "give no "
-      "rows.");
+      "the members' report times where at least two members' spans overlap (the tuples of one target over "
+      "their own time slices); the other members are predicted there by the CV model from their latest "
+      "report. Tuples of one member and members that never coexist give no rows.");
   cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks and /associations")->required();
   add_output_option(cmd, args->output, "Where to write the file with /fused (default: replace the input)");
   cmd->add_option("--association", args->association,

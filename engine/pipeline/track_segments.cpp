@@ -84,14 +84,6 @@ struct SegmentGraph {
     auto it = link_of.find(key(u, v));
     return it == link_of.end() ? nullptr : &it->second;
   }
-  // Rule (a)'s duplicate test of nodes u and m of one sensor (see the header).
-  bool duplicate(int32_t u, int32_t m, double threshold, int32_t min_times) const {
-    const int32_t s = p.sensor_of(u);
-    const DuplicateStatistic d =
-        duplicate_statistic(p.aligned[s], u - p.offset[s], m - p.offset[s], std::max(first[u], first[m]),
-                            std::min(last[u], last[m]));
-    return d.times >= min_times && d.max_d2 <= threshold;
-  }
   int32_t node(int32_t s, int32_t track) const {  // −1 when sensor s has no such track
     const std::vector<int32_t>& t = p.aligned[s].track;
     auto it = std::lower_bound(t.begin(), t.end(), track);
@@ -136,6 +128,16 @@ struct OverlapRule {
   std::vector<uint8_t> duplicates;  // per problem sensor: its tracks may be duplicates
   double duplicate_threshold = 0.0;
   int32_t min_duplicate_times = 1;
+  // Free node u may join beside node m, both of problem sensor s: they follow each other, or u is
+  // a duplicate of m on a listed sensor.
+  bool allows(const SegmentGraph& g, int32_t u, int32_t m, int32_t s) const {
+    if (g.overlap_s(u, m) <= max_overlap_s) return true;
+    if (!duplicates[s]) return false;
+    const int32_t o = g.p.offset[s];
+    const DuplicateStatistic d = duplicate_statistic(
+        g.p.aligned[s], u - o, m - o, std::max(g.first[u], g.first[m]), std::min(g.last[u], g.last[m]));
+    return d.times >= min_duplicate_times && d.max_d2 <= duplicate_threshold;
+  }
 };
 
 OverlapRule make_overlap_rule(const SparseSDProblem& p, const SegmentOptions& o) {
@@ -155,10 +157,8 @@ struct Target {
 
 // Cost of joining free node u (sensor s) to target t, +inf when (a), (b) or (c) fails.
 double join_cost(const SegmentGraph& g, const Target& t, int32_t u, int32_t s, const OverlapRule& rule) {
-  for (int32_t m : t.members[s])  // (a)
-    if (g.overlap_s(u, m) > rule.max_overlap_s &&
-        !(rule.duplicates[s] && g.duplicate(u, m, rule.duplicate_threshold, rule.min_duplicate_times)))
-      return kInf;
+  for (int32_t m : t.members[s])
+    if (!rule.allows(g, u, m, s)) return kInf;  // (a)
   double cost = 0.0;
   bool evidence = false;
   for (std::size_t r = 0; r < t.members.size(); ++r) {
@@ -234,12 +234,10 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
     }
   }
   for (const auto& [u, t] : joins) {
-    for (int32_t m : targets[t].members[p.sensor_of(u)])
-      if (g.overlap_s(u, m) > rule.max_overlap_s) {
-        ++*duplicates;
-        break;
-      }
-    targets[t].members[p.sensor_of(u)].push_back(u);
+    std::vector<int32_t>& same = targets[t].members[p.sensor_of(u)];
+    *duplicates += std::any_of(same.begin(), same.end(),
+                               [&](int32_t m) { return g.overlap_s(u, m) > rule.max_overlap_s; });
+    same.push_back(u);
     targets[t].grew = true;
     target_of[u] = t;
   }

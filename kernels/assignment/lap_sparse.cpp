@@ -250,10 +250,11 @@ void GatedLapOptions::validate() const {
 
 namespace {
 
-// The dispatch rule of solve_gated_lap: both sides ≥ min_side and finite entries ≤ max_density.
-bool sparse_pays(int32_t rows, int32_t cols, std::size_t finite, const GatedLapOptions& g) {
-  return rows >= g.min_side && cols >= g.min_side && g.max_density > 0.0 &&
-         static_cast<double>(finite) <= g.max_density * static_cast<double>(rows) * static_cast<double>(cols);
+// The dispatch rule of solve_gated_lap: the most finite entries for which the sparse solver runs
+// (both sides ≥ min_side, at most max_density of the entries), or −1 when it never does.
+double sparse_limit(int32_t rows, int32_t cols, const GatedLapOptions& g) {
+  if (rows < g.min_side || cols < g.min_side || g.max_density <= 0.0) return -1.0;
+  return g.max_density * static_cast<double>(rows) * static_cast<double>(cols);
 }
 
 }  // namespace
@@ -261,13 +262,14 @@ bool sparse_pays(int32_t rows, int32_t cols, std::size_t finite, const GatedLapO
 LapResult solve_gated_lap(std::span<const double> cost, int32_t rows, int32_t cols, const LapOptions& options,
                           const GatedLapOptions& gated) {
   gated.validate();
-  if (!sparse_pays(rows, cols, 0, gated)) return solve_lap(cost, rows, cols, options);
+  const double limit = sparse_limit(rows, cols, gated);
+  if (limit < 0.0) return solve_lap(cost, rows, cols, options);
   require(cost.size() == static_cast<std::size_t>(rows) * cols, "solve_gated_lap",
           "cost size is not rows x cols");
   std::size_t finite = 0;
   for (const double c : cost) {
     if (c < kInf) {
-      if (!sparse_pays(rows, cols, ++finite, gated)) return solve_lap(cost, rows, cols, options);
+      if (static_cast<double>(++finite) > limit) return solve_lap(cost, rows, cols, options);
     } else if (c != kInf) {
       throw InputError("solve_gated_lap: NaN cost");
     }
@@ -288,9 +290,10 @@ LapResult solve_gated_lap(std::span<const double> cost, int32_t rows, int32_t co
 LapResult solve_gated_lap(const SparseCostView& matrix, const LapOptions& options,
                           const GatedLapOptions& gated) {
   gated.validate();
+  const double limit = sparse_limit(matrix.rows, matrix.cols, gated);
+  if (limit >= 0.0 && static_cast<double>(matrix.col.size()) <= limit)
+    return solve_sparse_lap(matrix, options);  // which validates the matrix
   matrix.validate();
-  if (sparse_pays(matrix.rows, matrix.cols, matrix.col.size(), gated))
-    return solve_sparse_lap(matrix, options);
   std::vector<double> dense(static_cast<std::size_t>(matrix.rows) * matrix.cols, kInf);
   for (int32_t r = 0; r < matrix.rows; ++r)
     for (int32_t e = matrix.row_start[r]; e < matrix.row_start[r + 1]; ++e)

@@ -37,21 +37,23 @@ namespace {
 // instead of O(all points). h is raised so that no axis has more than 2²⁰ cells.
 class CellIndex {
  public:
-  CellIndex(std::span<const double> x, std::span<const double> y, double radius) : x_(x), y_(y) {
-    double lo_x = 0, hi_x = 0, lo_y = 0, hi_y = 0;
-    if (!x.empty()) {
-      lo_x = *std::min_element(x.begin(), x.end()), hi_x = *std::max_element(x.begin(), x.end());
-      lo_y = *std::min_element(y.begin(), y.end()), hi_y = *std::max_element(y.begin(), y.end());
+  CellIndex(std::span<const double> x, std::span<const double> y, double radius) {
+    const std::size_t n = x.size();
+    double spread = 0.0;
+    if (n > 0) {
+      const auto [lx, hx] = std::minmax_element(x.begin(), x.end());
+      const auto [ly, hy] = std::minmax_element(y.begin(), y.end());
+      x0_ = *lx, y0_ = *ly;
+      spread = std::max(*hx - *lx, *hy - *ly);
     }
-    x0_ = lo_x, y0_ = lo_y;
-    h_ = std::max({radius, (hi_x - lo_x) * 0x1p-20, (hi_y - lo_y) * 0x1p-20, 1e-9});
-    order_.resize(x.size());
+    h_ = std::max({radius, spread * 0x1p-20, 1e-9});
+    std::vector<int64_t> keys(n);
+    for (std::size_t i = 0; i < n; ++i) keys[i] = key(cell(x[i], x0_), cell(y[i], y0_));
+    order_.resize(n);
     std::iota(order_.begin(), order_.end(), 0);
-    key_.resize(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) key_[i] = key(cell(x[i], x0_), cell(y[i], y0_));
-    std::sort(order_.begin(), order_.end(), [&](int32_t a, int32_t b) { return key_[a] < key_[b]; });
-    sorted_.resize(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) sorted_[i] = key_[order_[i]];
+    std::sort(order_.begin(), order_.end(), [&](int32_t a, int32_t b) { return keys[a] < keys[b]; });
+    sorted_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) sorted_[i] = keys[order_[i]];
   }
   // Calls fn(j) for every point j in the 3×3 cells around (px, py) (a superset of those within h).
   template <class Fn>
@@ -71,10 +73,9 @@ class CellIndex {
     return static_cast<int64_t>(std::clamp(c, -4.0e6, 4.0e6));  // far outside: one border cell
   }
   static int64_t key(int64_t cx, int64_t cy) { return (cx + (int64_t{1} << 23)) * (int64_t{1} << 24) + cy; }
-  std::span<const double> x_, y_;
   double x0_ = 0, y0_ = 0, h_ = 1;
-  std::vector<int32_t> order_;
-  std::vector<int64_t> key_, sorted_;
+  std::vector<int32_t> order_;   // point indices by cell key
+  std::vector<int64_t> sorted_;  // their keys, ascending
 };
 
 }  // namespace
