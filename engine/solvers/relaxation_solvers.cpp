@@ -82,6 +82,8 @@ const OptionFields<BranchAndBoundOptions>& exact_option_fields() {
       field("max_nodes", &O::max_nodes, ">= 1", "search-tree nodes at most"),
       field("node_subgradient_iterations", &O::node_subgradient_iterations, ">= 1",
             "subgradient steps per node to sharpen its bound"),
+      field("reduced_cost_fixing", &O::reduced_cost_fixing, "",
+            "fix tuples to 0 by their root reduced cost in every search pass"),
       field("root_max_iterations", path(&O::root, &LagrangianOptions::max_iterations), ">= 1",
             "subgradient iterations of the root relaxation"),
   }};

@@ -7,7 +7,7 @@
 //            "deflected"), theta, theta_patience, min_theta.
 //   lr+ls    the same, each recovered solution polished by local search; adds max_rounds.
 //   exact    branch and bound. Options: time_limit_s, max_nodes, node_subgradient_iterations,
-//            root_max_iterations. Not run by `run` above n = 30 (max_default_n).
+//            reduced_cost_fixing, root_max_iterations. Not run by `run` above n = 30 (max_default_n).
 //   lr, lr+ls, exact also solve the S-D formulation (solve_sd_tensor):
 //   kernels/assignment/sd/lagrangian_sd.hpp
 //            with the same options; exact = kernels/assignment/sd/assignment_sd.hpp's branch and bound

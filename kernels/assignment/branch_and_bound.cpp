@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <tuple>
 
 #include "kernels/assignment/assignment_canonical.hpp"
 #include "kernels/assignment/clique_cuts.hpp"
@@ -35,20 +36,63 @@ std::string bound_text(double x) {
 
 struct Child {
   double bound;
-  int32_t j, k;
+  int32_t i, j, k;
 };
+
+// A bound `raw` cannot lead to a solution strictly cheaper than `incumbent` (integer costs: ⌈raw⌉).
+bool cannot_beat(double raw, double incumbent, bool integer_costs) {
+  if (raw == kInf || !std::isfinite(incumbent)) return raw == kInf;  // (ceil(∞ − ∞) would be NaN)
+  if (integer_costs) return std::ceil(raw - 1e-7 * std::max(1.0, std::abs(raw))) >= incumbent;
+  return raw >= incumbent - 1e-9 * std::max(1.0, std::abs(incumbent));
+}
+
+// Root reduced costs over w at μ (Lagrangian constant `offset`): the raw bound L and, per tuple,
+// rc_s = w_s + μ_k − u_i − v_j ≥ 0 from the LAP duals (u, v) of min_k w_ijk + μ_k, so every
+// assignment containing s costs at least L + rc_s (the child bound of the search, at the root).
+struct RootReducedCosts {
+  double raw = -kInf;
+  std::vector<double> rc;  // empty when the root LAP is infeasible
+};
+
+template <class T>
+RootReducedCosts root_reduced_costs(const CostTensor3& b, const T* w, double offset,
+                                    const std::vector<double>& mu) {
+  RootReducedCosts out;
+  std::vector<double> c(static_cast<std::size_t>(b.n1) * b.n2);
+  std::vector<int32_t> arg(c.size());
+  reduce_over_k(w, b.n1, b.n2, b.n3, mu, c, arg);
+  const LapResult lap = solve_lap(c, b.n1, b.n2);
+  if (!lap.feasible) return out;
+  double mu_sum = 0.0;
+  for (double m : mu) mu_sum += m;
+  out.raw = lap.cost - mu_sum + offset;
+  out.rc.resize(b.cost.size());
+  for (int32_t i = 0; i < b.n1; ++i)
+    for (int32_t j = 0; j < b.n2; ++j)
+      for (int32_t k = 0; k < b.n3; ++k) {
+        const std::size_t s = b.index(i, j, k);
+        out.rc[s] = static_cast<double>(w[s]) + mu[k] - lap.row_dual[i] - lap.col_dual[j];
+      }
+  return out;
+}
 
 // The search over costs w (T = float: the tensor itself; double: the clique-penalised costs of
 // clique_cuts.hpp) whose Lagrangian carries the constant `offset` (−Σ λ); incumbents are costed on b.
 template <class T>
 class Search {
  public:
+  // cuts: the relaxed clique cuts behind w (null when w carries none).
   Search(const CanonicalProblem3& p, const BranchAndBoundOptions& o, const T* w, double offset,
-         std::chrono::steady_clock::time_point t0)
+         const CliqueRelaxation* cuts, std::chrono::steady_clock::time_point t0)
       : p_(p), b_(p.tensor), o_(o), w_(w), offset_(offset), t0_(t0) {
     used_j_.assign(b_.n2, 0);
     used_k_.assign(b_.n3, 0);
     used_i_.assign(b_.n1, 0);
+    fixed_of_i_.assign(b_.n1, {-1, -1, -1});
+    owner_of_j_.assign(b_.n2, -1);
+    if (cuts)
+      for (std::size_t c = 0; c < cuts->roots.size(); ++c)
+        if (cuts->lambda[c] > 0.0) active_cuts_.push_back({cuts->roots[c], cuts->lambda[c]});
   }
 
   std::vector<Tuple3> incumbent;
@@ -86,6 +130,7 @@ class Search {
     }
     // K equality only while |K| = |I| (then every free k must be used).
     const bool equality = nk == r;
+    const double offset = offset_ + dead_cut_multipliers(I, J, K);
     std::vector<double> c(static_cast<std::size_t>(r) * nj), g(nk);
     std::vector<int32_t> arg(static_cast<std::size_t>(r) * nj), count(nk);
     double best_raw = -kInf;
@@ -113,7 +158,7 @@ class Search {
       if (!lap.feasible) return;  // no completion of finite cost
       double mu_sum = 0.0;
       for (int32_t k : K) mu_sum += mu[k];
-      const double raw = fixed_w + lap.cost - mu_sum + offset_;
+      const double raw = fixed_w + lap.cost - mu_sum + offset;
       if (prunable(raw)) return;
       // Relaxed solution → counts per free k.
       std::fill(count.begin(), count.end(), 0);
@@ -163,34 +208,53 @@ class Search {
     }
     if (best_lap.row_dual.empty()) return;
 
-    // Children of each free i from the dual certificate; branch on the i with the fewest.
+    // Surviving children (tuples whose bound from the dual certificate can beat the incumbent),
+    // counted per free i, j and k. An index that must be used (i always; j, k while as many are
+    // free as i) with no survivor has no completion; else branch on the one with the fewest.
     const std::vector<double>& u = best_lap.row_dual;
     const std::vector<double>& v = best_lap.col_dual;
-    std::vector<Child> children, best_children;
-    int32_t branch_row = -1;
-    for (int32_t a = 0; a < r; ++a) {
-      children.clear();
+    std::vector<int32_t> per_i(r, 0), per_j(nj, 0), per_k(nk, 0);
+    for (int32_t a = 0; a < r; ++a)
       for (int32_t bj = 0; bj < nj; ++bj) {
         const T* row = w_ + (static_cast<std::size_t>(I[a]) * b_.n2 + J[bj]) * b_.n3;
         const double base = best_raw - u[a] - v[bj];
-        for (int32_t q = 0; q < nk; ++q) {
-          const double child = base + static_cast<double>(row[K[q]]) + best_mu[K[q]];
-          if (!prunable(child)) children.push_back({child, J[bj], K[q]});
+        for (int32_t q = 0; q < nk; ++q)
+          if (!prunable(base + static_cast<double>(row[K[q]]) + best_mu[K[q]])) {
+            ++per_i[a];
+            ++per_j[bj];
+            ++per_k[q];
+          }
+      }
+    int dim = 0, at = 0, fewest = std::numeric_limits<int32_t>::max();
+    auto consider = [&](int d, const std::vector<int32_t>& counts) {
+      for (int32_t x = 0; x < static_cast<int32_t>(counts.size()); ++x)
+        if (counts[x] < fewest) {
+          fewest = counts[x];
+          dim = d;
+          at = x;
         }
-        if (branch_row >= 0 && children.size() >= best_children.size()) break;
+    };
+    consider(0, per_i);
+    if (nj == r) consider(1, per_j);
+    if (equality) consider(2, per_k);
+    if (fewest == 0) return;  // no completion can beat the incumbent
+    std::vector<Child> best_children;
+    best_children.reserve(fewest);
+    for (int32_t a = dim == 0 ? at : 0; a < (dim == 0 ? at + 1 : r); ++a)
+      for (int32_t bj = dim == 1 ? at : 0; bj < (dim == 1 ? at + 1 : nj); ++bj) {
+        const T* row = w_ + (static_cast<std::size_t>(I[a]) * b_.n2 + J[bj]) * b_.n3;
+        const double base = best_raw - u[a] - v[bj];
+        for (int32_t q = dim == 2 ? at : 0; q < (dim == 2 ? at + 1 : nk); ++q) {
+          const double child = base + static_cast<double>(row[K[q]]) + best_mu[K[q]];
+          if (!prunable(child)) best_children.push_back({child, I[a], J[bj], K[q]});
+        }
       }
-      if (branch_row < 0 || children.size() < best_children.size()) {
-        branch_row = a;
-        best_children.swap(children);
-        if (best_children.empty()) return;  // no child can beat the incumbent
-      }
-    }
     std::sort(best_children.begin(), best_children.end(), [](const Child& x, const Child& y) {
-      return x.bound < y.bound || (x.bound == y.bound && (x.j < y.j || (x.j == y.j && x.k < y.k)));
+      return x.bound < y.bound || (x.bound == y.bound && std::tie(x.i, x.j, x.k) < std::tie(y.i, y.j, y.k));
     });
-    const int32_t i = I[branch_row];
     for (std::size_t ch = 0; ch < best_children.size(); ++ch) {
       const Child& child = best_children[ch];
+      const int32_t i = child.i;
       if (prunable(child.bound)) break;  // sorted: the rest are no better
       if (interrupted) {
         open_bound = std::min(open_bound, child.bound);
@@ -200,9 +264,13 @@ class Search {
       used_j_[child.j] = 1;
       used_k_[child.k] = 1;
       fixed_.push_back({i, child.j, child.k});
+      fixed_of_i_[i] = fixed_.back();
+      owner_of_j_[child.j] = i;
       explore(fixed_w + static_cast<double>(w_[b_.index(i, child.j, child.k)]),
               fixed_b + b_.at(i, child.j, child.k), best_mu);
       fixed_.pop_back();
+      fixed_of_i_[i] = {-1, -1, -1};
+      owner_of_j_[child.j] = -1;
       used_i_[i] = used_j_[child.j] = used_k_[child.k] = 0;
     }
   }
@@ -213,10 +281,35 @@ class Search {
   }
 
   // A bound `raw` cannot lead to a strictly better solution than the incumbent.
-  bool prunable(double raw) const {
-    if (!std::isfinite(incumbent_cost)) return raw == kInf;
-    if (p_.integer_costs) return std::ceil(raw - 1e-7 * std::max(1.0, std::abs(raw))) >= incumbent_cost;
-    return raw >= incumbent_cost - 1e-9 * std::max(1.0, std::abs(incumbent_cost));
+  bool prunable(double raw) const { return cannot_beat(raw, incumbent_cost, p_.integer_costs); }
+
+  // Σ λ_c over the dead cuts: no fixed tuple is in Q(r_c) and no member is free with finite w.
+  // Every completion then has load 0 on c, so the term λ_c (load − 1) of the Lagrangian is exactly
+  // −λ_c beside w, which the member penalties never recover: adding λ_c back keeps the bound valid.
+  // (A cut with a fixed member has load exactly 1 and costs nothing.) O(|I| + |J| + |K|) per cut.
+  double dead_cut_multipliers(const std::vector<int32_t>& I, const std::vector<int32_t>& J,
+                              const std::vector<int32_t>& K) const {
+    double sum = 0.0;
+    for (const auto& [root, lambda] : active_cuts_) {
+      const int32_t i = root[0], j = root[1], k = root[2];
+      if (used_i_[i] && (fixed_of_i_[i][1] == j || fixed_of_i_[i][2] == k)) continue;
+      if (used_j_[j] && fixed_of_i_[owner_of_j_[j]][2] == k) continue;
+      auto finite = [&](int32_t a, int32_t bj, int32_t q) {
+        return static_cast<double>(w_[b_.index(a, bj, q)]) < kInf;
+      };
+      bool alive = false;
+      if (!used_i_[i] && !used_j_[j])
+        for (int32_t q : K)
+          if ((alive = finite(i, j, q))) break;
+      if (!alive && !used_i_[i] && !used_k_[k])
+        for (int32_t q : J)
+          if ((alive = finite(i, q, k))) break;
+      if (!alive && !used_j_[j] && !used_k_[k])
+        for (int32_t q : I)
+          if ((alive = finite(q, j, k))) break;
+      if (!alive) sum += lambda;
+    }
+    return sum;
   }
 
   // A cheap valid bound of an abandoned node: its fixed cost plus the minimum possible per free i
@@ -243,7 +336,9 @@ class Search {
   double offset_;
   std::chrono::steady_clock::time_point t0_;
   std::vector<char> used_i_, used_j_, used_k_;
-  std::vector<Tuple3> fixed_;
+  std::vector<Tuple3> fixed_, fixed_of_i_;  // fixed_of_i_[i]: the fixed tuple of i ({-1, -1, -1}: none)
+  std::vector<int32_t> owner_of_j_;         // the fixed i of j, or −1
+  std::vector<std::pair<Tuple3, double>> active_cuts_;  // (r_c, λ_c) with λ_c > 0
 };
 
 struct SearchOutcome {
@@ -252,6 +347,7 @@ struct SearchOutcome {
   Termination termination = Termination::kOptimal;
   int64_t nodes = 0;
   int passes = 0;
+  int64_t fixed_tuples = 0;  // fixed to 0 by reduced costs in the first pass
 };
 
 // The search below a root bound `lb`. With integer costs it first looks only for a solution of
@@ -261,21 +357,34 @@ struct SearchOutcome {
 // limit counts over all passes.
 template <class T>
 SearchOutcome search_from_root(const CanonicalProblem3& p, const BranchAndBoundOptions& o, const T* w,
-                               double offset, const std::vector<double>& mu,
-                               const std::vector<Tuple3>& incumbent, double incumbent_cost, double lb,
-                               std::chrono::steady_clock::time_point t0) {
+                               double offset, const CliqueRelaxation* cuts, const std::vector<double>& mu,
+                               const RootReducedCosts& root, const std::vector<Tuple3>& incumbent,
+                               double incumbent_cost, double lb, std::chrono::steady_clock::time_point t0) {
   SearchOutcome out;
   out.best = incumbent;
+  std::vector<T> pass_w;
   while (true) {
     const bool targeted = p.integer_costs && std::isfinite(lb) && lb + 1.0 < incumbent_cost;
-    Search<T> state(p, o, w, offset, t0);
-    state.nodes = out.nodes;
-    if (targeted) {
-      state.incumbent_cost = lb + 1.0;  // only a solution of cost lb survives
-    } else {
-      state.incumbent = incumbent;
-      state.incumbent_cost = incumbent_cost;
+    const double pass_incumbent = targeted ? lb + 1.0 : incumbent_cost;  // targeted: only cost lb survives
+    // Reduced-cost fixing: a tuple whose root bound L + rc_s cannot beat the pass's incumbent is
+    // in no solution the pass looks for; w = +∞ removes it from every node's relaxation.
+    const T* search_w = w;
+    if (o.reduced_cost_fixing && !root.rc.empty()) {
+      pass_w.assign(w, w + p.tensor.cost.size());
+      int64_t fixed = 0;
+      for (std::size_t s = 0; s < pass_w.size(); ++s)
+        if (cannot_beat(root.raw + root.rc[s], pass_incumbent, p.integer_costs) &&
+            pass_w[s] != std::numeric_limits<T>::infinity()) {
+          pass_w[s] = std::numeric_limits<T>::infinity();
+          ++fixed;
+        }
+      if (out.passes == 0) out.fixed_tuples = fixed;
+      search_w = pass_w.data();
     }
+    Search<T> state(p, o, search_w, offset, cuts, t0);
+    state.nodes = out.nodes;
+    state.incumbent_cost = pass_incumbent;
+    if (!targeted) state.incumbent = incumbent;
     state.explore(0.0, 0.0, mu);
     out.nodes = state.nodes;
     ++out.passes;
@@ -319,6 +428,7 @@ Solution3 solve_branch_and_bound3(const CostTensor3& cost, const BranchAndBoundO
   Termination termination = Termination::kOptimal;
   CliqueRelaxation cut;
   SearchOutcome outcome;
+  bool penalised_search = false;
   if (run.termination == Termination::kInfeasible && run.best_tuples.empty() && run.lower_bound == kInf) {
     termination = Termination::kInfeasible;
   } else if (run.termination == Termination::kOptimal) {
@@ -329,16 +439,27 @@ Solution3 solve_branch_and_bound3(const CostTensor3& cost, const BranchAndBoundO
     best = cut.best_tuples;
     if (cut.termination == Termination::kOptimal) {
       lower_bound = cut.upper_bound;
-    } else if (cut.lower_bound > run.lower_bound) {
-      outcome = search_from_root(p, options, cut.penalised.data(), -cut.lambda_sum, cut.mu, cut.best_tuples,
-                                 cut.upper_bound, root_bound, t0);
-    } else {  // the cuts did not lift the bound: search on b, from the cut phase's incumbent
-      outcome = search_from_root(p, options, p.tensor.cost.data(), 0.0, run.best_multipliers, cut.best_tuples,
-                                 cut.upper_bound, root_bound, t0);
+    } else {
+      // Search on the penalised costs when the cuts lift the unrounded bound (ap3.50.4: 270.003 →
+      // 270.965, both rounding to 271): the narrower gap fixes more tuples and every node's bound
+      // keeps the cuts. Else on b, from the cut phase's incumbent.
+      const RootReducedCosts plain =
+          root_reduced_costs(p.tensor, p.tensor.cost.data(), 0.0, run.best_multipliers);
+      const RootReducedCosts penalised =
+          root_reduced_costs(p.tensor, cut.penalised.data(), -cut.lambda_sum, cut.mu);
+      penalised_search = penalised.raw > plain.raw;
+      if (penalised_search)
+        outcome = search_from_root(p, options, cut.penalised.data(), -cut.lambda_sum, &cut, cut.mu, penalised,
+                                   cut.best_tuples, cut.upper_bound, root_bound, t0);
+      else
+        outcome = search_from_root(p, options, p.tensor.cost.data(), 0.0, nullptr, run.best_multipliers,
+                                   plain, cut.best_tuples, cut.upper_bound, root_bound, t0);
     }
   } else {
-    outcome = search_from_root(p, options, p.tensor.cost.data(), 0.0, run.best_multipliers, run.best_tuples,
-                               run.upper_bound, root_bound, t0);
+    const RootReducedCosts plain =
+        root_reduced_costs(p.tensor, p.tensor.cost.data(), 0.0, run.best_multipliers);
+    outcome = search_from_root(p, options, p.tensor.cost.data(), 0.0, nullptr, run.best_multipliers, plain,
+                               run.best_tuples, run.upper_bound, root_bound, t0);
   }
   if (outcome.passes > 0) {
     best = std::move(outcome.best);
@@ -362,9 +483,12 @@ Solution3 solve_branch_and_bound3(const CostTensor3& cost, const BranchAndBoundO
                       std::to_string(run.iterations) + ", clique cuts " + std::to_string(cut.roots.size()) +
                       " in " + std::to_string(cut.rounds) + " rounds (" + std::to_string(cut.iterations) +
                       " iterations), root bound " + bound_text(root_bound) + ", search passes " +
-                      std::to_string(outcome.passes);
+                      std::to_string(outcome.passes) + ", tuples fixed by reduced cost " +
+                      std::to_string(outcome.fixed_tuples);
   s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (stats) *stats = {root_bound, nodes, cut.roots.size(), cut.rounds, outcome.passes};
+  if (stats)
+    *stats = {root_bound,           nodes,           cut.roots.size(), cut.rounds, outcome.passes,
+              outcome.fixed_tuples, penalised_search};
   return s;
 }
 
