@@ -281,12 +281,14 @@ TEST(OptionFields, LagrangianFieldsRoundTrip) {
 
 TEST(OptionFields, ExactAndPolishFieldsRoundTrip) {
   const json in = json::parse(
-      R"({"time_limit_s": 2.5, "max_nodes": 123456789012, "node_subgradient_iterations": 3, "root_max_iterations": 77})");
+      R"({"time_limit_s": 2.5, "max_nodes": 123456789012, "node_subgradient_iterations": 3,
+          "reduced_cost_fixing": false, "root_max_iterations": 77})");
   BranchAndBoundOptions b;
   exact_option_fields().read(in, b, "exact");
   EXPECT_EQ(b.time_limit_s, 2.5);
   EXPECT_EQ(b.max_nodes, 123456789012);
   EXPECT_EQ(b.node_subgradient_iterations, 3);
+  EXPECT_FALSE(b.reduced_cost_fixing);
   EXPECT_EQ(b.root.max_iterations, 77);
   EXPECT_EQ(exact_option_fields().write(b), in);
 
