@@ -5,8 +5,8 @@
 //  - BM_ExactBalasSaltzman/n/threads: branch and bound on the five Balas–Saltzman instances of size
 //    n (14 … 26) per iteration; counters: nodes, all_optimal.
 //  - BM_ExactDecompLib/n/r: branch and bound on DecompLib ap3.n.r (n = 5 … 50, r = 1 … 10), one
-//    thread (the peer's setting); counters: nodes, root_bound (after the clique cuts), optimal
-//    (proven and equal to ap3.opt).
+//    thread (the peer's setting); counters: nodes, root_bound (after the clique cuts), fixed_tuples
+//    (by reduced cost, first search pass), optimal (proven and equal to ap3.opt).
 // The MILP peer (CBC) runs on the same files: bench/cbc_3d.py (--set decomplib; --ours merges this
 // binary's JSON output into one table, README "exact branch and bound").
 //
@@ -135,6 +135,7 @@ void BM_ExactDecompLib(benchmark::State& state) {
   }
   state.counters["nodes"] = static_cast<double>(s.summary.iterations);
   state.counters["root_bound"] = stats.root_bound;
+  state.counters["fixed_tuples"] = static_cast<double>(stats.fixed_tuples);
   state.counters["objective"] = s.summary.objective;
   state.counters["optimal"] =
       s.summary.termination == Termination::kOptimal && s.summary.objective == known ? 1 : 0;
