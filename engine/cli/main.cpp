@@ -99,7 +99,12 @@ int main(int argc, char** argv) {
     if (comm.size() > 1 && comm.root() && std::getenv("TRACKASSOC_MPI_STATS")) {
       const auto& st = comm.stats();  // every message goes to or from rank 0: the job's traffic
       std::cerr << "mpi: " << comm.size() << " ranks; rank 0 sent " << st.bytes_sent << " B, received "
-                << st.bytes_received << " B in " << st.messages << " messages\n";
+                << st.bytes_received << " B in " << st.messages << " messages";
+      const auto& times = trackassoc::distributed::last_shard_times();
+      for (std::size_t r = 0; r < times.wall_s.size(); ++r)
+        std::cerr << (r ? ", " : "; work per rank [wall/CPU s]: ") << times.wall_s[r] << "/"
+                  << times.cpu_s[r];
+      std::cerr << "\n";
     }
   } catch (const CLI::ParseError& e) {
     std::ostringstream null_out, null_err;  // rank 0 alone prints help and usage errors

@@ -2,7 +2,9 @@
 #include "engine/distributed/sharding.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
+#include <ctime>
 #include <numeric>
 #include <stdexcept>
 
@@ -37,7 +39,20 @@ Bytes failure_message(Status s, const std::string& message) {
   return w.take();
 }
 
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+ShardTimes& shard_times() {
+  static ShardTimes times;
+  return times;
+}
+
 }  // namespace
+
+const ShardTimes& last_shard_times() { return shard_times(); }
 
 int owner_of_item(int64_t item, int ranks) { return static_cast<int>(item % ranks); }
 
@@ -72,10 +87,15 @@ std::vector<Bytes> gather_shards(Communicator& comm, const std::function<Bytes(s
   std::string shard = "its shard";
   Bytes mine;
   Status own = Status::kOk;
+  const auto wall0 = std::chrono::steady_clock::now();
+  const double cpu0 = cpu_seconds();
   try {
     Bytes payload = work(shard);
-    mine.reserve(payload.size() + 1);
-    mine.push_back(static_cast<uint8_t>(Status::kOk));
+    ByteWriter head;  // status, then the work's wall and CPU seconds, then the payload
+    head.put<uint8_t>(static_cast<uint8_t>(Status::kOk));
+    head.put(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+    head.put(cpu_seconds() - cpu0);
+    mine = head.take();
     mine.insert(mine.end(), payload.begin(), payload.end());
   } catch (...) {
     const auto [s, message] = status_of(std::current_exception());
@@ -96,7 +116,14 @@ std::vector<Bytes> gather_shards(Communicator& comm, const std::function<Bytes(s
     if (s == Status::kInputError) throw InputError(what);
     throw std::runtime_error(what);
   }
-  for (auto& b : all) b.erase(b.begin());
+  ShardTimes& times = shard_times();
+  times = {};
+  for (auto& b : all) {
+    ByteReader rd(b.data() + 1, b.size() - 1);
+    times.wall_s.push_back(rd.get<double>());
+    times.cpu_s.push_back(rd.get<double>());
+    b.erase(b.begin(), b.begin() + 1 + 2 * sizeof(double));
+  }
   return all;
 }
 

@@ -50,6 +50,14 @@ void inject_fault_for_tests(const Communicator& comm, const std::string& shard);
 // their own work failed).
 std::vector<Bytes> gather_shards(Communicator& comm, const std::function<Bytes(std::string& shard)>& work);
 
+// Rank 0, after gather_shards: each rank's time in its work, wall and CPU (this process) seconds,
+// for the scaling note (printed by main.cpp under TRACKASSOC_MPI_STATS). The CPU time is the
+// work's cost without the other ranks' contention when ranks share cores (--oversubscribe).
+struct ShardTimes {
+  std::vector<double> wall_s, cpu_s;
+};
+const ShardTimes& last_shard_times();
+
 // Rank 0: hands parts[r] to rank r (with an ok status) and returns its own; the others return
 // theirs, or end with SilentExit when rank 0 sent a failure.
 Bytes scatter_work(Communicator& comm, const std::vector<Bytes>& parts);
