@@ -2,12 +2,16 @@
 // with -DTRACKASSOC_MPI=ON (OpenMPI from Debian, DESIGN §8). Sizes travel as uint64 through
 // MPI_Scatter / MPI_Gather; the bytes then go point to point in chunks of at most 1 GiB, so a
 // part may exceed MPI's int counts. Only the main thread calls MPI (MPI_THREAD_FUNNELED); oneTBB
-// workers inside a rank never do.
+// workers inside a rank never do. A rank that waits (for rank 0's scatter while it builds, for
+// the others' results) sleeps between tests of its request instead of spinning, so waiting ranks
+// leave the cores to working ones when ranks share cores (mpirun --oversubscribe).
 #include <mpi.h>
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "engine/distributed/communicator.hpp"
 
@@ -21,17 +25,31 @@ void check(int rc, const char* what) {
   if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
 }
 
+// Waits for `request`, testing it every 200 µs (a waiting rank costs no core).
+void wait_politely(MPI_Request& request, const char* what) {
+  int done = 0;
+  for (;;) {
+    check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), what);
+    if (done) return;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+}
+
 void send_bytes(const Bytes& b, int to) {
   for (std::size_t off = 0; off < b.size(); off += kChunk) {
     const int n = static_cast<int>(std::min(kChunk, b.size() - off));
-    check(MPI_Send(b.data() + off, n, MPI_BYTE, to, kTag, MPI_COMM_WORLD), "MPI_Send");
+    MPI_Request request;
+    check(MPI_Isend(b.data() + off, n, MPI_BYTE, to, kTag, MPI_COMM_WORLD, &request), "MPI_Isend");
+    wait_politely(request, "MPI_Isend");
   }
 }
 
 void receive_bytes(Bytes& b, int from) {
   for (std::size_t off = 0; off < b.size(); off += kChunk) {
     const int n = static_cast<int>(std::min(kChunk, b.size() - off));
-    check(MPI_Recv(b.data() + off, n, MPI_BYTE, from, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Recv");
+    MPI_Request request;
+    check(MPI_Irecv(b.data() + off, n, MPI_BYTE, from, kTag, MPI_COMM_WORLD, &request), "MPI_Irecv");
+    wait_politely(request, "MPI_Irecv");
   }
 }
 
@@ -73,7 +91,10 @@ class MpiCommunicator final : public Communicator {
   std::vector<Bytes> gather(const Bytes& mine) override {
     const uint64_t n = mine.size();
     std::vector<uint64_t> sizes(rank_ == 0 ? size_ : 0);
-    check(MPI_Gather(&n, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "MPI_Gather");
+    MPI_Request request;
+    check(MPI_Igather(&n, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request),
+          "MPI_Igather");
+    wait_politely(request, "MPI_Igather");
     if (rank_ != 0) {
       send_bytes(mine, 0);
       stats_.bytes_sent += mine.size();

@@ -237,13 +237,29 @@ double sd_component_cost(const SDComponentView& v, std::size_t max_entries) {
   return cost;
 }
 
+// The link matrices travel sparse: per slot, the gated-in entries (index, cost) only, since
+// most of a large component's n_a × n_b entries are NaN (no gated pair).
 void encode_sd_component_view(distributed::ByteWriter& w, const SDComponentView& v) {
   w.put(v.S);
   w.put_nested(v.tracks);
   w.put_nested(v.node);
   w.put_nested(v.first);
   w.put_nested(v.last);
-  w.put_nested(v.link);
+  w.put<uint64_t>(v.link.size());
+  std::vector<uint64_t> index;
+  std::vector<double> cost;
+  for (const auto& m : v.link) {
+    index.clear();
+    cost.clear();
+    for (std::size_t k = 0; k < m.size(); ++k)
+      if (!std::isnan(m[k])) {
+        index.push_back(k);
+        cost.push_back(m[k]);
+      }
+    w.put<uint64_t>(m.size());
+    w.put(index);
+    w.put(cost);
+  }
 }
 
 SDComponentView decode_sd_component_view(distributed::ByteReader& r) {
@@ -253,7 +269,13 @@ SDComponentView decode_sd_component_view(distributed::ByteReader& r) {
   v.node = r.get_nested<int32_t>();
   v.first = r.get_nested<int32_t>();
   v.last = r.get_nested<int32_t>();
-  v.link = r.get_nested<double>();
+  v.link.resize(r.get<uint64_t>());
+  for (auto& m : v.link) {
+    m.assign(r.get<uint64_t>(), kNotLinked);
+    const auto index = r.get_vector<uint64_t>();
+    const auto cost = r.get_vector<double>();
+    for (std::size_t k = 0; k < index.size(); ++k) m.at(index[k]) = cost[k];
+  }
   return v;
 }
 

@@ -51,10 +51,20 @@ std::vector<distributed::Bytes> encode_component_parts(const SparseSDProblem& p,
     w[r].put<uint64_t>(max_entries);
     w[r].put<uint64_t>(count[r]);
   }
+  // The views are built and encoded in parallel (TBB), then appended in component order.
+  std::vector<distributed::Bytes> encoded(plan.components.size());
+  parallel_for_range(plan.components.size(), 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t k = lo; k < hi; ++k) {
+      distributed::ByteWriter out;
+      out.put<int32_t>(plan.components[k]);
+      encode_sd_component_view(out, sd_component_view(p, plan.components[k]));
+      encoded[k] = out.take();
+    }
+  });
   for (std::size_t k = 0; k < plan.components.size(); ++k) {
-    distributed::ByteWriter& out = w[plan.rank[k]];
-    out.put<int32_t>(plan.components[k]);
-    encode_sd_component_view(out, sd_component_view(p, plan.components[k]));
+    auto& bytes = w[plan.rank[k]].bytes();
+    bytes.insert(bytes.end(), encoded[k].begin(), encoded[k].end());
+    distributed::Bytes().swap(encoded[k]);
   }
   std::vector<distributed::Bytes> parts;
   for (auto& x : w) parts.push_back(x.take());
