@@ -71,7 +71,8 @@ std::vector<distributed::Bytes> encode_component_parts(const SparseSDProblem& p,
   return parts;
 }
 
-distributed::Bytes solve_component_part(const distributed::Bytes& part, std::string* shard) {
+distributed::Bytes solve_component_part(const distributed::Bytes& part, std::string* shard,
+                                        const distributed::Communicator* comm) {
   distributed::ByteReader rd(part);
   const std::string solver = rd.get_string();
   const nlohmann::json options = nlohmann::json::parse(rd.get_string());
@@ -84,6 +85,11 @@ distributed::Bytes solve_component_part(const distributed::Bytes& part, std::str
     index[k] = rd.get<int32_t>();
     views[k] = decode_sd_component_view(rd);
   }
+  std::size_t part_tracks = 0;
+  for (const auto& v : views)
+    for (const auto& t : v.tracks) part_tracks += t.size();
+  if (shard) *shard = std::to_string(n) + " components (" + std::to_string(part_tracks) + " tracks)";
+  if (comm && shard) distributed::inject_fault_for_tests(*comm, *shard);
   std::vector<SDComponentResult> results(n);
   // An error names the component (the first that failed, in this part's order).
   std::vector<std::string> errors(n);
@@ -148,8 +154,7 @@ std::vector<SDComponentResult> solve_sd_components_sharded(distributed::Communic
   double solve_s = 0.0;
   const auto solved = distributed::gather_shards(comm, [&](std::string& shard) {
     shard = "its components";
-    distributed::inject_fault_for_tests(comm, shard);
-    auto r = solve_component_part(mine, &shard);
+    auto r = solve_component_part(mine, &shard, &comm);
     solve_s = seconds_since(t1);
     return r;
   });
@@ -187,8 +192,7 @@ void serve_sd_components(distributed::Communicator& comm) {
   const distributed::Bytes mine = distributed::scatter_work(comm, {});
   distributed::gather_shards(comm, [&](std::string& shard) {
     shard = "its components";
-    distributed::inject_fault_for_tests(comm, shard);
-    return solve_component_part(mine, &shard);
+    return solve_component_part(mine, &shard, &comm);
   });
 }
 

@@ -46,9 +46,11 @@ std::vector<distributed::Bytes> encode_component_parts(const SparseSDProblem& p,
                                                        int ranks, const std::string& solver,
                                                        const nlohmann::json& solver_options, bool all_pairs,
                                                        std::size_t max_entries);
-// Step 3: a part's components solved, (component, result) each. `shard` names the component
-// being solved (for an error message).
-distributed::Bytes solve_component_part(const distributed::Bytes& part, std::string* shard = nullptr);
+// Step 3: a part's components solved, (component, result) each. `shard` names the part ("617
+// components (2431 tracks)") or, on a failure, the component (for the error message); with
+// `comm`, the test hook of engine/distributed/sharding.hpp may fail the part.
+distributed::Bytes solve_component_part(const distributed::Bytes& part, std::string* shard = nullptr,
+                                        const distributed::Communicator* comm = nullptr);
 // Step 4: every component's result, from the parts' results (any order) and the one-track
 // components of `p`.
 std::vector<SDComponentResult> merge_component_results(const SparseSDProblem& p,
