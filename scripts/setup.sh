@@ -1,6 +1,15 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages trackassoc needs. Skips what is already installed; fails loudly.
+# --mpi: also OpenMPI (libopenmpi-dev, openmpi-bin) for the MPI build (scripts/test_mpi.sh,
+# DESIGN §8); the default build and scripts/demo.sh, scripts/test.sh never need it.
 set -euo pipefail
+with_mpi=0
+for arg in "$@"; do
+  case "$arg" in
+    --mpi) with_mpi=1 ;;
+    *) echo "setup.sh: unknown option $arg (expected --mpi)" >&2; exit 2 ;;
+  esac
+done
 
 packages=(
   build-essential cmake ninja-build ccache pkg-config
@@ -12,6 +21,7 @@ packages=(
   # Stone Soup, the peer of `experiment recorded` (../shared/peers/stonesoup-src/README.md)
   python3-ordered-set python3-plotly python3-pymap3d python3-rtree python3-ruamel.yaml
 )
+[ "$with_mpi" -eq 1 ] && packages+=(libopenmpi-dev openmpi-bin)
 
 missing=()
 for p in "${packages[@]}"; do

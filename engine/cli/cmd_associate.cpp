@@ -15,9 +15,11 @@
 #include "engine/cli/common.hpp"
 #include "engine/cli/hopfield_flags.hpp"
 #include "engine/cli/table.hpp"
+#include "engine/distributed/communicator.hpp"
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/solvers/solver_registry.hpp"
 
 namespace trackassoc::cli {
@@ -145,7 +147,8 @@ void register_associate(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    check_output_paths({{args->output, "--output"}});
+    auto& comm = distributed::world();
+    if (comm.size() == 1) check_output_paths({{args->output, "--output"}});
     AssociatorOptions request;
     request.pipeline = resolve(args->pipeline);
     request.solver_options = parse_solver_options(args->pipeline.solver_options);
@@ -164,6 +167,19 @@ void register_associate(CLI::App& app) {
           "--duplicate-sensors: duplicates join targets in the segment pass; drop --no-segments");
     request.validate();  // --sd, --3d, --sparse: at most one, before the Hopfield flags' errors
     merge_hopfield_flags(args->hopfield, request.solver, request.solver_options);
+    // More than one MPI rank (DESIGN §8): the default path's components are shared out; rank 0
+    // reads, builds, writes and prints, the other ranks only solve what it sends them
+    // (engine/pipeline/sparse_sd_sharded.hpp). Everything above is the same on every rank.
+    if (comm.size() > 1) {
+      if (choose_association_path(request) != AssociationPath::kSparseSD)
+        throw InputError("associate: only the default pipeline (sparse S-D, no --3d/--sparse/--sd, solver " +
+                         list_names(sparse_sd_solver_names(), ", ") + ") is sharded over MPI ranks (got " +
+                         std::to_string(comm.size()) + " ranks); run the others as one process");
+      if (!comm.root()) return serve_sd_components(comm);
+      comm.set_ranks_waiting(true);  // until rank 0 scatters their work, or its error (main.cpp)
+      request.ranks = &comm;
+      check_output_paths({{args->output, "--output"}});
+    }
     const auto associator = make_associator(request);  // every check before the file is read
     TrackFile file = read_track_file(args->input);
     const AssociationOutcome outcome = associator->associate(file);

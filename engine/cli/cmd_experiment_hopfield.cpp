@@ -60,12 +60,15 @@ void register_experiment_seed000(CLI::App& experiment) {
       ->capture_default_str()
       ->check(enum_choices<CostForm>());
   cmd->add_option("--solvers", args->o.solvers, "Solvers to compare")->capture_default_str();
-  finish_experiment_command(cmd, args, "SVG plot ('' = none)",
-                            [](const Seed000ExperimentOptions& o, std::ostream* progress) {
-                              const auto rows = run_seed000_experiment(o, progress);
-                              std::cout << seed000_summary_table(rows, o);
-                              write_seed000_outputs(rows, o);
-                            });
+  finish_experiment_command(
+      cmd, args, "SVG plot ('' = none)",
+      [](const Seed000ExperimentOptions& o, std::ostream* progress) {
+        const auto rows = run_seed000_experiment(o, progress);
+        if (!distributed::world().root()) return;  // rank 0 has the rows
+        std::cout << seed000_summary_table(rows, o);
+        write_seed000_outputs(rows, o);
+      },
+      /*sharded=*/true);
 }
 
 }  // namespace trackassoc::cli

@@ -28,12 +28,15 @@ void register_experiment_seed004(CLI::App& experiment) {
                   "Time limit of the exact search per run [s]")
       ->capture_default_str()
       ->check(above(0));
-  finish_experiment_command(cmd, args, "SVG plot ('' = none)",
-                            [](const Seed004ExperimentOptions& o, std::ostream* progress) {
-                              const auto rows = run_seed004_experiment(o, progress);
-                              std::cout << seed004_summary_table(rows, o);
-                              write_seed004_outputs(rows, o);
-                            });
+  finish_experiment_command(
+      cmd, args, "SVG plot ('' = none)",
+      [](const Seed004ExperimentOptions& o, std::ostream* progress) {
+        const auto rows = run_seed004_experiment(o, progress);
+        if (!distributed::world().root()) return;  // rank 0 has the rows
+        std::cout << seed004_summary_table(rows, o);
+        write_seed004_outputs(rows, o);
+      },
+      /*sharded=*/true);
 }
 
 }  // namespace trackassoc::cli

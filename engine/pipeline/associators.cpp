@@ -45,6 +45,7 @@ class SparseSDAssociator final : public TrackAssociator {
     SparseSDOptions so;
     so.pipeline = o_.pipeline;
     so.segments = o_.segments;
+    so.ranks = o_.ranks;
     AssociationOutcome out;
     out.record = associate_sparse_sd(file, o_.solver, o_.solver_options, o_.seed, so, &out.summary.stages);
     apply_name(o_, out.record);

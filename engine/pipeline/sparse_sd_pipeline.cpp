@@ -8,6 +8,8 @@
 #include <map>
 
 #include "engine/pipeline/pipeline_sd.hpp"
+#include "engine/pipeline/sparse_sd_components.hpp"
+#include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/assignment/lap_sparse.hpp"
@@ -20,197 +22,9 @@ namespace trackassoc {
 namespace {
 
 constexpr double kMiB = 1048576.0;
-constexpr double kNotLinked = std::numeric_limits<double>::quiet_NaN();
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// The tracks of one component, by sensor, and the link costs among them.
-struct ComponentView {
-  int32_t S = 0;
-  std::vector<std::vector<int32_t>> tracks;  // tracks[s] = local track indices of sensor s
-  std::vector<std::vector<int32_t>> node;    // node[s][i] = problem node of tracks[s][i]
-  std::vector<std::vector<double>> link;     // slot a·S + b (a < b): n_a × n_b, NaN = no gated pair
-  const SparseSDProblem* p = nullptr;
-
-  double link_cost(int32_t a, int32_t i, int32_t b, int32_t j) const {
-    if (a > b) std::swap(a, b), std::swap(i, j);
-    return link[static_cast<std::size_t>(a) * S + b][static_cast<std::size_t>(i) * tracks[b].size() + j];
-  }
-  bool overlap(int32_t a, int32_t i, int32_t b, int32_t j) const {
-    return p->coexist(node[a][i], node[b][j]);
-  }
-};
-
-ComponentView component_view(const SparseSDProblem& p, int32_t c) {
-  ComponentView v;
-  v.p = &p;
-  v.S = p.S();
-  v.tracks.resize(v.S);
-  v.node.resize(v.S);
-  for (int32_t u : p.components.members(c)) {
-    const int32_t s = p.sensor_of(u);
-    v.tracks[s].push_back(u - p.offset[s]);
-    v.node[s].push_back(u);
-  }
-  v.link.resize(static_cast<std::size_t>(v.S) * v.S);
-  for (int32_t a = 0; a < v.S; ++a)
-    for (int32_t b = a + 1; b < v.S; ++b) {
-      const std::size_t slot = static_cast<std::size_t>(a) * v.S + b;
-      auto& m = v.link[slot];
-      m.assign(v.tracks[a].size() * v.tracks[b].size(), kNotLinked);
-      if (m.empty()) continue;
-      const SparsePairStatistic& st = p.pairs[slot];
-      for (std::size_t i = 0; i < v.tracks[a].size(); ++i) {
-        const int32_t ia = v.tracks[a][i];
-        auto lo = std::lower_bound(st.a.begin(), st.a.end(), ia);
-        for (std::size_t q = lo - st.a.begin(); q < st.size() && st.a[q] == ia; ++q) {
-          auto it = std::lower_bound(v.tracks[b].begin(), v.tracks[b].end(), st.b[q]);
-          if (it != v.tracks[b].end() && *it == st.b[q])
-            m[i * v.tracks[b].size() + (it - v.tracks[b].begin())] = p.link[slot][q];
-        }
-      }
-    }
-  return v;
-}
-
-// Cost of the tuple with members (sensor, component index) — see the header: +inf when two
-// members overlap in time without a gated pair, or the members are not connected by gated pairs.
-double tuple_cost(const ComponentView& v, const std::vector<std::pair<int32_t, int32_t>>& m, bool all_pairs) {
-  const std::size_t k = m.size();
-  if (k <= 1) return 0.0;
-  double cost = 0.0;
-  uint32_t reach[16];
-  for (std::size_t x = 0; x < k; ++x) reach[x] = 1u << x;
-  for (std::size_t x = 0; x < k; ++x)
-    for (std::size_t y = x + 1; y < k; ++y) {
-      const double l = v.link_cost(m[x].first, m[x].second, m[y].first, m[y].second);
-      if (std::isnan(l)) {
-        if (v.overlap(m[x].first, m[x].second, m[y].first, m[y].second))
-          return std::numeric_limits<double>::infinity();
-        continue;  // never together: no evidence either way
-      }
-      reach[x] |= 1u << y;
-      reach[y] |= 1u << x;
-      if (all_pairs || y == x + 1) cost += l;
-    }
-  uint32_t seen = reach[0], prev = 0;  // connectivity through gated pairs
-  while (seen != prev) {
-    prev = seen;
-    for (std::size_t x = 0; x < k; ++x)
-      if (seen >> x & 1u) seen |= reach[x];
-  }
-  return seen == (1u << k) - 1 ? cost : std::numeric_limits<double>::infinity();
-}
-
-struct ComponentResult {
-  std::vector<std::vector<int32_t>> tuples;  // problem nodes per tuple (any order)
-  std::vector<double> costs;                 // tuple_cost of each tuple
-  double objective = 0.0, lower_bound = 0.0;
-  bool fallback = false, optimal = false;
-  std::size_t entries = 0;
-};
-
-ComponentResult solve_dense_component(const ComponentView& v, const std::string& solver,
-                                      const nlohmann::json& options, bool all_pairs) {
-  ComponentResult r;
-  const int32_t S = v.S;
-  std::vector<int32_t> n(S);
-  for (int32_t s = 0; s < S; ++s) n[s] = static_cast<int32_t>(v.tracks[s].size());
-  CostTensorSD t(n, 0.f);
-  r.entries = t.cost.size();
-  std::vector<int32_t> idx(S, 0);
-  std::vector<std::pair<int32_t, int32_t>> members;
-  for (std::size_t e = 0; e < t.cost.size(); ++e) {
-    // idx is the odometer of entry e in the tensor's own order (stride[S−1] = 1).
-    std::size_t rem = e;
-    for (int32_t s = 0; s < S; ++s) {
-      idx[s] = static_cast<int32_t>(rem / t.stride[s]);
-      rem %= t.stride[s];
-    }
-    members.clear();
-    for (int32_t s = 0; s < S; ++s)
-      if (idx[s] < n[s]) members.emplace_back(s, idx[s]);
-    const double c = tuple_cost(v, members, all_pairs);
-    t.cost[e] = std::isfinite(c) ? static_cast<float>(c) : std::numeric_limits<float>::infinity();
-  }
-  const SolutionSD sol = solve_sd_tensor(t, solver, options);
-  std::vector<std::vector<char>> used(S);
-  for (int32_t s = 0; s < S; ++s) used[s].assign(n[s], 0);
-  std::vector<std::pair<int32_t, int32_t>> chosen;
-  for (std::size_t k = 0; k + S <= sol.tuples.size(); k += S) {
-    std::vector<int32_t> tuple;
-    chosen.clear();
-    for (int32_t s = 0; s < S; ++s) {
-      const int32_t i = sol.tuples[k + s];
-      if (i < 0 || i >= n[s] || used[s][i]) continue;
-      used[s][i] = 1;
-      tuple.push_back(v.node[s][i]);
-      chosen.emplace_back(s, i);
-    }
-    if (tuple.empty()) continue;
-    r.tuples.push_back(std::move(tuple));
-    r.costs.push_back(tuple_cost(v, chosen, all_pairs));
-  }
-  for (int32_t s = 0; s < S; ++s)  // a solver that dropped a track: it stays alone
-    for (int32_t i = 0; i < n[s]; ++i)
-      if (!used[s][i]) {
-        r.tuples.push_back({v.node[s][i]});
-        r.costs.push_back(0.0);
-      }
-  r.objective = sol.summary.objective;
-  r.lower_bound = sol.summary.lower_bound;
-  r.optimal = sol.summary.termination == Termination::kOptimal;
-  return r;
-}
-
-// Sequential LAP merging for a component too large for its dense sub-tensor (see the header).
-ComponentResult solve_by_merging(const ComponentView& v, bool all_pairs) {
-  ComponentResult r;
-  r.fallback = true;
-  r.lower_bound = std::numeric_limits<double>::quiet_NaN();
-  std::vector<std::vector<std::pair<int32_t, int32_t>>> groups;
-  constexpr double kForbidden = std::numeric_limits<double>::infinity();  // no gain: never merged
-  for (int32_t s = 0; s < v.S; ++s) {
-    const int32_t nt = static_cast<int32_t>(v.tracks[s].size());
-    if (nt == 0) continue;
-    const int32_t ng = static_cast<int32_t>(groups.size());
-    std::vector<double> cost(static_cast<std::size_t>(ng) * nt, kForbidden);
-    parallel_for_range(ng, 8, [&](std::size_t lo, std::size_t hi) {
-      std::vector<std::pair<int32_t, int32_t>> m;
-      for (std::size_t g = lo; g < hi; ++g)
-        for (int32_t j = 0; j < nt; ++j) {
-          m = groups[g];
-          const double before = tuple_cost(v, m, all_pairs);
-          m.emplace_back(s, j);
-          const double c = tuple_cost(v, m, all_pairs) - before;
-          if (std::isfinite(c) && c < 0.0) cost[g * nt + j] = c;
-        }
-    });
-    std::vector<int32_t> col_to_row(nt, -1);
-    if (ng > 0) {
-      LapOptions lo;
-      lo.allow_unassigned = true;
-      lo.unassigned_cost = 0.0;
-      col_to_row = solve_gated_lap(cost, ng, nt, lo).col_to_row;  // sparse when large and gated
-    }
-    for (int32_t j = 0; j < nt; ++j) {
-      const int32_t g = col_to_row[j];
-      if (g >= 0 && cost[static_cast<std::size_t>(g) * nt + j] < kForbidden)
-        groups[g].emplace_back(s, j);
-      else
-        groups.push_back({{s, j}});
-    }
-  }
-  for (const auto& g : groups) {
-    r.costs.push_back(tuple_cost(v, g, all_pairs));
-    r.objective += r.costs.back();
-    std::vector<int32_t> tuple;
-    for (const auto& [s, i] : g) tuple.push_back(v.node[s][i]);
-    r.tuples.push_back(std::move(tuple));
-  }
-  return r;
 }
 
 // Bad input: no two tracks of different sensors ever coexist at a common time, so there is
@@ -370,25 +184,14 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
   require_sparse_sd_solver(solver);
   const auto t0 = std::chrono::steady_clock::now();
   const bool all_pairs = options.pipeline.cost.form == CostForm::kAllPairs;
-  const int32_t C = p.components.count, S = p.S();
-  std::vector<ComponentResult> results(C);
-  parallel_for_range(C, 1, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t c = lo; c < hi; ++c) {
-      if (p.components.size(static_cast<int32_t>(c)) == 1) {
-        results[c].tuples.push_back({p.components.members(static_cast<int32_t>(c))[0]});
-        results[c].costs.push_back(0.0);
-        results[c].optimal = true;
-        continue;
-      }
-      const ComponentView view = component_view(p, static_cast<int32_t>(c));
-      double entries = 1.0;
-      for (int32_t s = 0; s < S; ++s) entries *= static_cast<double>(view.tracks[s].size() + 1);
-      results[c] = entries <= static_cast<double>(options.max_component_entries)
-                       ? solve_dense_component(view, solver, solver_options, all_pairs)
-                       : solve_by_merging(view, all_pairs);
-      if (results[c].fallback) results[c].entries = static_cast<std::size_t>(std::min(entries, 1e18));
-    }
-  });
+  const int32_t C = p.components.count;
+  // One process solves every component in parallel (TBB); more ranks share them out
+  // (engine/pipeline/sparse_sd_sharded.hpp), with the same results.
+  std::vector<SDComponentResult> results =
+      options.ranks && options.ranks->size() > 1
+          ? solve_sd_components_sharded(*options.ranks, p, solver, solver_options, all_pairs,
+                                        options.max_component_entries)
+          : solve_sd_components(p, solver, solver_options, all_pairs, options.max_component_entries);
   (void)seed;  // lr, lr+ls and exact are deterministic; the seed is recorded for the file
 
   SolverSummary summary;

@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/distributed/communicator.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
 #include "engine/pipeline/track_segments.hpp"
@@ -59,6 +60,9 @@ struct SparseSDOptions {
   // After the assignment, the segments of one target on one sensor joined to it
   // (engine/pipeline/track_segments.hpp); associate_sparse_sd runs it, solve_sparse_sd_association not.
   SegmentOptions segments;
+  // The ranks that share the components (DESIGN §8; engine/pipeline/sparse_sd_sharded.hpp): null
+  // or one rank solves them all here. On more ranks this is rank 0's call; the others serve.
+  distributed::Communicator* ranks = nullptr;
   void validate() const;
   nlohmann::json to_json() const;
 };

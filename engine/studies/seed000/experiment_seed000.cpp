@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/distributed/sharding.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/workflow.hpp"
@@ -69,44 +70,103 @@ std::string fmt(const char* f, double v) {
 
 }  // namespace
 
-std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& o, std::ostream* progress) {
-  o.validate();
+namespace {
+
+// One Monte Carlo run of one configuration: every form and solver on one simulated file.
+std::vector<Seed000Row> seed000_run(const Seed000ExperimentOptions& o, const Scenario& sc, int32_t targets,
+                                    bool correlated, int32_t run) {
   std::vector<Seed000Row> rows;
+  const SimulationResult sim = simulate(sc, o.seed, run);
+  const TrackFile file = simulation_to_track_file(sc, sim);
+  // The statistics do not depend on the cost form: computed once, the tensor per form.
+  AssociationProblem p = build_association_problem(file, seed000_pipeline(o, correlated, o.forms.front()));
+  for (const auto& form : o.forms) {
+    const PipelineOptions po = seed000_pipeline(o, correlated, form);
+    if (form != o.forms.front()) set_cost_tensor(p, po.cost);
+    for (const auto& name : o.solvers) {
+      const uint64_t seed = o.seed + static_cast<uint64_t>(run);
+      const AssociationRecord rec = solve_association(p, name, nlohmann::json::object(), seed, po);
+      const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
+      Seed000Row row;
+      row.targets = targets;
+      row.correlated = correlated;
+      row.form = form;
+      row.run = run;
+      row.solver = name;
+      row.wall_s = rec.runtime_s;  // the solve alone (decoding and scoring excluded)
+      row.objective = rec.objective;
+      row.correct_rate = m.correct_rate;
+      row.false_rate = m.false_rate;
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+void encode_row(distributed::ByteWriter& w, const Seed000Row& r) {
+  w.put(r.targets);
+  w.put<uint8_t>(r.correlated);
+  w.put(r.form);
+  w.put(r.run);
+  w.put(r.solver);
+  w.put(r.correct_rate);
+  w.put(r.false_rate);
+  w.put(r.objective);
+  w.put(r.wall_s);
+}
+
+Seed000Row decode_row(distributed::ByteReader& rd) {
+  Seed000Row r;
+  r.targets = rd.get<int32_t>();
+  r.correlated = rd.get<uint8_t>() != 0;
+  r.form = rd.get_string();
+  r.run = rd.get<int32_t>();
+  r.solver = rd.get_string();
+  r.correct_rate = rd.get<double>();
+  r.false_rate = rd.get<double>();
+  r.objective = rd.get<double>();
+  r.wall_s = rd.get<double>();
+  return r;
+}
+
+}  // namespace
+
+std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& o, std::ostream* progress) {
+  return run_seed000_experiment(o, progress, distributed::world());
+}
+
+// The runs of every configuration, flattened in the order one process visits them (target count,
+// then independent before correlated, then run), are sharded over the ranks (DESIGN §8): a run
+// draws from (seed, run) only, so the rows do not depend on the ranks.
+std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& o, std::ostream* progress,
+                                               distributed::Communicator& comm) {
+  o.validate();
+  struct Config {
+    int32_t targets;
+    bool correlated;
+    Scenario scenario;
+  };
+  std::vector<Config> configs;
   for (int32_t targets : o.targets)
     for (bool correlated : {false, true}) {
+      configs.push_back({targets, correlated, seed000_scenario(o, targets, correlated)});
       if (progress)
         *progress << targets << " targets, " << (correlated ? "correlated" : "independent")
                   << " errors: " << o.runs << " runs\n";
-      const Scenario sc = seed000_scenario(o, targets, correlated);
-      for (int32_t run = 0; run < o.runs; ++run) {
-        const SimulationResult sim = simulate(sc, o.seed, run);
-        const TrackFile file = simulation_to_track_file(sc, sim);
-        // The statistics do not depend on the cost form: computed once, the tensor per form.
-        AssociationProblem p =
-            build_association_problem(file, seed000_pipeline(o, correlated, o.forms.front()));
-        for (const auto& form : o.forms) {
-          const PipelineOptions po = seed000_pipeline(o, correlated, form);
-          if (form != o.forms.front()) set_cost_tensor(p, po.cost);
-          for (const auto& name : o.solvers) {
-            const uint64_t seed = o.seed + static_cast<uint64_t>(run);
-            const AssociationRecord rec = solve_association(p, name, nlohmann::json::object(), seed, po);
-            const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
-            Seed000Row row;
-            row.targets = targets;
-            row.correlated = correlated;
-            row.form = form;
-            row.run = run;
-            row.solver = name;
-            row.wall_s = rec.runtime_s;  // the solve alone (decoding and scoring excluded)
-            row.objective = rec.objective;
-            row.correct_rate = m.correct_rate;
-            row.false_rate = m.false_rate;
-            rows.push_back(row);
-          }
-        }
-      }
     }
-  return rows;
+  const int64_t items = static_cast<int64_t>(configs.size()) * o.runs;
+  return distributed::sharded_items<Seed000Row>(
+      comm, items,
+      [&](int64_t i) {
+        const Config& c = configs[i / o.runs];
+        return seed000_run(o, c.scenario, c.targets, c.correlated, static_cast<int32_t>(i % o.runs));
+      },
+      [&](int64_t i) {
+        const Config& c = configs[i / o.runs];
+        return "seed000 run " + std::to_string(i % o.runs) + " of " + std::to_string(c.targets) +
+               " targets, " + (c.correlated ? "correlated" : "independent") + " errors";
+      },
+      encode_row, decode_row);
 }
 
 std::string seed000_summary_table(const std::vector<Seed000Row>& rows, const Seed000ExperimentOptions& o) {

@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/distributed/communicator.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "io/track_file.hpp"
 #include "kernels/core/scenario.hpp"
@@ -73,8 +74,12 @@ Scenario seed000_scenario(const Seed000ExperimentOptions& options, int32_t targe
 PipelineOptions seed000_pipeline(const Seed000ExperimentOptions& options, bool correlated,
                                  const std::string& form);
 
+// Over the process's ranks (engine/distributed/communicator.hpp, world()): the rows on rank 0,
+// in the order of one process, and none on the other ranks.
 std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& options,
                                                std::ostream* progress);
+std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& options,
+                                               std::ostream* progress, distributed::Communicator& ranks);
 std::string seed000_summary_table(const std::vector<Seed000Row>& rows,
                                   const Seed000ExperimentOptions& options);
 void write_seed000_outputs(const std::vector<Seed000Row>& rows, const Seed000ExperimentOptions& options);

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "engine/cli/table.hpp"
+#include "engine/distributed/sharding.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/workflow.hpp"
@@ -50,52 +51,105 @@ int32_t drop_sensor_target_tracks(TrackFile& file, double p_miss, uint64_t seed,
   return static_cast<int32_t>(drop.size());
 }
 
+namespace {
+
+// One Monte Carlo run of one scenario: every solver on one simulated file. The paper's setting:
+// chain form, the χ²(n·D) gate at 0.99, forward alignment.
+std::vector<Seed004Row> seed004_run(const Seed004ExperimentOptions& o, const std::string& name,
+                                    const Scenario& scenario, int32_t run) {
+  const PipelineOptions pipeline = PipelineOptions::paper();
+  std::vector<Seed004Row> rows;
+  TrackFile file = simulation_to_track_file(scenario, simulate(scenario, o.seed, run));
+  drop_sensor_target_tracks(file, o.p_miss, o.seed, run);
+  const SDProblem problem = build_sd_problem(file, pipeline);
+  const std::set<int32_t> targets(file.tracks.truth.begin(), file.tracks.truth.end());
+  for (const auto& solver : o.solvers) {
+    Seed004Row row;
+    row.scenario = name;
+    row.run = run;
+    row.solver = solver;
+    row.targets = static_cast<int32_t>(targets.size());
+    SolutionSD sol;
+    if (solver.rfind("chnn", 0) == 0) {
+      ChnnPseudoResult raw;
+      nlohmann::json opts{{"gated", solver != "chnn-eq7"}};
+      if (solver == "chnn-eq12-single") opts["leftover_passes"] = 0;
+      sol = solve_chnn_sd(problem, opts, o.seed + run, &raw);
+      row.steps = raw.steps;
+      row.neurons = raw.neurons;
+      row.converged = raw.converged;
+    } else {
+      const nlohmann::json opts = solver == "exact" ? nlohmann::json{{"time_limit_s", o.exact_time_limit_s}}
+                                                    : nlohmann::json::object();
+      sol = solve_sd(problem, solver, opts, o.seed + run);
+      row.converged = sol.summary.termination == Termination::kOptimal;
+    }
+    // Score through the same record and metrics as `associate --sd` + `evaluate`.
+    AssociationRecord rec;
+    append_tuples(problem, sol, rec);
+    row.correct_rate = evaluate_association(file.tracks, file.sensors, rec).correct_rate;
+    row.objective = sol.summary.objective;
+    row.lower_bound = sol.summary.lower_bound;
+    row.wall_s = sol.summary.wall_time_s;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+void encode_row(distributed::ByteWriter& w, const Seed004Row& r) {
+  w.put(r.scenario);
+  w.put(r.targets);
+  w.put(r.run);
+  w.put(r.solver);
+  w.put(r.correct_rate);
+  w.put(r.objective);
+  w.put(r.lower_bound);
+  w.put(r.wall_s);
+  w.put(r.steps);
+  w.put(r.neurons);
+  w.put<uint8_t>(r.converged);
+}
+
+Seed004Row decode_row(distributed::ByteReader& rd) {
+  Seed004Row r;
+  r.scenario = rd.get_string();
+  r.targets = rd.get<int32_t>();
+  r.run = rd.get<int32_t>();
+  r.solver = rd.get_string();
+  r.correct_rate = rd.get<double>();
+  r.objective = rd.get<double>();
+  r.lower_bound = rd.get<double>();
+  r.wall_s = rd.get<double>();
+  r.steps = rd.get<int64_t>();
+  r.neurons = rd.get<int64_t>();
+  r.converged = rd.get<uint8_t>() != 0;
+  return r;
+}
+
+}  // namespace
+
+// The runs of every scenario, in the order of one process, sharded over the process's ranks
+// (DESIGN §8; engine/distributed/sharding.hpp): a run draws from (seed, run) only.
 std::vector<Seed004Row> run_seed004_experiment(const Seed004ExperimentOptions& o, std::ostream* progress) {
   o.validate();
-  std::vector<Seed004Row> rows;
-  // The paper's setting: chain form, the χ²(n·D) gate at 0.99, forward alignment.
-  const PipelineOptions pipeline = PipelineOptions::paper();
-  for (const auto& name : o.scenarios) {
-    const Scenario scenario = load_scenario(name);
-    for (int32_t run = 0; run < o.runs; ++run) {
-      TrackFile file = simulation_to_track_file(scenario, simulate(scenario, o.seed, run));
-      drop_sensor_target_tracks(file, o.p_miss, o.seed, run);
-      const SDProblem problem = build_sd_problem(file, pipeline);
-      const std::set<int32_t> targets(file.tracks.truth.begin(), file.tracks.truth.end());
-      for (const auto& solver : o.solvers) {
-        Seed004Row row;
-        row.scenario = name;
-        row.run = run;
-        row.solver = solver;
-        row.targets = static_cast<int32_t>(targets.size());
-        SolutionSD sol;
-        if (solver.rfind("chnn", 0) == 0) {
-          ChnnPseudoResult raw;
-          nlohmann::json opts{{"gated", solver != "chnn-eq7"}};
-          if (solver == "chnn-eq12-single") opts["leftover_passes"] = 0;
-          sol = solve_chnn_sd(problem, opts, o.seed + run, &raw);
-          row.steps = raw.steps;
-          row.neurons = raw.neurons;
-          row.converged = raw.converged;
-        } else {
-          const nlohmann::json opts = solver == "exact"
-                                          ? nlohmann::json{{"time_limit_s", o.exact_time_limit_s}}
-                                          : nlohmann::json::object();
-          sol = solve_sd(problem, solver, opts, o.seed + run);
-          row.converged = sol.summary.termination == Termination::kOptimal;
-        }
-        // Score through the same record and metrics as `associate --sd` + `evaluate`.
-        AssociationRecord rec;
-        append_tuples(problem, sol, rec);
-        row.correct_rate = evaluate_association(file.tracks, file.sensors, rec).correct_rate;
-        row.objective = sol.summary.objective;
-        row.lower_bound = sol.summary.lower_bound;
-        row.wall_s = sol.summary.wall_time_s;
-        rows.push_back(row);
-      }
-      if (progress) *progress << "\rseed004: " << name << " run " << (run + 1) << "/" << o.runs << std::flush;
-    }
-  }
+  std::vector<Scenario> scenarios;
+  for (const auto& name : o.scenarios) scenarios.push_back(load_scenario(name));  // all errors first
+  auto& comm = distributed::world();
+  const int64_t items = static_cast<int64_t>(scenarios.size()) * o.runs;
+  int64_t done = 0;
+  auto rows = distributed::sharded_items<Seed004Row>(
+      comm, items,
+      [&](int64_t i) {
+        const auto s = static_cast<std::size_t>(i / o.runs);
+        const auto run = static_cast<int32_t>(i % o.runs);
+        auto r = seed004_run(o, o.scenarios[s], scenarios[s], run);
+        if (progress) *progress << "\rseed004: run " << ++done << "/" << items << std::flush;
+        return r;
+      },
+      [&](int64_t i) {
+        return "seed004 run " + std::to_string(i % o.runs) + " of scenario " + o.scenarios[i / o.runs];
+      },
+      encode_row, decode_row);
   if (progress) *progress << "\n";
   return rows;
 }

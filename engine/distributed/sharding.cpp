@@ -1,0 +1,181 @@
+// Sharding and failure agreement over ranks (engine/distributed/sharding.hpp).
+#include "engine/distributed/sharding.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <ctime>
+#include <numeric>
+#include <stdexcept>
+
+#include "kernels/core/error.hpp"
+
+namespace trackassoc::distributed {
+namespace {
+
+enum class Status : uint8_t { kOk = 0, kInputError = 1, kInternalError = 2 };
+
+int exit_code(Status s) { return s == Status::kInputError ? 2 : 1; }
+
+// The status and message of a thrown exception.
+std::pair<Status, std::string> status_of(const std::exception_ptr& e) {
+  try {
+    std::rethrow_exception(e);
+  } catch (const SilentExit& x) {
+    return {x.code() == 2 ? Status::kInputError : Status::kInternalError, ""};
+  } catch (const InputError& x) {
+    return {Status::kInputError, x.what()};
+  } catch (const std::exception& x) {
+    return {Status::kInternalError, x.what()};
+  } catch (...) {
+    return {Status::kInternalError, "unknown exception"};
+  }
+}
+
+Bytes failure_message(Status s, const std::string& message) {
+  ByteWriter w;
+  w.put<uint8_t>(static_cast<uint8_t>(s));
+  w.put(message);
+  return w.take();
+}
+
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+ShardTimes& shard_times() {
+  static ShardTimes times;
+  return times;
+}
+
+}  // namespace
+
+const ShardTimes& last_shard_times() { return shard_times(); }
+
+int owner_of_item(int64_t item, int ranks) { return static_cast<int>(item % ranks); }
+
+std::vector<int32_t> balance_by_cost(const std::vector<double>& cost, int ranks) {
+  std::vector<int32_t> order(cost.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int32_t a, int32_t b) { return cost[a] > cost[b]; });
+  std::vector<double> load(ranks, 0.0);
+  std::vector<int32_t> owner(cost.size(), 0);
+  for (int32_t t : order) {
+    const auto r = static_cast<int32_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    owner[t] = r;
+    load[r] += cost[t];
+  }
+  return owner;
+}
+
+double makespan(const std::vector<double>& cost, const std::vector<int32_t>& assignment, int ranks) {
+  std::vector<double> load(ranks, 0.0);
+  for (std::size_t t = 0; t < cost.size(); ++t) load[assignment[t]] += cost[t];
+  return load.empty() ? 0.0 : *std::max_element(load.begin(), load.end());
+}
+
+void inject_fault_for_tests(const Communicator& comm, const std::string& shard) {
+  const char* v = std::getenv("TRACKASSOC_FAULT_RANK");
+  if (v && std::atoi(v) == comm.rank())
+    throw std::runtime_error("fault injected for the test (TRACKASSOC_FAULT_RANK) in " + shard);
+}
+
+std::vector<Bytes> gather_shards(Communicator& comm, const std::function<Bytes(std::string& shard)>& work) {
+  comm.set_exchange_open(true);
+  std::string shard = "its shard";
+  Bytes mine;
+  Status own = Status::kOk;
+  const auto wall0 = std::chrono::steady_clock::now();
+  const double cpu0 = cpu_seconds();
+  try {
+    Bytes payload = work(shard);
+    ByteWriter head;  // status, then the work's wall and CPU seconds, then the payload
+    head.put<uint8_t>(static_cast<uint8_t>(Status::kOk));
+    head.put(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+    head.put(cpu_seconds() - cpu0);
+    mine = head.take();
+    mine.insert(mine.end(), payload.begin(), payload.end());
+  } catch (...) {
+    const auto [s, message] = status_of(std::current_exception());
+    own = s;
+    mine = failure_message(s, shard + ": " + message);
+  }
+  std::vector<Bytes> all = comm.gather(mine);
+  comm.set_exchange_open(false);
+  if (!comm.root()) {
+    if (own != Status::kOk) throw SilentExit(exit_code(own));
+    return {};
+  }
+  for (std::size_t r = 0; r < all.size(); ++r) {
+    const auto s = static_cast<Status>(all[r].at(0));
+    if (s == Status::kOk) continue;
+    ByteReader rd(all[r].data() + 1, all[r].size() - 1);
+    const std::string what = "rank " + std::to_string(r) + ", " + rd.get_string();
+    if (s == Status::kInputError) throw InputError(what);
+    throw std::runtime_error(what);
+  }
+  ShardTimes& times = shard_times();
+  times = {};
+  for (auto& b : all) {
+    ByteReader rd(b.data() + 1, b.size() - 1);
+    times.wall_s.push_back(rd.get<double>());
+    times.cpu_s.push_back(rd.get<double>());
+    b.erase(b.begin(), b.begin() + 1 + 2 * sizeof(double));
+  }
+  return all;
+}
+
+Bytes scatter_work(Communicator& comm, const std::vector<Bytes>& parts) {
+  comm.set_exchange_open(true);
+  std::vector<Bytes> framed;
+  if (comm.root()) {
+    framed.reserve(parts.size());
+    for (const auto& p : parts) {
+      Bytes b;
+      b.reserve(p.size() + 1);
+      b.push_back(static_cast<uint8_t>(Status::kOk));
+      b.insert(b.end(), p.begin(), p.end());
+      framed.push_back(std::move(b));
+    }
+    comm.set_ranks_waiting(false);
+  }
+  Bytes mine = comm.scatter(framed);
+  const auto s = static_cast<Status>(mine.at(0));
+  if (s != Status::kOk) {
+    comm.set_exchange_open(false);
+    throw SilentExit(exit_code(s));
+  }
+  mine.erase(mine.begin());
+  return mine;
+}
+
+void check_on_root(Communicator& comm, const std::function<void()>& check) {
+  if (comm.size() == 1) return check();
+  std::exception_ptr error;
+  Bytes status{static_cast<uint8_t>(Status::kOk)};
+  if (comm.root()) try {
+      check();
+    } catch (...) {
+      error = std::current_exception();
+      const auto [s, message] = status_of(error);
+      status = failure_message(s, message);
+    }
+  comm.set_exchange_open(true);
+  const Bytes mine = comm.scatter(std::vector<Bytes>(comm.root() ? comm.size() : 0, status));
+  comm.set_exchange_open(false);
+  if (error) std::rethrow_exception(error);
+  const auto s = static_cast<Status>(mine.at(0));
+  if (s != Status::kOk) throw SilentExit(exit_code(s));
+}
+
+void release_waiting_ranks(Communicator& comm, const std::exception_ptr& error) {
+  if (!comm.root() || !comm.ranks_waiting()) return;
+  comm.set_ranks_waiting(false);
+  const auto [s, message] = status_of(error);
+  comm.scatter(std::vector<Bytes>(comm.size(), failure_message(s, message)));
+  comm.set_exchange_open(false);
+}
+
+}  // namespace trackassoc::distributed

@@ -1,0 +1,116 @@
+// Sharding work over the ranks of a Communicator (DESIGN §8; issue 19), and the rules that keep a
+// failure from hanging a job or leaving a partial output.
+//
+// What goes where:
+//   * Monte Carlo runs: item i (a run of one configuration, flattened in the order one process
+//     visits them) goes to rank i mod N (round robin; the runs of a study cost about the same,
+//     and consecutive configurations of different cost are dealt out evenly). Each run's random
+//     stream comes from (seed, run) alone (kernels/core/random.hpp), never from the rank, so the
+//     rows are those of one process; rank 0 puts them back in item order (sharded_items).
+//   * Connected components: balance_by_cost, longest processing time first (Graham 1969: within
+//     4/3 of the best makespan), cost = an estimate of the component's solve.
+//
+// Failures (issue 19 item 4). Every message a rank sends starts with a status: ok, bad input or
+// internal error with its message. So
+//   * a rank whose shard throws still takes part in the gather; rank 0 then throws the first
+//     failure, "rank R, SHARD: why" (InputError → exit 2, else exit 1), writes nothing, and the
+//     failing rank ends with the same status (SilentExit);
+//   * rank 0 failing before it hands out work (bad input file: exit 2, one line) scatters the
+//     failure instead of the work (release_waiting_ranks), and the waiting ranks end silently.
+// Test hook: TRACKASSOC_FAULT_RANK=R makes rank R's first item throw (tests/mpi/).
+#pragma once
+
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/distributed/byte_buffer.hpp"
+#include "engine/distributed/communicator.hpp"
+
+namespace trackassoc::distributed {
+
+// The rank that runs item `item` of `items` over `ranks` ranks (round robin).
+int owner_of_item(int64_t item, int ranks);
+
+// Rank of every task, longest processing time first: tasks by cost descending (ties by index),
+// each to the least loaded rank (ties: the lowest rank). Deterministic; costs must be >= 0.
+std::vector<int32_t> balance_by_cost(const std::vector<double>& cost, int ranks);
+
+// The largest load of any rank under `assignment` (for the scaling note).
+double makespan(const std::vector<double>& cost, const std::vector<int32_t>& assignment, int ranks);
+
+// Test hook: throws on the rank named by TRACKASSOC_FAULT_RANK (an internal error).
+void inject_fault_for_tests(const Communicator& comm, const std::string& shard);
+
+// Every rank runs work(shard) once; `shard` is the description the work keeps current (e.g.
+// "seed000 run 7"), named in the message when it throws. Rank 0 returns every rank's payload in
+// rank order, or throws the first failure; the other ranks return nothing (or SilentExit when
+// their own work failed).
+std::vector<Bytes> gather_shards(Communicator& comm, const std::function<Bytes(std::string& shard)>& work);
+
+// Rank 0, after gather_shards: each rank's time in its work, wall and CPU (this process) seconds,
+// for the scaling note (printed by main.cpp under TRACKASSOC_MPI_STATS). The CPU time is the
+// work's cost without the other ranks' contention when ranks share cores (--oversubscribe).
+struct ShardTimes {
+  std::vector<double> wall_s, cpu_s;
+};
+const ShardTimes& last_shard_times();
+
+// Rank 0: hands parts[r] to rank r (with an ok status) and returns its own; the others return
+// theirs, or end with SilentExit when rank 0 sent a failure.
+Bytes scatter_work(Communicator& comm, const std::vector<Bytes>& parts);
+
+// Rank 0 runs `check` (e.g. the output paths, which only rank 0 writes) and every rank learns its
+// outcome: rank 0 rethrows a failure, the others end with SilentExit. One rank: just check().
+void check_on_root(Communicator& comm, const std::function<void()>& check);
+
+// Rank 0, before it throws: if the other ranks wait for scatter_work, send them `error` instead.
+void release_waiting_ranks(Communicator& comm, const std::exception_ptr& error);
+
+// The rows of items 0..items-1 computed over the ranks (owner_of_item), in item order on rank 0
+// (empty elsewhere). `run(i)` gives item i's rows, `describe(i)` names it in an error,
+// `encode`/`decode` move one row.
+template <class Row>
+std::vector<Row> sharded_items(Communicator& comm, int64_t items,
+                               const std::function<std::vector<Row>(int64_t)>& run,
+                               const std::function<std::string(int64_t)>& describe,
+                               const std::function<void(ByteWriter&, const Row&)>& encode,
+                               const std::function<Row(ByteReader&)>& decode) {
+  const int N = comm.size();
+  if (N == 1) {
+    std::vector<Row> rows;
+    for (int64_t i = 0; i < items; ++i)
+      for (auto& r : run(i)) rows.push_back(std::move(r));
+    return rows;
+  }
+  const auto parts = gather_shards(comm, [&](std::string& shard) {
+    ByteWriter w;
+    for (int64_t i = comm.rank(); i < items; i += N) {
+      shard = describe(i);
+      inject_fault_for_tests(comm, shard);
+      const std::vector<Row> rows = run(i);
+      w.put<int64_t>(i);
+      w.put<uint64_t>(rows.size());
+      for (const auto& r : rows) encode(w, r);
+    }
+    return w.take();
+  });
+  if (!comm.root()) return {};
+  std::vector<std::vector<Row>> by_item(items);
+  for (const auto& part : parts) {
+    ByteReader rd(part);
+    while (!rd.done()) {
+      const auto i = rd.get<int64_t>();
+      const auto n = rd.get<uint64_t>();
+      for (uint64_t k = 0; k < n; ++k) by_item.at(i).push_back(decode(rd));
+    }
+  }
+  std::vector<Row> rows;
+  for (auto& v : by_item)
+    for (auto& r : v) rows.push_back(std::move(r));
+  return rows;
+}
+
+}  // namespace trackassoc::distributed

@@ -1,0 +1,72 @@
+// One connected component of the sparse S-D pipeline (engine/pipeline/sparse_sd_pipeline.hpp) as a
+// self-contained problem: its tracks by sensor, the link costs among them and when each track is
+// valid, so that it can be solved where its problem was not built (another MPI rank, DESIGN §8;
+// engine/pipeline/sparse_sd_sharded.hpp). The formulation (tuple cost, what is allowed, the dense
+// sub-tensor and the sequential LAP merging fallback) is the header's; this file holds it.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/distributed/byte_buffer.hpp"
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
+
+namespace trackassoc {
+
+// The tracks of one component, by sensor, and the link costs among them.
+struct SDComponentView {
+  int32_t S = 0;
+  std::vector<std::vector<int32_t>> tracks;       // tracks[s] = local track indices of sensor s
+  std::vector<std::vector<int32_t>> node;         // node[s][i] = problem node of tracks[s][i]
+  std::vector<std::vector<int32_t>> first, last;  // first and last valid common time of node[s][i]
+  std::vector<std::vector<double>> link;          // slot a·S + b (a < b): n_a × n_b, NaN = no gated pair
+
+  double link_cost(int32_t a, int32_t i, int32_t b, int32_t j) const {
+    if (a > b) std::swap(a, b), std::swap(i, j);
+    return link[static_cast<std::size_t>(a) * S + b][static_cast<std::size_t>(i) * tracks[b].size() + j];
+  }
+  // The two tracks have common valid times, so the gate tested them (SparseSDProblem::coexist).
+  bool overlap(int32_t a, int32_t i, int32_t b, int32_t j) const {
+    if (first[a][i] < 0 || first[b][j] < 0) return false;
+    return std::max(first[a][i], first[b][j]) <= std::min(last[a][i], last[b][j]);
+  }
+  // Entries of the dense sub-tensor, Π(n_s + 1).
+  double entries() const;
+};
+
+SDComponentView sd_component_view(const SparseSDProblem& p, int32_t c);
+
+struct SDComponentResult {
+  std::vector<std::vector<int32_t>> tuples;  // problem nodes per tuple (any order)
+  std::vector<double> costs;                 // sd_tuple_cost of each tuple
+  double objective = 0.0, lower_bound = 0.0;
+  bool fallback = false, optimal = false;
+  std::size_t entries = 0;
+};
+
+// The component's dense S-D assignment (`solver`, a sparse_sd_solver_names() name) when its
+// sub-tensor has at most `max_entries` entries, else sequential LAP merging. Deterministic.
+SDComponentResult solve_sd_component(const SDComponentView& v, const std::string& solver,
+                                     const nlohmann::json& solver_options, bool all_pairs,
+                                     std::size_t max_entries);
+
+// Every component of `p` solved here, in parallel (TBB); a component of one track is its own tuple.
+std::vector<SDComponentResult> solve_sd_components(const SparseSDProblem& p, const std::string& solver,
+                                                   const nlohmann::json& solver_options, bool all_pairs,
+                                                   std::size_t max_entries);
+// The result of a component of one track (node u).
+SDComponentResult single_track_component(int32_t u);
+
+// An estimate of solve_sd_component's cost, for balancing components over ranks: the dense
+// sub-tensor's entries, or for the merging fallback the LAP sizes Σ_s (groups × n_s).
+double sd_component_cost(const SDComponentView& v, std::size_t max_entries);
+
+void encode_sd_component_view(distributed::ByteWriter& w, const SDComponentView& v);
+SDComponentView decode_sd_component_view(distributed::ByteReader& r);
+void encode_sd_component_result(distributed::ByteWriter& w, const SDComponentResult& x);
+SDComponentResult decode_sd_component_result(distributed::ByteReader& r);
+
+}  // namespace trackassoc

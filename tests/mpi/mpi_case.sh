@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# One MPI test case (issue 19 item 5; registered by CMakeLists.txt in the MPI build only, run by
+# scripts/test_mpi.sh): `mpirun -np 2 --oversubscribe` against one process on small files, the
+# datasets compared byte for byte (tests/mpi/compare_h5.py; wall times by shape only).
+# Usage: mpi_case.sh CASE TRACKASSOC_BINARY
+set -uo pipefail
+case_name=$1
+bin=$2
+here=$(cd "$(dirname "$0")" && pwd)
+work=$(mktemp -d /tmp/trackassoc-mpi-XXXXXX)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+mpirun_args=(--oversubscribe)
+[ "$(id -u)" -eq 0 ] && mpirun_args+=(--allow-run-as-root)
+mpi() { local n=$1; shift; mpirun -q "${mpirun_args[@]}" -np "$n" "$@"; }
+compare() { /usr/bin/python3 "$here/compare_h5.py" "$@"; }
+fail() { echo "FAIL: $*"; exit 1; }
+# The line count of trackassoc's own errors (mpirun may add its own report of the exit status).
+error_lines() { grep -c '^trackassoc: \(internal \)\?error:' "$1"; }
+
+case "$case_name" in
+  seed000)  # sharded Monte Carlo: 1 vs 2 and 3 ranks, and 2 ranks x 2 threads
+    args=(experiment seed000 --targets 5 --runs 3 --solvers lr hopfield --no-plots --seed 7)
+    "$bin" "${args[@]}" -o one.h5 > one.txt || fail "one process"
+    for n in 2 3; do
+      mpi "$n" "$bin" "${args[@]}" -o "np$n.h5" > "np$n.txt" || fail "$n ranks"
+      compare one.h5 "np$n.h5" --ignore wall_time_s || fail "$n ranks differ"
+      [ "$(grep -c 'wrote' "np$n.txt")" -eq 1 ] || fail "$n ranks: the table is printed once, by rank 0"
+    done
+    mpi 2 "$bin" "${args[@]}" --threads 2 -o t2.h5 > /dev/null || fail "2 ranks, 2 threads"
+    compare one.h5 t2.h5 --ignore wall_time_s || fail "2 ranks x 2 threads differ"
+    # The table's rates (every column but the times) are those of one process.
+    diff <(grep -v '^wrote' one.txt | sed 's/ *[0-9.]*$//') <(grep -v '^wrote' np2.txt | sed 's/ *[0-9.]*$//') \
+      || fail "the tables differ"
+    ;;
+  seed004)
+    args=(experiment seed004 --runs 2 --solvers lr+ls chnn-eq12 --no-plots)
+    "$bin" "${args[@]}" -o one.h5 > /dev/null || fail "one process"
+    mpi 2 "$bin" "${args[@]}" -o np2.h5 > /dev/null || fail "2 ranks"
+    compare one.h5 np2.h5 --ignore wall_time_s || fail "2 ranks differ"
+    ;;
+  associate)  # sharded components: 1 vs 2 and 3 ranks, 5 sensors and a dense case
+    for sc in recorded_5s recorded_dense; do
+      "$bin" simulate --scenario "$sc" --seed 3 -o "$sc.h5" > /dev/null || fail "simulate $sc"
+      "$bin" associate -i "$sc.h5" -o "$sc-one.h5" > /dev/null || fail "one process $sc"
+      for n in 2 3; do
+        mpi "$n" "$bin" associate -i "$sc.h5" -o "$sc-np$n.h5" > "$sc-np$n.txt" || fail "$n ranks $sc"
+        compare "$sc-one.h5" "$sc-np$n.h5" || fail "$sc: $n ranks differ"
+        [ "$(grep -c '^associated' "$sc-np$n.txt")" -eq 1 ] || fail "printed once, by rank 0"
+      done
+    done
+    mpi 2 "$bin" associate -i recorded_5s.h5 -o exact-np2.h5 --solver exact --threads 2 > /dev/null || fail "exact"
+    "$bin" associate -i recorded_5s.h5 -o exact-one.h5 --solver exact > /dev/null || fail "exact one"
+    compare exact-one.h5 exact-np2.h5 || fail "exact: 2 ranks differ"
+    ;;
+  rank-fails)  # a rank that fails names its shard; non-zero exit; no output, no .tmp
+    "$bin" simulate --scenario recorded_3s -o in.h5 > /dev/null || fail "simulate"
+    TRACKASSOC_FAULT_RANK=1 mpi 2 -x TRACKASSOC_FAULT_RANK "$bin" experiment seed000 --targets 5 --runs 2 \
+      --solvers lr --no-plots -o study.h5 > out.txt 2> err.txt
+    rc=$?
+    [ "$rc" -ne 0 ] || fail "exit 0 after a failed rank"
+    grep -q '^trackassoc: internal error: rank 1, seed000 run 1 of 5 targets' err.txt || { cat err.txt; fail "message"; }
+    [ "$(error_lines err.txt)" -eq 1 ] || { cat err.txt; fail "one line"; }
+    [ ! -e study.h5 ] && [ ! -e study.h5.tmp ] || fail "partial output left"
+    TRACKASSOC_FAULT_RANK=1 mpi 2 -x TRACKASSOC_FAULT_RANK "$bin" associate -i in.h5 -o a.h5 > out.txt 2> err.txt
+    [ $? -ne 0 ] || fail "associate: exit 0 after a failed rank"
+    grep -q '^trackassoc: internal error: rank 1, [0-9]* components ([0-9]* tracks): fault injected' err.txt || { cat err.txt; fail "associate message"; }
+    [ ! -e a.h5 ] && [ ! -e a.h5.tmp ] || fail "associate: partial output left"
+    TRACKASSOC_FAULT_RANK=0 mpi 2 -x TRACKASSOC_FAULT_RANK "$bin" associate -i in.h5 -o a.h5 > out.txt 2> err.txt
+    [ $? -ne 0 ] || fail "associate: exit 0 after rank 0 failed its share"
+    grep -q '^trackassoc: internal error: rank 0, [0-9]* components' err.txt || { cat err.txt; fail "rank 0 message"; }
+    [ ! -e a.h5 ] || fail "rank 0 failure: output left"
+    ;;
+  bad-input)  # bad input on rank 0: exit 2 with one line, the other ranks released
+    echo "not hdf5" > bad.h5
+    mpi 2 "$bin" associate -i bad.h5 -o a.h5 > out.txt 2> err.txt
+    rc=$?
+    [ "$rc" -eq 2 ] || { cat err.txt; fail "exit $rc, expected 2"; }
+    [ "$(error_lines err.txt)" -eq 1 ] || { cat err.txt; fail "one line"; }
+    grep -q '^trackassoc: error: .*bad.h5' err.txt || { cat err.txt; fail "names the file"; }
+    [ ! -e a.h5 ] || fail "output left"
+    mpi 2 "$bin" experiment seed000 --runs 0 -o s.h5 > out.txt 2> err.txt
+    [ $? -eq 2 ] && [ "$(grep -c 'runs' err.txt)" -eq 1 ] || { cat err.txt; fail "usage error once"; }
+    mpi 2 "$bin" experiment seed000 --runs 2 --targets 5 --no-plots -o nofolder/s.h5 > out.txt 2> err.txt
+    [ $? -eq 2 ] && [ "$(error_lines err.txt)" -eq 1 ] || { cat err.txt; fail "output folder: exit 2, one line"; }
+    ;;
+  refused)  # commands and studies that do not shard refuse more than one rank, clearly
+    mpi 2 "$bin" simulate --scenario recorded_3s -o s.h5 > out.txt 2> err.txt
+    [ $? -eq 2 ] && grep -q 'simulate: runs as one process' err.txt || { cat err.txt; fail "simulate"; }
+    mpi 2 "$bin" experiment seed001 --runs 2 -o s.h5 > out.txt 2> err.txt
+    [ $? -eq 2 ] && grep -q 'experiment seed001: runs as one process' err.txt || { cat err.txt; fail "seed001"; }
+    "$bin" simulate --scenario recorded_3s -o in.h5 > /dev/null || fail "simulate"
+    mpi 2 "$bin" associate -i in.h5 -o a.h5 --solver lr --3d > out.txt 2> err.txt
+    [ $? -eq 2 ] && [ "$(error_lines err.txt)" -eq 1 ] && grep -q 'only the default pipeline' err.txt \
+      || { cat err.txt; fail "--3d"; }
+    [ ! -e s.h5 ] && [ ! -e a.h5 ] || fail "output written"
+    ;;
+  *) fail "unknown case $case_name" ;;
+esac
+echo "PASS: $case_name"
