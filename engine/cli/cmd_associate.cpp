@@ -18,6 +18,7 @@
 #include "engine/distributed/communicator.hpp"
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
+#include "engine/pipeline/sparse_3d_sharded.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/solvers/solver_registry.hpp"
@@ -167,15 +168,19 @@ void register_associate(CLI::App& app) {
           "--duplicate-sensors: duplicates join targets in the segment pass; drop --no-segments");
     request.validate();  // --sd, --3d, --sparse: at most one, before the Hopfield flags' errors
     merge_hopfield_flags(args->hopfield, request.solver, request.solver_options);
-    // More than one MPI rank (DESIGN §8): the default path's components are shared out; rank 0
-    // reads, builds, writes and prints, the other ranks only solve what it sends them
-    // (engine/pipeline/sparse_sd_sharded.hpp). Everything above is the same on every rank.
+    // More than one MPI rank (DESIGN §8): the components of the default path and of --sparse are
+    // shared out; rank 0 reads, builds, writes and prints, the other ranks only solve what it sends
+    // them (engine/pipeline/sparse_sd_sharded.hpp, sparse_3d_sharded.hpp). Everything above is the
+    // same on every rank.
     if (comm.size() > 1) {
-      if (choose_association_path(request) != AssociationPath::kSparseSD)
-        throw InputError("associate: only the default pipeline (sparse S-D, no --3d/--sparse/--sd, solver " +
-                         list_names(sparse_sd_solver_names(), ", ") + ") is sharded over MPI ranks (got " +
-                         std::to_string(comm.size()) + " ranks); run the others as one process");
-      if (!comm.root()) return serve_sd_components(comm);
+      const AssociationPath path = choose_association_path(request);
+      if (path != AssociationPath::kSparseSD && path != AssociationPath::kSparse3D)
+        throw InputError("associate: only the default pipeline (sparse S-D, no --3d/--sd, solver " +
+                         list_names(sparse_sd_solver_names(), ", ") +
+                         ") and --sparse are sharded over MPI ranks (got " + std::to_string(comm.size()) +
+                         " ranks); run the others as one process");
+      if (!comm.root())
+        return path == AssociationPath::kSparse3D ? serve_sparse_components(comm) : serve_sd_components(comm);
       comm.set_ranks_waiting(true);  // until rank 0 scatters their work, or its error (main.cpp)
       request.ranks = &comm;
       check_output_paths({{args->output, "--output"}});

@@ -53,8 +53,9 @@ struct AssociatorOptions {
   std::string name;           // /associations group; empty = the solver name
   std::string siamese_model;  // --solver siamese: model file (io/siamese_model_file.hpp)
   SegmentOptions segments;    // the default (sparse S-D) path: track segments joined to targets
-  // The default (sparse S-D) path: the MPI ranks that share its components (rank 0's call; the
-  // others run serve_sd_components, engine/pipeline/sparse_sd_sharded.hpp). Null: this process.
+  // The default (sparse S-D) path and --sparse: the MPI ranks that share its components (rank 0's
+  // call; the others run serve_sd_components, engine/pipeline/sparse_sd_sharded.hpp, or
+  // serve_sparse_components, engine/pipeline/sparse_3d_sharded.hpp). Null: this process.
   distributed::Communicator* ranks = nullptr;
   // Throws InputError when more than one of sd, three_d, sparse is set, or solver_options is not
   // a JSON object.

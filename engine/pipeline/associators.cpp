@@ -92,6 +92,7 @@ class ThreeSensorAssociator final : public TrackAssociator {
       : o_(o), sparse_(sparse), prepared_(std::move(prepared)) {
     find_solver(o.solver);  // an unknown name fails before anything is read
     sparse_options_.pipeline = o.pipeline;
+    if (sparse) sparse_options_.ranks = o.ranks;  // --sparse: the components shared over MPI ranks
   }
   AssociationPath path() const override {
     return sparse_ ? AssociationPath::kSparse3D : AssociationPath::kDense3D;

@@ -9,6 +9,7 @@
 #include <map>
 #include <numeric>
 
+#include "engine/pipeline/sparse_3d_sharded.hpp"
 #include "engine/pipeline/tuple_decoding.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
@@ -148,13 +149,6 @@ std::array<int32_t, 3> component_track_counts(const SparseAssociationProblem& p,
 
 namespace {
 
-// One component as a dense sub-problem: local index → track row of each sensor, the pair costs
-// (λ in gate, G otherwise, phantoms G) and the tensor.
-struct ComponentProblem {
-  std::array<std::vector<int32_t>, 3> rows;  // real tracks; local indices beyond are phantoms
-  CostTensor3 tensor;
-};
-
 // A pair's cost in the tensor: float, clamped so that a sum of three stays finite (cost_tensor.cpp).
 float pair_cost(double lambda) { return static_cast<float>(std::min(lambda, 1e30)); }
 
@@ -164,53 +158,93 @@ double gated_lambda(const SparsePairStatistic& s, int32_t ia, int32_t ib) {
   return q < 0 ? std::numeric_limits<double>::quiet_NaN() : s.lambda[q];
 }
 
-ComponentProblem component_problem(const SparseAssociationProblem& p, int32_t c,
-                                   const SparsePipelineOptions& o) {
-  ComponentProblem cp;
+// Local index → track row of each sensor of component c.
+std::array<std::vector<int32_t>, 3> component_rows(const SparseAssociationProblem& p, int32_t c) {
+  std::array<std::vector<int32_t>, 3> rows;
   for (int32_t node : p.components.members(c)) {
     int d = 0;
     while (node >= p.offset[d + 1]) ++d;
-    cp.rows[d].push_back(node - p.offset[d]);
+    rows[d].push_back(node - p.offset[d]);
   }
+  return rows;
+}
+
+}  // namespace
+
+SparseComponentMatrices sparse_component_matrices(const SparseAssociationProblem& p, int32_t c,
+                                                  const SparsePipelineOptions& o) {
+  SparseComponentMatrices m;
+  const auto rows = component_rows(p, c);
+  for (int d = 0; d < 3; ++d) m.tracks[d] = static_cast<int32_t>(rows[d].size());
   const bool pad = std::isinf(o.miss_cost);
-  std::array<int32_t, 3> n{};
-  for (int d = 0; d < 3; ++d) n[d] = static_cast<int32_t>(cp.rows[d].size());
+  std::array<int32_t, 3>& n = m.n;
+  n = m.tracks;
   if (pad) n.fill(*std::max_element(n.begin(), n.end()));
   const double entries = static_cast<double>(n[0]) * n[1] * n[2];
   if (entries > static_cast<double>(o.max_component_entries))
     throw InputError(
-        "sparse association: component " + std::to_string(c) + " holds " + std::to_string(cp.rows[0].size()) +
-        "×" + std::to_string(cp.rows[1].size()) + "×" + std::to_string(cp.rows[2].size()) +
+        "sparse association: component " + std::to_string(c) + " holds " + std::to_string(rows[0].size()) +
+        "×" + std::to_string(rows[1].size()) + "×" + std::to_string(rows[2].size()) +
         " tracks, a dense sub-tensor of " + std::to_string(static_cast<long long>(entries)) +
         " entries > max_component_entries = " + std::to_string(o.max_component_entries) +
         "; tighten the gate (--gate) or raise the limit (no sparse-capable solver is registered)");
   const double G = p.gated_pair_cost;
   // Pair costs as the dense tensor has them (kernels/statistics/cost_tensor.cpp): float(λ) in the gate,
-  // float(G) otherwise, then summed in float in the same order, so that the costs are bit-identical.
+  // float(G) otherwise (phantoms too).
   auto pair_matrix = [&](const SparsePairStatistic& s, int da, int db) {
-    std::vector<float> m(static_cast<std::size_t>(n[da]) * n[db], pair_cost(G));
-    for (std::size_t x = 0; x < cp.rows[da].size(); ++x)
-      for (std::size_t y = 0; y < cp.rows[db].size(); ++y) {
-        const double l = gated_lambda(s, cp.rows[da][x], cp.rows[db][y]);
-        if (!std::isnan(l)) m[x * n[db] + y] = pair_cost(l);
+    std::vector<float> x(static_cast<std::size_t>(n[da]) * n[db], pair_cost(G));
+    for (std::size_t i = 0; i < rows[da].size(); ++i)
+      for (std::size_t j = 0; j < rows[db].size(); ++j) {
+        const double l = gated_lambda(s, rows[da][i], rows[db][j]);
+        if (!std::isnan(l)) x[i * n[db] + j] = pair_cost(l);
       }
-    return m;
+    return x;
   };
-  const std::vector<float> c12 = pair_matrix(p.s12, 0, 1), c23 = pair_matrix(p.s23, 1, 2);
-  const bool all_pairs = o.pipeline.cost.form == CostForm::kAllPairs;
-  const std::vector<float> c13 = all_pairs ? pair_matrix(p.s13, 0, 2) : std::vector<float>{};
-  cp.tensor = CostTensor3(n[0], n[1], n[2]);
-  cp.tensor.miss_cost = o.miss_cost;
+  m.c12 = pair_matrix(p.s12, 0, 1);
+  m.c23 = pair_matrix(p.s23, 1, 2);
+  m.all_pairs = o.pipeline.cost.form == CostForm::kAllPairs;
+  if (m.all_pairs) m.c13 = pair_matrix(p.s13, 0, 2);
+  m.miss_cost = o.miss_cost;
+  return m;
+}
+
+CostTensor3 sparse_component_tensor(const SparseComponentMatrices& m) {
+  const auto& n = m.n;
+  const bool all_pairs = m.all_pairs;
+  CostTensor3 tensor(n[0], n[1], n[2]);
+  tensor.miss_cost = m.miss_cost;
+  // Summed in float in the dense tensor's order, so that the costs are bit-identical.
   for (int32_t i = 0; i < n[0]; ++i)
     for (int32_t j = 0; j < n[1]; ++j)
       for (int32_t k = 0; k < n[2]; ++k) {
-        const float a = c12[static_cast<std::size_t>(i) * n[1] + j],
-                    c = c23[static_cast<std::size_t>(j) * n[2] + k];
-        cp.tensor.at(i, j, k) = all_pairs ? a + c + c13[static_cast<std::size_t>(i) * n[2] + k]
-                                          : a + c;  // seed 000 Eq. 3: λ_ij + λ_jk
+        const float a = m.c12[static_cast<std::size_t>(i) * n[1] + j],
+                    c = m.c23[static_cast<std::size_t>(j) * n[2] + k];
+        tensor.at(i, j, k) = all_pairs ? a + c + m.c13[static_cast<std::size_t>(i) * n[2] + k]
+                                       : a + c;  // seed 000 Eq. 3: λ_ij + λ_jk
       }
-  return cp;
+  return tensor;
 }
+
+std::vector<int32_t> sparse_component_work(const SparseAssociationProblem& p,
+                                           const SparsePipelineOptions& options) {
+  // Components of one track need no solver; the others are solved largest first for balance.
+  std::vector<int32_t> work;
+  for (int32_t c = 0; c < p.components.count; ++c)
+    if (p.components.size(c) > 1) work.push_back(c);
+  std::stable_sort(work.begin(), work.end(),
+                   [&](int32_t x, int32_t y) { return p.components.size(x) > p.components.size(y); });
+  // Refuse oversized components before any work (clear error, nothing half done).
+  for (int32_t c : work) {
+    const auto n = component_track_counts(p, c);
+    const double m = std::isinf(options.miss_cost) ? std::pow(*std::max_element(n.begin(), n.end()), 3.0)
+                                                   : static_cast<double>(n[0]) * n[1] * n[2];
+    if (m > static_cast<double>(options.max_component_entries))
+      (void)sparse_component_matrices(p, c, options);
+  }
+  return work;
+}
+
+namespace {
 
 // The decoding of engine/pipeline/tuple_decoding.hpp on track rows, with sparse gate lookups.
 struct SparseDecoder {
@@ -253,9 +287,19 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
                                            const SparsePipelineOptions& options,
                                            std::vector<StageReport>* stages) {
   const SolverEntry& entry = find_solver(solver);
-  AssociationRecord rec = solve_sparse_association(
-      p, [&](const CostTensor3& b, uint64_t s) { return entry.solve(b, solver_options, s); }, solver, seed,
-      options, stages);
+  AssociationRecord rec;
+  if (options.ranks && options.ranks->size() > 1) {
+    // The components shared out over the ranks (engine/pipeline/sparse_3d_sharded.hpp), decoded here.
+    options.validate();
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto solutions =
+        solve_sparse_components_sharded(*options.ranks, p, solver, solver_options, seed, options);
+    rec = sparse_record_from_solutions(p, solutions, solver, seed, options, t0, stages);
+  } else {
+    rec = solve_sparse_association(
+        p, [&](const CostTensor3& b, uint64_t s) { return entry.solve(b, solver_options, s); }, solver, seed,
+        options, stages);
+  }
   nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
                          {"pipeline", options.to_json()}};
   rec.options_json = opts.dump();
@@ -268,37 +312,42 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
                                            std::vector<StageReport>* stages) {
   options.validate();
   const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<int32_t> work = sparse_component_work(p, options);
+  std::vector<SparseComponentSolution> solutions(p.components.count);
+  tbb::parallel_for(std::size_t{0}, work.size(), [&](std::size_t w) {
+    const int32_t c = work[w];
+    Solution3 sol = solve(sparse_component_tensor(sparse_component_matrices(p, c, options)),
+                          stream_key(seed, static_cast<uint64_t>(c)));
+    solutions[c] = {std::move(sol.tuples), sol.summary};
+  });
+  return sparse_record_from_solutions(p, solutions, solver, seed, options, t0, stages);
+}
+
+AssociationRecord sparse_record_from_solutions(const SparseAssociationProblem& p,
+                                               const std::vector<SparseComponentSolution>& solutions,
+                                               const std::string& solver, uint64_t seed,
+                                               const SparsePipelineOptions& options,
+                                               std::chrono::steady_clock::time_point t0,
+                                               std::vector<StageReport>* stages) {
   const bool all_pairs = options.pipeline.cost.form == CostForm::kAllPairs;
   const int32_t C = p.components.count;
-
-  // Components of one track need no solver; the others are solved largest first for balance.
   std::vector<int32_t> work;
   for (int32_t c = 0; c < C; ++c)
     if (p.components.size(c) > 1) work.push_back(c);
-  std::stable_sort(work.begin(), work.end(),
-                   [&](int32_t x, int32_t y) { return p.components.size(x) > p.components.size(y); });
-  // Refuse oversized components before any work (clear error, nothing half done).
-  for (int32_t c : work) {
-    const auto n = component_track_counts(p, c);
-    const double m = std::isinf(options.miss_cost) ? std::pow(*std::max_element(n.begin(), n.end()), 3.0)
-                                                   : static_cast<double>(n[0]) * n[1] * n[2];
-    if (m > static_cast<double>(options.max_component_entries)) (void)component_problem(p, c, options);
-  }
-
   std::vector<ComponentResult> results(C);
   tbb::parallel_for(std::size_t{0}, work.size(), [&](std::size_t w) {
     const int32_t c = work[w];
-    ComponentProblem cp = component_problem(p, c, options);
-    const Solution3 sol = solve(cp.tensor, stream_key(seed, static_cast<uint64_t>(c)));
+    const auto cp_rows = component_rows(p, c);
+    const SparseComponentSolution& sol = solutions.at(c);
     ComponentResult& r = results[c];
     r.summary = sol.summary;
     std::array<std::vector<char>, 3> seen;
-    for (int d = 0; d < 3; ++d) seen[d].assign(cp.rows[d].size(), 0);
+    for (int d = 0; d < 3; ++d) seen[d].assign(cp_rows[d].size(), 0);
     auto to_rows = [&](const Tuple3& t) {
       std::array<int32_t, 3> rows{kNoTrack, kNoTrack, kNoTrack};
       for (int d = 0; d < 3; ++d)
-        if (t[d] >= 0 && t[d] < static_cast<int32_t>(cp.rows[d].size())) {  // phantoms decode as no track
-          rows[d] = cp.rows[d][t[d]];
+        if (t[d] >= 0 && t[d] < static_cast<int32_t>(cp_rows[d].size())) {  // phantoms decode as no track
+          rows[d] = cp_rows[d][t[d]];
           seen[d][t[d]] = 1;
         }
       return rows;
@@ -309,8 +358,8 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
     std::array<std::vector<int32_t>, 3> leftovers;
     for (const Tuple3& t : sol.tuples) decoder.split(to_rows(t), leftovers);
     for (int d = 0; d < 3; ++d)
-      for (std::size_t x = 0; x < cp.rows[d].size(); ++x)
-        if (!seen[d][x]) leftovers[d].push_back(cp.rows[d][x]);
+      for (std::size_t x = 0; x < cp_rows[d].size(); ++x)
+        if (!seen[d][x]) leftovers[d].push_back(cp_rows[d][x]);
     pair_leftovers(decoder.lambda(), leftovers, decoder.emit());
   });
 

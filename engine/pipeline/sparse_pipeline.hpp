@@ -7,6 +7,8 @@
 //   → connected components of the gated pair graph                (kernels/assignment/clusters.hpp)
 //   → per component, in parallel (TBB): a small dense sub-tensor, any registered solver
 //   → decoding into the same AssociationRecord as the dense pipeline.
+// Under MPI (options.ranks, more than one rank) the components are solved on the ranks and decoded
+// on rank 0 (engine/pipeline/sparse_3d_sharded.hpp), with the same record.
 //
 // The common time grid, the alignment, the statistic, the cost forms, the gated-pair cost and
 // the decoding rules are those of engine/pipeline/pipeline.hpp, so that dense and sparse give identical
@@ -31,6 +33,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -45,11 +48,18 @@
 
 namespace trackassoc {
 
+namespace distributed {
+class Communicator;
+}
+
 struct SparsePipelineOptions {
   PipelineOptions pipeline;   // sensors, common period, alignment, statistic (gate), cost form, G
   double radius_scale = 1.0;  // CandidateOptions::radius_scale
   float miss_cost = std::numeric_limits<float>::infinity();  // see the header comment
   std::size_t max_component_entries = std::size_t{1} << 24;  // 64 MiB of floats per sub-tensor
+  // The MPI ranks that share the components (rank 0's call with a registered solver name; the
+  // others run serve_sparse_components, engine/pipeline/sparse_3d_sharded.hpp). Null: this process.
+  distributed::Communicator* ranks = nullptr;
   void validate() const;
   nlohmann::json to_json() const;
 };
@@ -100,6 +110,40 @@ AssociationRecord associate_sparse(const TrackFile& file, const std::string& sol
                                    const nlohmann::json& solver_options, uint64_t seed,
                                    const SparsePipelineOptions& options,
                                    std::vector<StageReport>* stages = nullptr);
+
+// The pieces of the solve, shared with the sharded form (engine/pipeline/sparse_3d_sharded.hpp).
+// Component c as a self-contained sub-problem: the pair cost matrices (float(λ) in the gate,
+// float(G) otherwise and for phantoms; c13 only for the all-pairs cost), row-major over the local
+// indices, n the sub-tensor's dimensions (padded with phantoms when miss_cost = +inf). Throws the
+// InputError of an oversized component.
+struct SparseComponentMatrices {
+  std::array<int32_t, 3> tracks{};  // real tracks of each sensor
+  std::array<int32_t, 3> n{};       // sub-tensor dimensions
+  float miss_cost = std::numeric_limits<float>::infinity();
+  bool all_pairs = true;  // the cost form: b = c12 + c23 + c13, else c12 + c23
+  std::vector<float> c12, c23, c13;
+};
+SparseComponentMatrices sparse_component_matrices(const SparseAssociationProblem& p, int32_t c,
+                                                  const SparsePipelineOptions& options);
+// The sub-tensor: the pair costs summed in float as the dense tensor does (bit-identical costs).
+CostTensor3 sparse_component_tensor(const SparseComponentMatrices& m);
+// The components of two or more tracks, largest first; throws the InputError of the first
+// oversized one (in that order) before any work.
+std::vector<int32_t> sparse_component_work(const SparseAssociationProblem& p,
+                                           const SparsePipelineOptions& options);
+// The solver's answer for one component: tuples of local indices and its summary.
+struct SparseComponentSolution {
+  std::vector<Tuple3> tuples;
+  SolverSummary summary;
+};
+// Decodes the solutions (indexed by component; those of one-track components unused) into the
+// record exactly as solve_sparse_association does; runtime_s counts from t0.
+AssociationRecord sparse_record_from_solutions(const SparseAssociationProblem& p,
+                                               const std::vector<SparseComponentSolution>& solutions,
+                                               const std::string& solver, uint64_t seed,
+                                               const SparsePipelineOptions& options,
+                                               std::chrono::steady_clock::time_point t0,
+                                               std::vector<StageReport>* stages = nullptr);
 
 // Component sizes: counts[d] = tracks of sensor d in component c.
 std::array<int32_t, 3> component_track_counts(const SparseAssociationProblem& p, int32_t c);

@@ -53,6 +53,24 @@ case "$case_name" in
     "$bin" associate -i recorded_5s.h5 -o exact-one.h5 --solver exact > /dev/null || fail "exact one"
     compare exact-one.h5 exact-np2.h5 || fail "exact: 2 ranks differ"
     ;;
+  associate-sparse)  # --sparse (three sensors) components sharded: 1 vs 2 and 3 ranks, lr and exact
+    for sc in recorded_3s recorded_formation; do
+      "$bin" simulate --scenario "$sc" --seed 3 -o "$sc.h5" > /dev/null || fail "simulate $sc"
+      for s in lr exact; do
+        "$bin" associate --sparse --solver "$s" -i "$sc.h5" -o "$sc-$s-one.h5" > /dev/null || fail "one process $sc $s"
+        for n in 2 3; do
+          mpi "$n" "$bin" associate --sparse --solver "$s" -i "$sc.h5" -o "$sc-$s-np$n.h5" > "$sc-$s-np$n.txt" \
+            || fail "$n ranks $sc $s"
+          compare "$sc-$s-one.h5" "$sc-$s-np$n.h5" || fail "$sc $s: $n ranks differ"
+          [ "$(grep -c '^associated' "$sc-$s-np$n.txt")" -eq 1 ] || fail "printed once, by rank 0"
+        done
+      done
+    done
+    args=(associate --sparse --solver lr --cost-form chain -i recorded_formation.h5)
+    "$bin" "${args[@]}" -o chain-one.h5 > /dev/null || fail "chain one"
+    mpi 2 "$bin" "${args[@]}" --threads 2 -o chain-np2.h5 > /dev/null || fail "chain 2 ranks"
+    compare chain-one.h5 chain-np2.h5 || fail "chain: 2 ranks differ"
+    ;;
   rank-fails)  # a rank that fails names its shard; non-zero exit; no output, no .tmp
     "$bin" simulate --scenario recorded_3s -o in.h5 > /dev/null || fail "simulate"
     TRACKASSOC_FAULT_RANK=1 mpi 2 -x TRACKASSOC_FAULT_RANK "$bin" experiment seed000 --targets 5 --runs 2 \
@@ -70,6 +88,13 @@ case "$case_name" in
     [ $? -ne 0 ] || fail "associate: exit 0 after rank 0 failed its share"
     grep -q '^trackassoc: internal error: rank 0, [0-9]* components' err.txt || { cat err.txt; fail "rank 0 message"; }
     [ ! -e a.h5 ] || fail "rank 0 failure: output left"
+    TRACKASSOC_FAULT_RANK=1 mpi 2 -x TRACKASSOC_FAULT_RANK "$bin" associate --sparse --solver lr -i in.h5 -o a.h5 \
+      > out.txt 2> err.txt
+    [ $? -ne 0 ] || fail "associate --sparse: exit 0 after a failed rank"
+    grep -q '^trackassoc: internal error: rank 1, [0-9]* components ([0-9]* tracks): fault injected' err.txt \
+      || { cat err.txt; fail "associate --sparse message"; }
+    [ "$(error_lines err.txt)" -eq 1 ] || { cat err.txt; fail "associate --sparse: one line"; }
+    [ ! -e a.h5 ] && [ ! -e a.h5.tmp ] || fail "associate --sparse: partial output left"
     ;;
   bad-input)  # bad input on rank 0: exit 2 with one line, the other ranks released
     echo "not hdf5" > bad.h5
@@ -93,6 +118,8 @@ case "$case_name" in
     mpi 2 "$bin" associate -i in.h5 -o a.h5 --solver lr --3d > out.txt 2> err.txt
     [ $? -eq 2 ] && [ "$(error_lines err.txt)" -eq 1 ] && grep -q 'only the default pipeline' err.txt \
       || { cat err.txt; fail "--3d"; }
+    mpi 2 "$bin" associate -i in.h5 -o a.h5 --sd > out.txt 2> err.txt
+    [ $? -eq 2 ] && grep -q 'only the default pipeline' err.txt || { cat err.txt; fail "--sd"; }
     [ ! -e s.h5 ] && [ ! -e a.h5 ] || fail "output written"
     ;;
   *) fail "unknown case $case_name" ;;

@@ -4,9 +4,13 @@
 // mailbox). The same code under mpirun is checked byte for byte by tests/mpi/ (MPI build only).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "engine/distributed/sharding.hpp"
+#include "engine/pipeline/sparse_3d_sharded.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/pipeline/workflow.hpp"
@@ -203,6 +207,74 @@ TEST(ShardedSparseSD, PlanBalancesTheEstimatedCost) {
   double total = 0, largest = 0;
   for (double c : plan.cost) total += c, largest = std::max(largest, c);
   // LPT: within max(largest task, 4/3 of the even share) of the best.
+  EXPECT_LE(distributed::makespan(plan.cost, plan.rank, 2), std::max(largest, total / 2) * 4.0 / 3.0 + 1e-9);
+}
+
+// The sparse 3-D (--sparse) components planned for N ranks, encoded, solved part by part (in any
+// order) and decoded on "rank 0" give the record of one process, for both cost forms and a finite
+// miss cost.
+TEST(ShardedSparse3D, PartsSolvedApartDecodeToTheSameRecord) {
+  for (const char* name : {"recorded_3s", "recorded_formation"})
+    for (int variant = 0; variant < 3; ++variant) {
+      const Scenario sc = load_scenario(name);
+      const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
+      SparsePipelineOptions so;
+      if (variant == 1) so.pipeline.cost.form = CostForm::kChain;
+      if (variant == 2) so.miss_cost = 50.f;
+      const SparseAssociationProblem p = build_sparse_association_problem(file, so);
+      for (const char* solver : {"lr", "exact"}) {
+        const uint64_t seed = 11;
+        const AssociationRecord one = solve_sparse_association(p, solver, nlohmann::json::object(), seed, so);
+        for (int ranks : {1, 2, 3}) {
+          const SparseComponentShards plan = plan_sparse_component_shards(p, so, ranks);
+          ASSERT_GT(plan.components.size(), 1u);
+          const auto parts =
+              encode_sparse_component_parts(p, plan, ranks, solver, nlohmann::json::object(), seed, so);
+          ASSERT_EQ(static_cast<int>(parts.size()), ranks);
+          std::vector<Bytes> solved;
+          for (int r = ranks - 1; r >= 0; --r) solved.push_back(solve_sparse_component_part(parts[r]));
+          const auto solutions = merge_sparse_component_results(p, solved);
+          const AssociationRecord rec =
+              sparse_record_from_solutions(p, solutions, solver, seed, so, std::chrono::steady_clock::now());
+          const std::string what = std::string(name) + " " + solver + " variant " + std::to_string(variant) +
+                                   ", " + std::to_string(ranks) + " ranks";
+          EXPECT_EQ(rec.tuples, one.tuples) << what;
+          EXPECT_EQ(rec.cost, one.cost) << what;
+          EXPECT_EQ(rec.objective, one.objective) << what;
+          EXPECT_EQ(std::isnan(rec.lower_bound), std::isnan(one.lower_bound)) << what;
+          if (!std::isnan(one.lower_bound)) {
+            EXPECT_EQ(rec.lower_bound, one.lower_bound) << what;
+          }
+          EXPECT_EQ(rec.termination, one.termination) << what;
+          EXPECT_EQ(rec.num_tuples(), one.num_tuples()) << what;
+        }
+      }
+    }
+  // A component over the tensor limit is refused by the plan, as by one process.
+  const Scenario sc = load_scenario("recorded_formation");  // components of up to ~20 tracks
+  const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
+  SparsePipelineOptions tiny;
+  const SparseAssociationProblem p = build_sparse_association_problem(file, tiny);
+  const SparseComponentShards plan = plan_sparse_component_shards(p, tiny, 2);
+  const double largest = *std::max_element(plan.cost.begin(), plan.cost.end());
+  ASSERT_GT(largest, 1.0);
+  tiny.max_component_entries = static_cast<std::size_t>(largest) - 1;
+  EXPECT_THROW(plan_sparse_component_shards(p, tiny, 2), InputError);
+  EXPECT_THROW(solve_sparse_association(p, "lr", nlohmann::json::object(), 1, tiny), InputError);
+}
+
+TEST(ShardedSparse3D, PlanBalancesTheDenseSubTensorEntries) {
+  const Scenario sc = load_scenario("recorded_formation");
+  const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
+  const SparsePipelineOptions so;
+  const SparseAssociationProblem p = build_sparse_association_problem(file, so);
+  const SparseComponentShards plan = plan_sparse_component_shards(p, so, 2);
+  double total = 0, largest = 0;
+  for (std::size_t k = 0; k < plan.components.size(); ++k) {
+    const auto m = sparse_component_matrices(p, plan.components[k], so);
+    EXPECT_EQ(plan.cost[k], static_cast<double>(m.n[0]) * m.n[1] * m.n[2]);
+    total += plan.cost[k], largest = std::max(largest, plan.cost[k]);
+  }
   EXPECT_LE(distributed::makespan(plan.cost, plan.rank, 2), std::max(largest, total / 2) * 4.0 / 3.0 + 1e-9);
 }
 
