@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "kernels/core/error.hpp"
+#include "kernels/core/parallel.hpp"
 
 namespace trackassoc::distributed {
 namespace {
@@ -176,6 +177,60 @@ void release_waiting_ranks(Communicator& comm, const std::exception_ptr& error) 
   const auto [s, message] = status_of(error);
   comm.scatter(std::vector<Bytes>(comm.size(), failure_message(s, message)));
   comm.set_exchange_open(false);
+}
+
+std::vector<Bytes> encode_planned_parts(int ranks, const std::vector<int32_t>& rank_of,
+                                        const std::function<void(ByteWriter&, uint64_t items)>& header,
+                                        const std::function<void(std::size_t k, ByteWriter&)>& encode_item) {
+  std::vector<ByteWriter> w(ranks);
+  std::vector<uint64_t> count(ranks, 0);
+  for (int32_t r : rank_of) ++count.at(r);
+  for (int r = 0; r < ranks; ++r) header(w[r], count[r]);
+  std::vector<Bytes> encoded(rank_of.size());
+  parallel_for_range(rank_of.size(), 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t k = lo; k < hi; ++k) {
+      ByteWriter out;
+      encode_item(k, out);
+      encoded[k] = out.take();
+    }
+  });
+  for (std::size_t k = 0; k < rank_of.size(); ++k) {
+    auto& bytes = w[rank_of[k]].bytes();
+    bytes.insert(bytes.end(), encoded[k].begin(), encoded[k].end());
+    Bytes().swap(encoded[k]);
+  }
+  std::vector<Bytes> parts;
+  for (auto& x : w) parts.push_back(x.take());
+  return parts;
+}
+
+void solve_part_items(std::size_t n, const std::function<void(std::size_t k)>& solve,
+                      const std::function<std::string(std::size_t k)>& describe, std::string* shard) {
+  std::vector<std::string> errors(n);
+  parallel_for_range(n, 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t k = lo; k < hi; ++k) try {
+        solve(k);
+      } catch (const std::exception& e) {
+        errors[k] = e.what();
+      }
+  });
+  for (std::size_t k = 0; k < n; ++k) {
+    if (errors[k].empty()) continue;
+    if (shard) *shard = describe(k);
+    throw std::runtime_error(errors[k]);
+  }
+}
+
+std::vector<double> cost_share_per_rank(const std::vector<double>& cost, const std::vector<int32_t>& rank_of,
+                                        int ranks) {
+  std::vector<double> load(ranks, 0.0);
+  double total = 0.0;
+  for (std::size_t k = 0; k < cost.size(); ++k) {
+    load.at(rank_of[k]) += cost[k];
+    total += cost[k];
+  }
+  for (double& l : load) l = total > 0 ? l / total : 0.0;
+  return load;
 }
 
 }  // namespace trackassoc::distributed

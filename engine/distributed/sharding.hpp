@@ -69,6 +69,22 @@ void check_on_root(Communicator& comm, const std::function<void()>& check);
 // Rank 0, before it throws: if the other ranks wait for scatter_work, send them `error` instead.
 void release_waiting_ranks(Communicator& comm, const std::exception_ptr& error);
 
+// The parts of work planned item by item (e.g. components; rank_of[k] = the rank of item k): part
+// r is header(w, items_of_r) followed by the bytes encode_item(k, w) of its items in plan order.
+// The items are encoded in parallel (TBB), then appended in order.
+std::vector<Bytes> encode_planned_parts(int ranks, const std::vector<int32_t>& rank_of,
+                                        const std::function<void(ByteWriter&, uint64_t items)>& header,
+                                        const std::function<void(std::size_t k, ByteWriter&)>& encode_item);
+
+// Runs solve(k) for the n items of a part in parallel (TBB). When some throw, the first in part
+// order is named: *shard = describe(k) (the failure protocol above), and its message rethrown.
+void solve_part_items(std::size_t n, const std::function<void(std::size_t k)>& solve,
+                      const std::function<std::string(std::size_t k)>& describe, std::string* shard);
+
+// Each rank's share of the total cost under `rank_of` (for the TRACKASSOC_MPI_STATS lines).
+std::vector<double> cost_share_per_rank(const std::vector<double>& cost, const std::vector<int32_t>& rank_of,
+                                        int ranks);
+
 // The rows of items 0..items-1 computed over the ranks (owner_of_item), in item order on rank 0
 // (empty elsewhere). `run(i)` gives item i's rows, `describe(i)` names it in an error,
 // `encode`/`decode` move one row.

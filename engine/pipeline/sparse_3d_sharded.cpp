@@ -99,34 +99,19 @@ std::vector<distributed::Bytes> encode_sparse_component_parts(const SparseAssoci
                                                               const nlohmann::json& solver_options,
                                                               uint64_t seed,
                                                               const SparsePipelineOptions& options) {
-  std::vector<distributed::ByteWriter> w(ranks);
-  std::vector<uint64_t> count(ranks, 0);
-  for (std::size_t k = 0; k < plan.components.size(); ++k) ++count[plan.rank[k]];
-  for (int r = 0; r < ranks; ++r) {
-    w[r].put(solver);
-    w[r].put(solver_options.dump());
-    w[r].put<uint64_t>(count[r]);
-  }
-  // The matrices are built and encoded in parallel (TBB), then appended in component order.
-  std::vector<distributed::Bytes> encoded(plan.components.size());
-  parallel_for_range(plan.components.size(), 1, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t k = lo; k < hi; ++k) {
-      const int32_t c = plan.components[k];
-      distributed::ByteWriter out;
-      out.put<int32_t>(c);
-      out.put<uint64_t>(stream_key(seed, static_cast<uint64_t>(c)));
-      encode_matrices(out, sparse_component_matrices(p, c, options));
-      encoded[k] = out.take();
-    }
-  });
-  for (std::size_t k = 0; k < plan.components.size(); ++k) {
-    auto& bytes = w[plan.rank[k]].bytes();
-    bytes.insert(bytes.end(), encoded[k].begin(), encoded[k].end());
-    distributed::Bytes().swap(encoded[k]);
-  }
-  std::vector<distributed::Bytes> parts;
-  for (auto& x : w) parts.push_back(x.take());
-  return parts;
+  return distributed::encode_planned_parts(
+      ranks, plan.rank,
+      [&](distributed::ByteWriter& w, uint64_t items) {
+        w.put(solver);
+        w.put(solver_options.dump());
+        w.put<uint64_t>(items);
+      },
+      [&](std::size_t k, distributed::ByteWriter& out) {  // the matrices, built in parallel
+        const int32_t c = plan.components[k];
+        out.put<int32_t>(c);
+        out.put<uint64_t>(stream_key(seed, static_cast<uint64_t>(c)));
+        encode_matrices(out, sparse_component_matrices(p, c, options));
+      });
 }
 
 distributed::Bytes solve_sparse_component_part(const distributed::Bytes& part, std::string* shard,
@@ -149,23 +134,18 @@ distributed::Bytes solve_sparse_component_part(const distributed::Bytes& part, s
   if (comm && shard) distributed::inject_fault_for_tests(*comm, *shard);
   const SolverEntry& entry = find_solver(solver);
   std::vector<SparseComponentSolution> results(n);
-  std::vector<std::string> errors(n);  // the first failing component (in this part's order) is named
-  parallel_for_range(n, 1, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t k = lo; k < hi; ++k) try {
+  distributed::solve_part_items(
+      n,
+      [&](std::size_t k) {
         Solution3 sol = entry.solve(sparse_component_tensor(matrices[k]), options, key[k]);
         results[k] = {std::move(sol.tuples), sol.summary};
-      } catch (const std::exception& e) {
-        errors[k] = e.what();
-      }
-  });
-  for (std::size_t k = 0; k < n; ++k) {
-    if (errors[k].empty()) continue;
-    const auto& t = matrices[k].tracks;
-    if (shard)
-      *shard =
-          "component " + std::to_string(index[k]) + " (" + std::to_string(t[0] + t[1] + t[2]) + " tracks)";
-    throw std::runtime_error(errors[k]);
-  }
+      },
+      [&](std::size_t k) {
+        const auto& t = matrices[k].tracks;
+        return "component " + std::to_string(index[k]) + " (" + std::to_string(t[0] + t[1] + t[2]) +
+               " tracks)";
+      },
+      shard);
   distributed::ByteWriter w;
   for (std::size_t k = 0; k < n; ++k) {
     w.put<int32_t>(index[k]);
@@ -211,15 +191,9 @@ std::vector<SparseComponentSolution> solve_sparse_components_sharded(
   const double exchange_s = seconds_since(t1);
   auto results = merge_sparse_component_results(p, solved);
   if (std::getenv("TRACKASSOC_MPI_STATS")) {
-    std::vector<double> load(N, 0.0);
-    double total = 0.0;
-    for (std::size_t k = 0; k < plan.cost.size(); ++k) {
-      load[plan.rank[k]] += plan.cost[k];
-      total += plan.cost[k];
-    }
+    const std::vector<double> share = distributed::cost_share_per_rank(plan.cost, plan.rank, N);
     std::string per_rank;
-    for (int r = 0; r < N; ++r)
-      per_rank += (r ? ", " : "") + std::to_string(total > 0 ? load[r] / total : 0.0);
+    for (int r = 0; r < N; ++r) per_rank += (r ? ", " : "") + std::to_string(share[r]);
     std::fprintf(stderr,
                  "mpi: %d ranks, %zu sparse 3-D components of 2+ tracks, share of cost per rank: %s; "
                  "scattered %llu B, gathered %llu B; plan+encode %.3f s, solve+gather %.3f s\n",

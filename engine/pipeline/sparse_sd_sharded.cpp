@@ -41,34 +41,19 @@ std::vector<distributed::Bytes> encode_component_parts(const SparseSDProblem& p,
                                                        int ranks, const std::string& solver,
                                                        const nlohmann::json& solver_options, bool all_pairs,
                                                        std::size_t max_entries) {
-  std::vector<distributed::ByteWriter> w(ranks);
-  std::vector<uint64_t> count(ranks, 0);
-  for (std::size_t k = 0; k < plan.components.size(); ++k) ++count[plan.rank[k]];
-  for (int r = 0; r < ranks; ++r) {
-    w[r].put(solver);
-    w[r].put(solver_options.dump());
-    w[r].put<uint8_t>(all_pairs);
-    w[r].put<uint64_t>(max_entries);
-    w[r].put<uint64_t>(count[r]);
-  }
-  // The views are built and encoded in parallel (TBB), then appended in component order.
-  std::vector<distributed::Bytes> encoded(plan.components.size());
-  parallel_for_range(plan.components.size(), 1, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t k = lo; k < hi; ++k) {
-      distributed::ByteWriter out;
-      out.put<int32_t>(plan.components[k]);
-      encode_sd_component_view(out, sd_component_view(p, plan.components[k]));
-      encoded[k] = out.take();
-    }
-  });
-  for (std::size_t k = 0; k < plan.components.size(); ++k) {
-    auto& bytes = w[plan.rank[k]].bytes();
-    bytes.insert(bytes.end(), encoded[k].begin(), encoded[k].end());
-    distributed::Bytes().swap(encoded[k]);
-  }
-  std::vector<distributed::Bytes> parts;
-  for (auto& x : w) parts.push_back(x.take());
-  return parts;
+  return distributed::encode_planned_parts(
+      ranks, plan.rank,
+      [&](distributed::ByteWriter& w, uint64_t items) {
+        w.put(solver);
+        w.put(solver_options.dump());
+        w.put<uint8_t>(all_pairs);
+        w.put<uint64_t>(max_entries);
+        w.put<uint64_t>(items);
+      },
+      [&](std::size_t k, distributed::ByteWriter& out) {  // the views, built in parallel
+        out.put<int32_t>(plan.components[k]);
+        encode_sd_component_view(out, sd_component_view(p, plan.components[k]));
+      });
 }
 
 distributed::Bytes solve_component_part(const distributed::Bytes& part, std::string* shard,
@@ -91,22 +76,17 @@ distributed::Bytes solve_component_part(const distributed::Bytes& part, std::str
   if (shard) *shard = std::to_string(n) + " components (" + std::to_string(part_tracks) + " tracks)";
   if (comm && shard) distributed::inject_fault_for_tests(*comm, *shard);
   std::vector<SDComponentResult> results(n);
-  // An error names the component (the first that failed, in this part's order).
-  std::vector<std::string> errors(n);
-  parallel_for_range(n, 1, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t k = lo; k < hi; ++k) try {
+  distributed::solve_part_items(
+      n,
+      [&](std::size_t k) {
         results[k] = solve_sd_component(views[k], solver, options, all_pairs, max_entries);
-      } catch (const std::exception& e) {
-        errors[k] = e.what();
-      }
-  });
-  for (std::size_t k = 0; k < n; ++k) {
-    if (errors[k].empty()) continue;
-    std::size_t tracks = 0;
-    for (const auto& t : views[k].tracks) tracks += t.size();
-    if (shard) *shard = "component " + std::to_string(index[k]) + " (" + std::to_string(tracks) + " tracks)";
-    throw std::runtime_error(errors[k]);
-  }
+      },
+      [&](std::size_t k) {
+        std::size_t tracks = 0;
+        for (const auto& t : views[k].tracks) tracks += t.size();
+        return "component " + std::to_string(index[k]) + " (" + std::to_string(tracks) + " tracks)";
+      },
+      shard);
   distributed::ByteWriter w;
   for (std::size_t k = 0; k < n; ++k) {
     w.put<int32_t>(index[k]);
@@ -161,11 +141,10 @@ std::vector<SDComponentResult> solve_sd_components_sharded(distributed::Communic
   const double exchange_s = seconds_since(t1);
   auto results = merge_component_results(p, solved);
   if (std::getenv("TRACKASSOC_MPI_STATS")) {
-    std::vector<double> load(N, 0.0);
+    const std::vector<double> share = distributed::cost_share_per_rank(plan.cost, plan.rank, N);
     std::vector<int> count(N, 0);
     double total = 0.0;
     for (std::size_t k = 0; k < plan.cost.size(); ++k) {
-      load[plan.rank[k]] += plan.cost[k];
       ++count[plan.rank[k]];
       total += plan.cost[k];
     }
@@ -173,7 +152,7 @@ std::vector<SDComponentResult> solve_sd_components_sharded(distributed::Communic
     for (double c : plan.cost) largest = std::max(largest, c);
     std::string per_rank;
     for (int r = 0; r < N; ++r)
-      per_rank += (r ? ", " : "") + std::to_string(count[r]) + " (" + std::to_string(load[r] / total) + ")";
+      per_rank += (r ? ", " : "") + std::to_string(count[r]) + " (" + std::to_string(share[r]) + ")";
     std::fprintf(
         stderr,
         "mpi: %d ranks, %d components (%zu of 2+ tracks; the largest %.3f of the estimated cost), per rank: "
