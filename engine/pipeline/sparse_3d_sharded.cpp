@@ -13,13 +13,10 @@
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/random.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 void encode_matrices(distributed::ByteWriter& w, const SparseComponentMatrices& m) {
   w.put(m.tracks);

@@ -10,15 +10,9 @@
 
 #include "engine/distributed/sharding.hpp"
 #include "kernels/core/parallel.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 ComponentShards plan_component_shards(const SparseSDProblem& p, std::size_t max_entries, int ranks) {
   ComponentShards plan;
