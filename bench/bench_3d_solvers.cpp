@@ -7,6 +7,10 @@
 //  - BM_ExactDecompLib/n/r: branch and bound on DecompLib ap3.n.r (n = 5 … 50, r = 1 … 10), one
 //    thread (the peer's setting); counters: nodes, root_bound (after the clique cuts), fixed_tuples
 //    (by reduced cost, first search pass), optimal (proven and equal to ap3.opt).
+//  - BM_LagrangianDecompLib/n/r: lr with its defaults (300 iterations or a 0.1 % gap) on ap3.n.r,
+//    n = 40, 50, one thread; counters: lower_bound (the Lagrangian dual bound), objective. Its peer
+//    is the LP relaxation CBC solves first (CLP; bench/cbc_3d.py reports its bound and time from
+//    the same CBC runs): the Lagrangian dual of the axial 3-AP bounds at most the LP bound.
 // The MILP peer (CBC) runs on the same files: bench/cbc_3d.py (--set decomplib; --ours merges this
 // binary's JSON output into one table, README "exact branch and bound").
 //
@@ -141,8 +145,29 @@ void BM_ExactDecompLib(benchmark::State& state) {
       s.summary.termination == Termination::kOptimal && s.summary.objective == known ? 1 : 0;
 }
 
+void BM_LagrangianDecompLib(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), r = static_cast<int>(state.range(1));
+  tbb::global_control control(tbb::global_control::max_allowed_parallelism, 1);
+  const std::string dir = std::string(TRACKASSOC_SHARED_DIR) + "/benchmarks/3dap/decomplib/";
+  const CostTensor3 instance =
+      read_3dap_instance(dir + "ap3." + std::to_string(n) + "." + std::to_string(r) + ".txt");
+  Solution3 s;
+  for (auto _ : state) {
+    s = solve_lagrangian3(instance, LagrangianOptions{});
+    benchmark::DoNotOptimize(s.tuples.data());
+  }
+  state.counters["lower_bound"] = s.summary.lower_bound;
+  state.counters["objective"] = s.summary.objective;
+  state.counters["iterations"] = static_cast<double>(s.summary.iterations);
+}
+
 void decomplib_args(benchmark::internal::Benchmark* b) {
   for (int n : {5, 10, 20, 30, 40, 50})
+    for (int r = 1; r <= 10; ++r) b->Args({n, r});
+}
+
+void decomplib_lr_args(benchmark::internal::Benchmark* b) {
+  for (int n : {40, 50})
     for (int r = 1; r <= 10; ++r) b->Args({n, r});
 }
 
@@ -165,6 +190,7 @@ BENCHMARK_CAPTURE(BM_LagrangianToOnePercent, lr_ls, true)
     ->UseRealTime();
 BENCHMARK(BM_ExactBalasSaltzman)->Apply(bs_args)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ExactDecompLib)->Apply(decomplib_args)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LagrangianDecompLib)->Apply(decomplib_lr_args)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace trackassoc::bench

@@ -3,7 +3,10 @@
 //  - BM_DefaultAssociation/scenario/threads: `associate` without flags, from the loaded file to the
 //    tuples (alignment, candidates, statistic, components, lr+ls per component).
 //    scenario 0 = recorded_3s (3 sensors), 1 = recorded_5s (5 sensors × 60 targets, the issue 20
-//    goal: ≤ 1 s), 2 = recorded_dense, 3 = recorded_10k (3 × 10 000 targets, the sparse scale).
+//    goal: ≤ 1 s), 2 = recorded_dense, 3 = recorded_10k (3 × 10 000 targets, the sparse scale),
+//    4 = recorded_sync (synchronous sensors: the one file where Stone Soup's associator, which
+//    compares tracks only at shared timestamps, is a peer; scripts/bench.sh runs
+//    bench/stonesoup_t2t.py on `trackassoc simulate --scenario recorded_sync --seed 1`, the same file).
 //  - BM_DenseSDAssociation/threads: the dense S-D tensor with dummies on recorded_5s (the path that
 //    took 20–34 s before issue 20), lr+ls: the naive version of the same problem.
 // Counters: candidate pairs, gated pairs, components.
@@ -20,7 +23,8 @@
 namespace trackassoc::bench {
 namespace {
 
-const char* const kScenarios[] = {"recorded_3s", "recorded_5s", "recorded_dense", "recorded_10k"};
+const char* const kScenarios[] = {"recorded_3s", "recorded_5s", "recorded_dense", "recorded_10k",
+                                  "recorded_sync"};
 
 const TrackFile& track_file(int k) {
   static std::map<int, TrackFile> files;
@@ -57,7 +61,7 @@ void BM_DenseSDAssociation(benchmark::State& state) {
 }
 
 BENCHMARK(BM_DefaultAssociation)
-    ->ArgsProduct({{0, 1, 2}, {1, 2}})
+    ->ArgsProduct({{0, 1, 2, 4}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_DefaultAssociation)

@@ -89,10 +89,10 @@ def solve(cbc, lp, sol, threads, limit):
     wall = time.perf_counter() - t0
     root = re.search(r"At root node, .* changed objective from (\S+) to (\S+)", out.stdout)
     nodes = re.search(r"took \d+ iterations and (\d+) nodes", out.stdout)
-    root_bound = float(root.group(2)) if root else None
-    if root_bound is None:  # no cut changed it: the continuous (LP) bound
-        lp = re.search(r"Continuous objective value is (\S+)", out.stdout)
-        root_bound = float(lp.group(1)) if lp else None
+    # The LP relaxation CBC solves first (CLP), with its time: the peer of the Lagrangian bound.
+    lp = re.search(r"Continuous objective value is (\S+) - (\S+) seconds", out.stdout)
+    lp_bound, lp_s = (float(lp.group(1)), float(lp.group(2))) if lp else (None, None)
+    root_bound = float(root.group(2)) if root else lp_bound  # no cut changed it: the LP bound
     nodes = int(nodes.group(1)) if nodes else None
     status, obj = "unknown", None
     if os.path.exists(sol):
@@ -101,7 +101,7 @@ def solve(cbc, lp, sol, threads, limit):
         status = first.split()[0] if first.split() else "unknown"
         if "objective value" in first:
             obj = float(first.rsplit("objective value", 1)[1].split()[0])
-    return wall, status, obj, out.returncode, root_bound, nodes
+    return wall, status, obj, out.returncode, root_bound, nodes, lp_bound, lp_s
 
 
 def read_ours(path):
@@ -109,9 +109,9 @@ def read_ours(path):
     with open(path) as f:
         data = json.load(f)
     ours = {}
-    for b in data["benchmarks"]:
+    for b in data["benchmarks"]:  # one iteration row, or the median of --benchmark_repetitions
         m = re.match(r"BM_ExactDecompLib/(\d+)/(\d+)", b["name"])
-        if m and b.get("run_type", "iteration") == "iteration":
+        if m and (b.get("run_type", "iteration") == "iteration" or b.get("aggregate_name") == "median"):
             scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b.get("time_unit", "ns")]
             ours[f"ap3.{m.group(1)}.{m.group(2)}"] = {"wall_s": b["real_time"] * scale, "nodes": b["nodes"],
                                                        "root_bound": b["root_bound"], "optimal": b["optimal"]}
@@ -184,12 +184,12 @@ def main():
                 n1, n2, n3, c = read_instance(os.path.join(ROOT, folder, name + ".txt"))
                 lp, sol = os.path.join(tmp, name + ".lp"), os.path.join(tmp, name + ".sol")
                 write_lp(lp, n1, n2, n3, c)
-                wall, status, obj, rc, root_bound, nodes = solve(cbc, lp, sol, args.threads, args.time_limit)
+                wall, status, obj, rc, root_bound, nodes, lp_bound, lp_s = solve(cbc, lp, sol, args.threads, args.time_limit)
                 ok = status == "Optimal" and obj is not None and abs(obj - optima[name]) < 1e-6
                 times.append(wall)
                 row = {"instance": name, "wall_s": wall, "status": status, "objective": obj,
                        "known_optimum": optima[name], "matches_optimum": ok, "root_bound": root_bound,
-                       "nodes": nodes}
+                       "nodes": nodes, "lp_bound": lp_bound, "lp_s": lp_s}
                 results.append(row)
                 line = (f"cbc {name:10s} threads {args.threads}  {wall:8.3f} s  {status:10s} objective {obj}  "
                         f"known {optima[name]:g}  root {root_bound}  nodes {nodes}  "

@@ -1,11 +1,22 @@
 #!/usr/bin/env bash
-# Builds and runs every Google Benchmark program, writing JSON to bench-results/<name>.json.
-# Usage: scripts/bench.sh [FILTER_REGEX]   (passed as --benchmark_filter)
+# One benchmark run: every Google Benchmark program (1 and 2 threads where the kernel is parallel),
+# then every peer on the same inputs, then the README's performance table with the ratios
+# (scripts/bench_report.py). Everything lands in bench-results/: <program>.json, the peers' JSON,
+# meta.txt (machine, load before and after), report.md (the table).
+# Usage: scripts/bench.sh [FILTER_REGEX]   (passed as --benchmark_filter; the peers run only
+#        without a filter, since their ratios need the whole set)
+# Takes about an hour on the 2-core machine (CBC on the 60 DecompLib instances is ~half of it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh
 mkdir -p bench-results
 filter="${1:-.}"
+{
+  echo "date: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
+  echo "commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+  echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //') × $(nproc)"
+  echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)"
+} > bench-results/meta.txt
 for b in build/bench_*; do
   [ -x "$b" ] || continue
   name=$(basename "$b")
@@ -13,8 +24,30 @@ for b in build/bench_*; do
   "$b" --benchmark_filter="$filter" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
        --benchmark_out="bench-results/$name.json" --benchmark_out_format=json
 done
-# Peers on the same inputs (python; each skips with a message when its package is missing):
-# scipy's linear_sum_assignment on bench_lap's matrices, CBC on the Balas–Saltzman instances.
+echo "load after the programs: $(cut -d' ' -f1-3 /proc/loadavg)" >> bench-results/meta.txt
+if [ "$filter" != "." ]; then
+  echo "bench.sh: filter given; peers and the report skipped"
+  exit 0
+fi
+# Peers on the same inputs (Debian's python; each skips with a message when its package is missing).
+py=/usr/bin/python3
 echo "== peers"
-/usr/bin/python3 bench/lap_scipy.py --json bench-results/lap_scipy.json || echo "lap_scipy.py failed"
-/usr/bin/python3 bench/cbc_3d.py --time-limit 300 --json bench-results/cbc_3d.json || echo "cbc_3d.py failed"
+# scipy's linear_sum_assignment on bench_lap's matrices.
+$py bench/lap_scipy.py --json bench-results/lap_scipy.json || echo "lap_scipy.py failed"
+# CBC (one thread) on the DecompLib and Balas–Saltzman instances of bench_3d_solvers; its log also
+# gives the LP relaxation's bound and time (the Lagrangian relaxation's peer).
+$py bench/cbc_3d.py --set decomplib --ours bench-results/bench_3d_solvers.json \
+    --json bench-results/cbc_decomplib.json || echo "cbc_3d.py decomplib failed"
+$py bench/cbc_3d.py --set balas-saltzman --json bench-results/cbc_balas_saltzman.json \
+    || echo "cbc_3d.py balas-saltzman failed"
+# Stone Soup's track-to-track associator on the file of bench_recorded's recorded_sync case.
+build/trackassoc simulate --scenario recorded_sync --seed 1 -o bench-results/recorded_sync.h5 > /dev/null
+for r in 1 2 3; do
+  $py bench/stonesoup_t2t.py bench-results/recorded_sync.h5 --cov sum \
+      --json "bench-results/stonesoup_recorded_sync_$r.json" > /dev/null || echo "stonesoup_t2t.py failed"
+done
+# numpy's loadtxt on bench_csv_import's file.
+$py bench/csv_numpy.py --json bench-results/csv_numpy.json || echo "csv_numpy.py failed"
+echo "load after the peers: $(cut -d' ' -f1-3 /proc/loadavg)" >> bench-results/meta.txt
+echo "== report"
+$py scripts/bench_report.py bench-results | tee bench-results/report.md
