@@ -6,7 +6,9 @@
 //     visits them) goes to rank i mod N (round robin; the runs of a study cost about the same,
 //     and consecutive configurations of different cost are dealt out evenly). Each run's random
 //     stream comes from (seed, run) alone (kernels/core/random.hpp), never from the rank, so the
-//     rows are those of one process; rank 0 puts them back in item order (sharded_items).
+//     rows are those of one process; rank 0 puts them back in item order (sharded_items). An
+//     item may hold more than one run where the runs must stay together (seed002: a motion's
+//     runs are one filter bank), or be a scene (seed003) or an instance (schedules).
 //   * Connected components: balance_by_cost, longest processing time first (Graham 1969: within
 //     4/3 of the best makespan), cost = an estimate of the component's solve.
 //
