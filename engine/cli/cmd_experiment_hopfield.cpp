@@ -33,12 +33,15 @@ void register_experiment_schedules(CLI::App& experiment) {
       ->capture_default_str()
       ->check(at_least(1));
   cmd->add_option("--methods", args->o.methods, "Only these methods (table names; default: all)");
-  finish_experiment_command(cmd, args, "SVG plot of gap vs wall time ('' = none)",
-                            [](const SchedulesExperimentOptions& o, std::ostream* progress) {
-                              const auto rows = run_schedules_experiment(o, progress);
-                              std::cout << schedules_summary_table(rows);
-                              write_schedules_outputs(rows, o);
-                            });
+  finish_experiment_command(
+      cmd, args, "SVG plot of gap vs wall time ('' = none)",
+      [](const SchedulesExperimentOptions& o, std::ostream* progress) {
+        const auto rows = run_schedules_experiment(o, progress);
+        if (!distributed::world().root()) return;  // rank 0 has the rows
+        std::cout << schedules_summary_table(rows);
+        write_schedules_outputs(rows, o);
+      },
+      /*sharded=*/true);
 }
 
 void register_experiment_seed000(CLI::App& experiment) {

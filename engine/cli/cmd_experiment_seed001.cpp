@@ -2,6 +2,7 @@
 // FTAA (seed 001 §4, engine/studies/seed001/experiment_seed001.hpp). Prints Table 1–2 beside the paper's for
 // both readings of σθ₁ (0.1°, the erratum and default, and 1° as printed), with a reason per row, writes run
 // 0 of the selected reading and the RMSE curves to HDF5 (run_seed001_study), and plots with scripts/plot.py.
+// Under mpirun the runs of both readings are sharded over the ranks; rank 0 prints, writes and plots.
 #include <iostream>
 #include <string>
 
@@ -57,7 +58,8 @@ void register_experiment_seed001(CLI::App& experiment) {
                         .output_help = "Output HDF5 file (run 0 and the RMSE curves)",
                         .plots = &args->plots,
                         .plots_help = "Folder for the plots (runs scripts/plot.py seed001; empty = none)",
-                        .plots_is_folder = true},
+                        .plots_is_folder = true,
+                        .sharded = true},
                        [args](std::ostream*, bool plots) {
                          Seed001Options o = args->options;
                          o.seed = args->common.seed;
@@ -66,6 +68,7 @@ void register_experiment_seed001(CLI::App& experiment) {
                          o.bearing_reading =
                              parse_enum<BearingReading>(args->reading, "--sigma-bearing-reading");
                          run_seed001_study(o, args->output, std::cout);
+                         if (!distributed::world().root()) return;  // rank 0 wrote the file
                          if (plots && !args->plots.empty())
                            run_plot_script("plot.py", {"seed001", args->output, "--outdir", args->plots});
                        });

@@ -1,5 +1,6 @@
 // trackassoc experiment seed002: Chen & Tong (2001), IMM {CS + BP network, CA} vs the CS-parallel
-// filter, Table 1 and the sensitivity sweep (engine/studies/seed002/experiment_seed002.hpp).
+// filter, Table 1 and the sensitivity sweep (engine/studies/seed002/experiment_seed002.hpp). Under mpirun
+// the motions of both are sharded over the ranks; rank 0 writes, prints and plots.
 #include <iostream>
 
 #include "engine/cli/common.hpp"
@@ -44,12 +45,15 @@ void register_experiment_seed002(CLI::App& experiment) {
        .output_help = "Output HDF5 file",
        .plots = &args->plots,
        .plots_help = "Folder for the PNG plots (scripts/plot.py)",
-       .plots_is_folder = true},
+       .plots_is_folder = true,
+       .sharded = true},
       [args](std::ostream* progress, bool plots) {
         args->options.seed = args->common.seed;
         args->options.validate();
         if (progress) *progress << "seed002: " << args->options.runs << " runs × 4 motions ...\n";
-        const Seed002Result res = run_seed002(args->options);
+        auto& comm = distributed::world();
+        const Seed002Result res = run_seed002(args->options, comm);
+        if (!comm.root()) return;  // rank 0 has the motions, and alone writes and prints
         write_seed002(args->output, res);
         print_seed002(res, std::cout);
         if (!res.sensitivity.empty()) print_seed002_sensitivity(res, std::cout);

@@ -1,6 +1,7 @@
 // trackassoc experiment seed003 [--model M.h5] [--data D.h5] [--output R.h5]: the seed 003 study
 // (pair test metrics on the data set's test split; association accuracy and time vs track density,
-// engine/studies/seed003/experiment_seed003.hpp run_seed003_study).
+// engine/studies/seed003/experiment_seed003.hpp run_seed003_study). Under mpirun its scenes are sharded
+// over the ranks; rank 0 prints and writes.
 #include <iostream>
 
 #include "engine/cli/common.hpp"
@@ -39,11 +40,13 @@ void register_experiment_seed003(CLI::App& experiment) {
   cmd->add_option("--threshold", args->options.probability_threshold, "TTCSN pair probability threshold")
       ->capture_default_str()
       ->check(in_range(0, 1, true, true));
-  finish_study_command(cmd, args, {.output = &args->files.output, .output_help = "Result HDF5 file"},
+  finish_study_command(cmd, args,
+                       {.output = &args->files.output, .output_help = "Result HDF5 file", .sharded = true},
                        [args](std::ostream*, bool) {
                          Seed003ExperimentOptions o = args->options;
                          o.seed = args->common.seed;
                          const Seed003ExperimentResult r = run_seed003_study(args->files, o, std::cout);
+                         if (!distributed::world().root()) return;  // rank 0 printed and wrote
                          std::cout << "results -> " << args->files.output << " (" << r.wall_time_s << " s)\n";
                        });
 }

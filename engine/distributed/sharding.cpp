@@ -206,18 +206,18 @@ std::vector<Bytes> encode_planned_parts(int ranks, const std::vector<int32_t>& r
 
 void solve_part_items(std::size_t n, const std::function<void(std::size_t k)>& solve,
                       const std::function<std::string(std::size_t k)>& describe, std::string* shard) {
-  std::vector<std::string> errors(n);
+  std::vector<std::exception_ptr> errors(n);  // rethrown as thrown: bad input stays bad input
   parallel_for_range(n, 1, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t k = lo; k < hi; ++k) try {
         solve(k);
-      } catch (const std::exception& e) {
-        errors[k] = e.what();
+      } catch (...) {
+        errors[k] = std::current_exception();
       }
   });
   for (std::size_t k = 0; k < n; ++k) {
-    if (errors[k].empty()) continue;
+    if (!errors[k]) continue;
     if (shard) *shard = describe(k);
-    throw std::runtime_error(errors[k]);
+    std::rethrow_exception(errors[k]);
   }
 }
 

@@ -6,7 +6,9 @@
 //     visits them) goes to rank i mod N (round robin; the runs of a study cost about the same,
 //     and consecutive configurations of different cost are dealt out evenly). Each run's random
 //     stream comes from (seed, run) alone (kernels/core/random.hpp), never from the rank, so the
-//     rows are those of one process; rank 0 puts them back in item order (sharded_items).
+//     rows are those of one process; rank 0 puts them back in item order (sharded_items). An
+//     item may hold more than one run where the runs must stay together (seed002: a motion's
+//     runs are one filter bank), or be a scene (seed003) or an instance (schedules).
 //   * Connected components: balance_by_cost, longest processing time first (Graham 1969: within
 //     4/3 of the best makespan), cost = an estimate of the component's solve.
 //
@@ -77,7 +79,7 @@ std::vector<Bytes> encode_planned_parts(int ranks, const std::vector<int32_t>& r
                                         const std::function<void(std::size_t k, ByteWriter&)>& encode_item);
 
 // Runs solve(k) for the n items of a part in parallel (TBB). When some throw, the first in part
-// order is named: *shard = describe(k) (the failure protocol above), and its message rethrown.
+// order is named: *shard = describe(k) (the failure protocol above), and its exception rethrown.
 void solve_part_items(std::size_t n, const std::function<void(std::size_t k)>& solve,
                       const std::function<std::string(std::size_t k)>& describe, std::string* shard);
 
@@ -87,29 +89,52 @@ std::vector<double> cost_share_per_rank(const std::vector<double>& cost, const s
 
 // The rows of items 0..items-1 computed over the ranks (owner_of_item), in item order on rank 0
 // (empty elsewhere). `run(i)` gives item i's rows, `describe(i)` names it in an error,
-// `encode`/`decode` move one row.
+// `encode`/`decode` move one row. With `parallel`, a rank runs its items at once over its TBB
+// threads (solve_part_items: each item's rows kept apart, then taken in item order, the first
+// failing item named), for runs that share nothing; else one after the other.
 template <class Row>
 std::vector<Row> sharded_items(Communicator& comm, int64_t items,
                                const std::function<std::vector<Row>(int64_t)>& run,
                                const std::function<std::string(int64_t)>& describe,
                                const std::function<void(ByteWriter&, const Row&)>& encode,
-                               const std::function<Row(ByteReader&)>& decode) {
+                               const std::function<Row(ByteReader&)>& decode, bool parallel = false) {
   const int N = comm.size();
+  // The rows of this rank's items, mine[k] = its k-th; `shard` names the item being run.
+  auto run_mine = [&](const std::vector<int64_t>& mine, std::string& shard) {
+    std::vector<std::vector<Row>> rows(mine.size());
+    if (!parallel) {
+      for (std::size_t k = 0; k < mine.size(); ++k) {
+        shard = describe(mine[k]);
+        if (N > 1) inject_fault_for_tests(comm, shard);
+        rows[k] = run(mine[k]);
+      }
+      return rows;
+    }
+    solve_part_items(
+        mine.size(),
+        [&](std::size_t k) {
+          if (N > 1 && k == 0) inject_fault_for_tests(comm, describe(mine[k]));
+          rows[k] = run(mine[k]);
+        },
+        [&](std::size_t k) { return describe(mine[k]); }, &shard);
+    return rows;
+  };
+  std::vector<int64_t> mine;
+  for (int64_t i = comm.rank(); i < items; i += N) mine.push_back(i);
   if (N == 1) {
+    std::string shard;
     std::vector<Row> rows;
-    for (int64_t i = 0; i < items; ++i)
-      for (auto& r : run(i)) rows.push_back(std::move(r));
+    for (auto& v : run_mine(mine, shard))
+      for (auto& r : v) rows.push_back(std::move(r));
     return rows;
   }
   const auto parts = gather_shards(comm, [&](std::string& shard) {
+    const std::vector<std::vector<Row>> rows = run_mine(mine, shard);
     ByteWriter w;
-    for (int64_t i = comm.rank(); i < items; i += N) {
-      shard = describe(i);
-      inject_fault_for_tests(comm, shard);
-      const std::vector<Row> rows = run(i);
-      w.put<int64_t>(i);
-      w.put<uint64_t>(rows.size());
-      for (const auto& r : rows) encode(w, r);
+    for (std::size_t k = 0; k < mine.size(); ++k) {
+      w.put<int64_t>(mine[k]);
+      w.put<uint64_t>(rows[k].size());
+      for (const auto& r : rows[k]) encode(w, r);
     }
     return w.take();
   });

@@ -17,18 +17,26 @@ compare() { /usr/bin/python3 "$here/compare_h5.py" "$@"; }
 fail() { echo "FAIL: $*"; exit 1; }
 # The line count of trackassoc's own errors (mpirun may add its own report of the exit status).
 error_lines() { grep -c '^trackassoc: \(internal \)\?error:' "$1"; }
+# A sharded study against one process: `ARGS -o one.h5` against 2 and 3 ranks and 2 ranks x 2
+# threads, the same datasets (but IGNORE, the wall times) and the table printed once, by rank 0
+# (ONCE: a pattern of its closing line); one.txt, np2.txt, np3.txt keep what was printed.
+# Usage: against_one IGNORE ONCE ARGS...
+against_one() {
+  local ignore=$1 once=$2
+  shift 2
+  "$bin" "$@" -o one.h5 > one.txt || fail "one process"
+  for n in 2 3; do
+    mpi "$n" "$bin" "$@" -o "np$n.h5" > "np$n.txt" || fail "$n ranks"
+    compare one.h5 "np$n.h5" --ignore "$ignore" || fail "$n ranks differ"
+    [ "$(grep -c "$once" "np$n.txt")" -eq 1 ] || fail "$n ranks: the table is printed once, by rank 0"
+  done
+  mpi 2 "$bin" "$@" --threads 2 -o t2.h5 > /dev/null || fail "2 ranks, 2 threads"
+  compare one.h5 t2.h5 --ignore "$ignore" || fail "2 ranks x 2 threads differ"
+}
 
 case "$case_name" in
   seed000)  # sharded Monte Carlo: 1 vs 2 and 3 ranks, and 2 ranks x 2 threads
-    args=(experiment seed000 --targets 5 --runs 3 --solvers lr hopfield --no-plots --seed 7)
-    "$bin" "${args[@]}" -o one.h5 > one.txt || fail "one process"
-    for n in 2 3; do
-      mpi "$n" "$bin" "${args[@]}" -o "np$n.h5" > "np$n.txt" || fail "$n ranks"
-      compare one.h5 "np$n.h5" --ignore wall_time_s || fail "$n ranks differ"
-      [ "$(grep -c 'wrote' "np$n.txt")" -eq 1 ] || fail "$n ranks: the table is printed once, by rank 0"
-    done
-    mpi 2 "$bin" "${args[@]}" --threads 2 -o t2.h5 > /dev/null || fail "2 ranks, 2 threads"
-    compare one.h5 t2.h5 --ignore wall_time_s || fail "2 ranks x 2 threads differ"
+    against_one wall_time_s wrote experiment seed000 --targets 5 --runs 3 --solvers lr hopfield --no-plots --seed 7
     # The table's rates (every column but the times) are those of one process.
     diff <(grep -v '^wrote' one.txt | sed 's/ *[0-9.]*$//') <(grep -v '^wrote' np2.txt | sed 's/ *[0-9.]*$//') \
       || fail "the tables differ"
@@ -38,6 +46,29 @@ case "$case_name" in
     "$bin" "${args[@]}" -o one.h5 > /dev/null || fail "one process"
     mpi 2 "$bin" "${args[@]}" -o np2.h5 > /dev/null || fail "2 ranks"
     compare one.h5 np2.h5 --ignore wall_time_s || fail "2 ranks differ"
+    ;;
+  seed001)  # both readings' runs sharded (and in parallel within a rank)
+    against_one time_per_association_s '^wall time' experiment seed001 --runs 4 --duration 60 --no-plots --seed 5
+    # The tables but the times: the time/assoc column (8th field of a row) and the wall time line.
+    strip() { grep -v '^wall time' "$1" | awk '/^(erratum|literal) /{$8=""} {print}'; }
+    diff <(strip one.txt) <(strip np2.txt) || fail "the tables differ"
+    ;;
+  seed002)  # the table's and the sweep's motions sharded
+    against_one wall_time_s '^wrote' experiment seed002 --runs 6 --sensitivity --sensitivity-ca-sigma 1 5 \
+      --sensitivity-a-max 100 --no-plots --seed 5
+    # Every line but the two wall times "(1.23 s)" and "runs, 0.12 s)", and the file name.
+    strip() { grep -v '^wrote' "$1" | sed -E 's/[0-9.]+ s\)/s)/'; }
+    for n in 2 3; do diff <(strip one.txt) <(strip "np$n.txt") || fail "$n ranks: the tables differ"; done
+    ;;
+  seed003)  # the scenes sharded, the models read on every rank
+    against_one seconds '^results ->' experiment seed003 --runs 3 --densities 5 10
+    # Every table but the time table, and not the closing line's wall time.
+    strip() { grep -v '^results ->' "$1" | awk '/^time \[ms\]/{skip=1} /^$/{skip=0} !skip'; }
+    diff <(strip one.txt) <(strip np3.txt) || fail "the tables differ"
+    ;;
+  schedules)  # the instances sharded (tracking and DecompLib)
+    against_one wall_time_s '^wrote' experiment schedules --sizes 5 --runs 3 --decomplib-sizes 10 \
+      --decomplib-per-size 1 --restarts 2 --no-plots
     ;;
   associate)  # sharded components: 1 vs 2 and 3 ranks, 5 sensors and a dense case
     for sc in recorded_5s recorded_dense; do
@@ -112,8 +143,9 @@ case "$case_name" in
   refused)  # commands and studies that do not shard refuse more than one rank, clearly
     mpi 2 "$bin" simulate --scenario recorded_3s -o s.h5 > out.txt 2> err.txt
     [ $? -eq 2 ] && grep -q 'simulate: runs as one process' err.txt || { cat err.txt; fail "simulate"; }
-    mpi 2 "$bin" experiment seed001 --runs 2 -o s.h5 > out.txt 2> err.txt
-    [ $? -eq 2 ] && grep -q 'experiment seed001: runs as one process' err.txt || { cat err.txt; fail "seed001"; }
+    mpi 2 "$bin" experiment recorded -o s.h5 > out.txt 2> err.txt
+    [ $? -eq 2 ] && grep -q 'experiment recorded: runs as one process' err.txt || { cat err.txt; fail "recorded"; }
+    grep -q 'experiment seed001`, `experiment seed002`, `experiment seed003`' err.txt || { cat err.txt; fail "names"; }
     "$bin" simulate --scenario recorded_3s -o in.h5 > /dev/null || fail "simulate"
     mpi 2 "$bin" associate -i in.h5 -o a.h5 --solver lr --3d > out.txt 2> err.txt
     [ $? -eq 2 ] && [ "$(error_lines err.txt)" -eq 1 ] && grep -q 'only the default pipeline' err.txt \

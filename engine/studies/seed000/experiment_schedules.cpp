@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/distributed/sharding.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
@@ -163,12 +164,35 @@ ScheduleRow run_method(const Method& m, const ReferencedInstance& inst, uint64_t
 
 }  // namespace
 
+namespace {
+
+void encode_row(distributed::ByteWriter& w, const ScheduleRow& r) {
+  for (const auto* t : {&r.family, &r.instance, &r.method}) w.put(*t);
+  w.put(r.n);
+  for (double v : {r.objective, r.reference, r.gap, r.raw_validity, r.sweeps, r.wall_s}) w.put(v);
+  w.put<uint8_t>(r.valid);
+}
+
+ScheduleRow decode_row(distributed::ByteReader& rd) {
+  ScheduleRow r;
+  for (auto* t : {&r.family, &r.instance, &r.method}) *t = rd.get_string();
+  r.n = rd.get<int32_t>();
+  for (double* v : {&r.objective, &r.reference, &r.gap, &r.raw_validity, &r.sweeps, &r.wall_s})
+    *v = rd.get<double>();
+  r.valid = rd.get<uint8_t>() != 0;
+  return r;
+}
+
+}  // namespace
+
+// One item per instance, in the order one process visits them (tracking sizes × runs, then the
+// DecompLib files), dealt to the ranks round robin (DESIGN §8): a tracking instance (and its
+// reference) is built by the rank that runs it, from (seed, size, run) alone; the DecompLib files
+// are read by every rank first, so a bad file fails every rank alike.
 std::vector<ScheduleRow> run_schedules_experiment(const SchedulesExperimentOptions& o,
                                                   std::ostream* progress) {
   o.validate();
-  std::vector<ReferencedInstance> instances;
-  for (int32_t n : o.tracking_sizes)
-    for (int32_t r = 0; r < o.runs; ++r) instances.push_back(seed000_tracking_instance(n, o.seed, r));
+  std::vector<ReferencedInstance> decomplib;
   if (o.decomplib_per_size > 0 && !o.decomplib_dir.empty()) {
     const auto optima = read_known_optima(o.decomplib_dir + "/ap3.opt");
     for (int32_t n : o.decomplib_sizes)
@@ -182,20 +206,34 @@ std::vector<ScheduleRow> run_schedules_experiment(const SchedulesExperimentOptio
         require(it != optima.end(), o.decomplib_dir + "/ap3.opt", "no optimum for " + name);
         inst.reference = it->second;
         inst.reference_is_optimum = true;
-        instances.push_back(std::move(inst));
+        decomplib.push_back(std::move(inst));
       }
   }
-  std::vector<ScheduleRow> rows;
   std::vector<Method> ms = methods(o.restarts);
   if (!o.methods.empty())
     std::erase_if(ms, [&](const Method& m) {
       return std::find(o.methods.begin(), o.methods.end(), m.name) == o.methods.end();
     });
-  for (std::size_t i = 0; i < instances.size(); ++i) {
-    if (progress) *progress << "[" << (i + 1) << "/" << instances.size() << "] " << instances[i].name << "\n";
-    for (const Method& m : ms) rows.push_back(run_method(m, instances[i], o.seed));
-  }
-  return rows;
+  const int64_t tracking = static_cast<int64_t>(o.tracking_sizes.size()) * o.runs;
+  const int64_t items = tracking + static_cast<int64_t>(decomplib.size());
+  auto describe = [&](int64_t i) {
+    return i < tracking ? "schedules run " + std::to_string(i % o.runs) + " of " +
+                              std::to_string(o.tracking_sizes[i / o.runs]) + " targets"
+                        : "schedules " + decomplib[i - tracking].name;
+  };
+  return distributed::sharded_items<ScheduleRow>(
+      distributed::world(), items,
+      [&](int64_t i) {
+        const ReferencedInstance inst = i < tracking
+                                            ? seed000_tracking_instance(o.tracking_sizes[i / o.runs], o.seed,
+                                                                        static_cast<int32_t>(i % o.runs))
+                                            : decomplib[i - tracking];
+        if (progress) *progress << "[" << (i + 1) << "/" << items << "] " << inst.name << "\n";
+        std::vector<ScheduleRow> rows;
+        for (const Method& m : ms) rows.push_back(run_method(m, inst, o.seed));
+        return rows;
+      },
+      describe, encode_row, decode_row);
 }
 
 namespace {

@@ -59,6 +59,8 @@ std::vector<std::string> schedules_method_names();
 // Seed 000 tracking instances: scenario `seed000` with `n` targets, Monte Carlo run `run`.
 ReferencedInstance seed000_tracking_instance(int32_t n, uint64_t seed, int32_t run);
 
+// Every method on every instance; the instances are sharded over the ranks of distributed::world()
+// (rank 0 returns the rows of one process, in its order; the others none).
 std::vector<ScheduleRow> run_schedules_experiment(const SchedulesExperimentOptions& options,
                                                   std::ostream* progress);
 

@@ -52,6 +52,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/distributed/communicator.hpp"
 #include "engine/fusion/fuzzy_pipeline.hpp"
 #include "io/track_file.hpp"
 #include "kernels/core/scenario.hpp"
@@ -141,11 +142,18 @@ struct Seed001Result {
   double wall_time_s = 0.0;
 };
 
-// Runs the Monte Carlo study (runs in parallel over TBB; the figures other than times are
-// bit-identical for any thread count).
+// Runs the Monte Carlo study in this process (runs in parallel over TBB; the figures other than
+// times are bit-identical for any thread count).
 Seed001Result run_seed001(const Seed001Options& options);
 
-// `trackassoc experiment seed001`: runs both readings of σθ₁ (`options` and the other one), writes
+// The studies of several readings (or settings) at once, their runs sharded over the ranks of
+// `comm` (engine/distributed/sharding.hpp): on rank 0 the results of run_seed001 for each, but
+// `example` (run 0) only for the first, and wall_time_s the whole call's; empty on the others.
+std::vector<Seed001Result> run_seed001_readings(const std::vector<Seed001Options>& readings,
+                                                distributed::Communicator& comm);
+
+// `trackassoc experiment seed001`: runs both readings of σθ₁ (`options` and the other one; sharded over
+// the ranks of distributed::world(), rank 0 alone prints and writes), writes
 // run 0 of `options`' reading to `output` (io/track_file.hpp) and prints Tables 1–2 beside the
 // paper's, erratum first, with one line per row saying why ours differs (the plot-noise model
 // above, the α-β gains, the gate), the proposed / FTAA RMSE ratios and the wall time.

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "engine/cli/table.hpp"
+#include "engine/distributed/sharding.hpp"
 #include "engine/simulation/simulation_truth.hpp"
 #include "engine/studies/experiments.hpp"
 #include "io/atomic_file.hpp"
@@ -203,7 +204,62 @@ void Seed002Options::validate() const {
             "expected at least one σ_CA and one a_max");
 }
 
+namespace {
+
+void encode_motion(distributed::ByteWriter& w, const Seed002Motion& m) {
+  w.put(m.name);
+  w.put(m.t);
+  for (const auto* q : {&m.rmse_imm, &m.rmse_cs_parallel, &m.rmse_ca})
+    for (const auto& v : *q) w.put(v);
+  w.put(m.imm_prob_cs);
+  w.put(m.f2_scale);
+  for (const auto& a : {m.ratio, m.mean_imm, m.mean_cs_parallel, m.mean_ca}) w.put(a);
+  w.put(m.mean_prob_cs);
+}
+
+Seed002Motion decode_motion(distributed::ByteReader& rd) {
+  Seed002Motion m;
+  m.name = rd.get_string();
+  m.t = rd.get_vector<double>();
+  for (auto* q : {&m.rmse_imm, &m.rmse_cs_parallel, &m.rmse_ca})
+    for (auto& v : *q) v = rd.get_vector<double>();
+  m.imm_prob_cs = rd.get_vector<double>();
+  m.f2_scale = rd.get_vector<double>();
+  for (auto* a : {&m.ratio, &m.mean_imm, &m.mean_cs_parallel, &m.mean_ca})
+    *a = rd.get<std::array<double, 3>>();
+  m.mean_prob_cs = rd.get<double>();
+  return m;
+}
+
+}  // namespace
+
+// One item per (setting, motion), in the order one process visits them, dealt to the ranks round
+// robin (DESIGN §8). A motion's runs stay together: they are the lanes of one filter bank and its
+// RMSE sums them in run order per scan, so splitting them would need every run's errors per scan
+// on rank 0 to keep the sums bit for bit. The network is trained on every rank alike.
+std::vector<Seed002Motion> run_seed002_motions(const Seed002Options& o,
+                                               const std::vector<Seed002Models>& settings,
+                                               const BpNetwork& net, distributed::Communicator& comm) {
+  return distributed::sharded_items<Seed002Motion>(
+      comm, static_cast<int64_t>(settings.size()) * 4,
+      [&](int64_t i) {
+        return std::vector<Seed002Motion>{
+            run_seed002_motion(static_cast<int>(i % 4), o, settings[i / 4], net)};
+      },
+      [&](int64_t i) {
+        const Seed002Models& m = settings[i / 4];
+        return "seed002 " + std::string(kMotions[i % 4]) + " (" + std::to_string(o.runs) +
+               " runs) of a_max " + cli::fmt(m.cs_a_max, "%g") + ", σ_CA " + cli::fmt(m.ca_sigma, "%g");
+      },
+      encode_motion, decode_motion);
+}
+
 Seed002Result run_seed002(const Seed002Options& o) {
+  distributed::SingleProcessCommunicator one;
+  return run_seed002(o, one);
+}
+
+Seed002Result run_seed002(const Seed002Options& o, distributed::Communicator& comm) {
   o.validate();
   const auto start = std::chrono::steady_clock::now();
   Seed002Result result;
@@ -212,11 +268,11 @@ Seed002Result run_seed002(const Seed002Options& o) {
   const BpNetwork net = trained_cs_network(&training);
   result.network_error = training.final_error;
   result.network_mse = training.final_mse;
-  for (int m = 0; m < 4; ++m) result.motions.push_back(run_seed002_motion(m, o, o.models, net));
+  result.motions = run_seed002_motions(o, {o.models}, net, comm);
   const auto mid = std::chrono::steady_clock::now();
   result.wall_time_s = std::chrono::duration<double>(mid - start).count();
   if (o.sensitivity) {
-    result.sensitivity = run_seed002_sensitivity(o, net);
+    result.sensitivity = run_seed002_sensitivity(o, net, comm);
     result.sensitivity_wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - mid).count();
   }

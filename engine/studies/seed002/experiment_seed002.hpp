@@ -46,6 +46,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/distributed/communicator.hpp"
 #include "kernels/learning/bp_network.hpp"
 
 namespace trackassoc {
@@ -107,16 +108,26 @@ struct Seed002Result {
 inline constexpr std::array<std::array<double, 3>, 4> kSeed002PaperTable1{
     {{0.7876, 0.5105, 0.5515}, {0.8532, 0.6988, 0.5820}, {0.6815, 0.2503, 0.2059}, {0.6620, 0.2047, 0.1847}}};
 
+// In this process; the overload with `comm` shards the motions of the table and of the sweep over its
+// ranks (run_seed002_motions): rank 0 returns the result of one process, the others no motions.
 Seed002Result run_seed002(const Seed002Options& options);
+Seed002Result run_seed002(const Seed002Options& options, distributed::Communicator& comm);
 
 // One motion (0 step, 1 circle, 2 ca, 3 cv) of the study with the given model settings; the
 // measurements depend only on options.seed and the run, so every setting sees the same data.
 Seed002Motion run_seed002_motion(int motion, const Seed002Options& options, const Seed002Models& models,
                                  const BpNetwork& network);
 
-// The sweep over options.sensitivity_a_max × options.sensitivity_ca_sigma.
+// Every motion of every setting (setting-major), one item each, sharded over the ranks of `comm`
+// (engine/distributed/sharding.hpp): on rank 0 what one process computes, empty on the others.
+std::vector<Seed002Motion> run_seed002_motions(const Seed002Options& options,
+                                               const std::vector<Seed002Models>& settings,
+                                               const BpNetwork& network, distributed::Communicator& comm);
+
+// The sweep over options.sensitivity_a_max × options.sensitivity_ca_sigma (sharded as above).
 std::vector<Seed002SensitivityRow> run_seed002_sensitivity(const Seed002Options& options,
-                                                           const BpNetwork& network);
+                                                           const BpNetwork& network,
+                                                           distributed::Communicator& comm);
 
 // A ratio "reproduces" the paper's when within a factor kSeed002Match of it (either side).
 inline constexpr double kSeed002Match = 1.25;

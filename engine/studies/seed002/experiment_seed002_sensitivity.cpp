@@ -19,17 +19,21 @@
 
 namespace trackassoc {
 
-std::vector<Seed002SensitivityRow> run_seed002_sensitivity(const Seed002Options& o, const BpNetwork& net) {
+std::vector<Seed002SensitivityRow> run_seed002_sensitivity(const Seed002Options& o, const BpNetwork& net,
+                                                           distributed::Communicator& comm) {
   o.validate();
-  std::vector<Seed002SensitivityRow> rows;
+  std::vector<Seed002Models> settings;
   for (double a_max : o.sensitivity_a_max)
-    for (double sigma : o.sensitivity_ca_sigma) {
-      Seed002SensitivityRow row;
-      row.models.ca_sigma = sigma;
-      row.models.cs_a_max = a_max;
-      for (int m = 0; m < 4; ++m) row.motions.push_back(run_seed002_motion(m, o, row.models, net));
-      rows.push_back(std::move(row));
-    }
+    for (double sigma : o.sensitivity_ca_sigma) settings.push_back({.ca_sigma = sigma, .cs_a_max = a_max});
+  std::vector<Seed002Motion> motions = run_seed002_motions(o, settings, net, comm);
+  if (!comm.root()) return {};
+  std::vector<Seed002SensitivityRow> rows;
+  for (std::size_t k = 0; k < settings.size(); ++k) {
+    Seed002SensitivityRow row;
+    row.models = settings[k];
+    for (int m = 0; m < 4; ++m) row.motions.push_back(std::move(motions[4 * k + m]));
+    rows.push_back(std::move(row));
+  }
   return rows;
 }
 

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "engine/cli/table.hpp"
+#include "engine/distributed/sharding.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/siamese_pipeline.hpp"
 #include "io/atomic_file.hpp"
@@ -85,47 +86,88 @@ void score(const std::vector<int32_t>& l2r, const Seed003Scene& sc, double& acc,
 Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
                                                const Seed003ExperimentOptions& o,
                                                const std::vector<NamedPairModel>& extra) {
+  distributed::SingleProcessCommunicator one;
+  return run_seed003_experiment(model, o, extra, one);
+}
+
+namespace {
+
+// One method on one scene: the scores of the density tables (the time a wall time).
+struct SceneScore {
+  double accuracy = 0, recall = 0, precision = 0, seconds = 0;
+};
+
+}  // namespace
+
+// The scenes, flattened in the order one process visits them (density, then run), dealt to the
+// ranks round robin (DESIGN §8); a scene draws from (seed, density index, run) alone, and every rank
+// holds the same models, so the scores are those of one process. Rank 0 files them by method.
+Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
+                                               const Seed003ExperimentOptions& o,
+                                               const std::vector<NamedPairModel>& extra,
+                                               distributed::Communicator& comm) {
   using clock = std::chrono::steady_clock;
   o.validate();
   const auto start = clock::now();
   Seed003Options scenario = o.scenario;
   scenario.seed = o.seed;
   const ClassicalBaselineOptions base = baseline_options_for(scenario);
-  Seed003ExperimentResult r;
-  r.densities = o.densities;
   std::vector<std::string> names{"ttcsn", "weighted", "nn"};
   for (const auto& e : extra) names.push_back(e.name);
-  for (const auto& n : names) {
-    Seed003MethodCurve c;
-    c.method = n;
-    const std::size_t D = o.densities.size(), R = static_cast<std::size_t>(o.runs);
-    c.accuracy.assign(D, std::vector<double>(R));
-    c.recall = c.precision = c.seconds = c.accuracy;
-    r.methods.push_back(std::move(c));
-  }
   SiameseAssociationOptions so;
   so.probability_threshold = o.probability_threshold;
-  for (std::size_t d = 0; d < o.densities.size(); ++d)
-    for (int run = 0; run < o.runs; ++run) {
-      // Scene streams: a distinct run number per (density, run).
-      const Seed003Scene sc =
-          simulate_seed003_scene(scenario, o.densities[d], static_cast<uint64_t>(d) * 100000 + run);
-      for (int m = 0; m < static_cast<int>(names.size()); ++m) {
-        const auto t0 = clock::now();
-        std::vector<int32_t> l2r;
-        if (m == 0)
-          l2r = associate_siamese(model, sc.radar1, sc.radar2, so).left_to_right;
-        else if (m == 1)
-          l2r = associate_weighted_test(sc.radar1, sc.radar2, base);
-        else if (m == 2)
-          l2r = associate_nearest_neighbour(sc.radar1, sc.radar2, base);
-        else
-          l2r = associate_siamese(*extra[m - 3].model, sc.radar1, sc.radar2, so).left_to_right;
-        Seed003MethodCurve& c = r.methods[m];
-        c.seconds[d][run] = std::chrono::duration<double>(clock::now() - t0).count();
-        score(l2r, sc, c.accuracy[d][run], c.recall[d][run], c.precision[d][run]);
+  const int64_t items = static_cast<int64_t>(o.densities.size()) * o.runs;
+  const std::vector<SceneScore> scores = distributed::sharded_items<SceneScore>(
+      comm, items,
+      [&](int64_t i) {
+        const std::size_t d = static_cast<std::size_t>(i / o.runs);
+        const int run = static_cast<int>(i % o.runs);
+        // Scene streams: a distinct run number per (density, run).
+        const Seed003Scene sc =
+            simulate_seed003_scene(scenario, o.densities[d], static_cast<uint64_t>(d) * 100000 + run);
+        std::vector<SceneScore> row(names.size());
+        for (int m = 0; m < static_cast<int>(names.size()); ++m) {
+          const auto t0 = clock::now();
+          std::vector<int32_t> l2r;
+          if (m == 0)
+            l2r = associate_siamese(model, sc.radar1, sc.radar2, so).left_to_right;
+          else if (m == 1)
+            l2r = associate_weighted_test(sc.radar1, sc.radar2, base);
+          else if (m == 2)
+            l2r = associate_nearest_neighbour(sc.radar1, sc.radar2, base);
+          else
+            l2r = associate_siamese(*extra[m - 3].model, sc.radar1, sc.radar2, so).left_to_right;
+          SceneScore& x = row[m];
+          x.seconds = std::chrono::duration<double>(clock::now() - t0).count();
+          score(l2r, sc, x.accuracy, x.recall, x.precision);
+        }
+        return row;
+      },
+      [&](int64_t i) {
+        return "seed003 run " + std::to_string(i % o.runs) + " of density " +
+               std::to_string(o.densities[i / o.runs]);
+      },
+      [](distributed::ByteWriter& w, const SceneScore& x) { w.put(x); },
+      [](distributed::ByteReader& rd) { return rd.get<SceneScore>(); });
+  Seed003ExperimentResult r;
+  r.densities = o.densities;
+  if (!comm.root()) return r;
+  const std::size_t D = o.densities.size(), R = static_cast<std::size_t>(o.runs);
+  for (std::size_t m = 0; m < names.size(); ++m) {
+    Seed003MethodCurve c;
+    c.method = names[m];
+    c.accuracy.assign(D, std::vector<double>(R));
+    c.recall = c.precision = c.seconds = c.accuracy;
+    for (std::size_t d = 0; d < D; ++d)
+      for (std::size_t run = 0; run < R; ++run) {
+        const SceneScore& x = scores[(d * R + run) * names.size() + m];
+        c.accuracy[d][run] = x.accuracy;
+        c.recall[d][run] = x.recall;
+        c.precision[d][run] = x.precision;
+        c.seconds[d][run] = x.seconds;
       }
-    }
+    r.methods.push_back(std::move(c));
+  }
   r.wall_time_s = std::chrono::duration<double>(clock::now() - start).count();
   return r;
 }
@@ -277,8 +319,15 @@ Seed003ExperimentResult run_seed003_study(const Seed003StudyFiles& files, Seed00
   if (training.is_object() && training.contains("generator"))
     o.scenario = seed003_scene_of(training["generator"].dump(), o.scenario, files.model);
   o.validate();
+  // Rank 0 alone prints and writes; the pair table is rank 0's, and every rank learns whether the
+  // data set could be read before the scenes are dealt out (check_on_root).
+  auto& comm = distributed::world();
   nlohmann::json pair_metrics = nlohmann::json::object();
-  if (!files.data.empty()) pair_metrics = print_pair_test_metrics(files.data, loaded.model, extra, o, out);
+  if (!files.data.empty())
+    distributed::check_on_root(
+        comm, [&] { pair_metrics = print_pair_test_metrics(files.data, loaded.model, extra, o, out); });
+  const Seed003ExperimentResult r = run_seed003_experiment(loaded.model, o, extra, comm);
+  if (!comm.root()) return r;
   char scene[256];
   std::snprintf(
       scene, sizeof scene,
@@ -288,7 +337,6 @@ Seed003ExperimentResult run_seed003_study(const Seed003StudyFiles& files, Seed00
       o.scenario.radar2_y / 1e3, o.scenario.sigma_range, o.scenario.sigma_bearing_deg, o.scenario.period1,
       o.scenario.period2);
   out << scene;
-  const Seed003ExperimentResult r = run_seed003_experiment(loaded.model, o, extra);
   print_density_tables(r, out);
   out << "seed 003 (Figs. 5-8): TTCSN highest accuracy at every density (up to 100 %), recall > 99 %,\n"
          "precision 15-20 points above LSTM/BiLSTM at high density; weighted test ~7 points below TTCSN "

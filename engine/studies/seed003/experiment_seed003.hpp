@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/distributed/communicator.hpp"
 #include "engine/studies/seed003/dataset_seed003.hpp"
 #include "engine/studies/seed003/seed003_baselines.hpp"
 
@@ -49,9 +50,15 @@ struct NamedPairModel {
   const SiameseModel<float>* model;
 };
 
+// In this process; the overload with `comm` shards the scenes over its ranks (rank 0 returns the
+// result of one process, the others only `densities`).
 Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
                                                const Seed003ExperimentOptions& options,
                                                const std::vector<NamedPairModel>& extra_models = {});
+Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
+                                               const Seed003ExperimentOptions& options,
+                                               const std::vector<NamedPairModel>& extra_models,
+                                               distributed::Communicator& comm);
 
 // The files of `trackassoc experiment seed003`: the Siamese model (train-siamese), the optional
 // baselines on concatenated pairs (--architecture lstm | bilstm), the optional data set whose test
@@ -60,10 +67,11 @@ struct Seed003StudyFiles {
   std::string model, lstm_model, bilstm_model, data, output;
 };
 
-// The whole study: reads the models (InputError when a file holds another architecture), flies the
-// scenes as the model's training data were when its training JSON records the generator, prints
-// the pair test table (when `data` is given: TTCSN, the weighted test gated at χ²₂(0.99) and the
-// baselines, each as a confusion count over the test pairs) and one table per metric vs density to
+// The whole study, its scenes sharded over the ranks of distributed::world() (every rank reads the
+// models; rank 0 alone prints and writes): reads the models (InputError when a file holds another
+// architecture), flies the scenes as the model's training data were when its training JSON records the
+// generator, prints the pair test table (when `data` is given: TTCSN, the weighted test gated at χ²₂(0.99)
+// and the baselines, each as a confusion count over the test pairs) and one table per metric vs density to
 // `out`, and writes `output` atomically:
 //   /  attrs format = "trackassoc", schema_version = 1
 //   /experiment/seed003/  attrs options (JSON: runs, seed, threshold, scenario, model),

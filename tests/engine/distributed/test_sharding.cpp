@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "engine/distributed/sharding.hpp"
@@ -16,6 +17,10 @@
 #include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "engine/studies/seed000/experiment_seed000.hpp"
+#include "engine/studies/seed001/experiment_seed001.hpp"
+#include "engine/studies/seed002/experiment_seed002.hpp"
+#include "engine/studies/seed003/experiment_seed003.hpp"
+#include "io/siamese_model_file.hpp"
 #include "kernels/core/error.hpp"
 
 namespace trackassoc {
@@ -99,6 +104,43 @@ TEST(Sharding, ItemsComeBackInTheOrderOfOneProcess) {
   for (int n : {2, 3, 4, 16}) EXPECT_EQ(items_over(n, 11), one) << n << " ranks";
 }
 
+TEST(Sharding, ParallelItemsComeBackInTheOrderOfOneProcess) {
+  auto over = [](int n, bool parallel) {
+    return over_ranks(n, [&](distributed::Communicator& comm) {
+      return distributed::sharded_items<int64_t>(
+          comm, 23, [](int64_t i) { return std::vector<int64_t>(i % 3, 10 * i); },
+          [](int64_t i) { return "item " + std::to_string(i); },
+          [](ByteWriter& w, const int64_t& x) { w.put(x); }, [](ByteReader& r) { return r.get<int64_t>(); },
+          parallel);
+    });
+  };
+  const auto one = over(1, false);
+  for (int n : {1, 2, 3, 5}) EXPECT_EQ(over(n, true), one) << n << " ranks";
+}
+
+TEST(Sharding, AFailingParallelItemIsNamedFirstInItemOrder) {
+  // Rank 1 of 2 holds items 1, 3, 5: 3 and 5 fail, 3 is named, and bad input stays bad input.
+  std::vector<Bytes> box(2);
+  auto run = [&](int r) {
+    MailboxRank comm(r, 2, &box);
+    return distributed::sharded_items<int>(
+        comm, 6,
+        [](int64_t i) -> std::vector<int> {
+          if (i == 3 || i == 5) throw InputError("run " + std::to_string(i) + " bad");
+          return {1};
+        },
+        [](int64_t i) { return "run " + std::to_string(i); }, [](ByteWriter& w, const int& x) { w.put(x); },
+        [](ByteReader& r) { return r.get<int>(); }, /*parallel=*/true);
+  };
+  EXPECT_THROW(run(1), distributed::SilentExit);
+  try {
+    run(0);
+    FAIL() << "rank 0 did not report";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "rank 1, run 3: run 3 bad");
+  }
+}
+
 TEST(Sharding, AFailingRankIsNamedWithItsShard) {
   // Item 4 of 3 ranks is rank 1's: rank 1 ends silently with exit status 2 (bad input), rank 0
   // throws the one message, naming the rank and the shard; rank 2 ends normally.
@@ -148,6 +190,83 @@ TEST(Sharding, SeedZeroZeroZeroRowsDoNotDependOnTheRanks) {
     EXPECT_EQ(sharded[k].objective, single[k].objective);  // bit for bit
     EXPECT_EQ(sharded[k].correct_rate, single[k].correct_rate);
     EXPECT_EQ(sharded[k].false_rate, single[k].false_rate);
+  }
+}
+
+// The Monte Carlo studies seed001–seed003 over 1, 2 and 3 ranks: rank 0 gets the figures of one
+// process bit for bit (the MPI build checks the files and tables, tests/mpi/mpi_case.sh).
+TEST(Sharding, SeedZeroZeroOneResultsDoNotDependOnTheRanks) {
+  Seed001Options o;
+  o.runs = 5;
+  o.duration = 40.0;
+  Seed001Options literal = o;
+  literal.bearing_reading = BearingReading::kLiteral;
+  const Seed001Result single = run_seed001(o), single_literal = run_seed001(literal);
+  for (int n : {2, 3}) {
+    const auto both = over_ranks(n, [&](distributed::Communicator& comm) {
+      return run_seed001_readings({o, literal}, comm);
+    });
+    ASSERT_EQ(both.size(), 2u);
+    for (const auto& [one, many] : {std::pair{&single, &both[0]}, std::pair{&single_literal, &both[1]}})
+      for (bool ftaa : {false, true}) {
+        const Seed001MethodResult& a = ftaa ? one->ftaa : one->fuzzy;
+        const Seed001MethodResult& b = ftaa ? many->ftaa : many->fuzzy;
+        for (int t = 0; t < 2; ++t) {
+          EXPECT_EQ(a.mean_rmse[t], b.mean_rmse[t]) << n << " ranks";
+          EXPECT_EQ(0, std::memcmp(a.rmse[t].data(), b.rmse[t].data(), a.rmse[t].size() * sizeof(double)));
+        }
+        EXPECT_EQ(a.correct_rate, b.correct_rate);
+        EXPECT_EQ(a.system_tracks_per_run, b.system_tracks_per_run);
+        EXPECT_EQ(a.decisions_per_run, b.decisions_per_run);
+      }
+    EXPECT_EQ(both[0].example.tracks.size(), single.example.tracks.size());  // run 0, on rank 0
+    EXPECT_EQ(both[0].example.metrics.size(), single.example.metrics.size());
+  }
+}
+
+TEST(Sharding, SeedZeroZeroTwoMotionsDoNotDependOnTheRanks) {
+  // The table's setting and two of the sweep's in one exchange (the stand-in holds one gather; the
+  // table then the sweep, two gathers, are checked under mpirun).
+  Seed002Options o;
+  o.runs = 4;
+  const std::vector<Seed002Models> settings{
+      o.models, {.ca_sigma = 1.0, .cs_a_max = 100.0}, {.ca_sigma = 1.0, .cs_a_max = 200.0}};
+  const BpNetwork net = trained_cs_network(nullptr);
+  const Seed002Result single = run_seed002(o);
+  std::vector<Seed002Motion> expected = single.motions;
+  for (std::size_t k = 1; k < settings.size(); ++k)
+    for (int m = 0; m < 4; ++m) expected.push_back(run_seed002_motion(m, o, settings[k], net));
+  for (int n : {2, 3, 5}) {
+    const auto many = over_ranks(
+        n, [&](distributed::Communicator& comm) { return run_seed002_motions(o, settings, net, comm); });
+    ASSERT_EQ(many.size(), expected.size());
+    for (std::size_t k = 0; k < many.size(); ++k) {
+      const Seed002Motion &a = expected[k], &b = many[k];
+      EXPECT_EQ(a.name, b.name);
+      EXPECT_EQ(a.ratio, b.ratio) << n << " ranks, item " << k;
+      EXPECT_EQ(a.mean_ca, b.mean_ca);
+      EXPECT_EQ(a.imm_prob_cs, b.imm_prob_cs);
+      for (int q = 0; q < 3; ++q) EXPECT_EQ(a.rmse_imm[q], b.rmse_imm[q]);
+    }
+  }
+}
+
+TEST(Sharding, SeedZeroZeroThreeScoresDoNotDependOnTheRanks) {
+  const SiameseModel<float> model =
+      read_siamese_model(TRACKASSOC_SOURCE_DIR "/data/models/siamese_seed003.h5").model;
+  Seed003ExperimentOptions o;
+  o.runs = 3;
+  o.densities = {5, 10};
+  distributed::SingleProcessCommunicator one;
+  const Seed003ExperimentResult single = run_seed003_experiment(model, o, {}, one);
+  const Seed003ExperimentResult many = over_ranks(
+      3, [&](distributed::Communicator& comm) { return run_seed003_experiment(model, o, {}, comm); });
+  ASSERT_EQ(many.methods.size(), single.methods.size());
+  for (std::size_t m = 0; m < single.methods.size(); ++m) {
+    EXPECT_EQ(many.methods[m].method, single.methods[m].method);
+    for (auto score :
+         {&Seed003MethodCurve::accuracy, &Seed003MethodCurve::recall, &Seed003MethodCurve::precision})
+      EXPECT_EQ(many.methods[m].*score, single.methods[m].*score) << single.methods[m].method;
   }
 }
 
