@@ -21,6 +21,7 @@ for b in build/bench_*; do
   [ -x "$b" ] || continue
   name=$(basename "$b")
   echo "== $name"
+  echo "load before $name: $(cut -d' ' -f1-3 /proc/loadavg)" >> bench-results/meta.txt
   "$b" --benchmark_filter="$filter" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
        --benchmark_out="bench-results/$name.json" --benchmark_out_format=json
 done
