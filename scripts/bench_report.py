@@ -230,9 +230,10 @@ def kernel_rows(T, folder):
           "per-track calls (naive)", T.t("BM_AlphaBetaPerTrack/1048576"))
     T.section("Hopfield networks (seed 000, 004)")
     for n in (100, 200):
+        floor_ms = T.c(f"BM_SyncSweep/{n}/1", "floor_ms")
         T.row("synchronous sweep", f"n = {n} ({n ** 3:,} neurons)", T.t(f"BM_SyncSweep/{n}/1"),
               T.t(f"BM_SyncSweep/{n}/2"), "memory floor (12 B/neuron at the copy bandwidth)",
-              T.c(f"BM_SyncSweep/{n}/1", "floor_ms", None) and T.c(f"BM_SyncSweep/{n}/1", "floor_ms") * 1e-3)
+              None if floor_ms is None else floor_ms * 1e-3)
     T.row("sweep from marginal sums", "n = 15", T.t("BM_MarginalSweepSmall/15"), None,
           "the n⁶-weight network (naive)", T.t("BM_NaiveWeightsSweep/15"))
     T.row("restarts, default solver", "n = 50", T.t("BM_RestartsDefault/1"), T.t("BM_RestartsDefault/2"),
