@@ -20,6 +20,9 @@ packages=(
   clang libclang-rt-14-dev
   # Stone Soup, the peer of `experiment recorded` (../shared/peers/stonesoup-src/README.md)
   python3-ordered-set python3-plotly python3-pymap3d python3-rtree python3-ruamel.yaml
+  # the Python module (engine/python/, DESIGN §9) and its pytest suite (tests/python/); pandas
+  # for to_pandas() and the CSV round trip (optional to the module itself)
+  pybind11-dev python3-pybind11 python3-dev python3-pytest python3-pandas
 )
 [ "$with_mpi" -eq 1 ] && packages+=(libopenmpi-dev openmpi-bin)
 

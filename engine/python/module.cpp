@@ -59,7 +59,8 @@ std::shared_ptr<const TrackFile> track_file_of(const py::handle& tracks, const p
 PyAssociation associate(const py::object& tracks, const py::object& sensors, const py::object& threads,
                         const py::kwargs& options) {
   const ThreadLimit limit(threads);
-  const AssociatorOptions request = read_associator_options(json_from_python(options, "associate"), "associate");
+  AssociatorOptions request = read_associator_options(json_from_python(options, "associate"), "associate");
+  if (request.siamese_model.empty()) request.siamese_model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";
   std::shared_ptr<const TrackFile> file = track_file_of(tracks, sensors);
   PyAssociation result;
   result.input = file;
