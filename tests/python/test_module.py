@@ -7,7 +7,9 @@ import pytest
 import trackassoc
 from conftest import run_cli
 
-RECORDED = ["recorded_sync", "recorded_3s", "recorded_formation"]
+# The recorded family but recorded_10k (3 x 10 000 targets: minutes, not a unit test).
+RECORDED = ["recorded_sync", "recorded_3s", "recorded_3s_long", "recorded_4s", "recorded_5s", "recorded_dense",
+            "recorded_formation"]
 
 
 def cli_association(tmp_path, path, *flags, name=None):
