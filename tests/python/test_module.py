@@ -1,5 +1,9 @@
 """trackassoc (the module) against trackassoc (the command line) on the same files: the same
 tuples, costs, targets, unassociated tracks, metrics and fused tracks, bit for bit (issue 32)."""
+import os
+import subprocess
+import sys
+
 import h5py
 import numpy as np
 import pytest
@@ -157,3 +161,12 @@ def test_docstrings():
         assert doc and len(doc) > 80, name
     assert "gate_method" in trackassoc.option_help()
     assert trackassoc.Association.to_pandas.__doc__
+
+
+def test_import_without_stonesoup_is_lazy():
+    """import trackassoc (and trackassoc.stonesoup) needs no Stone Soup: none of it is imported
+    until an associator is used."""
+    code = ("import sys, trackassoc, trackassoc.stonesoup; "
+            "assert not any(m.startswith('stonesoup') for m in sys.modules), 'stonesoup imported'")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if "stonesoup" not in p))
+    subprocess.run([sys.executable, "-c", code], check=True, env=env)
