@@ -111,3 +111,17 @@ def test_bad_sensors():
         trackassoc.associate(two_sensor_tracks(), sensors=[0, 1, 2])  # sensor 2 has no track: no period
     with pytest.raises(ValueError, match="threads"):
         trackassoc.associate(two_sensor_tracks(), threads=0)
+
+
+def test_arrays_written_and_read_back(tmp_path):
+    """write() of arrays (with their association) gives a file the C++ reader takes back unchanged."""
+    t = two_sensor_tracks()
+    a = trackassoc.associate(t, name="hand")
+    out = tmp_path / "arrays.h5"
+    trackassoc.write(str(out), t, associations=[a])
+    back = trackassoc.read(str(out))
+    for k in ("sensor", "track", "t", "state", "cov", "truth"):
+        assert back.tracks[k].tobytes() == np.ascontiguousarray(t[k], dtype=back.tracks[k].dtype).tobytes(), k
+    assert back.sensors["id"].tolist() == [0, 1] and back.sensors["period"].tolist() == [1.0, 1.0]
+    np.testing.assert_array_equal(back.associations["hand"].tuples, a.tuples)
+    assert trackassoc.evaluate(back.associations["hand"])["correct_rate"] == 1.0
