@@ -28,7 +28,8 @@ void register_import(CLI::App& app) {
       "per track by the three-point derivative (non-uniform times; one-sided at the ends, 0 for one "
       "report). Covariance from packed upper-triangle columns (cov), σ columns (sigma.x ...) or the "
       "--sigma-pos/--sigma-vel flags (stated in /tracks attr import). Each bad value is named by line "
-      "and column; exit 2 and nothing written.");
+      "and column; exit 2 and nothing written. A line may hold at most 1 MiB (" +
+          std::to_string(kMaxCsvLineBytes) + " bytes); a longer one is refused naming its number.");
   cmd->add_option("--input,-i", args->input, "CSV file")->required();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file")->required();
   cmd->add_option(

@@ -54,6 +54,54 @@ class BadInputPart3 : public testing_support::CliFixture {
   }
 };
 
+// ---------------------------------------------------------------- 2. error lines are text
+
+TEST_F(BadInputPart3, ControlBytesInAnInputAreEscapedInTheErrorLine) {
+  const std::string cols = " -c time=t -c sensor=sensor -c track=track -c x=x -c y=y --sigma-pos 5 --sigma-vel 1 -o ";
+  // A header holding the bell and a terminal escape sequence (red text): the column list of the
+  // message shows them as \x07 and \x1b.
+  write_bytes("esc.csv", "time\x07,\x1b[31mred,sensor,track,x,y\n0,1,0,1,2,3\n");
+  CliResult r = run("import csv -i " + path("esc.csv") + cols + path("o.h5"));
+  expect_refusal(r, {"column 't' is not in the header (line 1: time\\x07, \\x1b[31mred, sensor"});
+  expect_printable(r.err);
+  // A value with control bytes and a NUL-free binary run: escaped in the "found '...'" preview.
+  write_bytes("val.csv", "t,sensor,track,x,y\n0,1,0,1\x01\x04\x07,2\n");
+  r = run("import csv -i " + path("val.csv") + cols + path("o.h5"));
+  expect_refusal(r, {"line 2, column 'x': expected a number, found '1\\x01\\x04\\x07'"});
+  expect_printable(r.err);
+  // A binary file (NUL bytes): named as not text, the line whole, not cut at the NUL.
+  write_bytes("bin.csv", "t,sensor,track,x,y\n" + std::string("\x01\0\x04\x07garbage\0\n", 13));
+  r = run("import csv -i " + path("bin.csv") + cols + path("o.h5"));
+  expect_refusal(r, {"bin.csv: line 2: not UTF-8 text (UTF-16? save as UTF-8 CSV): found NUL bytes"});
+  expect_printable(r.err);
+  EXPECT_FALSE(fs::exists(path("o.h5")));
+}
+
+TEST_F(BadInputPart3, Utf16TextIsNamedAsSuch) {
+  // Excel's "Unicode text": UTF-16 little-endian with a byte-order mark.
+  auto utf16 = [](const std::string& ascii) {
+    std::string s = "\xff\xfe";
+    for (char c : ascii) s += std::string{c, '\0'};
+    return s;
+  };
+  write_bytes("u16.csv", utf16("t,sensor,track,x,y\n0,1,0,1,2\n"));
+  CliResult r = run("import csv -i " + path("u16.csv") +
+                    " -c time=t -c sensor=sensor -c track=track -c x=x -c y=y --sigma-pos 5 --sigma-vel 1 -o " +
+                    path("o.h5"));
+  expect_refusal(r, {"u16.csv: line 1: not UTF-8 text (UTF-16? save as UTF-8 CSV): found a UTF-16 byte-order mark"});
+  expect_printable(r.err);
+  // The mapping JSON and a scenario JSON saved as UTF-16 alike.
+  write("t.csv", "t,sensor,track,x,y\n0,1,0,1,2\n");
+  write_bytes("m.json", utf16(R"({"time": "t", "sensor": "sensor", "track": "track", "x": "x", "y": "y"})"));
+  r = run("import csv -i " + path("t.csv") + " -m " + path("m.json") + " --sigma-pos 5 --sigma-vel 1 -o " +
+          path("o.h5"));
+  expect_refusal(r, {"m.json: not UTF-8 text (UTF-16? save as UTF-8): found a UTF-16 byte-order mark"});
+  write_bytes("s.json", utf16("{}"));
+  r = run("simulate --scenario " + path("s.json") + " --output " + path("o.h5"));
+  expect_refusal(r, {"s.json", "not UTF-8 text (UTF-16? save as UTF-8)"});
+  EXPECT_FALSE(fs::exists(path("o.h5")));
+}
+
 // ---------------------------------------------------------------- 4. every solver is listed
 
 TEST_F(BadInputPart3, SolversListsEverySolverAssociateAccepts) {
@@ -90,6 +138,25 @@ TEST_F(BadInputPart3, SolversListsEverySolverAssociateAccepts) {
   ASSERT_EQ(all.status, 0);
   for (const char* name : {"\nfuzzy: ", "\nftaa: ", "\nsiamese: ", "\nlr+ls: "}) EXPECT_TRUE(has(all.out, name)) << name;
   expect_refusal(run("solvers fuzy"), {"unknown solver 'fuzy' (did you mean 'fuzzy'?)"});
+}
+
+// ---------------------------------------------------------------- 5. the CSV line cap
+
+TEST_F(BadInputPart3, ALineLongerThanTheCapIsRefusedNamingIt) {
+  const std::string cols = " -c time=t -c sensor=sensor -c track=track -c x=x -c y=y --sigma-pos 5 --sigma-vel 1 -o ";
+  // A 3 MiB header line (a file with no line breaks, or the wrong file).
+  write("long.csv", "t,sensor,track,x,y," + std::string(3 << 20, 'a') + "\n0,1,0,1,2,3\n");
+  CliResult r = run("import csv -i " + path("long.csv") + cols + path("o.h5"));
+  expect_refusal(r, {"long.csv: line 1 is longer than 1048576 bytes (the cap of a CSV line)"});
+  // A long data line: its number; a line of exactly the cap is read (and then named for its fields).
+  write("data.csv", "t,sensor,track,x,y\n0,1,0,1,2\n1,1,0,1," + std::string((1 << 20) + 1, '2') + "\n");
+  r = run("import csv -i " + path("data.csv") + cols + path("o.h5"));
+  expect_refusal(r, {"data.csv: line 3 is longer than 1048576 bytes"});
+  const std::string exact = "1,1,0,1,";
+  write("cap.csv", "t,sensor,track,x,y\n0,1,0,1,2\n" + exact + std::string((1 << 20) - exact.size(), '2') + "\n");
+  r = run("import csv -i " + path("cap.csv") + cols + path("o.h5"));
+  expect_refusal(r, {"cap.csv: line 3, column 'y': number out of the double range: '2222"});
+  EXPECT_FALSE(fs::exists(path("o.h5")));
 }
 
 }  // namespace
