@@ -22,6 +22,7 @@
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/solvers/solver_registry.hpp"
+#include "io/track_validation.hpp"
 
 namespace trackassoc::cli {
 namespace {
@@ -150,6 +151,8 @@ void register_associate(CLI::App& app) {
     ThreadScope threads(args->common.threads);
     auto& comm = distributed::world();
     if (comm.size() == 1) check_output_paths({{args->output, "--output"}});
+    if (!args->name.empty())  // before any work, not when the output is written
+      track_validation::check_object_name("--name", "/associations", args->name);
     AssociatorOptions request;
     request.pipeline = resolve(args->pipeline);
     request.solver_options = parse_solver_options(args->pipeline.solver_options);

@@ -159,5 +159,39 @@ TEST_F(BadInputPart3, ALineLongerThanTheCapIsRefusedNamingIt) {
   EXPECT_FALSE(fs::exists(path("o.h5")));
 }
 
+// ---------------------------------------------------------------- 6. early and right words
+
+TEST_F(BadInputPart3, NamesAreCheckedBeforeAnyWork) {
+  ASSERT_EQ(run("simulate --scenario recorded_3s --output " + path("sim.h5")).status, 0);
+  ASSERT_EQ(run("associate --input " + path("sim.h5") + " --output " + path("a.h5")).status, 0);
+  const std::string a = slurp(path("a.h5"));
+  for (const std::string name : {".", "a/b"}) {
+    SCOPED_TRACE(name);
+    expect_refusal(run("fuse --input " + path("a.h5") + " --name '" + name + "'"),
+                   {"--name: /fused: invalid name '" + name + "'"});
+    EXPECT_EQ(slurp(path("a.h5")), a);
+    expect_refusal(run("associate --input " + path("sim.h5") + " --output " + path("b.h5") + " --name '" + name + "'"),
+                   {"--name: /associations: invalid name '" + name + "'"});
+    EXPECT_FALSE(fs::exists(path("b.h5")));
+  }
+  // A name with a real control byte: refused, and shown escaped.
+  const CliResult r = run("fuse --input " + path("a.h5") + " --name \"$(printf 'x\\033y')\"");
+  expect_refusal(r, {"invalid name 'x\\x1by'"});
+  expect_printable(r.err);
+}
+
+TEST_F(BadInputPart3, EvaluateSaysAMissingTruthDatasetIsMissing) {
+  ASSERT_EQ(run("simulate --scenario recorded_3s --output " + path("sim.h5")).status, 0);
+  ASSERT_EQ(run("associate --input " + path("sim.h5") + " --output " + path("a.h5")).status, 0);
+  // The same file as another program may write it: no /tracks/truth.
+  const hid_t f = H5Fopen(path("a.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  ASSERT_GE(H5Ldelete(f, "/tracks/truth", H5P_DEFAULT), 0);
+  H5Fclose(f);
+  expect_refusal(run("evaluate --input " + path("a.h5") + " --output " + path("e.h5")),
+                 {"a.h5: /tracks/truth: missing dataset"});
+  EXPECT_FALSE(fs::exists(path("e.h5")));
+}
+
 }  // namespace
 }  // namespace trackassoc
