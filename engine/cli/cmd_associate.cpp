@@ -150,7 +150,10 @@ void register_associate(CLI::App& app) {
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     auto& comm = distributed::world();
-    if (comm.size() == 1) check_output_paths({{args->output, "--output"}});
+    // The inputs: the track file, and the model of --solver siamese.
+    const std::vector<InputPath> inputs{{args->input, "--input"},
+                                        {args->solver == "siamese" ? args->model : "", "--model"}};
+    if (comm.size() == 1) check_output_paths({{args->output, "--output"}}, inputs);
     if (!args->name.empty())  // before any work, not when the output is written
       track_validation::check_object_name("--name", "/associations", args->name);
     AssociatorOptions request;
@@ -186,7 +189,7 @@ void register_associate(CLI::App& app) {
         return path == AssociationPath::kSparse3D ? serve_sparse_components(comm) : serve_sd_components(comm);
       comm.set_ranks_waiting(true);  // until rank 0 scatters their work, or its error (main.cpp)
       request.ranks = &comm;
-      check_output_paths({{args->output, "--output"}});
+      check_output_paths({{args->output, "--output"}}, inputs);
     }
     const auto associator = make_associator(request);  // every check before the file is read
     TrackFile file = read_track_file(args->input);

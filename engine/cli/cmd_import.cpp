@@ -60,7 +60,7 @@ void register_import(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    check_output_paths({{args->output, "--output"}});
+    check_output_paths({{args->output, "--output"}}, {{args->input, "--input"}, {args->mapping, "--mapping"}});
     check_input_file(args->input, "--input", "CSV track file");
     CsvImportOptions o;
     if (!args->mapping.empty()) o.columns = read_csv_mapping_file(args->mapping, "--mapping");
@@ -102,7 +102,8 @@ void register_export(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    check_output_paths({{args->output, "--output"}, {args->mapping_output, "--mapping-output"}});
+    check_output_paths({{args->output, "--output"}, {args->mapping_output, "--mapping-output"}},
+                       {{args->input, "--input"}});
     const char delimiter = parse_csv_delimiter(args->delimiter, "--delimiter");
     const TrackFile file = read_track_file(args->input);
     write_csv_tracks(args->output, file, delimiter);

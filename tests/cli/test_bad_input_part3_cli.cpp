@@ -54,6 +54,55 @@ class BadInputPart3 : public testing_support::CliFixture {
   }
 };
 
+// ---------------------------------------------------------------- 1. an output is never an input
+
+TEST_F(BadInputPart3, AnOutputThatIsAnInputIsRefusedBeforeAnyWork) {
+  make_csv();
+  fs::create_symlink(path("t.csv"), path("alias.csv"));  // the same file under another name
+  fs::create_hard_link(path("sim.h5"), path("hard.h5"));
+  write("scenario.json", slurp(std::string(TRACKASSOC_SOURCE_DIR) + "/data/scenarios/recorded_3s.json"));
+  const std::string csv = path("t.csv"), map = path("m.json"), sim = path("sim.h5");
+  const std::string import = "import csv --input " + csv + " --mapping " + map + " --output ";
+  struct Case {
+    std::string args, output, input;  // the command, the output's option and path, the input's option
+  };
+  const std::string dot = (dir_ / "." / "t.csv").string();  // "..././t.csv"
+  const Case cases[] = {
+      {import + csv, "--output " + csv, "--input " + csv},
+      {import + map, "--output " + map, "--mapping " + map},
+      {import + dot, "--output " + dot, "--input " + csv},
+      {import + path("alias.csv"), "--output " + path("alias.csv"), "--input " + csv},
+      {"export csv --input " + sim + " --output " + sim, "--output " + sim, "--input " + sim},
+      {"export csv --input " + sim + " --output " + path("o.csv") + " --mapping-output " + sim,
+       "--mapping-output " + sim, "--input " + sim},
+      {"export csv --input " + sim + " --output " + path("hard.h5"), "--output " + path("hard.h5"),
+       "--input " + sim},
+      {"associate --input " + sim + " --output " + sim, "--output " + sim, "--input " + sim},
+      {"filter --input " + sim + " --output " + path("hard.h5"), "--output " + path("hard.h5"), "--input " + sim},
+      {"simulate --scenario " + path("scenario.json") + " --output " + path("scenario.json"),
+       "--output " + path("scenario.json"), "--scenario " + path("scenario.json")},
+      {"run --scenario " + path("scenario.json") + " --no-plots --output " + path("scenario.json"),
+       "--output " + path("scenario.json"), "--scenario " + path("scenario.json")},
+      {"experiment recorded --scenarios " + path("scenario.json") + " --runs 1 --no-peer --no-plots --output " +
+           path("scenario.json"),
+       "--output " + path("scenario.json"), "--scenarios " + path("scenario.json")},
+  };
+  const std::string files[] = {csv, map, sim, path("scenario.json")};
+  std::vector<std::string> before;
+  for (const auto& f : files) before.push_back(slurp(f));
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    expect_refusal(run(c.args), {c.output + ": is the input " + c.input + " (the same file)"});
+    for (std::size_t k = 0; k < std::size(files); ++k) EXPECT_EQ(slurp(files[k]), before[k]) << files[k];
+    EXPECT_FALSE(fs::exists(path("o.csv")));  // the first output of a refused command is not written
+    for (const auto& e : fs::directory_iterator(dir_)) EXPECT_NE(e.path().extension(), ".tmp") << e.path();
+  }
+  // A distinct output of the same commands still works, and fuse and evaluate still update their
+  // input in place when no --output is given.
+  const CliResult ok = run(import + path("r.h5"));
+  EXPECT_EQ(ok.status, 0) << ok.err;
+}
+
 // ---------------------------------------------------------------- 2. error lines are text
 
 TEST_F(BadInputPart3, ControlBytesInAnInputAreEscapedInTheErrorLine) {
