@@ -81,6 +81,11 @@ void print_outcome(const AssociationOutcome& out, const TrackFile& file, const s
                 << info.value("segment_duplicates_joined", int64_t{0}) << ")";
     std::cout << "\n";
   }
+  if (!s.empty_sensors.empty()) {
+    std::cout << "sensors with no local tracks:";
+    for (std::size_t i = 0; i < s.empty_sensors.size(); ++i) std::cout << (i ? ", " : " ") << s.empty_sensors[i];
+    std::cout << " (associated around; their column of the tuples is -1)\n";
+  }
   std::cout << "unassociated local tracks:";
   for (std::size_t i = 0; i < out.unassociated.size(); ++i)
     std::cout << (i ? ", " : " ") << "sensor " << out.unassociated[i].sensor_id << " "

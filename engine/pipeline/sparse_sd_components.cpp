@@ -23,8 +23,21 @@ double sd_tuple_cost(const SDComponentView& v, const std::vector<std::pair<int32
   const std::size_t k = m.size();
   if (k <= 1) return 0.0;
   double cost = 0.0;
-  uint32_t reach[16];
-  for (std::size_t x = 0; x < k; ++x) reach[x] = 1u << x;
+  // Connectivity through gated pairs: union-find over the k members (one per sensor, so k <= S;
+  // no cap on S: the buffer is on the stack up to 32 members).
+  int32_t stack_parent[32];
+  std::vector<int32_t> heap_parent;
+  int32_t* parent = stack_parent;
+  if (k > 32) {
+    heap_parent.resize(k);
+    parent = heap_parent.data();
+  }
+  for (std::size_t x = 0; x < k; ++x) parent[x] = static_cast<int32_t>(x);
+  auto root = [&](int32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::size_t groups = k;
   for (std::size_t x = 0; x < k; ++x)
     for (std::size_t y = x + 1; y < k; ++y) {
       const double l = v.link_cost(m[x].first, m[x].second, m[y].first, m[y].second);
@@ -33,17 +46,14 @@ double sd_tuple_cost(const SDComponentView& v, const std::vector<std::pair<int32
           return std::numeric_limits<double>::infinity();
         continue;  // never together: no evidence either way
       }
-      reach[x] |= 1u << y;
-      reach[y] |= 1u << x;
+      const int32_t rx = root(static_cast<int32_t>(x)), ry = root(static_cast<int32_t>(y));
+      if (rx != ry) {
+        parent[rx] = ry;
+        --groups;
+      }
       if (all_pairs || y == x + 1) cost += l;
     }
-  uint32_t seen = reach[0], prev = 0;  // connectivity through gated pairs
-  while (seen != prev) {
-    prev = seen;
-    for (std::size_t x = 0; x < k; ++x)
-      if (seen >> x & 1u) seen |= reach[x];
-  }
-  return seen == (1u << k) - 1 ? cost : std::numeric_limits<double>::infinity();
+  return groups == 1 ? cost : std::numeric_limits<double>::infinity();
 }
 
 SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::string& solver,

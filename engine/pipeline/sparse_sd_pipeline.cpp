@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_components.hpp"
@@ -99,12 +100,27 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   p.file_sensors = static_cast<int32_t>(file.sensors.size());
   p.dim = file.tracks.dim();
   SDSensorSelection sel = select_sd_sensors(file, po);
-  p.sensor_ids = std::move(sel.ids);
-  p.sensor_columns = std::move(sel.columns);
+  // A sensor with no local tracks (down, or it saw nothing) is associated around: it takes no part
+  // in the problem, and its column of the tuples stays -1 (issue 30). Any number of sensors: a
+  // tuple holds only the sensors of its component (sd_tuple_cost has no cap).
+  const std::set<int32_t> reporting(file.tracks.sensor.begin(), file.tracks.sensor.end());
+  for (std::size_t k = 0; k < sel.ids.size(); ++k)
+    if (reporting.count(sel.ids[k])) {
+      p.sensor_ids.push_back(sel.ids[k]);
+      p.sensor_columns.push_back(sel.columns[k]);
+    } else {
+      p.empty_sensor_ids.push_back(sel.ids[k]);
+    }
+  if (p.sensor_ids.size() < 2) {
+    std::string empty;
+    for (int32_t id : p.empty_sensor_ids) empty += (empty.empty() ? "" : ", ") + std::to_string(id);
+    throw InputError("/tracks: association needs the local tracks of at least 2 sensors; sensor" +
+                     std::string(p.empty_sensor_ids.size() > 1 ? "s " : " ") + empty + " of " +
+                     std::to_string(sel.ids.size()) + " ha" + (p.empty_sensor_ids.size() > 1 ? "ve" : "s") +
+                     " none");
+  }
   const double period = sel.period;
   const int32_t S = p.S();
-  if (S > 16)
-    throw InputError("/sensors: at most 16 sensors are associated at once, got " + std::to_string(S));
   auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, double bytes) {
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), bytes / kMiB});
   };
@@ -258,6 +274,11 @@ AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& 
   if (options.segments.enabled) check_duplicate_sensors(options.segments, p.sensor_ids);
   const auto t0 = std::chrono::steady_clock::now();
   AssociationRecord rec = solve_sparse_sd_association(p, solver, solver_options, seed, options);
+  if (!p.empty_sensor_ids.empty()) {  // only then: the records of other files are unchanged
+    nlohmann::json info = nlohmann::json::parse(rec.options_json);
+    info["empty_sensors"] = p.empty_sensor_ids;
+    rec.options_json = info.dump();
+  }
   const double solve_s = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
   if (options.segments.enabled) {
