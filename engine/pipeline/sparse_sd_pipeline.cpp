@@ -12,6 +12,7 @@
 #include "engine/pipeline/sparse_sd_components.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/solvers/solver_registry.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/assignment/lap_sparse.hpp"
 #include "kernels/core/error.hpp"
@@ -125,6 +126,20 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), bytes / kMiB});
   };
 
+  // The memory budget (issue 30): every stage's large allocation is counted against it, with what
+  // the input and the stages before still hold (`held`), before it is made where its size is
+  // known in advance (the grid and aligned tracks: common_time_grid; the statistics, the
+  // components), and right after the candidate search, whose size is not.
+  const auto D = static_cast<double>(file.tracks.dim());
+  double held = static_cast<double>(file.tracks.size()) * 8.0 * (4.0 + D + D * (D + 1) / 2);
+  auto require_held = [&](double more, const std::string& what) {
+    require_memory(bytes_of(held + more, 1), what + " (with " + size_text(bytes_of(held, 1)) +
+                                                 " held by the input and the stages before)");
+  };
+  auto pair_name = [&](int32_t a, int32_t b) {
+    return "sensors " + std::to_string(p.sensor_ids[a]) + " and " + std::to_string(p.sensor_ids[b]);
+  };
+
   auto t0 = std::chrono::steady_clock::now();
   p.common_times = common_time_grid(file.tracks, p.sensor_ids, period, po.span_union);
   p.offset.assign(1, 0);
@@ -146,6 +161,7 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
     }
   }
   stage("alignment", t0, bytes);
+  held += bytes;
   require_some_overlap(p);
 
   const std::size_t slots = static_cast<std::size_t>(S) * S;
@@ -162,7 +178,11 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       p.candidate_pairs[slot] = cand[slot].size();
       cand[slot] = prune_by_position_bound(p.aligned[a], p.aligned[b], cand[slot], po.statistic);
       bytes += cand[slot].size() * 2.0 * sizeof(int32_t);
+      require_held(bytes, "the candidate pairs of " + pair_name(a, b) + " (" +
+                              std::to_string(p.candidate_pairs[slot]) + " found, " +
+                              std::to_string(cand[slot].size()) + " kept; a wide gate, see --gate)");
     }
+  held += bytes;
   stage("candidates", t0, bytes);
 
   t0 = std::chrono::steady_clock::now();
@@ -172,6 +192,12 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
+      // The statistic of every candidate (SparsePairStatistic: 21 bytes each) before the gate, and
+      // the link cost and both nodes of each (at most every) gated one.
+      const auto n = static_cast<double>(cand[slot].size());
+      require_held(bytes + n * (21.0 + 8.0 + 8.0),
+                   "the statistics of the " + std::to_string(cand[slot].size()) + " candidate pairs of " +
+                       pair_name(a, b));
       p.pairs[slot] =
           keep_in_gate(sparse_sequential_statistic(p.aligned[a], p.aligned[b], cand[slot], po.statistic));
       CandidatePairs().a.swap(cand[slot].a);
@@ -184,13 +210,20 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
         u.push_back(p.offset[a] + st.a[q]);
         v.push_back(p.offset[b] + st.b[q]);
       }
-      bytes += static_cast<double>(st.bytes() + link.size() * sizeof(double));
+      bytes += static_cast<double>(st.bytes() + link.size() * sizeof(double)) + 8.0 * link.size();
+      held -= n * 2 * sizeof(int32_t);  // the candidates, freed above
     }
   stage("statistics", t0, bytes);
+  held += bytes;
 
   t0 = std::chrono::steady_clock::now();
+  // connected_components: a union-find and the members by component (int32 per node, a few times).
+  require_held(4.0 * sizeof(int32_t) * p.nodes(),
+               "the connected components of " + std::to_string(p.nodes()) + " local tracks");
   p.components = connected_components(p.nodes(), u, v);
   stage("components", t0, static_cast<double>(p.components.nodes.size() * sizeof(int32_t)));
+  held -= 8.0 * static_cast<double>(u.size());  // u, v are freed on return
+  p.bytes_held = held + static_cast<double>(p.components.nodes.size() * sizeof(int32_t));
   return p;
 }
 

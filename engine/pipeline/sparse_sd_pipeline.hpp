@@ -83,6 +83,7 @@ struct SparseSDProblem {
   std::vector<std::size_t> candidate_pairs;  // index output before the gate, per slot
   Components components;
   std::vector<StageReport> stages;  // alignment, candidates, statistics, components
+  double bytes_held = 0.0;          // the input and the problem [bytes], counted against the memory budget
   int32_t S() const { return static_cast<int32_t>(sensor_ids.size()); }
   int32_t nodes() const { return offset.empty() ? 0 : offset.back(); }
   int32_t sensor_of(int32_t node) const {  // the s with offset[s] <= node < offset[s + 1]
