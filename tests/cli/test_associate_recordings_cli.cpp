@@ -197,11 +197,21 @@ TEST_F(AssociateRecordings, AGiantComponentStaysWithinTheMemoryBudget) {
     const TrackFile f = read_track_file(path("a.h5"));
     const auto truths = linked_truths(f, f.associations.at(0));
     EXPECT_GT(truths.size(), std::size_t(n) / 2);  // most targets found (40 m apart at σ 30 m)
+    // The tuples partition the tracks: each sensor's column holds each of its n tracks once.
+    const AssociationRecord& rec = f.associations[0];
+    for (std::size_t s = 0; s < 3; ++s) {
+      std::multiset<int32_t> tracks;
+      for (std::size_t k = 0; k < rec.num_tuples(); ++k)
+        if (rec.tuples[k * 3 + s] >= 0) tracks.insert(rec.tuples[k * 3 + s]);
+      EXPECT_EQ(tracks.size(), std::size_t(n)) << "sensor " << s;
+      EXPECT_EQ(std::set<int32_t>(tracks.begin(), tracks.end()).size(), std::size_t(n)) << "sensor " << s;
+    }
   }
   std::cout << "peak RSS " << rss_kib / 1024 << " MiB (budget " << budget_mib << " MiB + baseline " << baseline_mib
             << " MiB); exit " << status << "\n";
-  if (!kAddressSanitizer)  // ASan's shadow memory and quarantine are not the program's
+  if (!kAddressSanitizer) {  // ASan's shadow memory and quarantine are not the program's
     EXPECT_LT(rss_kib / 1024, budget_mib + baseline_mib);
+  }
 }
 
 }  // namespace
