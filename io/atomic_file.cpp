@@ -1,21 +1,32 @@
 #include "io/atomic_file.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <set>
 
 #include "kernels/core/error.hpp"
 
 namespace trackassoc {
 
-void check_output_paths(const std::vector<OutputPath>& paths) {
+bool same_file(const std::string& a, const std::string& b) {
   namespace fs = std::filesystem;
-  std::set<fs::path> seen;
-  for (const OutputPath& p : paths) {
+  struct stat sa {}, sb {};
+  const bool a_exists = ::stat(a.c_str(), &sa) == 0, b_exists = ::stat(b.c_str(), &sb) == 0;
+  if (a_exists && b_exists) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+  if (a_exists != b_exists) return false;  // one exists and the other does not
+  std::error_code ea, eb;
+  const fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
+  return (ea ? fs::absolute(a).lexically_normal() : ca) == (eb ? fs::absolute(b).lexically_normal() : cb);
+}
+
+void check_output_paths(const std::vector<OutputPath>& paths, const std::vector<InputPath>& inputs) {
+  namespace fs = std::filesystem;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const OutputPath& p = paths[i];
     if (p.path.empty()) continue;
     const std::string who = (p.what.empty() ? "" : p.what + " ") + p.path + ": ";
     const fs::path target(p.path);
@@ -28,9 +39,13 @@ void check_output_paths(const std::vector<OutputPath>& paths) {
     if (!fs::is_directory(folder, ec)) throw InputError(who + "'" + folder.string() + "' is not a folder");
     if (::access(folder.c_str(), W_OK | X_OK) != 0)
       throw InputError(who + "output folder '" + folder.string() + "' is not writable");
-    const fs::path canonical = fs::weakly_canonical(target, ec);
-    if (!seen.insert(ec ? target : canonical).second)
-      throw InputError(who + "named twice as an output; each output needs its own file");
+    for (const InputPath& in : inputs)
+      if (!in.path.empty() && same_file(p.path, in.path))
+        throw InputError(who + "is the input " + (in.what.empty() ? "" : in.what + " ") + in.path +
+                         " (the same file); writing it would replace the input: choose another output");
+    for (std::size_t j = 0; j < i; ++j)
+      if (!paths[j].path.empty() && same_file(p.path, paths[j].path))
+        throw InputError(who + "named twice as an output; each output needs its own file");
   }
 }
 

@@ -161,15 +161,19 @@ TruthTable parse_autoferry_truth(const std::string& text, const std::string& sou
   return truth;
 }
 
+std::array<std::string, 2> autoferry_input_files(const std::string& root, int number) {
+  const std::string stem = autoferry_scenario_dir(root, number) + "/scenario" + std::to_string(number);
+  return {stem + "_detections.json", stem + "_groundTruth.json"};
+}
+
 AutoferryScenario read_autoferry_scenario(const std::string& root, int number) {
   if (std::find(kAutoferryScenarios.begin(), kAutoferryScenarios.end(), number) == kAutoferryScenarios.end())
     throw InputError("--scenario: expected one of 2, 3, 4, 5, 6, 13, 16, 17, 22, found " +
                      std::to_string(number));
-  const std::string dir = autoferry_scenario_dir(root, number);
-  const std::string stem = dir + "/scenario" + std::to_string(number);
+  const auto files = autoferry_input_files(root, number);
   AutoferryScenario sc;
   sc.number = number;
-  const std::string det = stem + "_detections.json", gt = stem + "_groundTruth.json";
+  const std::string &det = files[0], &gt = files[1];
   sc.scans = parse_autoferry_detections(read_text(det), det, sc.t0_unix);
   sc.truth = parse_autoferry_truth(read_text(gt), gt, sc.t0_unix);
   return sc;

@@ -55,6 +55,8 @@ std::string autoferry_scenario_dir(const std::string& root, int number);
 
 // Reads scenario `number` from `root` (the folder holding scenario2/, ...). Throws InputError.
 AutoferryScenario read_autoferry_scenario(const std::string& root, int number);
+// The two files read_autoferry_scenario reads: detections, ground truth.
+std::array<std::string, 2> autoferry_input_files(const std::string& root, int number);
 
 // The parsers behind it, on JSON text (`source` names the file in messages).
 std::vector<AutoferryScan> parse_autoferry_detections(const std::string& text, const std::string& source,

@@ -11,6 +11,7 @@
 #include "io/csv_tracks.hpp"
 #include "io/json_input.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/printable_text.hpp"
 
 namespace trackassoc {
 namespace {
@@ -42,8 +43,8 @@ std::string known_keys() {
 
 std::string column_name(const json& v, const std::string& source, const std::string& key) {
   if (!v.is_string() || v.get<std::string>().empty())
-    throw InputError(source + ": mapping key '" + key +
-                     "': expected a column name (a non-empty string), found " + v.dump().substr(0, 80));
+    throw InputError(source + ": mapping key " + quoted_preview(key, 80) +
+                     ": expected a column name (a non-empty string), found " + v.dump().substr(0, 80));
   return v.get<std::string>();
 }
 
@@ -81,7 +82,7 @@ CsvColumnMapping parse_csv_mapping(const std::string& json_text, const std::stri
       for (const auto& [component, column] : value.items())
         m.sigma[component] = column_name(column, source, "sigma." + component);
     } else {
-      throw InputError(source + ": mapping key '" + key + "' is unknown (known: " + known_keys() + ")");
+      throw InputError(source + ": mapping key " + quoted_preview(key, 80) + " is unknown (known: " + known_keys() + ")");
     }
   }
   return m;

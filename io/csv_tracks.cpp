@@ -15,6 +15,7 @@
 #include "io/track_validation.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/geodetic.hpp"
+#include "kernels/core/printable_text.hpp"
 
 namespace trackassoc {
 namespace {
@@ -28,11 +29,33 @@ struct Slot {
   int index = 0;  // component (position/velocity: 0..2; sigma: state index), or packed cov index
 };
 
-std::string quoted_field(std::string_view s) {
-  std::string q(1, '\'');
-  q.append(s.substr(0, 40));
-  q.append(s.size() > 40 ? "...'" : "'");
-  return q;
+std::string quoted_field(std::string_view s) { return quoted_preview(s, 40); }
+
+// Reads line `line_number` of `in` (without its '\n') into `line`, as std::getline does, but never
+// more than kMaxCsvLineBytes of it: a longer line is refused here, naming it, before it is held
+// whole (a 200 MB header line took 834 MB). False at the end of the input. A NUL byte is refused:
+// UTF-8 text never holds one (kernels/core/printable_text.hpp).
+bool read_csv_line(std::istream& in, std::string& line, std::size_t line_number, const std::string& source) {
+  line.clear();
+  char chunk[4096];
+  while (true) {
+    in.getline(chunk, sizeof chunk);
+    const auto n = static_cast<std::size_t>(in.gcount());
+    // A full chunk without its '\n' sets failbit: the line goes on. Otherwise the '\n' was
+    // extracted (counted in n, not stored), or the input ended (eofbit), or it failed.
+    const bool more = !in.eof() && !in.bad() && in.fail() && n == sizeof chunk - 1;
+    const bool newline = !in.fail() && !in.eof();
+    line.append(chunk, newline ? n - 1 : n);
+    if (line.size() > kMaxCsvLineBytes)
+      throw InputError(source + ": line " + std::to_string(line_number) + " is longer than " +
+                       std::to_string(kMaxCsvLineBytes) + " bytes (the cap of a CSV line); is it a CSV file?");
+    if (!more) break;
+    in.clear();
+  }
+  if (line.find('\0') != std::string::npos)
+    throw InputError(source + ": line " + std::to_string(line_number) + ": " +
+                     not_utf8_text_reason(line, "UTF-8 CSV"));
+  return !line.empty() || (!in.fail() && !in.eof());  // an empty line ends with its '\n'
 }
 
 std::string number_text(double v) {
@@ -93,7 +116,7 @@ class Errors {
   Errors(std::string source, std::size_t limit) : source_(std::move(source)), limit_(limit) {}
   void add(std::size_t line, const std::string& column, const std::string& what) {
     if (++count_ <= limit_)
-      messages_.push_back("line " + std::to_string(line) + ", column '" + column + "': " + what);
+      messages_.push_back("line " + std::to_string(line) + ", column '" + printable_text(column) + "': " + what);
   }
   void add_line(std::size_t line, const std::string& what) {
     if (++count_ <= limit_) messages_.push_back("line " + std::to_string(line) + ": " + what);
@@ -183,7 +206,7 @@ std::vector<Slot> mapped_slots(const CsvColumnMapping& m, int d) {
 std::vector<int> bind_header(std::istream& in, const std::string& source, char delimiter,
                              const std::vector<Slot>& slots, std::size_t& columns) {
   std::string header;
-  if (!std::getline(in, header))
+  if (!read_csv_line(in, header, 1, source))
     throw InputError(source + ": empty file; expected a header row naming the columns");
   if (header.size() >= 3 && header.compare(0, 3, "\xEF\xBB\xBF") == 0) header.erase(0, 3);  // UTF-8 BOM
   std::vector<std::string_view> names;
@@ -197,23 +220,23 @@ std::vector<int> bind_header(std::istream& in, const std::string& source, char d
     for (std::size_t c = 0; c < columns; ++c)
       if (names[c] == slots[s].column) {
         if (found >= 0)
-          throw InputError(source + ": line 1: column '" + slots[s].column + "' (mapping key '" +
+          throw InputError(source + ": line 1: column '" + printable_text(slots[s].column) + "' (mapping key '" +
                            slots[s].key + "') appears twice in the header");
         found = static_cast<int>(c);
       }
     if (found < 0) {
       std::string list;
       for (std::size_t c = 0; c < std::min<std::size_t>(columns, 30); ++c)
-        list += (c ? ", " : "") + std::string(names[c]);
+        list += (c ? ", " : "") + printable_text(names[c].substr(0, 80));
       throw InputError(
-          source + ": mapping key '" + slots[s].key + "': column '" + slots[s].column +
+          source + ": mapping key '" + slots[s].key + "': column '" + printable_text(slots[s].column) +
           "' is not in the header (line 1: " + list + (columns > 30 ? ", ..." : "") +
           "; names are matched exactly" +
           (delimiter == ',' && header.find(';') != std::string::npos ? "; is the delimiter ';'?" : "") + ")");
     }
     if (slot_of[found] >= 0)
       throw InputError(source + ": mapping keys '" + slots[slot_of[found]].key + "' and '" + slots[s].key +
-                       "' name the same column '" + slots[s].column + "'");
+                       "' name the same column '" + printable_text(slots[s].column) + "'");
     slot_of[found] = static_cast<int>(s);
   }
   return slot_of;
@@ -281,7 +304,7 @@ TrackFile import_csv_tracks(std::istream& in, const std::string& source, const C
   std::vector<double> value(slots.size());
   std::vector<int32_t> id(slots.size());
   std::size_t line_number = 1;
-  while (std::getline(in, line)) {
+  while (read_csv_line(in, line, line_number + 1, source)) {
     ++line_number;
     if (trim(line).empty()) continue;  // blank lines (a trailing newline, a spreadsheet's empty rows)
     if (!split(line, o.delimiter, fields)) {

@@ -12,6 +12,9 @@
 //   - a time before the previous report of the same (sensor, track) (time going backwards), or
 //     equal to it (a duplicate (sensor, track, t));
 //   - a sensor that is not in the list the user gave (CsvImportOptions::sensors).
+// A line longer than kMaxCsvLineBytes (1 MiB) is refused naming its number, before it is held
+// whole; a NUL byte or a UTF-16 byte-order mark is refused as "not UTF-8 text (UTF-16? save as
+// UTF-8 CSV)". Every preview of the file's text in a message is escaped (printable_text).
 // Nothing is returned when there is an error: an InputError lists up to `max_errors` of them
 // ("FILE: line 5, column 'x': expected a number, found 'abc'; ...").
 //
@@ -100,6 +103,9 @@ struct CsvImportOptions {
   // with sigma, sigma keys that are state components, delimiter, origin, duplicate sensors.
   void validate() const;
 };
+
+// The longest CSV line `import csv` reads [bytes] (a header of 1000 columns of 30 characters is 31 KB).
+inline constexpr std::size_t kMaxCsvLineBytes = std::size_t{1} << 20;
 
 struct CsvImportSummary {
   std::size_t rows = 0, tracks = 0;

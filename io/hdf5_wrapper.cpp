@@ -7,6 +7,7 @@
 
 #include "io/memory_budget.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/printable_text.hpp"
 
 namespace trackassoc::h5 {
 namespace {
@@ -456,7 +457,7 @@ void require_format(const Group& root, const std::string& path, const std::strin
                      "')");
   const std::string found = root.read_string_attribute("format");
   if (found != format)
-    throw InputError(path + ": / attribute format is '" + found + "', expected '" + format + "' (a " + what +
+    throw InputError(path + ": / attribute format is " + quoted_preview(found, 80) + ", expected '" + format + "' (a " + what +
                      ")");
   const int64_t v = root.read_integer_attribute("schema_version");
   if (v != version)

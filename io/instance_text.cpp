@@ -10,6 +10,7 @@
 
 #include "io/memory_budget.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/printable_text.hpp"
 
 namespace trackassoc {
 namespace {
@@ -54,13 +55,8 @@ class Tokenizer {
   int line_ = 1, token_line_ = 1;
 };
 
-std::string shown(std::string_view token) {
-  // Garbage can be long or binary; show a short printable prefix.
-  std::string out;
-  for (char c : token.substr(0, 24)) out += (c >= 32 && c < 127) ? c : '?';
-  if (token.size() > 24) out += "...";
-  return "'" + out + "'";
-}
+// Garbage can be long or binary: a short escaped prefix (kernels/core/printable_text.hpp).
+std::string shown(std::string_view token) { return quoted_preview(token, 24); }
 
 // A strictly positive integer size in [1, 2^31).
 int32_t parse_size(Tokenizer& tok, const std::string& what) {
@@ -174,13 +170,13 @@ std::map<std::string, double> read_known_optima(const std::string& path) {
     std::string name, value, extra;
     if (!(fields >> name)) continue;  // blank line
     const std::string where = path + ": line " + std::to_string(number);
-    if (!(fields >> value)) throw InputError(where + ": expected 'name value', found only '" + name + "'");
-    if (fields >> extra) throw InputError(where + ": expected 'name value', found extra '" + extra + "'");
+    if (!(fields >> value)) throw InputError(where + ": expected 'name value', found only " + shown(name));
+    if (fields >> extra) throw InputError(where + ": expected 'name value', found extra " + shown(extra));
     char* end = nullptr;
     const double v = std::strtod(value.c_str(), &end);
     if (end != value.c_str() + value.size() || !std::isfinite(v))
-      throw InputError(where + ": optimum of '" + name + "' is not a finite number: '" + value + "'");
-    if (!optima.emplace(name, v).second) throw InputError(where + ": '" + name + "' is listed twice");
+      throw InputError(where + ": optimum of " + shown(name) + " is not a finite number: " + shown(value));
+    if (!optima.emplace(name, v).second) throw InputError(where + ": " + shown(name) + " is listed twice");
   }
   if (optima.empty()) throw InputError(path + ": no 'name value' lines");
   return optima;
@@ -206,7 +202,7 @@ Solution3File read_3dap_solution(const std::string& path) {
       char* end = nullptr;
       sol.optimum = std::strtod(value.c_str(), &end);
       if (end != value.c_str() + value.size() || !std::isfinite(sol.optimum))
-        throw InputError(where + ": optimum is not a finite number: '" + value + "'");
+        throw InputError(where + ": optimum is not a finite number: " + shown(value));
       have_optimum = true;
       continue;
     }
@@ -219,7 +215,7 @@ Solution3File read_3dap_solution(const std::string& path) {
         throw InputError(where + ": expected three 1-based indices 'i j k'");
       t[d] = static_cast<int32_t>(v - 1);
     }
-    if (all >> extra) throw InputError(where + ": expected three indices, found extra '" + extra + "'");
+    if (all >> extra) throw InputError(where + ": expected three indices, found extra " + shown(extra));
     sol.tuples.push_back(t);
   }
   if (!have_optimum) throw InputError(path + ": no 'OPT: value' line");

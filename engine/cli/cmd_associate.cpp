@@ -22,6 +22,7 @@
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/solvers/solver_registry.hpp"
+#include "io/track_validation.hpp"
 
 namespace trackassoc::cli {
 namespace {
@@ -79,6 +80,11 @@ void print_outcome(const AssociationOutcome& out, const TrackFile& file, const s
                 << info["segment_targets_joined"].get<int64_t>() << " targets; duplicates "
                 << info.value("segment_duplicates_joined", int64_t{0}) << ")";
     std::cout << "\n";
+  }
+  if (!s.empty_sensors.empty()) {
+    std::cout << "sensors with no local tracks:";
+    for (std::size_t i = 0; i < s.empty_sensors.size(); ++i) std::cout << (i ? ", " : " ") << s.empty_sensors[i];
+    std::cout << " (associated around; their column of the tuples is -1)\n";
   }
   std::cout << "unassociated local tracks:";
   for (std::size_t i = 0; i < out.unassociated.size(); ++i)
@@ -149,7 +155,12 @@ void register_associate(CLI::App& app) {
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     auto& comm = distributed::world();
-    if (comm.size() == 1) check_output_paths({{args->output, "--output"}});
+    // The inputs: the track file, and the model of --solver siamese.
+    const std::vector<InputPath> inputs{{args->input, "--input"},
+                                        {args->solver == "siamese" ? args->model : "", "--model"}};
+    if (comm.size() == 1) check_output_paths({{args->output, "--output"}}, inputs);
+    if (!args->name.empty())  // before any work, not when the output is written
+      track_validation::check_object_name("--name", "/associations", args->name);
     AssociatorOptions request;
     request.pipeline = resolve(args->pipeline);
     request.solver_options = parse_solver_options(args->pipeline.solver_options);
@@ -183,7 +194,7 @@ void register_associate(CLI::App& app) {
         return path == AssociationPath::kSparse3D ? serve_sparse_components(comm) : serve_sd_components(comm);
       comm.set_ranks_waiting(true);  // until rank 0 scatters their work, or its error (main.cpp)
       request.ranks = &comm;
-      check_output_paths({{args->output, "--output"}});
+      check_output_paths({{args->output, "--output"}}, inputs);
     }
     const auto associator = make_associator(request);  // every check before the file is read
     TrackFile file = read_track_file(args->input);

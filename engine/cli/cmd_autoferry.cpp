@@ -70,7 +70,8 @@ void register_autoferry(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    check_output_paths({{args->output, "--output"}});
+    const auto inputs = autoferry_input_files(args->data, args->scenario);
+    check_output_paths({{args->output, "--output"}}, {{inputs[0], "--data"}, {inputs[1], "--data"}});
     const AutoferryOptions o;
     const AutoferryScenario sc = read_autoferry_scenario(args->data, args->scenario);
     LocalTrackingSummary summary;

@@ -36,7 +36,7 @@ void register_filter(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    check_output_paths({{args->o.output, "--output"}});
+    check_output_paths({{args->o.output, "--output"}}, {{args->o.input, "--input"}});
     FilterFileOptions o = args->o;
     o.seed = args->common.seed;
     const FilterFileSummary s = filter_track_file(o);

@@ -6,6 +6,7 @@
 #include "engine/cli/common.hpp"
 #include "engine/cli/table.hpp"
 #include "engine/fusion/track_fuser.hpp"
+#include "io/track_validation.hpp"
 
 namespace trackassoc::cli {
 
@@ -53,7 +54,8 @@ void register_fuse(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    check_output_paths({{args->output, "--output"}});
+    check_output_paths({{args->output, "--output"}});  // "" or the input: in place, by design
+    if (!args->name.empty()) track_validation::check_object_name("--name", "/fused", args->name);  // before any work
     TrackFuserOptions o = args->o;
     o.rule = parse_enum<FusionRule>(args->rule, "--rule");
     o.ci.criterion = parse_enum<CiCriterion>(args->criterion, "--ci-criterion");

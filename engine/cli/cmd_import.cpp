@@ -29,7 +29,8 @@ void register_import(CLI::App& app) {
       "per track by the three-point derivative (non-uniform times; one-sided at the ends, 0 for one "
       "report). Covariance from packed upper-triangle columns (cov), σ columns (sigma.x ...) or the "
       "--sigma-pos/--sigma-vel flags (stated in /tracks attr import). Each bad value is named by line "
-      "and column; exit 2 and nothing written.");
+      "and column; exit 2 and nothing written. A line may hold at most 1 MiB (" +
+          std::to_string(kMaxCsvLineBytes) + " bytes); a longer one is refused naming its number.");
   cmd->add_option("--input,-i", args->input, "CSV file")->required();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file")->required();
   cmd->add_option(
@@ -60,7 +61,7 @@ void register_import(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    check_output_paths({{args->output, "--output"}});
+    check_output_paths({{args->output, "--output"}}, {{args->input, "--input"}, {args->mapping, "--mapping"}});
     check_input_file(args->input, "--input", "CSV track file");
     CsvImportOptions o;
     if (!args->mapping.empty()) o.columns = read_csv_mapping_file(args->mapping, "--mapping");
@@ -116,7 +117,8 @@ void register_export(CLI::App& app) {
     const ResultTable what = parse_enum<ResultTable>(args->what, "--what");
     if (what != ResultTable::kTracks && !args->mapping_output.empty())
       throw InputError("--mapping-output: the import mapping is of --what tracks only");
-    check_output_paths({{args->output, "--output"}, {args->mapping_output, "--mapping-output"}});
+    check_output_paths({{args->output, "--output"}, {args->mapping_output, "--mapping-output"}},
+                       {{args->input, "--input"}});
     const char delimiter = parse_csv_delimiter(args->delimiter, "--delimiter");
     const TrackFile file = read_track_file(args->input);
     const ResultTableSummary s = write_result_table(args->output, args->input, file, what, args->name, delimiter);

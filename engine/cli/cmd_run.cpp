@@ -92,7 +92,8 @@ void register_run(CLI::App& app) {
     job.seed = args->common.seed;
     check_run_solver_options(job.solver_options, job.solvers);
     merge_run_hopfield_flags(args->hopfield, job.solvers, job.solver_options);
-    check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}});  // before any work
+    check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}},  // before any work
+                       {{job.scenario, "--scenario"}});
     const RunJobResult result = run_main_job(job, [&](const RunJobResult& scene) {
       std::cout << "scenario '" << scene.scenario_name << "', seed " << job.seed << ": "
                 << scene.file.sensors.size() << " sensors, " << scene.local_tracks << " local tracks\n\n";

@@ -41,7 +41,17 @@ void register_experiment_seed003(CLI::App& experiment) {
       ->capture_default_str()
       ->check(in_range(0, 1, true, true));
   finish_study_command(cmd, args,
-                       {.output = &args->files.output, .output_help = "Result HDF5 file", .sharded = true},
+                       {.output = &args->files.output,
+                        .output_help = "Result HDF5 file",
+                        .sharded = true,
+                        .inputs =
+                            [args] {
+                              const Seed003StudyFiles& f = args->files;
+                              return std::vector<InputPath>{{f.model, "--model"},
+                                                            {f.lstm_model, "--lstm-model"},
+                                                            {f.bilstm_model, "--bilstm-model"},
+                                                            {f.data, "--data"}};
+                            }},
                        [args](std::ostream*, bool) {
                          Seed003ExperimentOptions o = args->options;
                          o.seed = args->common.seed;

@@ -23,7 +23,7 @@ void register_simulate(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    check_output_paths({{args->output, "--output"}});
+    check_output_paths({{args->output, "--output"}}, {{args->scenario, "--scenario"}});
     const Scenario scenario = load_scenario(args->scenario);
     const SimulationResult sim = simulate(scenario, args->common.seed, args->run);
     write_track_file(args->output, simulation_to_track_file(scenario, sim));

@@ -15,6 +15,7 @@
 #include "engine/distributed/sharding.hpp"
 #include "io/memory_budget.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/printable_text.hpp"
 
 namespace {
 
@@ -113,9 +114,11 @@ int main(int argc, char** argv) {
   } catch (const trackassoc::distributed::SilentExit& e) {
     return e.code();
   } catch (const trackassoc::InputError& e) {
-    return fail(comm, std::string("trackassoc: error: ") + e.what(), 2);
+    // printable_text: the previews of input in messages are escaped where they are made (a NUL
+    // would end what()); this keeps any byte that slipped through off the terminal too.
+    return fail(comm, "trackassoc: error: " + trackassoc::printable_text(e.what()), 2);
   } catch (const std::exception& e) {
-    return fail(comm, std::string("trackassoc: internal error: ") + e.what(), 1);
+    return fail(comm, "trackassoc: internal error: " + trackassoc::printable_text(e.what()), 1);
   }
   return 0;
 }

@@ -2,6 +2,7 @@
 // and plot flags, --seed and --threads, the output-path check before any work, then one call.
 #pragma once
 
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <set>
@@ -27,7 +28,17 @@ struct StudyPaths {
   // The study shards its runs over MPI ranks (engine/distributed/sharding.hpp, sharded_items);
   // a study that does not is refused under more than one rank rather than run N times.
   bool sharded = false;
+  // The study's input files ({path, option}; "" = not given), read when the command runs: no
+  // output may be one of them (io/atomic_file.hpp, check_output_paths).
+  std::function<std::vector<InputPath>()> inputs{};
 };
+
+// The inputs of a --scenarios list: its entries that are files (the others are embedded names).
+inline std::vector<InputPath> scenario_inputs(const std::vector<std::string>& scenarios) {
+  std::vector<InputPath> inputs;
+  for (const std::string& s : scenarios) inputs.push_back({s, "--scenarios"});
+  return inputs;
+}
 
 // The `experiment` studies that shard their runs over MPI ranks (filled as they register; main.cpp
 // refuses every other study under more than one rank before it parses its flags).
@@ -61,7 +72,8 @@ void finish_study_command(CLI::App* cmd, const std::shared_ptr<Args>& args, cons
     std::vector<OutputPath> outputs;  // checked before any work, by rank 0, which alone writes
     if (!paths.output_is_folder) outputs.push_back({*paths.output, "--output"});
     if (paths.plots && !paths.plots_is_folder && !*no_plots) outputs.push_back({*paths.plots, "--plots"});
-    distributed::check_on_root(comm, [&] { check_output_paths(outputs); });
+    distributed::check_on_root(
+        comm, [&] { check_output_paths(outputs, paths.inputs ? paths.inputs() : std::vector<InputPath>{}); });
     run(isatty(STDERR_FILENO) && comm.root() ? &std::cerr : nullptr, paths.plots && !*no_plots);
   });
 }
@@ -80,9 +92,15 @@ struct ExperimentArgs {
 template <class Options, class Run>
 void finish_experiment_command(CLI::App* cmd, const std::shared_ptr<ExperimentArgs<Options>>& args,
                                const std::string& plot_help, Run run, bool sharded = false) {
-  finish_study_command(
-      cmd, args,
-      {.output = &args->o.output, .plots = &args->o.plot, .plots_help = plot_help, .sharded = sharded},
+  std::function<std::vector<InputPath>()> inputs;
+  if constexpr (requires(Options& o) { o.scenarios; })  // the scenario JSON files of --scenarios
+    inputs = [args] { return scenario_inputs(args->o.scenarios); };
+  finish_study_command(cmd, args,
+                       {.output = &args->o.output,
+                        .plots = &args->o.plot,
+                        .plots_help = plot_help,
+                        .sharded = sharded,
+                        .inputs = inputs},
       [args, run](std::ostream* progress, bool plots) {
         if (!plots) args->o.plot.clear();
         args->o.seed = args->common.seed;

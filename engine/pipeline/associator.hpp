@@ -77,6 +77,7 @@ struct AssociationSummary {
   std::vector<StageReport> stages;    // sparse S-D: alignment, candidates, statistics, components, solve
   int32_t components = 0;             // sparse paths: connected components
   int64_t candidate_pairs = 0, gated_pairs = 0, fallback_components = 0;  // sparse S-D
+  std::vector<int32_t> empty_sensors;  // sparse S-D: chosen sensors without local tracks (column -1)
   int64_t local_tracks = 0, packets = 0, system_tracks = 0;               // fusion centre
   int64_t points = 0, points_outside_domain = 0;                          // siamese
 };

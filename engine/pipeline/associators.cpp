@@ -58,6 +58,7 @@ class SparseSDAssociator final : public TrackAssociator {
     s.candidate_pairs = info.value("candidate_pairs", int64_t{0});
     s.gated_pairs = info.value("gated_pairs", int64_t{0});
     s.fallback_components = info.value("fallback_components", int64_t{0});
+    if (info.contains("empty_sensors")) s.empty_sensors = info["empty_sensors"].get<std::vector<int32_t>>();
     return finish(file, std::move(out));
   }
 

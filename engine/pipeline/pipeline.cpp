@@ -77,7 +77,9 @@ std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const i
       }
   for (std::size_t d = 0; d < S; ++d)
     if (!std::isfinite(first[d]))
-      throw InputError("/tracks: sensor " + std::to_string(sensor_ids[d]) + " has no local tracks");
+      throw InputError("/tracks: sensor " + std::to_string(sensor_ids[d]) +
+                       " has no local tracks; the default pipeline (no --3d, --sd or --sparse, solver " +
+                       "lr+ls, lr or exact) associates around such a sensor");
   const double start = span_union ? *std::min_element(first.begin(), first.end())
                                   : *std::max_element(first.begin(), first.end()) + period;
   const double end =

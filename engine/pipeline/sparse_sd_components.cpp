@@ -9,6 +9,7 @@
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/assignment/lap_sparse.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/core/parallel.hpp"
 
 namespace trackassoc {
@@ -23,8 +24,21 @@ double sd_tuple_cost(const SDComponentView& v, const std::vector<std::pair<int32
   const std::size_t k = m.size();
   if (k <= 1) return 0.0;
   double cost = 0.0;
-  uint32_t reach[16];
-  for (std::size_t x = 0; x < k; ++x) reach[x] = 1u << x;
+  // Connectivity through gated pairs: union-find over the k members (one per sensor, so k <= S;
+  // no cap on S: the buffer is on the stack up to 32 members).
+  int32_t stack_parent[32];
+  std::vector<int32_t> heap_parent;
+  int32_t* parent = stack_parent;
+  if (k > 32) {
+    heap_parent.resize(k);
+    parent = heap_parent.data();
+  }
+  for (std::size_t x = 0; x < k; ++x) parent[x] = static_cast<int32_t>(x);
+  auto root = [&](int32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::size_t groups = k;
   for (std::size_t x = 0; x < k; ++x)
     for (std::size_t y = x + 1; y < k; ++y) {
       const double l = v.link_cost(m[x].first, m[x].second, m[y].first, m[y].second);
@@ -33,17 +47,14 @@ double sd_tuple_cost(const SDComponentView& v, const std::vector<std::pair<int32
           return std::numeric_limits<double>::infinity();
         continue;  // never together: no evidence either way
       }
-      reach[x] |= 1u << y;
-      reach[y] |= 1u << x;
+      const int32_t rx = root(static_cast<int32_t>(x)), ry = root(static_cast<int32_t>(y));
+      if (rx != ry) {
+        parent[rx] = ry;
+        --groups;
+      }
       if (all_pairs || y == x + 1) cost += l;
     }
-  uint32_t seen = reach[0], prev = 0;  // connectivity through gated pairs
-  while (seen != prev) {
-    prev = seen;
-    for (std::size_t x = 0; x < k; ++x)
-      if (seen >> x & 1u) seen |= reach[x];
-  }
-  return seen == (1u << k) - 1 ? cost : std::numeric_limits<double>::infinity();
+  return groups == 1 ? cost : std::numeric_limits<double>::infinity();
 }
 
 SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::string& solver,
@@ -100,38 +111,69 @@ SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::
 }
 
 // Sequential LAP merging for a component too large for its dense sub-tensor (see the header).
+// Sensor s's tracks join the groups of the sensors before it by one rectangular LAP. A track j can
+// lower a group's cost only when it has a gated pair with one of the group's members (otherwise
+// sd_tuple_cost is +inf: not connected, or overlapping without a gated pair), so the LAP's finite
+// entries are found through the members' gated pairs: memory O(gated pairs), never the groups ×
+// tracks matrix (7.2 GB at 30 000 × 30 000; issue 30). The LAP gets the same finite entries as
+// the dense matrix gave, so the same solution.
 SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool all_pairs) {
   SDComponentResult r;
   r.fallback = true;
   r.lower_bound = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::vector<std::pair<int32_t, int32_t>>> groups;
-  constexpr double kForbidden = std::numeric_limits<double>::infinity();  // no gain: never merged
   for (int32_t s = 0; s < v.S; ++s) {
     const int32_t nt = static_cast<int32_t>(v.tracks[s].size());
     if (nt == 0) continue;
     const int32_t ng = static_cast<int32_t>(groups.size());
-    std::vector<double> cost(static_cast<std::size_t>(ng) * nt, kForbidden);
+    // Row g: the tracks j of sensor s that join group g at a gain (cost change < 0), ascending j.
+    std::vector<std::vector<std::pair<int32_t, double>>> gain(ng);
     parallel_for_range(ng, 8, [&](std::size_t lo, std::size_t hi) {
       std::vector<std::pair<int32_t, int32_t>> m;
-      for (std::size_t g = lo; g < hi; ++g)
-        for (int32_t j = 0; j < nt; ++j) {
+      std::vector<int32_t> partners;
+      for (std::size_t g = lo; g < hi; ++g) {
+        partners.clear();
+        for (const auto& [sm, i] : groups[g])  // members are of sensors before s
+          v.link[static_cast<std::size_t>(sm) * v.S + s].for_row(i, [&](int32_t j, double) { partners.push_back(j); });
+        std::sort(partners.begin(), partners.end());
+        partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
+        const double before = sd_tuple_cost(v, groups[g], all_pairs);
+        for (const int32_t j : partners) {
           m = groups[g];
-          const double before = sd_tuple_cost(v, m, all_pairs);
           m.emplace_back(s, j);
           const double c = sd_tuple_cost(v, m, all_pairs) - before;
-          if (std::isfinite(c) && c < 0.0) cost[g * nt + j] = c;
+          if (std::isfinite(c) && c < 0.0) gain[g].emplace_back(j, c);
         }
+      }
     });
     std::vector<int32_t> col_to_row(nt, -1);
     if (ng > 0) {
+      std::vector<int32_t> row_start(static_cast<std::size_t>(ng) + 1, 0), col;
+      std::vector<double> val;
+      for (int32_t g = 0; g < ng; ++g) {
+        for (const auto& [j, c] : gain[g]) col.push_back(j), val.push_back(c);
+        row_start[g + 1] = static_cast<int32_t>(col.size());
+      }
       LapOptions lo;
       lo.allow_unassigned = true;
       lo.unassigned_cost = 0.0;
-      col_to_row = solve_gated_lap(cost, ng, nt, lo).col_to_row;  // sparse when large and gated
+      // solve_gated_lap solves a dense ng × nt matrix when the entries are too dense for its
+      // sparse solver (or a side is small): that matrix is counted against the memory budget.
+      if (solve_gated_lap_is_dense(ng, nt, col.size()))
+        require_memory(bytes_of(static_cast<double>(ng) * nt, sizeof(double)) + v.link_bytes(),
+                       "the merging fallback's dense LAP of a component (" + std::to_string(ng) + " groups x " +
+                           std::to_string(nt) + " tracks, " + std::to_string(col.size()) + " gated)");
+      col_to_row = solve_gated_lap(SparseCostView{ng, nt, row_start, col, val}, lo).col_to_row;
     }
     for (int32_t j = 0; j < nt; ++j) {
       const int32_t g = col_to_row[j];
-      if (g >= 0 && cost[static_cast<std::size_t>(g) * nt + j] < kForbidden)
+      bool gained = false;
+      if (g >= 0) {
+        const auto it = std::lower_bound(gain[g].begin(), gain[g].end(), j,
+                                         [](const auto& x, int32_t col) { return x.first < col; });
+        gained = it != gain[g].end() && it->first == j;
+      }
+      if (gained)
         groups[g].emplace_back(s, j);
       else
         groups.push_back({{s, j}});
@@ -148,6 +190,48 @@ SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool a
 }
 
 }  // namespace
+
+SDLinkMatrix SDLinkMatrix::from_entries(int32_t rows, int32_t cols,
+                                        std::vector<std::tuple<int32_t, int32_t, double>> entries) {
+  SDLinkMatrix m;
+  m.rows = rows;
+  m.cols = cols;
+  const std::size_t n = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
+  m.sparse = n > kDenseEntries;
+  if (!m.sparse) {
+    m.dense.assign(n, kNotLinked);
+    for (const auto& [i, j, c] : entries) m.dense[static_cast<std::size_t>(i) * cols + j] = c;
+    return m;
+  }
+  auto key = [](const auto& x) { return std::make_pair(std::get<0>(x), std::get<1>(x)); };
+  std::stable_sort(entries.begin(), entries.end(), [&](const auto& x, const auto& y) { return key(x) < key(y); });
+  m.row_start.assign(static_cast<std::size_t>(rows) + 1, 0);
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    const auto& [i, j, c] = entries[e];
+    if (e > 0 && key(entries[e - 1]) == key(entries[e])) {
+      m.cost.back() = c;  // a repeated (i, j): the last, as the dense form keeps it
+      continue;
+    }
+    m.col.push_back(j);
+    m.cost.push_back(c);
+    ++m.row_start[i + 1];
+  }
+  for (int32_t i = 0; i < rows; ++i) m.row_start[i + 1] += m.row_start[i];
+  return m;
+}
+
+double SDLinkMatrix::at(int32_t i, int32_t j) const {
+  if (!sparse) return dense[static_cast<std::size_t>(i) * cols + j];
+  const auto begin = col.begin() + row_start[i], end = col.begin() + row_start[i + 1];
+  const auto it = std::lower_bound(begin, end, j);
+  return it != end && *it == j ? cost[it - col.begin()] : kNotLinked;
+}
+
+std::size_t SDComponentView::link_bytes() const {
+  std::size_t bytes = 0;
+  for (const auto& m : link) bytes += m.bytes();
+  return bytes;
+}
 
 double SDComponentView::entries() const {
   double e = 1.0;
@@ -170,22 +254,24 @@ SDComponentView sd_component_view(const SparseSDProblem& p, int32_t c) {
     v.last[s].push_back(p.last_valid[u]);
   }
   v.link.resize(static_cast<std::size_t>(v.S) * v.S);
+  std::vector<std::tuple<int32_t, int32_t, double>> entries;
   for (int32_t a = 0; a < v.S; ++a)
     for (int32_t b = a + 1; b < v.S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * v.S + b;
-      auto& m = v.link[slot];
-      m.assign(v.tracks[a].size() * v.tracks[b].size(), kNotLinked);
-      if (m.empty()) continue;
       const SparsePairStatistic& st = p.pairs[slot];
+      entries.clear();
       for (std::size_t i = 0; i < v.tracks[a].size(); ++i) {
         const int32_t ia = v.tracks[a][i];
         auto lo = std::lower_bound(st.a.begin(), st.a.end(), ia);
         for (std::size_t q = lo - st.a.begin(); q < st.size() && st.a[q] == ia; ++q) {
           auto it = std::lower_bound(v.tracks[b].begin(), v.tracks[b].end(), st.b[q]);
           if (it != v.tracks[b].end() && *it == st.b[q])
-            m[i * v.tracks[b].size() + (it - v.tracks[b].begin())] = p.link[slot][q];
+            entries.emplace_back(static_cast<int32_t>(i), static_cast<int32_t>(it - v.tracks[b].begin()),
+                                 p.link[slot][q]);
         }
       }
+      v.link[slot] = SDLinkMatrix::from_entries(static_cast<int32_t>(v.tracks[a].size()),
+                                                static_cast<int32_t>(v.tracks[b].size()), entries);
     }
   return v;
 }
@@ -194,9 +280,13 @@ SDComponentResult solve_sd_component(const SDComponentView& v, const std::string
                                      const nlohmann::json& solver_options, bool all_pairs,
                                      std::size_t max_entries) {
   const double entries = v.entries();
-  SDComponentResult r = entries <= static_cast<double>(max_entries)
-                            ? solve_dense_sd_component(v, solver, solver_options, all_pairs)
-                            : solve_sd_component_by_merging(v, all_pairs);
+  // The dense sub-tensor (float per entry) when it is small enough and fits the memory budget with
+  // what is held (issue 30); otherwise the merging fallback, which needs O(gated pairs).
+  const double held = v.bytes_held + static_cast<double>(v.link_bytes());
+  const bool dense = entries <= static_cast<double>(max_entries) &&
+                     bytes_of(held + entries * sizeof(float), 1) <= memory_budget_bytes();
+  SDComponentResult r = dense ? solve_dense_sd_component(v, solver, solver_options, all_pairs)
+                              : solve_sd_component_by_merging(v, all_pairs);
   if (r.fallback) r.entries = static_cast<std::size_t>(std::min(entries, 1e18));
   return r;
 }
@@ -214,12 +304,29 @@ std::vector<SDComponentResult> solve_sd_components(const SparseSDProblem& p, con
                                                    std::size_t max_entries) {
   const int32_t C = p.components.count;
   std::vector<SDComponentResult> results(C);
+  // A component's view holds its gated pairs (i, j, cost: 28 bytes each while built): at most the
+  // gated pairs of its members, counted against the memory budget before it is built (issue 30).
+  std::vector<int64_t> degree(p.nodes(), 0);
+  for (int32_t a = 0; a < p.S(); ++a)
+    for (int32_t b = a + 1; b < p.S(); ++b) {
+      const SparsePairStatistic& st = p.pairs[static_cast<std::size_t>(a) * p.S() + b];
+      for (std::size_t q = 0; q < st.size(); ++q) ++degree[p.offset[a] + st.a[q]];
+    }
   parallel_for_range(C, 1, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t c = lo; c < hi; ++c) {
       const auto ci = static_cast<int32_t>(c);
-      results[c] = p.components.size(ci) == 1 ? single_track_component(p.components.members(ci)[0])
-                                              : solve_sd_component(sd_component_view(p, ci), solver,
-                                                                   solver_options, all_pairs, max_entries);
+      if (p.components.size(ci) == 1) {
+        results[c] = single_track_component(p.components.members(ci)[0]);
+        continue;
+      }
+      double pairs = 0;
+      for (int32_t u : p.components.members(ci)) pairs += static_cast<double>(degree[u]);
+      require_memory(bytes_of(p.bytes_held + 28.0 * pairs, 1),
+                     "the link costs of a component of " + std::to_string(p.components.size(ci)) +
+                         " local tracks and " + std::to_string(static_cast<int64_t>(pairs)) + " gated pairs");
+      SDComponentView v = sd_component_view(p, ci);
+      v.bytes_held = p.bytes_held;
+      results[c] = solve_sd_component(v, solver, solver_options, all_pairs, max_entries);
     }
   });
   return results;
@@ -251,12 +358,11 @@ void encode_sd_component_view(distributed::ByteWriter& w, const SDComponentView&
   for (const auto& m : v.link) {
     index.clear();
     cost.clear();
-    for (std::size_t k = 0; k < m.size(); ++k)
-      if (!std::isnan(m[k])) {
-        index.push_back(k);
-        cost.push_back(m[k]);
-      }
-    w.put<uint64_t>(m.size());
+    m.for_each([&](int32_t i, int32_t j, double c) {
+      index.push_back(static_cast<uint64_t>(i) * static_cast<uint64_t>(m.cols) + static_cast<uint64_t>(j));
+      cost.push_back(c);
+    });
+    w.put<uint64_t>(static_cast<uint64_t>(m.rows) * static_cast<uint64_t>(m.cols));
     w.put(index);
     w.put(cost);
   }
@@ -270,11 +376,22 @@ SDComponentView decode_sd_component_view(distributed::ByteReader& r) {
   v.first = r.get_nested<int32_t>();
   v.last = r.get_nested<int32_t>();
   v.link.resize(r.get<uint64_t>());
-  for (auto& m : v.link) {
-    m.assign(r.get<uint64_t>(), kNotLinked);
+  std::vector<std::tuple<int32_t, int32_t, double>> entries;
+  for (std::size_t slot = 0; slot < v.link.size(); ++slot) {
+    const std::size_t a = slot / static_cast<std::size_t>(v.S), b = slot % static_cast<std::size_t>(v.S);
+    const auto rows = a < b ? static_cast<int32_t>(v.tracks.at(a).size()) : 0;
+    const auto cols = a < b ? static_cast<int32_t>(v.tracks.at(b).size()) : 0;
+    const uint64_t size = r.get<uint64_t>();
     const auto index = r.get_vector<uint64_t>();
     const auto cost = r.get_vector<double>();
-    for (std::size_t k = 0; k < index.size(); ++k) m.at(index[k]) = cost[k];
+    if (size != static_cast<uint64_t>(rows) * static_cast<uint64_t>(cols) || index.size() != cost.size())
+      throw std::runtime_error("decode_sd_component_view: link matrix " + std::to_string(slot) + " has the wrong size");
+    entries.clear();
+    for (std::size_t k = 0; k < index.size(); ++k) {
+      if (index[k] >= size) throw std::runtime_error("decode_sd_component_view: link index out of range");
+      entries.emplace_back(static_cast<int32_t>(index[k] / cols), static_cast<int32_t>(index[k] % cols), cost[k]);
+    }
+    v.link[slot] = SDLinkMatrix::from_entries(rows, cols, entries);
   }
   return v;
 }

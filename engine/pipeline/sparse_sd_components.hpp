@@ -5,9 +5,11 @@
 // sub-tensor and the sequential LAP merging fallback) is the header's; this file holds it.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -16,17 +18,61 @@
 
 namespace trackassoc {
 
+// The link costs between the tracks of two sensors a < b of a component (n_a × n_b, NaN = no gated
+// pair): dense when n_a·n_b <= kDenseEntries, else its gated entries only, by row (CSR, columns
+// ascending). Both give the same costs; a giant component (3 × 30 000 tracks) would need 7.2 GB
+// per pair of sensors dense (issue 30), its gated entries take kilobytes per track.
+struct SDLinkMatrix {
+  static constexpr std::size_t kDenseEntries = std::size_t{1} << 16;
+  int32_t rows = 0, cols = 0;
+  bool sparse = false;
+  std::vector<double> dense;            // rows × cols, when !sparse
+  std::vector<int32_t> row_start, col;  // CSR, when sparse
+  std::vector<double> cost;
+
+  // From the gated entries (i, j, cost) of a rows × cols matrix, in any order.
+  static SDLinkMatrix from_entries(int32_t rows, int32_t cols,
+                                   std::vector<std::tuple<int32_t, int32_t, double>> entries);
+  double at(int32_t i, int32_t j) const;
+  // Calls f(i, j, cost) for every gated entry, by row, columns ascending.
+  template <class F>
+  void for_each(F f) const {
+    for (int32_t i = 0; i < rows; ++i)
+      if (sparse) {
+        for (int32_t e = row_start[i]; e < row_start[i + 1]; ++e) f(i, col[e], cost[e]);
+      } else {
+        for (int32_t j = 0; j < cols; ++j)
+          if (const double c = dense[static_cast<std::size_t>(i) * cols + j]; !std::isnan(c)) f(i, j, c);
+      }
+  }
+  // Calls f(j, cost) for every gated entry of row i, columns ascending.
+  template <class F>
+  void for_row(int32_t i, F f) const {
+    if (sparse) {
+      for (int32_t e = row_start[i]; e < row_start[i + 1]; ++e) f(col[e], cost[e]);
+    } else {
+      for (int32_t j = 0; j < cols; ++j)
+        if (const double c = dense[static_cast<std::size_t>(i) * cols + j]; !std::isnan(c)) f(j, c);
+    }
+  }
+  std::size_t bytes() const {
+    return dense.size() * sizeof(double) + (row_start.size() + col.size()) * sizeof(int32_t) +
+           cost.size() * sizeof(double);
+  }
+};
+
 // The tracks of one component, by sensor, and the link costs among them.
 struct SDComponentView {
   int32_t S = 0;
   std::vector<std::vector<int32_t>> tracks;       // tracks[s] = local track indices of sensor s
   std::vector<std::vector<int32_t>> node;         // node[s][i] = problem node of tracks[s][i]
   std::vector<std::vector<int32_t>> first, last;  // first and last valid common time of node[s][i]
-  std::vector<std::vector<double>> link;          // slot a·S + b (a < b): n_a × n_b, NaN = no gated pair
+  std::vector<SDLinkMatrix> link;                 // slot a·S + b (a < b): n_a × n_b
+  double bytes_held = 0.0;  // what the process holds besides the view (the problem), for the memory budget
 
   double link_cost(int32_t a, int32_t i, int32_t b, int32_t j) const {
     if (a > b) std::swap(a, b), std::swap(i, j);
-    return link[static_cast<std::size_t>(a) * S + b][static_cast<std::size_t>(i) * tracks[b].size() + j];
+    return link[static_cast<std::size_t>(a) * S + b].at(i, j);
   }
   // The two tracks have common valid times, so the gate tested them (SparseSDProblem::coexist).
   bool overlap(int32_t a, int32_t i, int32_t b, int32_t j) const {
@@ -35,6 +81,8 @@ struct SDComponentView {
   }
   // Entries of the dense sub-tensor, Π(n_s + 1).
   double entries() const;
+  // Bytes held by the link matrices.
+  std::size_t link_bytes() const;
 };
 
 SDComponentView sd_component_view(const SparseSDProblem& p, int32_t c);

@@ -6,11 +6,13 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_components.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/solvers/solver_registry.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/assignment/lap_sparse.hpp"
 #include "kernels/core/error.hpp"
@@ -96,14 +98,43 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   p.file_sensors = static_cast<int32_t>(file.sensors.size());
   p.dim = file.tracks.dim();
   SDSensorSelection sel = select_sd_sensors(file, po);
-  p.sensor_ids = std::move(sel.ids);
-  p.sensor_columns = std::move(sel.columns);
+  // A sensor with no local tracks (down, or it saw nothing) is associated around: it takes no part
+  // in the problem, and its column of the tuples stays -1 (issue 30). Any number of sensors: a
+  // tuple holds only the sensors of its component (sd_tuple_cost has no cap).
+  const std::set<int32_t> reporting(file.tracks.sensor.begin(), file.tracks.sensor.end());
+  for (std::size_t k = 0; k < sel.ids.size(); ++k)
+    if (reporting.count(sel.ids[k])) {
+      p.sensor_ids.push_back(sel.ids[k]);
+      p.sensor_columns.push_back(sel.columns[k]);
+    } else {
+      p.empty_sensor_ids.push_back(sel.ids[k]);
+    }
+  if (p.sensor_ids.size() < 2) {
+    std::string empty;
+    for (int32_t id : p.empty_sensor_ids) empty += (empty.empty() ? "" : ", ") + std::to_string(id);
+    throw InputError("/tracks: association needs the local tracks of at least 2 sensors; sensor" +
+                     std::string(p.empty_sensor_ids.size() > 1 ? "s " : " ") + empty + " of " +
+                     std::to_string(sel.ids.size()) + " ha" + (p.empty_sensor_ids.size() > 1 ? "ve" : "s") +
+                     " none");
+  }
   const double period = sel.period;
   const int32_t S = p.S();
-  if (S > 16)
-    throw InputError("/sensors: at most 16 sensors are associated at once, got " + std::to_string(S));
   auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, double bytes) {
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), bytes / kMiB});
+  };
+
+  // The memory budget (issue 30): every stage's large allocation is counted against it, with what
+  // the input and the stages before still hold (`held`), before it is made where its size is
+  // known in advance (the grid and aligned tracks: common_time_grid; the statistics, the
+  // components), and right after the candidate search, whose size is not.
+  const auto D = static_cast<double>(file.tracks.dim());
+  double held = static_cast<double>(file.tracks.size()) * 8.0 * (4.0 + D + D * (D + 1) / 2);
+  auto require_held = [&](double more, const std::string& what) {
+    require_memory(bytes_of(held + more, 1), what + " (with " + size_text(bytes_of(held, 1)) +
+                                                 " held by the input and the stages before)");
+  };
+  auto pair_name = [&](int32_t a, int32_t b) {
+    return "sensors " + std::to_string(p.sensor_ids[a]) + " and " + std::to_string(p.sensor_ids[b]);
   };
 
   auto t0 = std::chrono::steady_clock::now();
@@ -127,6 +158,7 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
     }
   }
   stage("alignment", t0, bytes);
+  held += bytes;
   require_some_overlap(p);
 
   const std::size_t slots = static_cast<std::size_t>(S) * S;
@@ -143,7 +175,11 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       p.candidate_pairs[slot] = cand[slot].size();
       cand[slot] = prune_by_position_bound(p.aligned[a], p.aligned[b], cand[slot], po.statistic);
       bytes += cand[slot].size() * 2.0 * sizeof(int32_t);
+      require_held(bytes, "the candidate pairs of " + pair_name(a, b) + " (" +
+                              std::to_string(p.candidate_pairs[slot]) + " found, " +
+                              std::to_string(cand[slot].size()) + " kept; a wide gate, see --gate)");
     }
+  held += bytes;
   stage("candidates", t0, bytes);
 
   t0 = std::chrono::steady_clock::now();
@@ -153,6 +189,12 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
+      // The statistic of every candidate (SparsePairStatistic: 21 bytes each) before the gate, and
+      // the link cost and both nodes of each (at most every) gated one.
+      const auto n = static_cast<double>(cand[slot].size());
+      require_held(bytes + n * (21.0 + 8.0 + 8.0),
+                   "the statistics of the " + std::to_string(cand[slot].size()) + " candidate pairs of " +
+                       pair_name(a, b));
       p.pairs[slot] =
           keep_in_gate(sparse_sequential_statistic(p.aligned[a], p.aligned[b], cand[slot], po.statistic));
       CandidatePairs().a.swap(cand[slot].a);
@@ -165,13 +207,20 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
         u.push_back(p.offset[a] + st.a[q]);
         v.push_back(p.offset[b] + st.b[q]);
       }
-      bytes += static_cast<double>(st.bytes() + link.size() * sizeof(double));
+      bytes += static_cast<double>(st.bytes() + link.size() * sizeof(double)) + 8.0 * link.size();
+      held -= n * 2 * sizeof(int32_t);  // the candidates, freed above
     }
   stage("statistics", t0, bytes);
+  held += bytes;
 
   t0 = std::chrono::steady_clock::now();
+  // connected_components: a union-find and the members by component (int32 per node, a few times).
+  require_held(4.0 * sizeof(int32_t) * p.nodes(),
+               "the connected components of " + std::to_string(p.nodes()) + " local tracks");
   p.components = connected_components(p.nodes(), u, v);
   stage("components", t0, static_cast<double>(p.components.nodes.size() * sizeof(int32_t)));
+  held -= 8.0 * static_cast<double>(u.size());  // u, v are freed on return
+  p.bytes_held = held + static_cast<double>(p.components.nodes.size() * sizeof(int32_t));
   return p;
 }
 
@@ -255,6 +304,11 @@ AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& 
   if (options.segments.enabled) check_duplicate_sensors(options.segments, p.sensor_ids);
   const auto t0 = std::chrono::steady_clock::now();
   AssociationRecord rec = solve_sparse_sd_association(p, solver, solver_options, seed, options);
+  if (!p.empty_sensor_ids.empty()) {  // only then: the records of other files are unchanged
+    nlohmann::json info = nlohmann::json::parse(rec.options_json);
+    info["empty_sensors"] = p.empty_sensor_ids;
+    rec.options_json = info.dump();
+  }
   const double solve_s = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
   if (options.segments.enabled) {

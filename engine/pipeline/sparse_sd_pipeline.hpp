@@ -68,7 +68,8 @@ struct SparseSDOptions {
 };
 
 struct SparseSDProblem {
-  std::vector<int32_t> sensor_ids;      // the chosen sensors, in their order
+  std::vector<int32_t> sensor_ids;      // the chosen sensors with local tracks, in their order
+  std::vector<int32_t> empty_sensor_ids;  // the chosen sensors without any (their tuple column is -1)
   std::vector<int32_t> sensor_columns;  // their columns in /sensors order
   int32_t file_sensors = 0;             // columns of the output tuples
   int32_t dim = 4;                      // state dimension D
@@ -82,6 +83,7 @@ struct SparseSDProblem {
   std::vector<std::size_t> candidate_pairs;  // index output before the gate, per slot
   Components components;
   std::vector<StageReport> stages;  // alignment, candidates, statistics, components
+  double bytes_held = 0.0;          // the input and the problem [bytes], counted against the memory budget
   int32_t S() const { return static_cast<int32_t>(sensor_ids.size()); }
   int32_t nodes() const { return offset.empty() ? 0 : offset.back(); }
   int32_t sensor_of(int32_t node) const {  // the s with offset[s] <= node < offset[s + 1]
@@ -95,8 +97,9 @@ struct SparseSDProblem {
   }
 };
 
-// Throws InputError on unknown sensor ids, fewer than 2 sensors, sensors without tracks, a gate
-// probability of 1 (the gate is the miss cost), or no common time at all.
+// Throws InputError on unknown sensor ids, fewer than 2 sensors with local tracks (a sensor without
+// any is left out: empty_sensor_ids), a gate probability of 1 (the gate is the miss cost), or no
+// common time at all.
 SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOptions& options);
 
 // Solvers of the components: the registry's tensor S-D solvers (capabilities.sd_tensor), the

@@ -287,6 +287,11 @@ LapResult solve_gated_lap(std::span<const double> cost, int32_t rows, int32_t co
   return solve_sparse_lap(SparseCostView{rows, cols, row_start, col, val}, options);
 }
 
+bool solve_gated_lap_is_dense(int32_t rows, int32_t cols, std::size_t finite, const GatedLapOptions& gated) {
+  const double limit = sparse_limit(rows, cols, gated);
+  return !(limit >= 0.0 && static_cast<double>(finite) <= limit);
+}
+
 LapResult solve_gated_lap(const SparseCostView& matrix, const LapOptions& options,
                           const GatedLapOptions& gated) {
   gated.validate();

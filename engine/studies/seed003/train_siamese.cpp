@@ -52,7 +52,7 @@ TrainSiameseResult train_siamese_on_dataset(const TrainSiameseOptions& a, std::o
   model.shape.validate();
   const SiameseTrainingOptions& o = a.training;
   o.validate();
-  check_output_paths({{a.output, "--output"}});
+  check_output_paths({{a.output, "--output"}}, {{a.data, "--data"}});
   const Seed003Dataset d = read_seed003_dataset(a.data);
   // The file's training split is already shuffled: the last share becomes the validation set.
   PairSet train, validation, validation_close;  // the last: its close negatives (for model choice)
