@@ -19,6 +19,7 @@
 #include "engine/cli/table.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline.hpp"
+#include "engine/pipeline/registration_stage.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
@@ -37,7 +38,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-const std::vector<std::string> kMethods{"default", "exact", "chi2-sum", "3d-exact", "3d-nogate"};
+const std::vector<std::string> kMethods{"default", "unregistered", "exact", "chi2-sum", "3d-exact", "3d-nogate"};
 const std::vector<std::string> kPeerMethods{"stonesoup-one2one", "stonesoup-counting"};
 
 RecordedRow score(const std::string& scenario, const std::string& method, int32_t run, const TrackFile& file,
@@ -82,7 +83,13 @@ AssociationRecord associate_method(const TrackFile& file, const std::string& met
       so.pipeline.alignment.method = AlignmentMethod::kForward;
       so.pipeline.alignment.process_noise = 1.0;
     }
-    rec = associate_sparse_sd(file, solver, options, seed, so);
+    if (method == "default") {  // with the registration stage, as `associate` runs it
+      rec = associate_with_registration(
+          file, RegistrationStageOptions{},
+          [&](const TrackFile& f) { return associate_sparse_sd(f, solver, options, seed, so); }, nullptr);
+    } else {
+      rec = associate_sparse_sd(file, solver, options, seed, so);
+    }
   }
   time_s = seconds_since(t0);
   rec.name = method;
@@ -150,7 +157,7 @@ void RecordedExperimentOptions::validate() const {
   for (const auto& m : methods)
     if (std::find(kMethods.begin(), kMethods.end(), m) == kMethods.end())
       throw InputError("experiment recorded: --methods: unknown method '" + m +
-                       "' (default, exact, chi2-sum, 3d-exact, 3d-nogate)");
+                       "' (default, unregistered, exact, chi2-sum, 3d-exact, 3d-nogate)");
   require(!files_dir.empty(), "experiment recorded: --files", "expected a folder");
 }
 
