@@ -21,6 +21,7 @@
 #include "engine/pipeline/sparse_3d_sharded.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
+#include "engine/pipeline/track_hygiene.hpp"
 #include "engine/solvers/solver_registry.hpp"
 
 namespace trackassoc::cli {
@@ -120,7 +121,7 @@ void register_associate(CLI::App& app) {
     std::string input, output, solver, name;
     HopfieldFlags hopfield;  // merged into --options
     bool sd = false, three_d = false;
-    bool no_segments = false, no_registration = false;
+    bool no_segments = false, no_registration = false, no_split = false;
     double segment_overlap = SegmentOptions{}.max_overlap_s;
     std::vector<int32_t> duplicate_sensors;
     std::string model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";  // --solver siamese
@@ -161,6 +162,11 @@ void register_associate(CLI::App& app) {
                 "reference sensor on the linked tuples, and when they are significant correct the reports and "
                 "re-associate until the tuples stop changing; the estimate goes to /registration and is "
                 "printed; engine/pipeline/registration_stage.hpp)");
+  cmd->add_flag("--no-split", args->no_split,
+                "Default pipeline: keep every recorded (sensor, track) key as one track (default: a key that "
+                "pauses and then jumps where its own motion cannot take it, a recycled track number, is split "
+                "into new local tracks before the association; /tracks/source_track keeps the recorded number; "
+                "engine/pipeline/track_hygiene.hpp)");
   cmd->add_option("--segment-overlap", args->segment_overlap,
                   "Default pipeline: the report overlap [s] two segments of one sensor may have and still "
                   "follow each other (a coasting old track and its successor)")
@@ -218,10 +224,16 @@ void register_associate(CLI::App& app) {
     }
     const auto associator = make_associator(request);  // every check before the file is read
     TrackFile file = read_track_file(args->input);
+    TrackSplitSummary split;
+    if (!args->no_split && choose_association_path(request) == AssociationPath::kSparseSD)
+      split = split_recycled_tracks(file, TrackSplitOptions{});
     const AssociationOutcome outcome = associator->associate(file);
     store_outcome(file, outcome);
     write_track_file(args->output, file);
     print_outcome(outcome, file, request.solver, args->output);
+    if (split.cuts > 0)
+      std::cout << "split " << split.cuts << " recycled track number(s) into new local tracks (" << split.gaps
+                << " gaps tested; /tracks/source_track keeps the recorded numbers)\n";
   });
 }
 

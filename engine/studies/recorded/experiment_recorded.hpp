@@ -10,7 +10,9 @@
 // each run's track file is kept in `files_dir` (schema v1, readable with h5py) and associated by:
 //   default      `trackassoc associate` with no flags: every sensor, the sparse S-D pipeline, the
 //                calibrated gate, all-pairs cost, lr+ls (engine/pipeline/sparse_sd_pipeline.hpp),
-//                with the joint registration stage (engine/pipeline/registration_stage.hpp);
+//                with the joint registration stage (engine/pipeline/registration_stage.hpp), on the
+//                file with its recycled track numbers split (engine/pipeline/track_hygiene.hpp; it
+//                is scored on the split keys, so its target count may exceed the others');
 //   unregistered the same without the registration stage (`associate --no-registration`);
 //   exact        the same pipeline with the exact S-D solver per component;
 //   chi2-sum     the same pipeline with the seed 000 gate (χ²(n·D) on the summed statistic) and
