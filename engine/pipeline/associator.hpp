@@ -55,7 +55,7 @@ struct AssociatorOptions {
   std::string siamese_model;  // --solver siamese: model file (io/siamese_model_file.hpp)
   SegmentOptions segments;    // the default (sparse S-D) path: track segments joined to targets
   // The default (sparse S-D) path: joint registration and association (engine/pipeline/
-  // registration_stage.hpp); one process only (with MPI ranks the stage is off).
+  // registration_stage.hpp); over MPI ranks it estimates but does not re-associate.
   RegistrationStageOptions registration;
   // The default (sparse S-D) path and --sparse: the MPI ranks that share its components (rank 0's
   // call; the others run serve_sd_components, engine/pipeline/sparse_sd_sharded.hpp, or

@@ -50,7 +50,7 @@ class SparseSDAssociator final : public TrackAssociator {
     so.ranks = o_.ranks;
     AssociationOutcome out;
     RegistrationStageOptions ro = o_.registration;
-    ro.enabled = ro.enabled && (!o_.ranks || o_.ranks->size() == 1);
+    ro.reassociate = ro.reassociate && (!o_.ranks || o_.ranks->size() == 1);  // servers solve once
     RegistrationStageResult reg;
     const auto t0 = std::chrono::steady_clock::now();
     out.record = associate_with_registration(

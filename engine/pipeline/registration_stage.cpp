@@ -59,6 +59,7 @@ void RegistrationStageOptions::validate() const {
 
 nlohmann::json RegistrationStageOptions::to_json() const {
   return {{"enabled", enabled},
+          {"reassociate", reassociate},
           {"max_rounds", max_rounds},
           {"significance", significance},
           {"max_observations_per_pair", max_observations_per_pair},
@@ -200,6 +201,21 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
   std::map<int32_t, int32_t> column;
   for (int32_t s = 0; s < S; ++s) column[file.sensors[s].id] = s;
   for (const auto& kv : rows) keys[column.at(kv.first.first)].push_back(&kv);
+  // Each track's bounding box, so that pairs farther apart than pattern_radius everywhere are
+  // skipped without interpolating them (the pattern step is O(sample · n) box tests).
+  std::vector<std::vector<std::array<double, 6>>> box(S);
+  for (int32_t s = 0; s < S; ++s)
+    for (const auto* kv : keys[s]) {
+      std::array<double, 6> b{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+      for (std::size_t r : kv->second)
+        for (int i = 0; i < d; ++i) b[i] = std::min(b[i], t.state[i][r]), b[3 + i] = std::max(b[3 + i], t.state[i][r]);
+      box[s].push_back(b);
+    }
+  auto near = [&](const std::array<double, 6>& a, const std::array<double, 6>& b) {
+    for (int i = 0; i < d; ++i)
+      if (a[i] > b[3 + i] + o.pattern_radius || b[i] > a[3 + i] + o.pattern_radius) return false;
+    return true;
+  };
   const auto& ref = keys[reference];
   const std::size_t sample = std::min<std::size_t>(ref.size(), o.pattern_tracks);
   struct Candidate {
@@ -214,6 +230,7 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
       const std::size_t ia = sample == ref.size() ? i : i * ref.size() / sample;
       const auto& A = ref[ia]->second;
       for (std::size_t ib = 0; ib < keys[s].size(); ++ib) {
+        if (!near(box[reference][ia], box[s][ib])) continue;
         const auto& B = keys[s][ib]->second;
         const double lo = std::max(t.t[A.front()], t.t[B.front()]), hi = std::min(t.t[A.back()], t.t[B.back()]);
         if (lo > hi) continue;
@@ -331,6 +348,7 @@ AssociationRecord associate_with_registration(const TrackFile& file, const Regis
   res.fitted = true;
   res.wald = res.estimate.wald(res.wald_dof);
   if (res.wald_dof == 0 || res.wald <= chi_square_quantile(1.0 - o.significance, res.wald_dof)) return rec;
+  if (!o.reassociate) return rec;
   const AssociationRecord recorded = rec;
   for (int32_t round = 2; round <= o.max_rounds; ++round) {
     AssociationRecord next = associate(registered_file(file, res.estimate, model));
