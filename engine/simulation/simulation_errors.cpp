@@ -116,19 +116,23 @@ void validate_sensor_errors(const Scenario& sc) {
   for (std::size_t s = 0; s < sc.sensors.size(); ++s) {
     const SensorErrors& e = sc.sensor_errors[s];
     const std::string w = "scenario.sensors[" + std::to_string(s) + "].errors.";
-    require(std::isfinite(e.range_bias), w + "range_bias", "expected a finite bias [m]");
+    // Bounds well beyond any sensor, so that no error can overflow the geometry.
+    require(std::isfinite(e.range_bias) && std::abs(e.range_bias) <= 1e6, w + "range_bias",
+            "expected a bias within ±10^6 m");
     require(std::isfinite(e.azimuth_bias) && std::abs(e.azimuth_bias) < 0.5, w + "azimuth_bias",
             "expected a finite bias below 0.5 rad");
     require(std::isfinite(e.elevation_bias) && std::abs(e.elevation_bias) < 0.5, w + "elevation_bias",
             "expected a finite bias below 0.5 rad");
-    for (double v : e.site_offset) require(std::isfinite(v), w + "site_offset", "expected finite [m]");
-    require(std::isfinite(e.clock_offset), w + "clock_offset", "expected a finite offset [s]");
-    require(std::isfinite(e.covariance_scale) && e.covariance_scale > 0.0, w + "covariance_scale",
-            "expected a finite factor > 0");
+    for (double v : e.site_offset)
+      require(std::isfinite(v) && std::abs(v) <= 1e7, w + "site_offset", "expected coordinates within ±10^7 m");
+    require(std::isfinite(e.clock_offset) && std::abs(e.clock_offset) <= sc.duration, w + "clock_offset",
+            "expected an offset within ± the duration [s]");
+    require(std::isfinite(e.covariance_scale) && e.covariance_scale > 0.0 && e.covariance_scale <= 1e6,
+            w + "covariance_scale", "expected a factor in (0, 10^6]");
     require(std::isfinite(e.recycle_after) && e.recycle_after >= 0.0, w + "recycle_after",
             "expected a finite time >= 0 [s]");
-    require(std::isfinite(e.swap_distance) && e.swap_distance >= 0.0, w + "swap_distance",
-            "expected a finite distance >= 0 [m]");
+    require(std::isfinite(e.swap_distance) && e.swap_distance >= 0.0 && e.swap_distance <= 1e7,
+            w + "swap_distance", "expected a distance in [0, 10^7] m");
   }
 }
 
