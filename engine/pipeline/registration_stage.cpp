@@ -350,6 +350,7 @@ AssociationRecord associate_with_registration(const TrackFile& file, const Regis
   if (res.wald_dof == 0 || res.wald <= chi_square_quantile(1.0 - o.significance, res.wald_dof)) return rec;
   if (!o.reassociate) return rec;
   const AssociationRecord recorded = rec;
+  const RegistrationEstimate tested = res.estimate;
   for (int32_t round = 2; round <= o.max_rounds; ++round) {
     AssociationRecord next = associate(registered_file(file, res.estimate, model));
     res.rounds = round;
@@ -364,7 +365,11 @@ AssociationRecord associate_with_registration(const TrackFile& file, const Regis
   // A registration error shows as true pairs split apart: the corrected reports must link more
   // local tracks than the reports as recorded, or the association of step 1 stands.
   res.applied = linked_members(rec) > linked_members(recorded);
-  return res.applied ? rec : recorded;
+  if (res.applied) return rec;
+  // Not applied: the estimate reported is the one tested in step 3 (as over MPI ranks).
+  res.estimate = tested;
+  res.wald = res.estimate.wald(res.wald_dof);
+  return recorded;
 }
 
 }  // namespace trackassoc
