@@ -1,5 +1,6 @@
 #include "io/scenario_json.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -155,7 +156,19 @@ bool positive(double v) { return v > 0; }
 bool non_negative(double v) { return v >= 0; }
 bool probability(double v) { return v > 0 && v <= 1; }
 
-void read_sensor(Reader& r, Sensor& s) {
+void read_sensor_errors(Reader& r, SensorErrors& e) {
+  r.number("range_bias", e.range_bias);
+  r.angle("azimuth_bias", "", e.azimuth_bias, nullptr, "");
+  r.angle("elevation_bias", "", e.elevation_bias, nullptr, "");
+  r.vector3("site_offset", e.site_offset);
+  r.number("clock_offset", e.clock_offset);
+  r.number("covariance_scale", e.covariance_scale, positive, " > 0");
+  r.number("recycle_after", e.recycle_after, non_negative, " >= 0");
+  r.number("swap_distance", e.swap_distance, non_negative, " >= 0");
+  r.finish();
+}
+
+void read_sensor(Reader& r, Sensor& s, SensorErrors& errors) {
   r.integer("id", s.id, 0, std::numeric_limits<int32_t>::max());
   r.vector3("position", s.position);
   r.number("sigma_range", s.sigma_range, positive, " > 0");
@@ -166,6 +179,10 @@ void read_sensor(Reader& r, Sensor& s) {
   r.number("p_detect", s.p_detect, probability, " in (0, 1]");
   r.number("clutter_rate", s.clutter_rate, non_negative, " >= 0");
   r.number("reliability", s.reliability, positive, " > 0");
+  if (const json* e = r.get("errors")) {
+    Reader er(*e, r.key_path("errors"), r.source());
+    read_sensor_errors(er, errors);
+  }
   r.finish();
 }
 
@@ -355,9 +372,15 @@ Scenario parse_scenario_json(const std::string& text, const std::string& source)
       Reader sr((*sensors)[i], "sensors[" + std::to_string(i) + "]", source);
       Sensor sensor;
       sensor.id = static_cast<int32_t>(i);
-      read_sensor(sr, sensor);
+      SensorErrors errors;
+      read_sensor(sr, sensor, errors);
       s.sensors.push_back(sensor);
+      s.sensor_errors.push_back(errors);
     }
+    // No sensor with errors: none at all (the scenario equals one written without the key).
+    if (std::all_of(s.sensor_errors.begin(), s.sensor_errors.end(),
+                    [](const SensorErrors& e) { return e.is_default(); }))
+      s.sensor_errors.clear();
   }
   if (const json* targets = r.array("targets")) {
     for (std::size_t i = 0; i < targets->size(); ++i) {
@@ -436,6 +459,20 @@ std::string scenario_to_json(const Scenario& s) {
     o["p_detect"] = sensor.p_detect;
     o["clutter_rate"] = sensor.clutter_rate;
     o["reliability"] = sensor.reliability;
+    const std::size_t i = j["sensors"].size();
+    if (i < s.sensor_errors.size() && !s.sensor_errors[i].is_default()) {
+      const SensorErrors& e = s.sensor_errors[i];
+      ordered_json eo;
+      eo["range_bias"] = e.range_bias;
+      write_angle(eo, "azimuth_bias", "", e.azimuth_bias);
+      write_angle(eo, "elevation_bias", "", e.elevation_bias);
+      eo["site_offset"] = vector_json(e.site_offset);
+      eo["clock_offset"] = e.clock_offset;
+      eo["covariance_scale"] = e.covariance_scale;
+      eo["recycle_after"] = e.recycle_after;
+      eo["swap_distance"] = e.swap_distance;
+      o["errors"] = eo;
+    }
     j["sensors"].push_back(o);
   }
   j["targets"] = ordered_json::array();

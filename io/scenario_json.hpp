@@ -27,7 +27,17 @@
 //       "offset": 0.0,                      s, >= 0, time of the first scan
 //       "p_detect": 1.0,                    in (0, 1]
 //       "clutter_rate": 0.0,                expected false plots per scan, >= 0
-//       "reliability": 1.0 } ],             > 0, seed 001 weight ω
+//       "reliability": 1.0,                 > 0, seed 001 weight ω
+//       "errors": {                         optional: what the sensor adds beyond noise (DESIGN §4.9;
+//                                           engine/simulation/simulation_errors.hpp has the model)
+//         "range_bias": 0.0,                m, added to every measured range
+//         "azimuth_bias_deg": 0.0,          added to every measured bearing
+//         "elevation_bias_deg": 0.0,        added to every measured elevation (3-D)
+//         "site_offset": [0, 0, 0],         m, the true site minus "position" (the surveyed site)
+//         "clock_offset": 0.0,              s, a plot's reported time minus its true time
+//         "covariance_scale": 1.0,          > 0, reported covariance = scale x the tracker's own
+//         "recycle_after": 0.0,             s, >= 0: > 0 reuses a track number this long after its track ends
+//         "swap_distance": 0.0 } } ],       m, >= 0: > 0 swaps two local tracks whose targets pass this close
 //     "targets": [ {                        scripted targets; ids unique (default: index)
 //       "id": 0, "position": [x, y, z], "velocity": [vx, vy, vz],
 //       "segments": [ {                     played in order; the last one lasts to the end
@@ -64,7 +74,8 @@
 //       "false_tracks": 0.0 }               in [0, 100]: per sensor, mean false tracks / targets
 //   }
 // The writer leaves out "manoeuvres" when off, "group_size" / "group_spacing" when 1 / 0 and
-// "recording" when it has the defaults, so the text of scenarios without them is unchanged.
+// "recording" when it has the defaults and a sensor's "errors" when they are all zero (scale 1), so
+// the text of scenarios without them is unchanged.
 #pragma once
 
 #include <string>

@@ -390,6 +390,9 @@ TrackFile read_track_file_in_process(const std::string& path) {
   file.sensors = read_sensors(root);
   tv::check_sensors(path, file.sensors);
   file.tracks = read_tracks(root, path);
+  if (root.open_group("tracks").has("source_track"))
+    file.source_track = h5::read_int32_column(root.open_group("tracks"), "source_track", file.tracks.size(),
+                                              "/tracks/t");
   tv::check_tracks(path, file.tracks, file.sensors);
   file.recording = read_recording_info(root);
   tv::check_recording_info(path, file.recording);
@@ -414,6 +417,7 @@ TrackFile read_track_file_in_process(const std::string& path) {
   }
   file.system_tracks = read_system_tracks(root);
   for (const auto& r : file.system_tracks) check_system_tracks(path, r, file.sensors);
+  file.registration = read_registration(root, path);
   file.fused = read_fused_tracks(root, path);
   for (const auto& r : file.fused)
     check_fused_tracks(path, r, file.sensors, file.associations, file.tracks.layout);
@@ -450,6 +454,7 @@ void write_track_file_with(const std::string& path, const TrackFile& file,
       check_fused_tracks(path, r, file.sensors, file.associations, file.tracks.layout);
       if (!names.insert(r.name).second) throw InputError(path + ": /fused/" + r.name + ": name used twice");
     }
+    if (file.registration) check_registration(path, *file.registration, file.sensors.size());
     names.clear();
     for (const auto& m : file.metrics) {
       tv::check_metrics(path, m);
@@ -475,6 +480,13 @@ void write_track_file_with(const std::string& path, const TrackFile& file,
         write_measurements(root, *file.measurements);
       }
       write_tracks(root, file.tracks, file.recording);
+      if (!file.source_track.empty()) {
+        if (file.source_track.size() != file.tracks.size())
+          throw InputError(path + ": /tracks/source_track: expected " + std::to_string(file.tracks.size()) +
+                           " rows (one per /tracks row), found " + std::to_string(file.source_track.size()));
+        const hsize_t n = file.tracks.size();
+        root.open_group("tracks").write_dataset("source_track", std::span<const int32_t>(file.source_track), {n});
+      }
       if (model_prob) {
         const Group tracks = root.open_group("tracks");
         tracks.write_dataset(
@@ -492,6 +504,7 @@ void write_track_file_with(const std::string& path, const TrackFile& file,
       }
       write_system_tracks(root, file.system_tracks);
       write_fused_tracks(root, file.fused);
+      write_registration(root, file.registration);
     }
     f.close();
   });

@@ -17,6 +17,11 @@
 //   /fused/<name>/         tuples (K×S), tuple, t, state (N×D), cov (N×D(D+1)/2), sources, truth, omega
 //                          (ci); attrs association, rule, ci_criterion, cross_covariance, options,
 //                          state_layout (fused tracks of an association, io/fused_tracks_file.hpp)
+//   /registration/         sensor, <parameter>, <parameter>_se (S), covariance_scale, pair_observations
+//                          (S×S); attrs reference_sensor, parameters, applied, ... (the sensor
+//                          registration of the default association, io/registration_file.hpp)
+//   /tracks/source_track   optional (N int32): the recorded track number of rows whose track was
+//                          split (engine/pipeline/track_hygiene.hpp)
 //
 // Only /sensors and /tracks are required. The reader validates format, version, shapes, dtypes,
 // finiteness and positive-definite covariances, and throws InputError naming file, dataset and row.
@@ -32,6 +37,7 @@
 #include <vector>
 
 #include "io/fused_tracks_file.hpp"
+#include "io/registration_file.hpp"
 #include "io/system_tracks_file.hpp"
 #include "kernels/assignment/assignment_types.hpp"
 #include "kernels/core/types.hpp"
@@ -102,6 +108,10 @@ struct TrackFile {
   std::vector<SystemTrackRecord> system_tracks;  // /system_tracks/<name>/ (io/system_tracks_file.hpp)
   std::vector<FusedTrackRecord> fused;           // /fused/<name>/ (io/fused_tracks_file.hpp)
   RecordingInfo recording;                       // optional /tracks and /sensors attributes
+  std::optional<RegistrationRecord> registration;  // /registration (io/registration_file.hpp)
+  // /tracks/source_track (optional, one per row): the track number as recorded, where a split
+  // (engine/pipeline/track_hygiene.hpp) gave the row's track a new number; empty = none.
+  std::vector<int32_t> source_track;
 };
 
 // Reads and validates a schema v1 file. Throws InputError on anything malformed.

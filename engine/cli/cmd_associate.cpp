@@ -21,11 +21,35 @@
 #include "engine/pipeline/sparse_3d_sharded.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
+#include "engine/pipeline/track_hygiene.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "io/track_validation.hpp"
 
 namespace trackassoc::cli {
 namespace {
+
+// The registration line(s): per sensor its estimates ± standard errors (angles in degrees).
+void print_registration(const RegistrationRecord& r) {
+  const std::size_t k = r.parameters.size();
+  std::cout << "registration (reference sensor " << r.reference_sensor << ", Wald " << fmt(r.wald, "%.1f")
+            << " on " << r.wald_dof << " dof, " << r.observations << " observations): "
+            << (r.applied ? "applied, " + std::to_string(r.rounds) + " associations"
+                          : r.rounds == 1 ? std::string("not significant, reports left as recorded")
+                                          : std::string("the corrected reports linked no more tracks, reports left as recorded"))
+            << "\n";
+  for (std::size_t s = 0; s < r.sensor.size(); ++s) {
+    if (r.sensor[s] == r.reference_sensor) continue;
+    std::cout << "  sensor " << r.sensor[s] << ":";
+    for (std::size_t j = 0; j < k; ++j) {
+      const bool angle = r.parameters[j].find("azimuth") == 0 || r.parameters[j].find("elevation") == 0;
+      const double f = angle ? 180.0 / 3.14159265358979323846 : 1.0;
+      std::cout << (j ? ", " : " ") << r.parameters[j] << " " << fmt(f * r.estimate[s * k + j], "%.4g")
+                << " +- " << fmt(f * r.standard_error[s * k + j], "%.2g")
+                << (angle ? " deg" : r.parameters[j] == "clock_offset" ? " s" : " m");
+    }
+    std::cout << "\n";
+  }
+}
 
 // The lines `associate` prints for `out` (the association, then the sparse S-D stages, then the
 // unassociated local tracks per sensor).
@@ -86,6 +110,7 @@ void print_outcome(const AssociationOutcome& out, const TrackFile& file, const s
     for (std::size_t i = 0; i < s.empty_sensors.size(); ++i) std::cout << (i ? ", " : " ") << s.empty_sensors[i];
     std::cout << " (associated around; their column of the tuples is -1)\n";
   }
+  if (out.registration) print_registration(*out.registration);
   std::cout << "unassociated local tracks:";
   for (std::size_t i = 0; i < out.unassociated.size(); ++i)
     std::cout << (i ? ", " : " ") << "sensor " << out.unassociated[i].sensor_id << " "
@@ -102,7 +127,7 @@ void register_associate(CLI::App& app) {
     std::string input, output, solver, name;
     HopfieldFlags hopfield;  // merged into --options
     bool sd = false, three_d = false;
-    bool no_segments = false;
+    bool no_segments = false, no_registration = false, no_split = false;
     double segment_overlap = SegmentOptions{}.max_overlap_s;
     std::vector<int32_t> duplicate_sensors;
     std::string model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";  // --solver siamese
@@ -137,6 +162,17 @@ void register_associate(CLI::App& app) {
       "Default pipeline: keep the assignment's tuples, one track per sensor per target (default: the "
       "segments of a target that follow each other on one sensor, after a track break, join it; "
       "engine/pipeline/track_segments.hpp)");
+  cmd->add_flag("--no-registration", args->no_registration,
+                "Default pipeline: associate the reports as recorded (default: joint registration and "
+                "association: fit each sensor's range, azimuth (elevation), site and clock errors relative to a "
+                "reference sensor on the linked tuples, and when they are significant correct the reports and "
+                "re-associate until the tuples stop changing; the estimate goes to /registration and is "
+                "printed; engine/pipeline/registration_stage.hpp)");
+  cmd->add_flag("--no-split", args->no_split,
+                "Default pipeline: keep every recorded (sensor, track) key as one track (default: a key that "
+                "pauses and then jumps where its own motion cannot take it, a recycled track number, is split "
+                "into new local tracks before the association; /tracks/source_track keeps the recorded number; "
+                "engine/pipeline/track_hygiene.hpp)");
   cmd->add_option("--segment-overlap", args->segment_overlap,
                   "Default pipeline: the report overlap [s] two segments of one sensor may have and still "
                   "follow each other (a coasting old track and its successor)")
@@ -172,6 +208,7 @@ void register_associate(CLI::App& app) {
     request.name = args->name;
     request.siamese_model = args->model;
     request.segments.enabled = !args->no_segments;
+    request.registration.enabled = !args->no_registration;
     request.segments.max_overlap_s = args->segment_overlap;
     request.segments.duplicate_sensors = args->duplicate_sensors;
     if (!args->duplicate_sensors.empty() && args->no_segments)
@@ -198,10 +235,16 @@ void register_associate(CLI::App& app) {
     }
     const auto associator = make_associator(request);  // every check before the file is read
     TrackFile file = read_track_file(args->input);
+    TrackSplitSummary split;
+    if (!args->no_split && choose_association_path(request) == AssociationPath::kSparseSD)
+      split = split_recycled_tracks(file, TrackSplitOptions{});
     const AssociationOutcome outcome = associator->associate(file);
     store_outcome(file, outcome);
     write_track_file(args->output, file);
     print_outcome(outcome, file, request.solver, args->output);
+    if (split.cuts > 0)
+      std::cout << "split " << split.cuts << " recycled track number(s) into new local tracks (" << split.gaps
+                << " gaps tested; /tracks/source_track keeps the recorded numbers)\n";
   });
 }
 

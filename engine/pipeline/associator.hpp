@@ -33,6 +33,7 @@
 
 #include "engine/distributed/communicator.hpp"
 #include "engine/pipeline/pipeline.hpp"
+#include "engine/pipeline/registration_stage.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
 #include "engine/pipeline/track_segments.hpp"
 #include "io/track_file.hpp"
@@ -53,6 +54,9 @@ struct AssociatorOptions {
   std::string name;           // /associations group; empty = the solver name
   std::string siamese_model;  // --solver siamese: model file (io/siamese_model_file.hpp)
   SegmentOptions segments;    // the default (sparse S-D) path: track segments joined to targets
+  // The default (sparse S-D) path: joint registration and association (engine/pipeline/
+  // registration_stage.hpp); over MPI ranks it estimates but does not re-associate.
+  RegistrationStageOptions registration;
   // The default (sparse S-D) path and --sparse: the MPI ranks that share its components (rank 0's
   // call; the others run serve_sd_components, engine/pipeline/sparse_sd_sharded.hpp, or
   // serve_sparse_components, engine/pipeline/sparse_3d_sharded.hpp). Null: this process.
@@ -87,6 +91,7 @@ struct AssociationOutcome {
   AssociationSummary summary;
   std::vector<UnassociatedTracks> unassociated;    // one entry per associated sensor, in summary order
   std::optional<SystemTrackRecord> system_tracks;  // fusion centre: /system_tracks/<name>/
+  std::optional<RegistrationRecord> registration;  // the default path: /registration
 };
 
 class TrackAssociator {
@@ -123,7 +128,8 @@ std::vector<UnassociatedTracks> unassociated_tracks(const TrackFile& file,
                                                     const std::vector<int32_t>& sensor_ids,
                                                     const AssociationRecord& rec);
 
-// Adds the outcome's association (and system tracks) to `file`, replacing those of the same name.
+// Adds the outcome's association (and system tracks, and registration) to `file`, replacing those of
+// the same name.
 void store_outcome(TrackFile& file, const AssociationOutcome& outcome);
 
 }  // namespace trackassoc

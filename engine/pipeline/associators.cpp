@@ -1,6 +1,7 @@
 // The implementations of TrackAssociator (engine/pipeline/associator.hpp), one per path, each a thin
 // wrapper of its pipeline's entry points, and the factory with the path-choosing rules.
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <set>
 #include <utility>
@@ -14,6 +15,7 @@
 #include "engine/solvers/solver_registry.hpp"
 #include "io/siamese_model_file.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 namespace {
@@ -47,8 +49,24 @@ class SparseSDAssociator final : public TrackAssociator {
     so.segments = o_.segments;
     so.ranks = o_.ranks;
     AssociationOutcome out;
-    out.record = associate_sparse_sd(file, o_.solver, o_.solver_options, o_.seed, so, &out.summary.stages);
+    RegistrationStageOptions ro = o_.registration;
+    ro.reassociate = ro.reassociate && (!o_.ranks || o_.ranks->size() == 1);  // servers solve once
+    RegistrationStageResult reg;
+    const auto t0 = std::chrono::steady_clock::now();
+    out.record = associate_with_registration(
+        file, ro,
+        [&](const TrackFile& f) {
+          return associate_sparse_sd(f, o_.solver, o_.solver_options, o_.seed, so, &out.summary.stages);
+        },
+        &reg);
     apply_name(o_, out.record);
+    if (reg.fitted) {
+      out.registration = reg.to_record(file, out.record.name, ro);
+      // The stages are the last association's; the registration is everything else.
+      const double total = seconds_since(t0);
+      out.summary.stages.push_back({"registration", std::max(0.0, total - out.record.runtime_s), peak_rss_mib(), 0.0});
+      out.record.runtime_s = total;
+    }
     AssociationSummary& s = out.summary;
     s.path = path();
     s.sensor_ids = select_sd_sensors(file, o_.pipeline).ids;
@@ -306,6 +324,10 @@ void store_outcome(TrackFile& file, const AssociationOutcome& outcome) {
   rows.clear();
   for (const UnassociatedTracks& u : outcome.unassociated)
     for (int32_t track : u.tracks) rows.insert(rows.end(), {u.sensor_id, track});
+  if (outcome.registration)
+    file.registration = outcome.registration;
+  else if (file.registration && file.registration->association == name)
+    file.registration.reset();  // stale now
   if (outcome.system_tracks) {
     std::erase_if(file.system_tracks,
                   [&](const SystemTrackRecord& r) { return r.name == outcome.system_tracks->name; });

@@ -24,6 +24,7 @@
 #include <limits>
 #include <numbers>
 
+#include "engine/simulation/simulation_errors.hpp"
 #include "engine/simulation/simulation_recording.hpp"
 #include "engine/simulation/simulation_tracker.hpp"
 #include "engine/simulation/simulation_truth.hpp"
@@ -113,6 +114,7 @@ void validate_scenario(const Scenario& sc) {
             "expected standard deviations ≥ 0");
   }
   validate_recording(sc);
+  validate_sensor_errors(sc);
   check_size(sc);
 }
 
@@ -127,6 +129,8 @@ SensorMeasurements simulate_sensor(const Scenario& sc, std::size_t s,
                                    const std::vector<TargetTrajectory>& targets, uint64_t seed, int run,
                                    const SensorRecording* recording) {
   const Sensor& sensor = sc.sensors[s];
+  const SensorErrors& errors = sensor_errors_of(sc, s);
+  const Sensor site = true_site(sensor, errors);  // where the sensor really is
   const int d = spatial_dim(sc.layout);
   SensorMeasurements out;
   for (long k = 0;; ++k) {
@@ -161,9 +165,17 @@ SensorMeasurements simulate_sensor(const Scenario& sc, std::size_t s,
   const double el_lo = std::max(-std::numbers::pi / 2, el_min - 0.05),
                el_hi = std::min(std::numbers::pi / 2, el_max + 0.05);
   // One plot of `tr` at t with the draws of `r`, kept when detected and `keep`.
+  // Registration errors (engine/simulation/simulation_errors.hpp): the plot reported at t is of the
+  // true position at t − clock_offset, from the true site, plus the biases.
   auto measure = [&](const TargetTrajectory& tr, CounterRng& r, double t, bool keep) {
     const bool hit = r.uniform() < sensor.p_detect;
-    const PolarPoint q = cartesian_to_polar(d, sensor, tr.at(t).p);
+    PolarPoint q = errors.is_default() ? cartesian_to_polar(d, sensor, tr.at(t).p)
+                                       : cartesian_to_polar(d, site, tr.at(t - errors.clock_offset).p);
+    if (!errors.is_default()) {
+      q.range += errors.range_bias;
+      q.bearing += errors.azimuth_bias;
+      q.elevation += errors.elevation_bias;
+    }
     const double nr = r.normal(), nb = r.normal(), ne = d == 3 ? r.normal() : 0.0;
     if (!hit || !keep) return;
     m.sensor.push_back(sensor.id);
@@ -297,6 +309,7 @@ SimulationResult simulate(const Scenario& sc, uint64_t seed, int run) {
   }
   result.tracks = track_measurements(all, sc.sensors, sc.layout, sc.tracker, seed, run, scans).tracks;
   apply_recording(plan, sc, targets, result);
+  apply_sensor_errors(sc, targets, result.tracks);
   explain_degenerate_tracks(sc, targets, result.tracks, seed, run);
   return result;
 }

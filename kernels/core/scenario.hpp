@@ -98,6 +98,23 @@ struct RecordingSpec {
   friend bool operator==(const RecordingSpec&, const RecordingSpec&) = default;
 };
 
+// What a real sensor adds to its reports beyond noise (DESIGN §4.9; engine/simulation/
+// simulation_errors.hpp has the model): systematic registration errors, a mis-stated covariance,
+// recycled track numbers and swaps at crossings. One per sensor (Scenario::sensor_errors, in the
+// order of Scenario::sensors), or none. All zero (scale 1) is a clean sensor and draws nothing.
+struct SensorErrors {
+  double range_bias = 0.0;                  // [m], added to every measured range
+  double azimuth_bias = 0.0;                // [rad], added to every measured bearing
+  double elevation_bias = 0.0;              // [rad], added to every measured elevation (3-D)
+  std::array<double, 3> site_offset{0, 0, 0};  // [m], true site − surveyed site (Sensor::position)
+  double clock_offset = 0.0;                // [s], reported time − true time of every plot
+  double covariance_scale = 1.0;            // reported covariance = scale × the tracker's own
+  double recycle_after = 0.0;               // [s], > 0: a track number is reused this long after its track ends
+  double swap_distance = 0.0;               // [m], > 0: two local tracks whose targets pass this close swap
+  bool is_default() const { return *this == SensorErrors{}; }
+  friend bool operator==(const SensorErrors&, const SensorErrors&) = default;
+};
+
 struct Scenario {
   std::string name = "unnamed";
   std::string description;                     // free text: where the numbers come from and why
@@ -110,6 +127,7 @@ struct Scenario {
   std::vector<Sensor> sensors;
   LocalTrackerSpec tracker;
   RecordingSpec recording;
+  std::vector<SensorErrors> sensor_errors;  // empty, or one per sensor
   friend bool operator==(const Scenario&, const Scenario&) = default;
 };
 

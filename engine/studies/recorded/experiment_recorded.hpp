@@ -3,10 +3,17 @@
 //
 // Each scenario of the family (data/scenarios/recorded_*.json: asynchronous radars, targets some
 // sensors never see, partial track lifetimes, false tracks, turns and acceleration steps, 2- and
-// 10-minute recordings, a dense and a formation case, 3 to 5 sensors) is simulated `runs` times;
+// 10-minute recordings, a dense and a formation case, 3 to 5 sensors; and, issue 29, registration
+// errors (range, azimuth, elevation biases, a site-survey error, clock offsets; recorded_bias,
+// _bias_dense, _bias_3d, _site, _clock), mis-stated covariances (_covscale), recycled track numbers
+// (_recycled), swaps at crossings (_swaps) and all of them at once (_mixed)) is simulated `runs` times;
 // each run's track file is kept in `files_dir` (schema v1, readable with h5py) and associated by:
 //   default      `trackassoc associate` with no flags: every sensor, the sparse S-D pipeline, the
-//                calibrated gate, all-pairs cost, lr+ls (engine/pipeline/sparse_sd_pipeline.hpp);
+//                calibrated gate, all-pairs cost, lr+ls (engine/pipeline/sparse_sd_pipeline.hpp),
+//                with the joint registration stage (engine/pipeline/registration_stage.hpp), on the
+//                file with its recycled track numbers split (engine/pipeline/track_hygiene.hpp; it
+//                is scored on the split keys, so its target count may exceed the others');
+//   unregistered the same without the registration stage (`associate --no-registration`);
 //   exact        the same pipeline with the exact S-D solver per component;
 //   chi2-sum     the same pipeline with the seed 000 gate (χ²(n·D) on the summed statistic) and
 //                forward alignment: what the gate was before issue 20;
@@ -29,9 +36,13 @@
 namespace trackassoc {
 
 struct RecordedExperimentOptions {
-  std::vector<std::string> scenarios{"recorded_sync", "recorded_3s",    "recorded_3s_long",  "recorded_4s",
-                                     "recorded_5s",   "recorded_dense", "recorded_formation"};
-  std::vector<std::string> methods{"default", "exact", "chi2-sum", "3d-exact", "3d-nogate"};
+  std::vector<std::string> scenarios{"recorded_sync",       "recorded_3s",      "recorded_3s_long",
+                                     "recorded_4s",         "recorded_5s",      "recorded_dense",
+                                     "recorded_formation",  "recorded_bias",    "recorded_bias_dense",
+                                     "recorded_site",       "recorded_clock",   "recorded_covscale",
+                                     "recorded_recycled",   "recorded_swaps",   "recorded_bias_3d",
+                                     "recorded_mixed"};
+  std::vector<std::string> methods{"default", "unregistered", "exact", "chi2-sum", "3d-exact", "3d-nogate"};
   int32_t runs = 3;
   std::string files_dir = "experiment-recorded-files";  // the simulated track files, kept for peers
   bool peer = true;         // run Stone Soup (skipped with a note when it cannot be imported)

@@ -30,21 +30,21 @@ TEST_F(ExperimentRecordedCli, WritesOneRowPerMethodScoredAgainstTheTruthAndThePe
   const auto targets = g.read_integers("targets", 1, dims);
   const auto correct = g.read_integers("correct", 1, dims);
   const auto false_tuples = g.read_integers("false_tuples", 1, dims);
-  // methods: default, exact, chi2-sum, 3d-exact, 3d-nogate, stonesoup-one2one, stonesoup-counting;
-  // the 3d-* rows only for the three-sensor scenario.
+  // methods: default, unregistered, exact, chi2-sum, 3d-exact, 3d-nogate, stonesoup-one2one,
+  // stonesoup-counting; the 3d-* rows only for the three-sensor scenario.
   const bool peer = r.err.find("Stone Soup is not available") == std::string::npos;
-  std::size_t expected = 5 + 3 + (peer ? 4 : 0);
+  std::size_t expected = 6 + 4 + (peer ? 4 : 0);
   EXPECT_EQ(method.size(), expected) << r.err;
   for (std::size_t q = 0; q < method.size(); ++q) {
     EXPECT_GT(targets[q], 20);
-    if (method[q] == 0) {  // the default: every target of the easy and the 4-sensor file
+    if (method[q] <= 1) {  // the default, with and without registration: every target of both files
       EXPECT_EQ(correct[q], targets[q]) << "scenario " << scenario[q];
       EXPECT_EQ(false_tuples[q], 0);
     }
-    if (method[q] == 5 && scenario[q] == 0) {
+    if (method[q] == 6 && scenario[q] == 0) {
       EXPECT_EQ(correct[q], targets[q]);  // Stone Soup, synchronous
     }
-    if (method[q] == 5 && scenario[q] == 1) {
+    if (method[q] == 6 && scenario[q] == 1) {
       EXPECT_EQ(correct[q], 0);  // no shared timestamps
     }
   }

@@ -1,0 +1,44 @@
+// Track hygiene (DESIGN §4.9): a recorded (sensor, track) key is not always one track. A sensor
+// that recycles its track numbers reuses a number after the track ends, so one key stops, pauses
+// and jumps to where the track's own motion cannot take it. Such keys are split here before the
+// association, each piece a new local track.
+//
+// Rule, per key, its rows in time order: a gap is two consecutive reports more than
+// max(min_gap_s, gap_factor × the key's median report interval) apart. At a gap, the state before
+// it, x₀ (P₀), is predicted over the gap Δt by constant velocity with a manoeuvre allowance:
+// x̂ = F x₀, P̂ = F P₀ Fᵀ + Q, Q the continuous white-noise acceleration model of spectral density
+// σ_a² (per axis: Δt³/3, Δt²/2, Δt times σ_a²; Bar-Shalom, Li, Kirubarajan 2001 §6.2.2), and
+// compared with the first report after it, x₁ (P₁): m² = (x₁ − x̂)ᵀ (P̂ + P₁)⁻¹ (x₁ − x̂). The
+// key is cut there when m² > χ²_D(gate_probability): the jump is one its own motion cannot explain.
+// The rows after a cut get a new track number (one above the sensor's largest, in order of cuts
+// by sensor, key and time), and TrackFile::source_track keeps the recorded number of every row.
+// A key without gaps, or whose gaps its motion explains, is left as it is.
+// Swaps at crossings (no gap, a change point in the pair statistics) are not split here.
+// Complexity: O(rows · log rows + cuts · D³).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "io/track_file.hpp"
+
+namespace trackassoc {
+
+struct TrackSplitOptions {
+  bool enabled = true;
+  double min_gap_s = 10.0;          // s, shorter pauses are never cut
+  double gap_factor = 3.0;          // a gap is longer than this many median report intervals
+  double manoeuvre_sigma = 3.0;     // σ_a [m/s²] of the allowance
+  double gate_probability = 0.9999; // of χ²_D
+  void validate() const;
+};
+
+struct TrackSplitSummary {
+  int32_t gaps = 0, cuts = 0;  // gaps tested, and cut
+};
+
+// Splits the recycled keys of file.tracks in place and fills file.source_track (when any key is
+// cut; left as it was otherwise). Returns what it did.
+TrackSplitSummary split_recycled_tracks(TrackFile& file, const TrackSplitOptions& options);
+
+}  // namespace trackassoc
