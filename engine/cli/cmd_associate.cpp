@@ -209,6 +209,7 @@ void register_associate(CLI::App& app) {
     request.siamese_model = args->model;
     request.segments.enabled = !args->no_segments;
     request.registration.enabled = !args->no_registration;
+    request.split.enabled = !args->no_split;
     request.segments.max_overlap_s = args->segment_overlap;
     request.segments.duplicate_sensors = args->duplicate_sensors;
     if (!args->duplicate_sensors.empty() && args->no_segments)
@@ -235,9 +236,7 @@ void register_associate(CLI::App& app) {
     }
     const auto associator = make_associator(request);  // every check before the file is read
     TrackFile file = read_track_file(args->input);
-    TrackSplitSummary split;
-    if (!args->no_split && choose_association_path(request) == AssociationPath::kSparseSD)
-      split = split_recycled_tracks(file, TrackSplitOptions{});
+    const TrackSplitSummary split = split_recorded_keys(file, request);
     const AssociationOutcome outcome = associator->associate(file);
     store_outcome(file, outcome);
     write_track_file(args->output, file);

@@ -35,6 +35,7 @@
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/registration_stage.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
+#include "engine/pipeline/track_hygiene.hpp"
 #include "engine/pipeline/track_segments.hpp"
 #include "io/track_file.hpp"
 
@@ -57,6 +58,9 @@ struct AssociatorOptions {
   // The default (sparse S-D) path: joint registration and association (engine/pipeline/
   // registration_stage.hpp); over MPI ranks it estimates but does not re-associate.
   RegistrationStageOptions registration;
+  // The default (sparse S-D) path: recycled track numbers split before the association
+  // (split_recorded_keys below, engine/pipeline/track_hygiene.hpp); the CLI's --no-split.
+  TrackSplitOptions split;
   // The default (sparse S-D) path and --sparse: the MPI ranks that share its components (rank 0's
   // call; the others run serve_sd_components, engine/pipeline/sparse_sd_sharded.hpp, or
   // serve_sparse_components, engine/pipeline/sparse_3d_sharded.hpp). Null: this process.
@@ -122,6 +126,12 @@ struct PreparedThreeSensorProblem {
 };
 std::unique_ptr<TrackAssociator> make_three_sensor_associator(const AssociatorOptions& options,
                                                               PreparedThreeSensorProblem prepared);
+
+// Track hygiene before the association, the same for `associate`, the Python module and the studies:
+// on the default (sparse S-D) path with options.split.enabled, the recorded keys of `file` that are
+// really two tracks (a recycled number) are split in place (split_recycled_tracks); other paths
+// and a disabled split leave `file` as it is. Call it on the file the association's output stores.
+TrackSplitSummary split_recorded_keys(TrackFile& file, const AssociatorOptions& options);
 
 // The local tracks of the sensors `sensor_ids` in no tuple of `rec` with two or more members.
 std::vector<UnassociatedTracks> unassociated_tracks(const TrackFile& file,

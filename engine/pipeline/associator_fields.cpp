@@ -83,6 +83,10 @@ const OptionFields<AssociatorOptions>& associator_option_fields() {
             "default pipeline: report overlap [s] of two segments that still follow each other"),
       field("duplicate_sensors", path(&O::segments, &SegmentOptions::duplicate_sensors), "sensor ids",
             "default pipeline: sensors whose tracker may hold two tracks of one target (--duplicate-sensors)"),
+      field("registration", path(&O::registration, &RegistrationStageOptions::enabled), "",
+            "default pipeline: joint registration and association (False = --no-registration)"),
+      field("split", path(&O::split, &TrackSplitOptions::enabled), "",
+            "default pipeline: split recycled track numbers into new local tracks (False = --no-split)"),
   }};
   return fields;
 }

@@ -221,6 +221,11 @@ void AssociatorOptions::validate() const {
     throw InputError("--duplicate-sensors: duplicates join targets in the segment pass; drop --no-segments");
 }
 
+TrackSplitSummary split_recorded_keys(TrackFile& file, const AssociatorOptions& options) {
+  if (!options.split.enabled || choose_association_path(options) != AssociationPath::kSparseSD) return {};
+  return split_recycled_tracks(file, options.split);
+}
+
 AssociationPath choose_association_path(const AssociatorOptions& o) {
   o.validate();
   const bool explicit_pipeline = o.sd || o.three_d || o.sparse;

@@ -63,7 +63,6 @@ PyAssociation associate(const py::object& tracks, const py::object& sensors, con
   if (request.siamese_model.empty()) request.siamese_model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";
   std::shared_ptr<const TrackFile> file = track_file_of(tracks, sensors);
   PyAssociation result;
-  result.input = file;
   result.computed = true;
   {
     py::gil_scoped_release release;
@@ -73,8 +72,13 @@ PyAssociation associate(const py::object& tracks, const py::object& sensors, con
       const std::lock_guard<std::mutex> hdf5(hdf5_mutex());  // siamese reads its model file
       associator = make_associator(request);
     }
+    // Track hygiene as `associate` does it: a recycled track number becomes new local tracks, and the
+    // association's `tracks` is then the split file (source_track keeps the recorded numbers).
+    TrackFile split = *file;
+    if (split_recorded_keys(split, request).cuts > 0) file = std::make_shared<const TrackFile>(std::move(split));
     result.outcome = associator->associate(*file);
   }
+  result.input = file;
   return result;
 }
 

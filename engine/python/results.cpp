@@ -76,6 +76,25 @@ py::dict summary_of(const PyAssociation& a) {
   return d;
 }
 
+py::object registration_of(const PyAssociation& a) {
+  if (!a.outcome.registration) return py::none();
+  const RegistrationRecord& r = *a.outcome.registration;
+  const std::size_t S = r.sensor.size(), k = r.parameters.size();
+  py::dict d;
+  d["reference_sensor"] = r.reference_sensor;
+  d["sensor"] = to_array(r.sensor);
+  d["parameters"] = r.parameters;
+  d["estimate"] = to_array(r.estimate, S, k);
+  d["standard_error"] = to_array(r.standard_error, S, k);
+  d["covariance_scale"] = to_array(r.covariance_scale, S, S);
+  d["applied"] = r.applied;
+  d["rounds"] = r.rounds;
+  d["wald"] = r.wald;
+  d["wald_dof"] = r.wald_dof;
+  d["observations"] = r.observations;
+  return d;
+}
+
 py::dict fused_arrays(const PyFused& f) {
   const FusedTrackRecord& r = f.record;
   py::dict d;
@@ -104,6 +123,8 @@ PyAssociation association_of_file(std::shared_ptr<const TrackFile> file, const A
       for (auto& u : a.outcome.unassociated)
         if (u.sensor_id == rec.unassociated[i]) u.tracks.push_back(rec.unassociated[i + 1]);
   }
+  if (a.input->registration && a.input->registration->association == rec.name)
+    a.outcome.registration = a.input->registration;
   return a;
 }
 
@@ -112,8 +133,14 @@ void bind_results(py::module_& m) {
                           "A schema v1 track set (read(path), or the arrays given to associate), validated "
                           "by the C++ readers. Pass it to associate(), fuse(), evaluate() or write().")
       .def_property_readonly(
-          "tracks", [](const PyTrackFile& f) { return tracks_to_python(f.file->tracks); },
-          "/tracks as a dict of numpy arrays: sensor, track, t, state (N x D), cov (N x D(D+1)/2 packed), truth.")
+          "tracks",
+          [](const PyTrackFile& f) {
+            py::dict d = tracks_to_python(f.file->tracks);
+            if (!f.file->source_track.empty()) d["source_track"] = to_array(f.file->source_track);
+            return d;
+          },
+          "/tracks as a dict of numpy arrays: sensor, track, t, state (N x D), cov (N x D(D+1)/2 packed), truth; "
+          "source_track (the recorded track number) when associate split a recycled number.")
       .def_property_readonly(
           "sensors", [](const PyTrackFile& f) { return sensors_to_python(f.file->sensors); },
           "/sensors as a dict of numpy arrays (id, position (S x 3), sigma_*, period, offset, ...).")
@@ -180,6 +207,11 @@ void bind_results(py::module_& m) {
             return d;
           },
           "sensor id -> int32 array of its local tracks in no tuple of two or more (ascending).")
+      .def_property_readonly("registration", &registration_of,
+                             "The default pipeline's registration (/registration), or None: dict of reference_sensor, "
+                             "sensor (ids), parameters (names), estimate and standard_error (S x k; angles in rad, "
+                             "lengths in m, clock in s), covariance_scale (S x S), applied, rounds, wald, wald_dof, "
+                             "observations.")
       .def_property_readonly(
           "name", [](const PyAssociation& a) { return a.outcome.record.name; }, "The /associations group name.")
       .def_property_readonly("summary", &summary_of,

@@ -11,9 +11,12 @@ import pytest
 import trackassoc
 from conftest import run_cli
 
-# The recorded family but recorded_10k (3 x 10 000 targets: minutes, not a unit test).
+# The recorded family but recorded_10k (3 x 10 000 targets: minutes, not a unit test), with the
+# scenarios of registration errors, recycled numbers and swaps, where the default pipeline registers
+# the sensors and splits recycled keys before it associates.
 RECORDED = ["recorded_sync", "recorded_3s", "recorded_3s_long", "recorded_4s", "recorded_5s", "recorded_dense",
-            "recorded_formation"]
+            "recorded_formation", "recorded_bias", "recorded_bias_dense", "recorded_site", "recorded_clock",
+            "recorded_covscale", "recorded_recycled", "recorded_swaps", "recorded_bias_3d", "recorded_mixed"]
 
 
 def cli_association(tmp_path, path, *flags, name=None):
@@ -39,6 +42,30 @@ def test_default_pipeline_matches_cli(simulated, tmp_path, scenario):
         np.testing.assert_array_equal(ours.unassociated[s], cli.unassociated[s])
     assert ours.summary["path"] == "sparse-sd"
     assert [st["name"] for st in ours.summary["stages"]][:2] == ["alignment", "candidates"]
+    # the registration written to /registration, and the split keys' recorded numbers
+    assert (ours.registration is None) == (cli.registration is None)
+    if ours.registration is not None:
+        assert ours.registration["estimate"].tobytes() == cli.registration["estimate"].tobytes()
+        assert ours.registration["applied"] == cli.registration["applied"]
+    ours_tracks, cli_tracks = ours.tracks.tracks, cli.tracks.tracks
+    np.testing.assert_array_equal(ours_tracks["track"], cli_tracks["track"])
+    assert ("source_track" in ours_tracks) == ("source_track" in cli_tracks)
+    if "source_track" in ours_tracks:
+        np.testing.assert_array_equal(ours_tracks["source_track"], cli_tracks["source_track"])
+
+
+def test_recycled_numbers_are_split_as_the_cli_splits_them(simulated):
+    """recorded_recycled: a radar reuses track numbers, so the default splits keys (source_track keeps the
+    recorded number) unless split=False; registration=False leaves /registration out."""
+    f = trackassoc.read(simulated("recorded_recycled"))
+    split = trackassoc.associate(f)
+    t = split.tracks.tracks
+    assert "source_track" in t
+    assert (t["source_track"] != t["track"]).any()
+    np.testing.assert_array_equal(t["source_track"], f.tracks["track"])  # rows kept in order
+    kept = trackassoc.associate(f, split=False, registration=False)
+    assert "source_track" not in kept.tracks.tracks
+    assert kept.registration is None
 
 
 def test_arrays_give_the_files_tuples(simulated):
