@@ -8,7 +8,8 @@
 // gated candidate tuples and connected components (engine/pipeline/sparse_pipeline.hpp). The path is
 // chosen, and run, by the association interface (engine/pipeline/associator.hpp); this command parses the
 // flags, calls it, writes the file and prints, ending with the unassociated local tracks of each
-// sensor (those in no tuple of two or more).
+// sensor (those in no tuple of two or more). --plots F.png draws the recording as a map with the
+// association (engine/report/association_map.hpp; --svg for SVG).
 #include <iostream>
 
 #include "engine/cli/association_flags.hpp"
@@ -21,6 +22,7 @@
 #include "engine/pipeline/sparse_3d_sharded.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
+#include "engine/report/association_map.hpp"
 #include "engine/solvers/solver_registry.hpp"
 
 namespace trackassoc::cli {
@@ -93,7 +95,8 @@ void register_associate(CLI::App& app) {
   struct Args {
     CommonOptions common;
     PipelineFlags pipeline;
-    std::string input, output, solver, name;
+    std::string input, output, solver, name, plot;
+    bool svg = false;
     HopfieldFlags hopfield;  // merged into --options
     bool sd = false, three_d = false;
     bool no_segments = false;
@@ -120,6 +123,10 @@ void register_associate(CLI::App& app) {
                   "--solver siamese: model file from train-siamese (default: the shipped seed 003 model)")
       ->capture_default_str();
   cmd->add_option("--name", args->name, "Group name under /associations (default: the solver name)");
+  cmd->add_option("--plots", args->plot,
+                  "Draw the recording as a map with the association: tracks coloured by output target, "
+                  "unassociated in grey, wrong links in red and missed targets dashed where truth exists (PNG)");
+  cmd->add_flag("--svg", args->svg, "--plots as SVG (a .png name becomes .svg)");
   cmd->add_flag("--sd", args->sd,
                 "S-D formulation with a dummy per sensor (any number of sensors; solvers " +
                     list_names(sd_solver_names(), ", ") + "). Implied by more than three --sensors");
@@ -149,7 +156,8 @@ void register_associate(CLI::App& app) {
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     auto& comm = distributed::world();
-    if (comm.size() == 1) check_output_paths({{args->output, "--output"}});
+    args->plot = report::picture_path(args->plot, args->svg);
+    if (comm.size() == 1) check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}});
     AssociatorOptions request;
     request.pipeline = resolve(args->pipeline);
     request.solver_options = parse_solver_options(args->pipeline.solver_options);
@@ -183,7 +191,7 @@ void register_associate(CLI::App& app) {
         return path == AssociationPath::kSparse3D ? serve_sparse_components(comm) : serve_sd_components(comm);
       comm.set_ranks_waiting(true);  // until rank 0 scatters their work, or its error (main.cpp)
       request.ranks = &comm;
-      check_output_paths({{args->output, "--output"}});
+      check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}});
     }
     const auto associator = make_associator(request);  // every check before the file is read
     TrackFile file = read_track_file(args->input);
@@ -191,6 +199,11 @@ void register_associate(CLI::App& app) {
     store_outcome(file, outcome);
     write_track_file(args->output, file);
     print_outcome(outcome, file, request.solver, args->output);
+    if (!args->plot.empty()) {
+      report::write_association_map(args->plot, report::picture_format(args->plot, args->svg), file, outcome.record,
+                                    "trackassoc associate: '" + outcome.record.name + "' on " + args->input);
+      std::cout << "drew " << args->plot << "\n";
+    }
   });
 }
 
