@@ -1,4 +1,4 @@
-// Scenario JSON (DESIGN §3): read, validate and write trackassoc::Scenario.
+// Scenario JSON (docs/design.md §3): read, validate and write trackassoc::Scenario.
 // Every field has a default (kernels/core/scenario.hpp), so a scenario file only states what differs.
 // Unknown keys and duplicated keys are errors (a misspelt key must not silently fall back to a
 // default); the message names the key path, e.g. "f.json: sensors[1].sigma_range: expected a

@@ -176,7 +176,7 @@ void register_associate(CLI::App& app) {
           "--duplicate-sensors: duplicates join targets in the segment pass; drop --no-segments");
     request.validate();  // --sd, --3d, --sparse: at most one, before the Hopfield flags' errors
     merge_hopfield_flags(args->hopfield, request.solver, request.solver_options);
-    // More than one MPI rank (DESIGN §8): the components of the default path and of --sparse are
+    // More than one MPI rank (docs/design.md §8): the components of the default path and of --sparse are
     // shared out; rank 0 reads, builds, writes and prints, the other ranks only solve what it sends
     // them (engine/pipeline/sparse_sd_sharded.hpp, sparse_3d_sharded.hpp). Everything above is the
     // same on every rank.

@@ -1,4 +1,4 @@
-// Association metrics (DESIGN §3 /metrics, seed 000 §4 "correct association rate").
+// Association metrics (docs/design.md §3 /metrics, seed 000 §4 "correct association rate").
 //
 // Evaluated per target, over the sensors an association covers. A target "needs association"
 // when at least two covered sensors hold a local track of it. For each such target T:

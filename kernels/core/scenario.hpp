@@ -1,4 +1,4 @@
-// A simulation scenario (DESIGN §3): targets with motion segments, sensors, duration and seed.
+// A simulation scenario (docs/design.md §3): targets with motion segments, sensors, duration and seed.
 // It is read from and written to JSON by io/scenario_json.hpp; the embedded defaults live in
 // data/scenarios/. This header is plain data; the simulation is engine/simulation/simulation.hpp.
 #pragma once
@@ -81,7 +81,7 @@ struct RandomTargetSpec {
 
 // The local tracker each sensor runs to turn its measurements into local tracks.
 struct LocalTrackerSpec {
-  std::string filter = "cv";   // cv | ca | ab | cs | cs-nn | imm (DESIGN §4.2)
+  std::string filter = "cv";   // cv | ca | ab | cs | cs-nn | imm (docs/design.md §4.2)
   double process_noise = 1.0;  // σ of the white-noise acceleration [m/s²]
   friend bool operator==(const LocalTrackerSpec&, const LocalTrackerSpec&) = default;
 };

@@ -186,7 +186,7 @@ ScheduleRow decode_row(distributed::ByteReader& rd) {
 }  // namespace
 
 // One item per instance, in the order one process visits them (tracking sizes × runs, then the
-// DecompLib files), dealt to the ranks round robin (DESIGN §8): a tracking instance (and its
+// DecompLib files), dealt to the ranks round robin (docs/design.md §8): a tracking instance (and its
 // reference) is built by the rank that runs it, from (seed, size, run) alone; the DecompLib files
 // are read by every rank first, so a bad file fails every rank alike.
 std::vector<ScheduleRow> run_schedules_experiment(const SchedulesExperimentOptions& o,

@@ -1,4 +1,4 @@
-// Experiment `schedules` (issue 5 item 7; DESIGN §4.4 "Schedules. Compare them"): every Hopfield
+// Experiment `schedules` (issue 5 item 7; docs/design.md §4.4 "Schedules. Compare them"): every Hopfield
 // schedule and both energies, against the strong simple baseline (greedy + LAP local search) and
 // the Lagrangian relaxation, on
 //   - seed 000 tracking instances: the embedded `seed000` scenario with n = 10, 20, 50, 100
