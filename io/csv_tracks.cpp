@@ -244,16 +244,14 @@ std::optional<std::size_t> estimate_track_velocity(TrackTable& t, const std::vec
   return std::nullopt;
 }
 
-// Median of the positive intervals, rounded to 1 µs (recorded times rarely carry more; the
-// rounding makes 4 s from 1.7 + 4k exact again); 0 when there is none.
+}  // namespace
+
 double median_interval(std::vector<double>& intervals) {
   if (intervals.empty()) return 0.0;
   auto mid = intervals.begin() + static_cast<std::ptrdiff_t>(intervals.size() / 2);
   std::nth_element(intervals.begin(), mid, intervals.end());
   return std::round(*mid * 1e6) / 1e6;
 }
-
-}  // namespace
 
 TrackFile import_csv_tracks(std::istream& in, const std::string& source, const CsvImportOptions& o,
                             CsvImportSummary* summary) {

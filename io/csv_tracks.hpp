@@ -129,4 +129,9 @@ std::array<double, 3> parse_geodetic_origin(const std::string& text, const std::
 // "," ";" "tab" (or a literal tab) to the delimiter character; an InputError naming `flag` otherwise.
 char parse_csv_delimiter(const std::string& text, const std::string& flag);
 
+// A sensor's scan period from the intervals between consecutive reports of its tracks: their
+// median, rounded to 1 µs (recorded times rarely carry more; the rounding makes 4 s from 1.7 + 4k
+// exact again); 0 when there is none. Reorders `intervals`. (`import csv`, the Python module.)
+double median_interval(std::vector<double>& intervals);
+
 }  // namespace trackassoc

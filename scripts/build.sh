@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set-up, then configure and build. Usage: scripts/build.sh [--binary] [--sanitize] [--debug]
 # --binary: the `trackassoc` binary alone, with only its packages (scripts/setup.sh --binary), no
-#   GoogleTest or Google Benchmark (scripts/demo.sh). Default: everything (tests, benchmarks).
+#   GoogleTest, Google Benchmark or the Python module (scripts/demo.sh). Default: everything (tests,
+#   benchmarks, the Python module when pybind11 is installed).
 # Build folder: build/ (build-asan/ with --sanitize). Extra CMake flags via $CMAKE_ARGS.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,11 +29,11 @@ done
 
 if [ "$binary_only" -eq 1 ]; then
   scripts/setup.sh --binary
-  parts=(-DTRACKASSOC_BUILD_TESTS=OFF -DTRACKASSOC_BUILD_BENCH=OFF)
+  parts=(-DTRACKASSOC_BUILD_TESTS=OFF -DTRACKASSOC_BUILD_BENCH=OFF -DTRACKASSOC_PYTHON=OFF)
   targets=(--target trackassoc)
 else
   scripts/setup.sh
-  parts=(-DTRACKASSOC_BUILD_TESTS=ON "-DTRACKASSOC_BUILD_BENCH=$bench")
+  parts=(-DTRACKASSOC_BUILD_TESTS=ON "-DTRACKASSOC_BUILD_BENCH=$bench" -DTRACKASSOC_PYTHON=ON)
   targets=()
 fi
 generator=()

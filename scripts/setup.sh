@@ -5,7 +5,8 @@
 #   CMake, Ninja, Eigen, oneTBB, HDF5 (with zlib, which the PNG plots use), CLI11, nlohmann-json.
 # default: also what scripts/test.sh, scripts/bench.sh and CI need: GoogleTest, Google Benchmark,
 #   ccache, Debian's Python with numpy/h5py/scipy/matplotlib (plots of the studies, peers), clang
-#   for the libFuzzer stage, and Stone Soup's dependencies (the peer of `experiment recorded`).
+#   for the libFuzzer stage, Stone Soup's dependencies (the peer of `experiment recorded`), and
+#   pybind11 with pytest and pandas for the Python module and its tests.
 # --mpi: also OpenMPI (libopenmpi-dev, openmpi-bin) for the MPI build (scripts/test_mpi.sh,
 #   docs/design.md §8); the default build and scripts/demo.sh, scripts/test.sh never need it.
 set -euo pipefail
@@ -31,6 +32,9 @@ if [ "$binary_only" -eq 0 ]; then
     clang libclang-rt-14-dev
     # Stone Soup, the peer of `experiment recorded` (../shared/peers/stonesoup-src/README.md)
     python3-ordered-set python3-plotly python3-pymap3d python3-rtree python3-ruamel.yaml
+    # the Python module (engine/python/, docs/design.md §9) and its pytest suite (tests/python/);
+    # pandas for to_pandas() and the CSV round trip (optional to the module itself)
+    pybind11-dev python3-pybind11 python3-dev python3-pytest python3-pandas
   )
 fi
 [ "$with_mpi" -eq 1 ] && packages+=(libopenmpi-dev openmpi-bin)

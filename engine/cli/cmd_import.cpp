@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "engine/cli/common.hpp"
+#include "engine/pipeline/result_tables.hpp"
 #include "io/csv_tracks.hpp"
 
 namespace trackassoc::cli {
@@ -84,33 +85,49 @@ void register_import(CLI::App& app) {
 void register_export(CLI::App& app) {
   struct Args {
     CommonOptions common;
-    std::string input, output, mapping_output, delimiter = ",";
+    std::string input, output, mapping_output, delimiter = ",", what = "tracks", name;
   };
   auto args = std::make_shared<Args>();
-  auto* exp = app.add_subcommand("export", "Export the tracks of a schema v1 file");
+  auto* exp = app.add_subcommand("export", "Export the tracks or results of a schema v1 file");
   exp->require_subcommand(1);
   auto* cmd = exp->add_subcommand(
       "csv",
-      "The /tracks table as CSV: sensor, track, t, the state columns, the packed upper-triangle "
-      "covariance cov_R_C, truth; numbers in the shortest text that reads back exactly, so `import csv` "
-      "with --mapping-output's mapping gives the same /tracks");
-  cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks")->required();
+      "A table of the file as CSV, one row per fact, numbers in the shortest text that reads back exactly "
+      "(pandas.read_csv, MATLAB readtable). --what tracks (default): /tracks, sensor, track, t, the state "
+      "columns, the packed upper-triangle covariance cov_R_C, truth, so `import csv` with --mapping-output's "
+      "mapping gives the same /tracks; associations: target, tuple, sensor, track, source_track, cost, one "
+      "row per member of a tuple; unassociated: sensor, track, source_track, first_t, last_t, reports, the "
+      "local tracks in no tuple of two or more; fused: /fused/NAME, tuple, t, state, cov_R_C, sources, "
+      "truth; registration: /registration, one row per sensor, one column per dataset (NAME_0.. for S x k)");
+  cmd->add_option("--input,-i", args->input, "HDF5 file (schema v1)")->required();
   cmd->add_option("--output,-o", args->output, "Output CSV file")->required();
-  cmd->add_option("--mapping-output", args->mapping_output, "Also write the mapping JSON for `import csv`");
+  cmd->add_option("--what", args->what, "The table: " + enum_name_list<ResultTable>())
+      ->check(enum_choices<ResultTable>())
+      ->capture_default_str();
+  cmd->add_option("--name", args->name,
+                  "--what associations|unassociated|fused: the /associations or /fused group (default: the "
+                  "file's only one)");
+  cmd->add_option("--mapping-output", args->mapping_output,
+                  "--what tracks: also write the mapping JSON for `import csv`");
   cmd->add_option("--delimiter", args->delimiter, "Field delimiter: ',', ';' or tab")->capture_default_str();
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
+    const ResultTable what = parse_enum<ResultTable>(args->what, "--what");
+    if (what != ResultTable::kTracks && !args->mapping_output.empty())
+      throw InputError("--mapping-output: the import mapping is of --what tracks only");
     check_output_paths({{args->output, "--output"}, {args->mapping_output, "--mapping-output"}});
     const char delimiter = parse_csv_delimiter(args->delimiter, "--delimiter");
     const TrackFile file = read_track_file(args->input);
-    write_csv_tracks(args->output, file, delimiter);
+    const ResultTableSummary s = write_result_table(args->output, args->input, file, what, args->name, delimiter);
     if (!args->mapping_output.empty())
       write_atomically(args->mapping_output, [&](const std::string& tmp) {
         std::ofstream(tmp) << csv_mapping_to_json(csv_export_mapping(file.tracks.layout)) << "\n";
       });
-    std::cout << "exported " << file.tracks.size() << " reports -> " << args->output
+    std::cout << "exported " << s.rows << (what == ResultTable::kTracks ? " reports" : " rows") << " of " << s.group
+              << " -> " << args->output
               << (args->mapping_output.empty() ? "" : " (mapping " + args->mapping_output + ")") << "\n";
+    for (const std::string& skipped : s.skipped) std::cout << "  not exported: /registration/" << skipped << "\n";
   });
 }
 
