@@ -9,16 +9,22 @@
 //    bench/stonesoup_t2t.py on `trackassoc simulate --scenario recorded_sync --seed 1`, the same file).
 //  - BM_DenseSDAssociation/threads: the dense S-D tensor with dummies on recorded_5s (the path that
 //    took 20–34 s before issue 20), lr+ls: the naive version of the same problem.
+//  - BM_AutoferryExperiment/threads: `experiment autoferry` on the 9 real Autoferry scenarios
+//    (../shared/datasets/autoferry): detections → local tracks → default association → scoring,
+//    without writing files (issue 17's goal: the whole set in ≤ 10 s; it was an assertion in
+//    tests/engine/studies/test_autoferry.cpp, where a loaded machine could fail it).
 // Counters: candidate pairs, gated pairs, components.
 #include <benchmark/benchmark.h>
 #include <oneapi/tbb/global_control.h>
 
+#include <filesystem>
 #include <map>
 
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/studies/autoferry/autoferry.hpp"
 
 namespace trackassoc::bench {
 namespace {
@@ -60,6 +66,22 @@ void BM_DenseSDAssociation(benchmark::State& state) {
   }
 }
 
+void BM_AutoferryExperiment(benchmark::State& state) {
+  const std::string root = std::string(TRACKASSOC_SHARED_DIR) + "/datasets/autoferry";
+  if (!std::filesystem::exists(root + "/scenario1")) {
+    state.SkipWithError(("Autoferry data absent: " + root).c_str());
+    return;
+  }
+  tbb::global_control g(tbb::global_control::max_allowed_parallelism, state.range(0));
+  AutoferryExperimentResult res;
+  for (auto _ : state) {
+    res = run_autoferry_experiment(root, AutoferryOptions{}, "");
+    benchmark::DoNotOptimize(res.total.correct);
+  }
+  state.counters["precision"] = res.total.precision();
+  state.counters["recall"] = res.total.recall();
+}
+
 BENCHMARK(BM_DefaultAssociation)
     ->ArgsProduct({{0, 1, 2, 4}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
@@ -70,6 +92,7 @@ BENCHMARK(BM_DefaultAssociation)
     ->UseRealTime()
     ->Iterations(2);
 BENCHMARK(BM_DenseSDAssociation)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_AutoferryExperiment)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 
 }  // namespace
 }  // namespace trackassoc::bench

@@ -14,6 +14,7 @@
 #include "io/atomic_file.hpp"
 #include "io/cost_tensor_file.hpp"
 #include "io/instance_text.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc::cli {
 namespace {
@@ -84,7 +85,7 @@ void register_solve3d(CLI::App& app) {
                                                                : read_3dap_instance(args->instance);
     const auto t0 = std::chrono::steady_clock::now();
     const Solution3 s = solver.solve(tensor, options, args->common.seed);
-    const double runtime = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double runtime = seconds_since(t0);
     const SolverSummary& m = s.summary;
     if (args->json) {
       nlohmann::json out;

@@ -46,12 +46,4 @@ World::~World() {
 
 Communicator& world() { return *world_slot(); }
 
-bool built_with_mpi() {
-#ifdef TRACKASSOC_WITH_MPI
-  return true;
-#else
-  return false;
-#endif
-}
-
 }  // namespace trackassoc::distributed

@@ -91,9 +91,6 @@ class World {
 };
 Communicator& world();
 
-// True when this binary was built with -DTRACKASSOC_MPI=ON.
-bool built_with_mpi();
-
 #ifdef TRACKASSOC_WITH_MPI
 // engine/distributed/mpi_communicator.cpp
 std::unique_ptr<Communicator> make_mpi_communicator(int& argc, char**& argv);

@@ -10,6 +10,7 @@
 
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc::distributed {
 namespace {
@@ -94,7 +95,7 @@ std::vector<Bytes> gather_shards(Communicator& comm, const std::function<Bytes(s
     Bytes payload = work(shard);
     ByteWriter head;  // status, then the work's wall and CPU seconds, then the payload
     head.put<uint8_t>(static_cast<uint8_t>(Status::kOk));
-    head.put(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+    head.put(seconds_since(wall0));
     head.put(cpu_seconds() - cpu0);
     mine = head.take();
     mine.insert(mine.end(), payload.begin(), payload.end());

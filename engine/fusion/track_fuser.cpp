@@ -14,6 +14,7 @@
 #include "kernels/core/parallel.hpp"
 #include "kernels/statistics/association_statistic.hpp"
 #include "kernels/statistics/cross_covariance.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 namespace {
@@ -341,7 +342,7 @@ FusedTrackRecord fuse_association(const TrackTable& tracks, const std::vector<Se
   }
   sum.rows = static_cast<int64_t>(rec.size());
   sum.cross_covariance = rec.cross_covariance;
-  sum.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  sum.runtime_s = seconds_since(start);
   sum.termination = "fused " + std::to_string(sum.fused_tuples) + " of " + std::to_string(sum.tuples) +
                     " tuples (" + std::to_string(sum.single_member) + " with fewer than two members, " +
                     std::to_string(sum.no_overlap) + " whose members never coexist)";

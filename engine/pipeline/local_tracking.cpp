@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -81,7 +82,7 @@ TrackTable track_detections(const std::vector<DetectionScan>& scans, const Local
     }
     sum.sensors.push_back(ss);
   }
-  sum.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  sum.runtime_s = seconds_since(start);
   if (summary) *summary = sum;
   return out;
 }

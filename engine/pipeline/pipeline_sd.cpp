@@ -8,13 +8,10 @@
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 constexpr float kForbidden = std::numeric_limits<float>::infinity();
 

@@ -8,6 +8,7 @@
 
 #include "engine/solvers/option_fields.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -152,7 +153,7 @@ SiameseTrackFileResult associate_siamese_tracks(const TrackFile& file, const Sia
     for (int32_t l : locals[k])
       if (!paired[l]) push(k == 0 ? l : -1, k == 1 ? l : -1, 0.0);
   rec.objective = std::accumulate(rec.cost.begin(), rec.cost.end(), 0.0);
-  rec.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  rec.runtime_s = seconds_since(start);
   rec.termination = "embedded " + std::to_string(seq[0].size() + seq[1].size()) + " tracks once, scored " +
                     std::to_string(a.pairs_scored) + " pairs, LAP kept " + std::to_string(pairs) +
                     " pairs at p >= " + std::to_string(options.association.probability_threshold);

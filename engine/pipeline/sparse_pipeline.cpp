@@ -15,13 +15,10 @@
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
 #include "kernels/statistics/scan_candidates.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 constexpr double kMiB = 1024.0 * 1024.0;
 
@@ -410,14 +407,6 @@ AssociationRecord sparse_record_from_solutions(const SparseAssociationProblem& p
     stages->push_back({"solve", rec.runtime_s, peak_rss_mib(), static_cast<double>(bytes) / kMiB});
   }
   return rec;
-}
-
-AssociationRecord associate_sparse(const TrackFile& file, const std::string& solver,
-                                   const nlohmann::json& solver_options, uint64_t seed,
-                                   const SparsePipelineOptions& options, std::vector<StageReport>* stages) {
-  SparseAssociationProblem p = build_sparse_association_problem(file, options);
-  if (stages) *stages = p.stages;
-  return solve_sparse_association(p, solver, solver_options, seed, options, stages);
 }
 
 }  // namespace trackassoc

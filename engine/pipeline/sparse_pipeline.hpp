@@ -105,12 +105,6 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& probl
                                            uint64_t seed, const SparsePipelineOptions& options,
                                            std::vector<StageReport>* stages = nullptr);
 
-// The entry point for `associate --sparse` (the lead wires the flag): build + solve.
-AssociationRecord associate_sparse(const TrackFile& file, const std::string& solver,
-                                   const nlohmann::json& solver_options, uint64_t seed,
-                                   const SparsePipelineOptions& options,
-                                   std::vector<StageReport>* stages = nullptr);
-
 // The pieces of the solve, shared with the sharded form (engine/pipeline/sparse_3d_sharded.hpp).
 // Component c as a self-contained sub-problem: the pair cost matrices (float(λ) in the gate,
 // float(G) otherwise and for phantoms; c13 only for the all-pairs cost), row-major over the local

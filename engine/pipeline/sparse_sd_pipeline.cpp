@@ -17,15 +17,12 @@
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/random.hpp"
 #include "kernels/statistics/scan_candidates.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 namespace {
 
 constexpr double kMiB = 1048576.0;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Bad input: no two tracks of different sensors ever coexist at a common time, so there is
 // nothing to associate (a sweep over the tracks' valid intervals, O(N log N + N·S)).

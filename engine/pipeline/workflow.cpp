@@ -53,10 +53,6 @@ double tensor_bytes(const std::array<std::size_t, 3>& n) {
 
 }  // namespace
 
-double dense_tensor_bytes(const TrackFile& file, const PipelineOptions& options) {
-  return tensor_bytes(dense_track_counts(file, options));
-}
-
 void require_dense_tensor_fits(const TrackFile& file, const PipelineOptions& options) {
   const auto n = dense_track_counts(file, options);
   const double bytes = tensor_bytes(n);

@@ -19,10 +19,6 @@ Scenario load_scenario(const std::string& name_or_path);
 // A track file holding the scenario JSON, the sensors, the truth, the measurements and the tracks.
 TrackFile simulation_to_track_file(const Scenario& scenario, const SimulationResult& result);
 
-// Bytes of the dense n1·n2·n3 float cost tensor that build_association_problem would build for
-// `file` (n_d = the distinct local tracks of the d-th selected sensor), as a double so that it
-// cannot overflow.
-double dense_tensor_bytes(const TrackFile& file, const PipelineOptions& options);
 // Checks, before any statistic is computed, that the dense tensor fits
 // options.cost.memory_budget_bytes; otherwise throws an InputError naming the sizes and pointing
 // to the sparse path (`--sparse`, engine/pipeline/sparse_pipeline.hpp) and to --memory-budget.

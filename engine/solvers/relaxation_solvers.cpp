@@ -11,6 +11,7 @@
 #include "kernels/assignment/sd/assignment_sd.hpp"
 #include "kernels/assignment/sd/lagrangian_sd.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 namespace {
@@ -36,7 +37,7 @@ Solution3 solve_exact_with_dummies(const CostTensor3& b, const BranchAndBoundOpt
   s.summary.iterations = sd.summary.iterations;
   finish_summary(b, s.tuples, sd.summary.lower_bound, s.summary);
   s.summary.message = "dummy indices: S-D branch and bound (" + sd.summary.message + ")";
-  s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  s.summary.wall_time_s = seconds_since(t0);
   return s;
 }
 
@@ -209,7 +210,7 @@ void register_local_search_variants(std::vector<SolverEntry>& r) {
       s.summary.iterations = start.summary.iterations;
       s.summary.message =
           "polished " + base.name + " (objective " + std::to_string(start.summary.objective) + ")";
-      s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      s.summary.wall_time_s = seconds_since(t0);
       return s;
     };
     // 3-D only, its own options (max_rounds, base): the base's bound is kept.

@@ -11,6 +11,7 @@
 #include "kernels/assignment/clique_cuts.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -277,7 +278,7 @@ class Search {
 
  private:
   double elapsed() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    return seconds_since(t0_);
   }
 
   // A bound `raw` cannot lead to a strictly better solution than the incumbent.
@@ -485,7 +486,7 @@ Solution3 solve_branch_and_bound3(const CostTensor3& cost, const BranchAndBoundO
                       " iterations), root bound " + bound_text(root_bound) + ", search passes " +
                       std::to_string(outcome.passes) + ", tuples fixed by reduced cost " +
                       std::to_string(outcome.fixed_tuples);
-  s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  s.summary.wall_time_s = seconds_since(t0);
   if (stats)
     *stats = {root_bound,           nodes,           cut.roots.size(), cut.rounds, outcome.passes,
               outcome.fixed_tuples, penalised_search};

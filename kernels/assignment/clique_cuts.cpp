@@ -10,6 +10,7 @@
 #include "kernels/assignment/lap.hpp"
 #include "kernels/assignment/local_search.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -146,7 +147,7 @@ CliqueRelaxation run_clique_relaxation(const CanonicalProblem3& p, const Lagrang
     const double gap = out.upper_bound - out.lower_bound;
     return gap <= options.absolute_gap_tolerance || (p.integer_costs && gap < 1.0 - kRoundTol);
   };
-  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  auto elapsed = [&] { return seconds_since(t0); };
 
   LagrangianOptions round = options;
   round.max_iterations = cuts.iterations_per_round;

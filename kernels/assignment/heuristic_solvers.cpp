@@ -21,6 +21,7 @@
 
 #include "kernels/assignment/lap.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 namespace {
@@ -55,7 +56,7 @@ void finish(const CostTensor3& b, Solution3& sol, std::chrono::steady_clock::tim
     s.message = "only " + std::to_string(sol.tuples.size()) + " of " + std::to_string(m) +
                 " tuples have a finite cost";
   }
-  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  s.wall_time_s = seconds_since(t0);
 }
 
 struct Candidate {

@@ -10,6 +10,7 @@
 #include "kernels/assignment/lap_sparse.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -159,7 +160,7 @@ Solution3 solve_lagrangian3(const CostTensor3& cost, const LagrangianOptions& op
   if (!s.summary.feasible) s.summary.termination = Termination::kInfeasible;
   s.summary.message = std::string("step rule ") + enum_name(options.step_rule) +
                       (p.padded ? "; dummy indices padded to n1+n2+n3" : "");
-  s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  s.summary.wall_time_s = seconds_since(t0);
   return s;
 }
 

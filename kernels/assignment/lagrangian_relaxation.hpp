@@ -29,7 +29,8 @@
 // Unequal sizes: handled by the canonical form (the largest dimension is the relaxed one). The
 // dummy index (finite miss_cost) by padding, see assignment_canonical.hpp.
 //
-// Not implemented: S > 3 dimensions (the recursive S-D relaxation); the CostTensor3 contract is 3-D.
+// S > 3 dimensions, and dummies in every dimension: kernels/assignment/sd/lagrangian_sd.hpp (this
+// header is the axial 3-D form on a CostTensor3).
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,5 @@
 #include "kernels/assignment/lagrangian_subgradient.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +19,7 @@ SubgradientResult run_subgradient(const SubgradientProblem& problem, std::vector
   double theta = options.theta, delta0 = -1.0;
   int since_better = 0;
   auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return seconds_since(start);
   };
   auto converged = [&] {
     const double abs_gap = run.upper_bound - run.lower_bound;

@@ -5,6 +5,7 @@
 
 #include "kernels/assignment/lap.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -114,7 +115,7 @@ Solution3 solve_local_search3(const CostTensor3& cost, const std::vector<Tuple3>
   s.summary.iterations = stats.rounds;
   s.summary.termination = stats.converged ? Termination::kConverged : Termination::kIterationLimit;
   finish_summary(cost, s.tuples, std::numeric_limits<double>::quiet_NaN(), s.summary);
-  s.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  s.summary.wall_time_s = seconds_since(t0);
   return s;
 }
 

@@ -84,10 +84,6 @@ ImmBank::ImmBank(int d, std::size_t n, const ImmOptions& options, const BpNetwor
     for (int j = 0; j < M; ++j) mu_[j * n + i] = options_.initial_probabilities[j];
 }
 
-void ImmBank::set_probabilities(std::size_t i, std::span<const double> mu) {
-  for (int j = 0; j < num_models(); ++j) mu_[j * n_ + i] = mu[j];
-}
-
 void ImmBank::initialise(std::size_t i, const Eigen::VectorXd& z1, const Eigen::MatrixXd& R1,
                          const Eigen::VectorXd& z2, const Eigen::MatrixXd& R2, double dt,
                          double accel_variance) {

@@ -72,7 +72,6 @@ class ImmBank {
   int num_models() const { return static_cast<int>(models_.size()); }
   const ImmOptions& options() const { return options_; }
   double probability(std::size_t i, int j) const { return mu_[j * n_ + i]; }
-  void set_probabilities(std::size_t i, std::span<const double> mu);
   ImmModel& model(int j) { return models_[j]; }
   const ImmModel& model(int j) const { return models_[j]; }
   const KinematicBank& combined() const { return combined_; }  // in the largest model's space

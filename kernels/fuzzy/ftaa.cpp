@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -185,7 +186,7 @@ FtaaResult run_ftaa(const PacketSpans& packets, std::size_t num_sensors, std::si
   out.summary.termination = Termination::kHeuristic;
   out.summary.feasible = true;
   out.summary.iterations = decisions;
-  out.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.summary.wall_time_s = seconds_since(start);
   out.summary.message = std::to_string(decisions) + " decisions, " + std::to_string(result.firm_pairs) +
                         " firm pairs, " + std::to_string(components) + " system tracks";
   return result;

@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -245,7 +246,7 @@ FusionOutput run_fuzzy_association(const PacketSpans& packets, std::span<const d
   out.summary.termination = Termination::kHeuristic;
   out.summary.feasible = true;
   out.summary.iterations = fc.decisions();
-  out.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.summary.wall_time_s = seconds_since(start);
   out.summary.message = std::to_string(fc.decisions()) + " temporary tracks, " +
                         std::to_string(fc.num_system_tracks()) + " system tracks";
   return out;

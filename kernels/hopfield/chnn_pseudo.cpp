@@ -9,6 +9,7 @@
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/random.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -206,7 +207,7 @@ ChnnPseudoResult solve_once(const PseudoTrackInput& in, const ChnnPseudoOptions&
       }
   res.solution.summary.termination = res.converged ? Termination::kConverged : Termination::kIterationLimit;
   res.solution.summary.sweeps = res.steps;
-  res.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  res.wall_time_s = seconds_since(t0);
   res.solution.summary.wall_time_s = res.wall_time_s;
   res.solution.summary.message =
       std::to_string(K) + " neurons, " + std::to_string(res.steps) + " Euler steps";
@@ -290,7 +291,7 @@ ChnnPseudoResult solve_chnn_pseudo(const PseudoTrackInput& in, const ChnnPseudoO
   }
   res.solution.summary.termination = res.converged ? Termination::kConverged : Termination::kIterationLimit;
   res.solution.summary.sweeps = res.steps;
-  res.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  res.wall_time_s = seconds_since(t0);
   res.solution.summary.wall_time_s = res.wall_time_s;
   res.solution.summary.message = std::to_string(res.neurons) + " neurons, " + std::to_string(res.steps) +
                                  " Euler steps, " + std::to_string(res.passes) + " pass(es)";

@@ -128,10 +128,4 @@ std::vector<Tuple3> repair_assignment(const CostTensor3& cost, std::span<const u
   return tuples;
 }
 
-std::vector<uint8_t> assignment_state(const CostTensor3& cost, const std::vector<Tuple3>& tuples) {
-  std::vector<uint8_t> V(cost.size(), 0);
-  for (const auto& t : tuples) V[cost.index(t[0], t[1], t[2])] = 1;
-  return V;
-}
-
 }  // namespace trackassoc

@@ -40,7 +40,4 @@ std::vector<uint32_t> active_by_output(std::span<const float> V, float threshold
 std::vector<Tuple3> repair_assignment(const CostTensor3& cost, std::span<const uint32_t> priority,
                                       HopfieldRepair method);
 
-// The 0/1 state of an assignment.
-std::vector<uint8_t> assignment_state(const CostTensor3& cost, const std::vector<Tuple3>& tuples);
-
 }  // namespace trackassoc

@@ -6,6 +6,7 @@
 
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -86,7 +87,7 @@ BpTrainingSummary train_bp_network(BpNetwork& net, const std::vector<BpSample>& 
   summary.iterations = o.iterations;
   summary.final_error = total_error(net, samples);
   summary.final_mse = 2.0 * summary.final_error / static_cast<double>(samples.size());
-  summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.wall_time_s = seconds_since(start);
   return summary;
 }
 

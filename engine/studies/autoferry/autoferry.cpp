@@ -11,13 +11,10 @@
 #include <utility>
 
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Median interval between consecutive scans of `sensor` (its Sensor::period).
 double median_scan_interval(const AutoferryScenario& sc, int32_t sensor) {

@@ -27,15 +27,12 @@
 #include "io/atomic_file.hpp"
 #include "io/hdf5_wrapper.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 extern char** environ;
 
 namespace trackassoc {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 const std::vector<std::string> kMethods{"default", "exact", "chi2-sum", "3d-exact", "3d-nogate"};
 const std::vector<std::string> kPeerMethods{"stonesoup-one2one", "stonesoup-counting"};

@@ -24,6 +24,7 @@
 #include "io/hdf5_wrapper.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -219,7 +220,7 @@ ScaleRow run_one_size(const ScaleExperimentOptions& o, int32_t n) {
   const SparseAssociationProblem p = build_sparse_association_problem(file, so);
   stages = p.stages;
   const AssociationRecord rec = solve_sparse_association(p, o.solver, o.solver_options, o.seed, so, &stages);
-  row.total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  row.total_s = seconds_since(t0);
   for (const auto& s : stages) {
     row.stage.push_back(s.name);
     row.stage_s.push_back(s.seconds);
@@ -243,7 +244,7 @@ ScaleRow run_one_size(const ScaleExperimentOptions& o, int32_t n) {
     const auto t1 = std::chrono::steady_clock::now();
     const AssociationProblem dp = build_association_problem(file, so.pipeline);
     const AssociationRecord drec = solve_association(dp, o.solver, o.solver_options, o.seed, so.pipeline);
-    row.dense_total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    row.dense_total_s = seconds_since(t1);
     row.dense_peak_mib = peak_rss_mib();
     row.dense_correct_rate = evaluate_association(file.tracks, file.sensors, drec).correct_rate;
     row.dense_identical = tuple_set(rec) == tuple_set(drec);

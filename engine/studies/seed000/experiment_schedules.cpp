@@ -23,6 +23,7 @@
 #include "kernels/assignment/local_search.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/hopfield/hopfield.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -63,10 +64,6 @@ ReferencedInstance seed000_tracking_instance(int32_t n, uint64_t seed, int32_t r
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 struct Method {
   std::string name;
   enum Kind { kNetwork, kGreedy, kGreedyLocalSearch, kLagrangian } kind = kNetwork;

@@ -13,6 +13,7 @@
 #include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -364,7 +365,7 @@ std::vector<Seed001Result> run_seed001_readings(const std::vector<Seed001Options
     results.push_back(
         seed001_reduce(readings[k], setups[k], mine, k == 0 ? std::move(example) : TrackFile()));
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double wall = seconds_since(start);
   for (auto& r : results) r.wall_time_s = wall;
   return results;
 }

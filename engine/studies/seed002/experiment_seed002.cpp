@@ -19,6 +19,7 @@
 #include "kernels/filters/imm.hpp"
 #include "kernels/filters/kalman_converted.hpp"
 #include "kernels/learning/bp_network.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -274,7 +275,7 @@ Seed002Result run_seed002(const Seed002Options& o, distributed::Communicator& co
   if (o.sensitivity) {
     result.sensitivity = run_seed002_sensitivity(o, net, comm);
     result.sensitivity_wall_time_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - mid).count();
+        seconds_since(mid);
   }
   return result;
 }

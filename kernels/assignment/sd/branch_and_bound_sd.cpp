@@ -6,6 +6,7 @@
 
 #include "kernels/assignment/sd/assignment_sd.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -66,7 +67,7 @@ struct Search {
     if (stopped) return true;
     if (++nodes >= options.max_nodes ||
         ((nodes & 1023) == 0 &&
-         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > options.time_limit_s))
+         seconds_since(t0) > options.time_limit_s))
       stopped = true;
     return stopped;
   }
@@ -178,7 +179,7 @@ SolutionSD solve_exact_sd(const CostTensorSD& c, const ExactSDOptions& options,
   finish_summary_sd(c, sol.tuples, proven ? search.best_cost : root, sol.summary);
   sol.summary.message =
       std::to_string(search.nodes) + " nodes" + (proven ? "" : "; stopped at the node/time limit");
-  sol.summary.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  sol.summary.wall_time_s = seconds_since(t0);
   return sol;
 }
 

@@ -8,16 +8,13 @@
 #include "kernels/assignment/lagrangian_subgradient.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Σ_{q ≥ from} μ_q(i_q) for every combination of the sensors from … S−1 (a block of length
 // stride[from−1], or the whole tensor's tail), dummy μ = 0.

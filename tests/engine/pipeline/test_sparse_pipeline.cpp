@@ -150,7 +150,8 @@ TEST_P(UnequalCounts, KeepEveryTrackAndGroupTargets) {
   so.pipeline = PipelineOptions::paper();  // the seed 000 gate this path was built and checked for
   so.pipeline.statistic.gate_probability = 0.999;
   so.miss_cost = GetParam();
-  const AssociationRecord r = associate_sparse(f, "pairwise", nlohmann::json::object(), 1, so);
+  const SparseAssociationProblem p = build_sparse_association_problem(f, so);
+  const AssociationRecord r = solve_sparse_association(p, "pairwise", nlohmann::json::object(), 1, so);
   expect_every_track_once_and_targets_grouped(f, r);
   EXPECT_GT(evaluate_association(f.tracks, f.sensors, r).targets, 150);
 }
