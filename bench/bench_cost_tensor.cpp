@@ -1,4 +1,4 @@
-// Benchmarks of the association kernels (DESIGN §6):
+// Benchmarks of the association kernels (docs/design.md §6):
 //   * the dense cost tensor (chain and all-pairs) at n = 50, 100, 200 per sensor, 1 and 2 threads,
 //     in bytes written per second, beside a STREAM-style write of the same number of floats with
 //     the same TBB split (the memory floor) and a naive serial triple loop (the peer);

@@ -1,4 +1,4 @@
-// Filter-bank throughput (DESIGN §6: CV Kalman bank, 2-D, 10^6 tracks: ≥ 40 M updates/s on 2
+// Filter-bank throughput (docs/design.md §6: CV Kalman bank, 2-D, 10^6 tracks: ≥ 40 M updates/s on 2
 // threads and ≥ 2× a per-track Eigen loop in the same run).
 //
 //   BM_CvBank/N/threads          batched CV bank (kernels/filters/kalman_bank.hpp), one scan per iteration

@@ -1,6 +1,6 @@
-// Hopfield sweep and restart speed (DESIGN §6), with the floors measured in the same binary:
+// Hopfield sweep and restart speed (docs/design.md §6), with the floors measured in the same binary:
 //   - a STREAM-style copy (1 and 2 threads) gives the memory bandwidth; a sweep's memory floor is
-//     12 B per neuron (DESIGN §6) at that bandwidth, reported as counter floor_ratio = time/floor;
+//     12 B per neuron (docs/design.md §6) at that bandwidth, reported as counter floor_ratio = time/floor;
 //   - the naive n⁶-weight network (kernels/hopfield/hopfield_energy.hpp) is the peer of the marginal-sum
 //     sweep at n = 10–15.
 // Thread variants use tbb::global_control with the thread count as the last Arg.
@@ -25,7 +25,7 @@ using namespace trackassoc;
 
 namespace {
 
-constexpr double kFloorBytesPerNeuron = 12.0;  // DESIGN §6
+constexpr double kFloorBytesPerNeuron = 12.0;  // docs/design.md §6
 double g_copy_bandwidth[3] = {0, 0, 0};        // bytes/s moved (read + write), by thread count
 
 // STREAM "copy": b[i] = a[i] over 64 MiB arrays (beyond the 32 MB L3), parallel over blocks.

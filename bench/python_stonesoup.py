@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The Python module against Stone Soup and against the command line, measured in one run (issue 32;
-README "From Python").
+docs/python.md).
 
 1. Stone Soup users: the same Stone Soup Track objects (GaussianState, built from a simulated file by
    bench/stonesoup_t2t.py, as `experiment recorded` runs the peer) associated by

@@ -3,7 +3,7 @@
 
 What it does
     Reads /sensors and /tracks of a schema-v1 HDF5 file (README "Output: HDF5 schema v1",
-    DESIGN §3), builds one Stone Soup Track of GaussianStates per (sensor, local track), and runs
+    docs/design.md §3), builds one Stone Soup Track of GaussianStates per (sensor, local track), and runs
       one2one   OneToOneTrackAssociator(measure=MeanMeasure(StateSequenceMeasure(
                     SquaredMahalanobis())), association_threshold=T, maximise_measure=False):
                     mean squared Mahalanobis distance over the shared timestamps, then

@@ -1,4 +1,4 @@
-// Atomic output (DESIGN §2): write to PATH.tmp in the same folder, then rename over PATH.
+// Atomic output (docs/design.md §2): write to PATH.tmp in the same folder, then rename over PATH.
 // An existing PATH is never truncated before the new content is complete.
 #pragma once
 

@@ -1,7 +1,7 @@
 // A 3-D assignment cost tensor in HDF5, the second input format of `trackassoc solve3d`.
 //
 // Layout (readable and writable with h5py):
-//   /cost        n1×n2×n3 dataset, any integer or float type (stored as float in memory; DESIGN §2
+//   /cost        n1×n2×n3 dataset, any integer or float type (stored as float in memory; docs/design.md §2
 //                Precision), first index slowest: b(i, j, k) = cost[i, j, k]. Entries must be finite
 //                or +inf (a forbidden tuple); NaN and −inf are errors naming the entry.
 //   /cost attrs  miss_cost (optional, number): the cost per missing index of the dummy-index model

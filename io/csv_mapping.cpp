@@ -18,7 +18,7 @@ namespace {
 
 using json = nlohmann::json;
 
-// The state components of a layout, in state order (DESIGN §3).
+// The state components of a layout, in state order (docs/design.md §3).
 std::vector<std::string> component_names(StateLayout layout) {
   if (layout == StateLayout::kXY_VXVY) return {"x", "y", "vx", "vy"};
   return {"x", "y", "z", "vx", "vy", "vz"};

@@ -1,4 +1,4 @@
-// Recorded track files in CSV, to and from schema v1 (io/track_file.hpp, DESIGN §3 and §4.8).
+// Recorded track files in CSV, to and from schema v1 (io/track_file.hpp, docs/design.md §3 and §4.8).
 //
 // Import (`trackassoc import csv`): one row per report, a header row naming the columns, and a
 // mapping from the fields of /tracks to column names (exact, case-sensitive). The file is read
@@ -28,7 +28,7 @@
 // derivative over the track's reports sorted by time (non-uniform spacing; exact for constant
 // acceleration), one-sided two-point differences at the track's first and last report, and 0 for a
 // track of one report.
-// Covariance: D(D+1)/2 packed upper-triangle columns in state-layout order (DESIGN §3); or a
+// Covariance: D(D+1)/2 packed upper-triangle columns in state-layout order (docs/design.md §3); or a
 // diagonal from σ columns per component and, for a component without one, the per-sensor σ flags
 // (sigma_position for x, y, z and sigma_velocity for vx, vy, vz). The σ assumed per sensor are
 // stated in RecordingInfo::import_json ("assumed_sigma").

@@ -4,7 +4,7 @@
 // - Every return code is checked; a failure throws InputError "FILE: /group/object: what", so the
 //   CLI prints one line (the library's own error stack printing is switched off).
 // - Groups and datasets are created without modification times (H5Pset_obj_track_times false), so
-//   the same content gives a bit-identical file (DESIGN §7 Reproducibility).
+//   the same content gives a bit-identical file (docs/design.md §7 Reproducibility).
 // - Files use the HDF5 1.8 format (checksummed superblock and object headers), so that corruption
 //   is detected rather than decoded; strings are variable-length UTF-8, h5py's `str` (see
 //   write_attribute for why that is safe with the forked reader).

@@ -1,4 +1,4 @@
-// The S-D assignment instance text format of the public benchmark sets (DESIGN §3):
+// The S-D assignment instance text format of the public benchmark sets (docs/design.md §3):
 //   line 1: number of dimensions S (3); line 2: n1 n2 n3; then n1·n2·n3 costs, first index slowest.
 // And the `ap3.opt` / `bs.opt` files of known optima: one "name value" pair per line.
 // And the DecompLib `.sol` files: a line "OPT: value", then one optimal tuple "i j k" per line, 1-based.
@@ -6,7 +6,7 @@
 // What the files in benchmarks/3dap/ really contain (checked on all 120): costs are non-negative
 // integers, one per line; line 2 has a trailing space; the .opt files separate name and value by
 // one or two spaces; the .sol files start with a blank line. The reader accepts any whitespace and
-// any finite real cost (parsed as double, stored as float: DESIGN §2 Precision).
+// any finite real cost (parsed as double, stored as float: docs/design.md §2 Precision).
 #pragma once
 
 #include <map>

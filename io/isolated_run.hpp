@@ -1,5 +1,5 @@
 // Runs a check in a child process, so that a crash or a hang inside a third-party library becomes
-// an InputError instead of taking the program down (DESIGN §2: no input may crash or hang it).
+// an InputError instead of taking the program down (docs/design.md §2: no input may crash or hang it).
 //
 // Why: libhdf5 1.10 has known bugs on damaged files; libFuzzer (tests/fuzz/fuzz_track_file) found
 // hangs and heap overflows inside the library's global-heap and object-header decoding. The engine

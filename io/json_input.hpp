@@ -1,5 +1,5 @@
 // JSON from the user (scenario files, --options, the generator options stored in data set and
-// model files), parsed with the checks nlohmann's parser leaves out (DESIGN §2):
+// model files), parsed with the checks nlohmann's parser leaves out (docs/design.md §2):
 // - nesting deeper than kMaxJsonDepth is refused while parsing, through the parser callback, so
 //   that nothing later recurses through a 100 000-level value (dumping one for an error message
 //   overflows the stack);

@@ -1,4 +1,4 @@
-// The process-wide memory budget (DESIGN §2: no input may exhaust memory). Every reader and
+// The process-wide memory budget (docs/design.md §2: no input may exhaust memory). Every reader and
 // generator works out how many bytes a request needs from its declared sizes (a file's dataset
 // shapes, a scenario's targets × steps, a header's n1·n2·n3) and calls require_memory BEFORE it
 // allocates, so that a file or an option asking for more than the machine can give is refused

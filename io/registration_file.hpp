@@ -1,4 +1,4 @@
-// The sensor registration an association estimated (DESIGN §4.9; engine/pipeline/
+// The sensor registration an association estimated (docs/design.md §4.10; engine/pipeline/
 // registration_stage.hpp), schema v1 extension, readable with h5py without knowing C++:
 //
 //   /registration/           attrs reference_sensor (a /sensors id, held at zero), parameters

@@ -1,4 +1,4 @@
-// Scenario JSON (DESIGN §3): read, validate and write trackassoc::Scenario.
+// Scenario JSON (docs/design.md §3): read, validate and write trackassoc::Scenario.
 // Every field has a default (kernels/core/scenario.hpp), so a scenario file only states what differs.
 // Unknown keys and duplicated keys are errors (a misspelt key must not silently fall back to a
 // default); the message names the key path, e.g. "f.json: sensors[1].sigma_range: expected a
@@ -28,7 +28,7 @@
 //       "p_detect": 1.0,                    in (0, 1]
 //       "clutter_rate": 0.0,                expected false plots per scan, >= 0
 //       "reliability": 1.0,                 > 0, seed 001 weight ω
-//       "errors": {                         optional: what the sensor adds beyond noise (DESIGN §4.9;
+//       "errors": {                         optional: what the sensor adds beyond noise (docs/design.md §4.10;
 //                                           engine/simulation/simulation_errors.hpp has the model)
 //         "range_bias": 0.0,                m, added to every measured range
 //         "azimuth_bias_deg": 0.0,          added to every measured bearing

@@ -1,4 +1,4 @@
-// Schema v1 reader and writer (io/track_file.hpp, DESIGN §3).
+// Schema v1 reader and writer (io/track_file.hpp, docs/design.md §3).
 //
 // Reading is lenient where a recorded track set from elsewhere cannot be expected to carry
 // something (every /sensors dataset but id, /tracks/truth, the summary attributes of an

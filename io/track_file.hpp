@@ -1,4 +1,4 @@
-// HDF5 track files, schema v1 (DESIGN §3). Readable with h5py without knowing C++.
+// HDF5 track files, schema v1 (docs/design.md §3). Readable with h5py without knowing C++.
 //
 //   /                      attrs format="trackassoc", schema_version=1, created_by, scenario (JSON text)
 //   /sensors/              id, position (S×3), sigma_range, sigma_bearing, sigma_elevation, period,

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One benchmark run: every Google Benchmark program (1 and 2 threads where the kernel is parallel),
-# then every peer on the same inputs, then the README's performance table with the ratios
+# then every peer on the same inputs, then the performance table of docs/performance.md with the ratios
 # (scripts/bench_report.py). Everything lands in bench-results/: <program>.json, the peers' JSON,
 # meta.txt (machine, load before and after), report.md (the table).
 # Usage: scripts/bench.sh [FILTER_REGEX]   (passed as --benchmark_filter; the peers run only

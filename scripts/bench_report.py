@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The README's performance table from one scripts/bench.sh run: every row is ours against a peer
+"""The performance table of docs/performance.md from one scripts/bench.sh run: every row is ours against a peer
 measured in the same run (an outside tool on the same input, or the naive version of the same
 kernel), and the parallel kernels at 1 and 2 threads, with the ratios. Medians of bench.sh's five
 repetitions (wall time; Google Benchmark's real_time); the peers' medians as their scripts report

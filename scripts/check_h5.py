@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Open a trackassoc HDF5 file with h5py (no C++ involved), list every dataset with its shape and
-dtype, and assert the schema v1 layout (DESIGN §3, io/track_file.hpp).
+dtype, and assert the schema v1 layout (docs/design.md §3, io/track_file.hpp).
 
 Usage: scripts/check_h5.py FILE.h5 [--quiet]
 Exit status 0 when the file follows the schema, 1 (with the failed check) otherwise.

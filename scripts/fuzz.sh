@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The fuzz stage of CI (README, Reliability): builds the libFuzzer targets tests/fuzz/fuzz_*.cpp
+# The fuzz stage of CI (docs/reliability.md): builds the libFuzzer targets tests/fuzz/fuzz_*.cpp
 # with clang into build-fuzz/ (only they and the readers they link) and runs each for
 # FUZZ_SECONDS (default 45) from a copy of its committed seed corpus tests/fuzz/corpus/<target>/.
 # A crash, a sanitizer report, an input running over 10 s or a run over 2 GB fails the script; the

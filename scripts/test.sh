@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Quick start 2: set-up, build, then run the test suite with ctest.
+# Quick start 2: set-up with every package (scripts/setup.sh), build everything (the binary, the
+# test programs and the benchmarks), then run the test suite with ctest.
 # --sanitize: the same suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/).
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The MPI variant (DESIGN §8; issue 19): set-up with OpenMPI, build build-mpi/ (-DTRACKASSOC_MPI=ON,
+# The MPI variant (docs/design.md §8; issue 19): set-up with OpenMPI, build build-mpi/ (-DTRACKASSOC_MPI=ON,
 # the trackassoc binary only), then the MPI tests (ctest -L mpi: mpirun -np 2/3 --oversubscribe
 # against one process, byte for byte; tests/mpi/mpi_case.sh). The default suite (scripts/test.sh)
 # stays MPI-free.

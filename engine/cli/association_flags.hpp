@@ -48,7 +48,7 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
       ->capture_default_str();
   cmd->add_option("--cost-form", f.cost_form,
                   "all-pairs (every pair of sensors in a tuple) or chain (b=λij+λjk, seed 000 Eq. 3; it "
-                  "separates into two LAPs, DESIGN §4.3)")
+                  "separates into two LAPs, docs/design.md §4.3)")
       ->check(enum_choices<CostForm>())
       ->capture_default_str();
   cmd->add_option("--correlated", f.correlated,

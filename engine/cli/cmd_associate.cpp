@@ -8,7 +8,8 @@
 // gated candidate tuples and connected components (engine/pipeline/sparse_pipeline.hpp). The path is
 // chosen, and run, by the association interface (engine/pipeline/associator.hpp); this command parses the
 // flags, calls it, writes the file and prints, ending with the unassociated local tracks of each
-// sensor (those in no tuple of two or more).
+// sensor (those in no tuple of two or more). --plots F.png draws the recording as a map with the
+// association (engine/report/association_map.hpp; --svg for SVG).
 #include <iostream>
 
 #include "engine/cli/association_flags.hpp"
@@ -22,6 +23,7 @@
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/pipeline/track_hygiene.hpp"
+#include "engine/report/association_map.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "io/track_validation.hpp"
 
@@ -124,7 +126,8 @@ void register_associate(CLI::App& app) {
   struct Args {
     CommonOptions common;
     PipelineFlags pipeline;
-    std::string input, output, solver, name;
+    std::string input, output, solver, name, plot;
+    bool svg = false;
     HopfieldFlags hopfield;  // merged into --options
     bool sd = false, three_d = false;
     bool no_segments = false, no_registration = false, no_split = false;
@@ -151,6 +154,10 @@ void register_associate(CLI::App& app) {
                   "--solver siamese: model file from train-siamese (default: the shipped seed 003 model)")
       ->capture_default_str();
   cmd->add_option("--name", args->name, "Group name under /associations (default: the solver name)");
+  cmd->add_option("--plots", args->plot,
+                  "Draw the recording as a map with the association: tracks coloured by output target, "
+                  "unassociated in grey, wrong links in red and missed targets dashed where truth exists (PNG)");
+  cmd->add_flag("--svg", args->svg, "--plots as SVG (a .png name becomes .svg)");
   cmd->add_flag("--sd", args->sd,
                 "S-D formulation with a dummy per sensor (any number of sensors; solvers " +
                     list_names(sd_solver_names(), ", ") + "). Implied by more than three --sensors");
@@ -194,7 +201,8 @@ void register_associate(CLI::App& app) {
     // The inputs: the track file, and the model of --solver siamese.
     const std::vector<InputPath> inputs{{args->input, "--input"},
                                         {args->solver == "siamese" ? args->model : "", "--model"}};
-    if (comm.size() == 1) check_output_paths({{args->output, "--output"}}, inputs);
+    args->plot = report::picture_path(args->plot, args->svg);
+    if (comm.size() == 1) check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}}, inputs);
     if (!args->name.empty())  // before any work, not when the output is written
       track_validation::check_object_name("--name", "/associations", args->name);
     AssociatorOptions request;
@@ -217,7 +225,7 @@ void register_associate(CLI::App& app) {
           "--duplicate-sensors: duplicates join targets in the segment pass; drop --no-segments");
     request.validate();  // --sd, --3d, --sparse: at most one, before the Hopfield flags' errors
     merge_hopfield_flags(args->hopfield, request.solver, request.solver_options);
-    // More than one MPI rank (DESIGN §8): the components of the default path and of --sparse are
+    // More than one MPI rank (docs/design.md §8): the components of the default path and of --sparse are
     // shared out; rank 0 reads, builds, writes and prints, the other ranks only solve what it sends
     // them (engine/pipeline/sparse_sd_sharded.hpp, sparse_3d_sharded.hpp). Everything above is the
     // same on every rank.
@@ -232,7 +240,7 @@ void register_associate(CLI::App& app) {
         return path == AssociationPath::kSparse3D ? serve_sparse_components(comm) : serve_sd_components(comm);
       comm.set_ranks_waiting(true);  // until rank 0 scatters their work, or its error (main.cpp)
       request.ranks = &comm;
-      check_output_paths({{args->output, "--output"}}, inputs);
+      check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}}, inputs);
     }
     const auto associator = make_associator(request);  // every check before the file is read
     TrackFile file = read_track_file(args->input);
@@ -244,6 +252,11 @@ void register_associate(CLI::App& app) {
     if (split.cuts > 0)
       std::cout << "split " << split.cuts << " recycled track number(s) into new local tracks (" << split.gaps
                 << " gaps tested; /tracks/source_track keeps the recorded numbers)\n";
+    if (!args->plot.empty()) {
+      report::write_association_map(args->plot, report::picture_format(args->plot, args->svg), file, outcome.record,
+                                    "trackassoc associate: '" + outcome.record.name + "' on " + args->input);
+      std::cout << "drew " << args->plot << "\n";
+    }
   });
 }
 

@@ -1,4 +1,4 @@
-// trackassoc experiment NAME: the paper experiments and the engine studies (DESIGN §5). Each
+// trackassoc experiment NAME: the paper experiments and the engine studies (docs/design.md §5). Each
 // experiment is a sub-subcommand registered by one line below; it writes its results (HDF5 or
 // CSV/JSON), prints a table beside the paper's numbers and saves a plot.
 #include "engine/cli/common.hpp"
@@ -8,7 +8,7 @@ namespace trackassoc::cli {
 
 void register_experiment(CLI::App& app) {
   CLI::App* cmd =
-      app.add_subcommand("experiment", "Reproduce a paper's study or run an engine study (DESIGN §5)");
+      app.add_subcommand("experiment", "Reproduce a paper's study or run an engine study (docs/design.md §5)");
   cmd->require_subcommand(1);
   register_experiment_seed000(*cmd);
   register_experiment_seed001(*cmd);

@@ -1,8 +1,9 @@
 // trackassoc run: the main job (engine/pipeline/run_job.hpp). Simulates a scenario (default:
 // `recorded_formation`), associates with the default pipeline, the same with the exact solver and
 // with seed 000's gate, and every 3-D solver that suits the size, evaluates, prints a table
-// (correct, false, missed, false tuples, time), and writes trackassoc-run.h5 and a plot of
-// correct association against time (trackassoc-run.svg). This command parses the flags, merges
+// (correct, false, missed, false tuples, time), and writes trackassoc-run.h5, the recording as a
+// map with the default association (trackassoc-run.png) and a summary chart of every solver
+// (trackassoc-run-summary.png); --svg for SVG. This command parses the flags, merges
 // the Hopfield flags into the Hopfield solvers' options, calls the job and prints.
 #include <iostream>
 
@@ -11,6 +12,7 @@
 #include "engine/cli/hopfield_flags.hpp"
 #include "engine/cli/table.hpp"
 #include "engine/pipeline/run_job.hpp"
+#include "engine/report/figure.hpp"
 
 namespace trackassoc::cli {
 namespace {
@@ -61,16 +63,20 @@ void register_run(CLI::App& app) {
     CommonOptions common;
     PipelineFlags pipeline;
     RunJobOptions job;
-    std::string output = "trackassoc-run.h5", plot = "trackassoc-run.svg";
+    std::string output = "trackassoc-run.h5", plot = "trackassoc-run.png";
     HopfieldFlags hopfield;  // merged into the options of every Hopfield solver
-    bool no_plots = false;
+    bool no_plots = false, svg = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("run", "Simulate, associate with every solver, evaluate, print a table");
   cmd->add_option("--scenario", args->job.scenario, "Scenario JSON file or embedded name")
       ->capture_default_str();
   cmd->add_option("--output,-o", args->output, "Output HDF5 file")->capture_default_str();
-  cmd->add_option("--plots", args->plot, "SVG plot of correct association vs time")->capture_default_str();
+  cmd->add_option("--plots", args->plot,
+                  "The map of the default association (PNG); the summary chart of every solver goes "
+                  "beside it as NAME-summary.png")
+      ->capture_default_str();
+  cmd->add_flag("--svg", args->svg, "Draw the pictures as SVG (the --plots name's .png becomes .svg)");
   cmd->add_flag("--no-plots", args->no_plots, "Draw no plot");
   cmd->add_option("--solvers", args->job.solvers,
                   "Solvers to run (default: all that suit the size): default, default-exact, "
@@ -85,6 +91,8 @@ void register_run(CLI::App& app) {
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     if (args->no_plots) args->plot.clear();
+    args->plot = report::picture_path(args->plot, args->svg);
+    const std::string summary = args->plot.empty() ? "" : run_summary_path(args->plot);
     RunJobOptions& job = args->job;
     job.pipeline = resolve(args->pipeline);
     job.solver_options = parse_solver_options(args->pipeline.solver_options);
@@ -92,7 +100,7 @@ void register_run(CLI::App& app) {
     job.seed = args->common.seed;
     check_run_solver_options(job.solver_options, job.solvers);
     merge_run_hopfield_flags(args->hopfield, job.solvers, job.solver_options);
-    check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}},  // before any work
+    check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}, {summary, "--plots"}},  // before any work
                        {{job.scenario, "--scenario"}});
     const RunJobResult result = run_main_job(job, [&](const RunJobResult& scene) {
       std::cout << "scenario '" << scene.scenario_name << "', seed " << job.seed << ": "
@@ -114,8 +122,9 @@ void register_run(CLI::App& app) {
         << "\ncorrect / false / missed: of the targets tracked by >= 2 sensors (trackassoc evaluate's rule); "
            "time: statistics + cost + solve; default*: the default pipeline (every sensor, sparse S-D); the "
            "other rows: the 3-D solvers on the three-sensor tensor (seed 000 Eq. 3, all-pairs)\n";
-    write_run_outputs(result, args->output, args->plot);
-    std::cout << "\nwrote " << args->output << (args->plot.empty() ? "" : " and " + args->plot) << "\n";
+    write_run_outputs(result, args->output, args->plot, args->svg);
+    std::cout << "\nwrote " << args->output << (args->plot.empty() ? "" : ", " + args->plot + " and " + summary)
+              << "\n";
   });
 }
 

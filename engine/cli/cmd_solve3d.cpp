@@ -1,6 +1,6 @@
 // trackassoc solve3d --instance FILE --solver NAME [--json] [--time-limit S] [--options JSON]
 //                   [--schedule S --restarts R --polish]   (Hopfield solvers)
-// Solves one 3-D assignment instance: the text format of benchmarks/3dap (DESIGN §3) or an HDF5
+// Solves one 3-D assignment instance: the text format of benchmarks/3dap (docs/design.md §3) or an HDF5
 // cost tensor (io/cost_tensor_file.hpp), and prints the objective, bound, gap and assignment.
 #include <chrono>
 #include <cmath>

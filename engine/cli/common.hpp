@@ -84,7 +84,7 @@ inline void add_common_options(CLI::App* cmd, CommonOptions& common) {
       ->capture_default_str();
 }
 
-// Limits oneTBB to `threads` workers for the lifetime of the object (DESIGN §2, Threads).
+// Limits oneTBB to `threads` workers for the lifetime of the object (docs/design.md §2, Threads).
 class ThreadScope {
  public:
   explicit ThreadScope(int threads) {

@@ -1,6 +1,6 @@
 // trackassoc: the command-line entry point. Each subcommand lives in engine/cli/cmd_*.cpp.
 // Bad input (trackassoc::InputError) prints one line on stderr and exits with status 2.
-// Under mpirun (an MPI build, DESIGN §8) every rank runs this; only rank 0 prints, and only
+// Under mpirun (an MPI build, docs/design.md §8) every rank runs this; only rank 0 prints, and only
 // `experiment` and `associate` run on more than one rank (engine/distributed/communicator.hpp).
 #include <CLI/CLI.hpp>
 #include <algorithm>

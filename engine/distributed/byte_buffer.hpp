@@ -1,4 +1,4 @@
-// The byte format of what ranks send each other (DESIGN §8): a flat little-endian copy of plain
+// The byte format of what ranks send each other (docs/design.md §8): a flat little-endian copy of plain
 // values, strings and vectors, written and read in the same order by the same binary. No schema
 // and no versioning: every rank of one job runs the same executable, so both ends agree.
 #pragma once

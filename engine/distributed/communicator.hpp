@@ -1,11 +1,11 @@
-// The ranks of a job beyond one machine (DESIGN §8; issue 19). The engine shards Monte Carlo runs
+// The ranks of a job beyond one machine (docs/design.md §8; issue 19). The engine shards Monte Carlo runs
 // and connected components over ranks through this small interface, so the sharding code is the
 // same in every build and unit-testable without MPI:
 //   * SingleProcessCommunicator, always built: one rank; scatter and gather are copies;
 //   * the MPI communicator (engine/distributed/mpi_communicator.cpp), compiled only with
 //     -DTRACKASSOC_MPI=ON, over MPI_COMM_WORLD.
 // Only rank 0 reads input files, writes outputs (atomically, io/atomic_file.hpp) and prints.
-// Kernels never see a communicator (DESIGN §1): the ranks exchange engine-level work items.
+// Kernels never see a communicator (docs/design.md §1): the ranks exchange engine-level work items.
 //
 // The collectives move byte buffers (engine/distributed/byte_buffer.hpp). Failures are agreed by
 // what the buffers carry (engine/distributed/sharding.hpp), so a rank never waits for a rank that
@@ -68,7 +68,7 @@ class SingleProcessCommunicator final : public Communicator {
 };
 
 // Thrown on a rank that must end with `code` without printing: rank 0 prints the one error line
-// of the job (DESIGN §2, exit 2 for bad input, 1 for an internal error).
+// of the job (docs/design.md §2, exit 2 for bad input, 1 for an internal error).
 class SilentExit : public std::exception {
  public:
   explicit SilentExit(int code) : code_(code) {}

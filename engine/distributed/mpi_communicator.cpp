@@ -1,5 +1,5 @@
 // The MPI communicator over MPI_COMM_WORLD (engine/distributed/communicator.hpp), compiled only
-// with -DTRACKASSOC_MPI=ON (OpenMPI from Debian, DESIGN §8). Sizes travel as uint64 through
+// with -DTRACKASSOC_MPI=ON (OpenMPI from Debian, docs/design.md §8). Sizes travel as uint64 through
 // MPI_Scatter / MPI_Gather; the bytes then go point to point in chunks of at most 1 GiB, so a
 // part may exceed MPI's int counts. Only the main thread calls MPI (MPI_THREAD_FUNNELED); oneTBB
 // workers inside a rank never do. A rank that waits (for rank 0's scatter while it builds, for

@@ -1,4 +1,4 @@
-// Sharding work over the ranks of a Communicator (DESIGN §8; issue 19), and the rules that keep a
+// Sharding work over the ranks of a Communicator (docs/design.md §8; issue 19), and the rules that keep a
 // failure from hanging a job or leaving a partial output.
 //
 // What goes where:

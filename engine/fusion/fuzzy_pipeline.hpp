@@ -1,4 +1,4 @@
-// The seed 001 fusion-centre pipeline (DESIGN §4.6): local tracks → packets → sequential fuzzy
+// The seed 001 fusion-centre pipeline (docs/design.md §4.6): local tracks → packets → sequential fuzzy
 // association (kernels/fuzzy/fuzzy_association.hpp) or the FTAA baseline (kernels/fuzzy/ftaa.hpp) → system
 // tracks, the local-to-system mapping and an /associations/<name>/ record.
 //

@@ -7,9 +7,9 @@
 
 namespace trackassoc {
 
-AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vector<Sensor>& sensors,
-                                        const AssociationRecord& record) {
-  AssociationMetrics m;
+std::map<std::pair<int32_t, int32_t>, int32_t> local_track_truth(const TrackTable& tracks,
+                                                                 const std::vector<Sensor>& sensors,
+                                                                 const AssociationRecord& record) {
   const int32_t S = record.num_sensors;
   const std::size_t K = record.num_tuples();
   // Which sensors does the association cover? Those with any track in a tuple.
@@ -33,8 +33,17 @@ AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vec
     for (const auto& [id, c] : counts)
       if (id >= 0 && c > best_count) best = id, best_count = c;
     truth_of[key] = best;
-    if (best >= 0) m.has_truth = true;
   }
+  return truth_of;
+}
+
+AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vector<Sensor>& sensors,
+                                        const AssociationRecord& record, AssociationDetail* detail) {
+  AssociationMetrics m;
+  const int32_t S = record.num_sensors;
+  const std::size_t K = record.num_tuples();
+  const std::map<std::pair<int32_t, int32_t>, int32_t> truth_of = local_track_truth(tracks, sensors, record);
+  for (const auto& entry : truth_of) m.has_truth |= entry.second >= 0;
   if (!m.has_truth) return m;
 
   // Tracks of each target, per covered sensor.
@@ -74,12 +83,13 @@ AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vec
       }
     }
     const bool complete = !mixed && groups.size() == 1 && group_tracks[*groups.begin()] == members;
-    if (mixed)
-      ++m.false_associations;
-    else if (complete)
-      ++m.correct;
-    else
-      ++m.missed;
+    const TargetOutcome outcome = mixed      ? TargetOutcome::kFalse
+                                  : complete ? TargetOutcome::kCorrect
+                                             : TargetOutcome::kMissed;
+    if (detail) detail->outcome[target] = outcome;
+    ++(outcome == TargetOutcome::kFalse     ? m.false_associations
+       : outcome == TargetOutcome::kCorrect ? m.correct
+                                            : m.missed);
   }
   // False tuples: ≥ 2 members that are not all tracks of one target (a false track, truth −1, with
   // anything is false).
@@ -98,6 +108,7 @@ AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vec
     if (members >= 2) {
       ++m.linked_tuples;
       m.false_tuples += mixed;
+      if (mixed && detail) detail->false_tuple_rows.push_back(q);
     }
   }
   if (m.targets > 0) {

@@ -1,4 +1,4 @@
-// Association metrics (DESIGN §3 /metrics, seed 000 §4 "correct association rate").
+// Association metrics (docs/design.md §3 /metrics, seed 000 §4 "correct association rate").
 //
 // Evaluated per target, over the sensors an association covers. A target "needs association"
 // when at least two covered sensors hold a local track of it. For each such target T:
@@ -16,12 +16,16 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "io/track_file.hpp"
 #include "kernels/core/types.hpp"
 
 namespace trackassoc {
+
+enum class TargetOutcome { kCorrect, kFalse, kMissed };
 
 struct AssociationMetrics {
   bool has_truth = false;
@@ -33,9 +37,23 @@ struct AssociationMetrics {
   double correct_rate = 0.0, false_rate = 0.0, missed_rate = 0.0;
 };
 
+// What the counts are made of (the map of engine/report/association_map.hpp draws them): the
+// outcome of each target that needs association, and the rows of the false tuples.
+struct AssociationDetail {
+  std::map<int32_t, TargetOutcome> outcome;
+  std::vector<std::size_t> false_tuple_rows;
+};
+
+// The target of each local track of the sensors `record` covers, keyed by (tuple column, track):
+// the most frequent non-negative truth id of its rows, -1 when it has none (a false track).
+std::map<std::pair<int32_t, int32_t>, int32_t> local_track_truth(const TrackTable& tracks,
+                                                                 const std::vector<Sensor>& sensors,
+                                                                 const AssociationRecord& record);
+
 // `sensors` gives the column order of record.tuples (the /sensors order).
+// `detail`, when given, receives what the counts are made of.
 AssociationMetrics evaluate_association(const TrackTable& tracks, const std::vector<Sensor>& sensors,
-                                        const AssociationRecord& record);
+                                        const AssociationRecord& record, AssociationDetail* detail = nullptr);
 
 MetricsRecord to_metrics_record(const std::string& name, const AssociationMetrics& m);
 

@@ -1,4 +1,4 @@
-// The association pipeline for three sensors (DESIGN §4.3):
+// The association pipeline for three sensors (docs/design.md §4.3):
 //   local tracks → common times → alignment → pairwise statistics λ → cost tensor → 3-D solver
 //   → tuples of local track numbers (/associations/<name>/).
 //
@@ -40,7 +40,7 @@ struct PipelineOptions {
   bool span_union = true;
   AlignmentOptions alignment;
   StatisticOptions statistic;
-  CostTensorOptions cost{CostForm::kAllPairs};  // every pair: all the evidence (chain separates, DESIGN §4.3)
+  CostTensorOptions cost{CostForm::kAllPairs};  // every pair: all the evidence (chain separates, docs/design.md §4.3)
   void validate() const;
   nlohmann::json to_json() const;
   // The settings of the paper studies (seed 000, seed 004, the Hopfield schedules and the sparse

@@ -1,4 +1,4 @@
-// The association pipeline for S ≥ 2 sensors with dummies (DESIGN §4.3; issue 6 item 2):
+// The association pipeline for S ≥ 2 sensors with dummies (docs/design.md §4.3; issue 6 item 2):
 //   local tracks → common times → alignment → pairwise statistics λ → S-D cost tensor with a dummy
 //   per sensor → S-D solver → tuples (/associations/<name>/).
 //

@@ -1,4 +1,4 @@
-// Joint registration and association (DESIGN §4.9): the registration stage of the default
+// Joint registration and association (docs/design.md §4.10): the registration stage of the default
 // (sparse S-D) path. Registration and association need each other, so they are iterated:
 //
 //   1. associate the file as recorded (the default association, unchanged);

@@ -1,7 +1,6 @@
 #include "engine/pipeline/run_job.hpp"
 
 #include <algorithm>
-#include <fstream>
 #include <memory>
 #include <set>
 #include <utility>
@@ -9,10 +8,10 @@
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
 #include "engine/pipeline/workflow.hpp"
+#include "engine/report/association_map.hpp"
+#include "engine/report/summary_chart.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "engine/solvers/solver_registry.hpp"
-#include "engine/studies/seed000/experiment_schedules.hpp"
-#include "io/atomic_file.hpp"
 #include "kernels/core/error.hpp"
 
 namespace trackassoc {
@@ -152,16 +151,23 @@ RunJobResult run_main_job(const RunJobOptions& o, const std::function<void(const
   return job;
 }
 
-void write_run_outputs(const RunJobResult& job, const std::string& output, const std::string& plot) {
+std::string run_summary_path(const std::string& plot) { return report::sibling_picture(plot, "-summary"); }
+
+void write_run_outputs(const RunJobResult& job, const std::string& output, const std::string& plot, bool svg) {
   write_track_file(output, job.file);
-  if (plot.empty()) return;
-  std::vector<SvgSeries> series;
-  for (const auto& row : job.rows)
-    series.push_back({row.name, {std::max(1e-3, 1e3 * row.runtime_s)}, {100.0 * row.metrics.correct_rate}});
-  const std::string svg =
-      svg_scatter("trackassoc run, " + job.scenario_name + ": correct association vs time",
-                  "association time [ms]", "correct association [%]", series, true);
-  write_atomically(plot, [&](const std::string& tmp) { std::ofstream(tmp) << svg; });
+  if (plot.empty() || job.rows.empty()) return;
+  const report::ImageFormat format = report::picture_format(plot, svg);
+  const std::string& first = job.rows.front().name;
+  for (const AssociationRecord& rec : job.file.associations)
+    if (rec.name == first)
+      report::write_association_map(plot, format, job.file, rec,
+                                    "trackassoc run, " + job.scenario_name + ": the '" + first + "' association");
+  std::vector<report::SummaryRow> rows;
+  for (const RunRow& r : job.rows)
+    rows.push_back({r.name, r.metrics.correct_rate, r.metrics.false_rate, r.metrics.missed_rate, r.runtime_s,
+                    r.name == "default"});
+  report::write_summary_chart(run_summary_path(plot), format,
+                              "trackassoc run, " + job.scenario_name + ": every solver on the same recording", rows);
 }
 
 }  // namespace trackassoc

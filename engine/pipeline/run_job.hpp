@@ -3,7 +3,8 @@
 // with seed 000's gate (chi-square sum, forward alignment at σ = 1 m/s²), and every 3-D solver that
 // suits the size on the three-sensor tensor (dense, or sparse with `sparse`), all through the
 // association interface (engine/pipeline/associator.hpp); evaluate each (engine/pipeline/metrics.hpp) and
-// write trackassoc-run.h5 and a plot of correct association against time.
+// write trackassoc-run.h5 and two pictures (engine/report/): the recording as a map with the
+// default pipeline's association, and a summary chart of every row.
 //
 // Default scenario: `recorded_formation`, a realistic recording of the family of
 // engine/studies/recorded/experiment_recorded.hpp (asynchronous radars, partial and false tracks, turns, and
@@ -66,8 +67,12 @@ struct RunJobResult {
 RunJobResult run_main_job(const RunJobOptions& options,
                           const std::function<void(const RunJobResult&)>& on_scene = {});
 
-// Writes the HDF5 file (atomically) and, unless `plot` is empty, the SVG of correct association
-// against association time.
-void write_run_outputs(const RunJobResult& result, const std::string& output, const std::string& plot);
+// Writes the HDF5 file (atomically) and, unless `plot` is empty, the map of the first row's
+// association (the default pipeline's) at `plot` and the summary chart beside it
+// (run_summary_path), as PNG, or as SVG when `svg` or `plot` ends in .svg.
+void write_run_outputs(const RunJobResult& result, const std::string& output, const std::string& plot,
+                       bool svg = false);
+// The summary chart's path beside the map's: "trackassoc-run.png" -> "trackassoc-run-summary.png".
+std::string run_summary_path(const std::string& plot);
 
 }  // namespace trackassoc

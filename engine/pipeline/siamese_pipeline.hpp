@@ -1,4 +1,4 @@
-// Association of two radars' asynchronous tracks with the Siamese BiLSTM (seed 003, DESIGN §4.7).
+// Association of two radars' asynchronous tracks with the Siamese BiLSTM (seed 003, docs/design.md §4.7).
 //
 // 1. Embed every track once: N1 + N2 BiLSTM passes, in batches of `batch_tracks` across TBB.
 // 2. Score all N1×N2 pairs with the cheap head on |e1 − e2| (kernels/learning/siamese.hpp).

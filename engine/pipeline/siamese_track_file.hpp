@@ -1,5 +1,5 @@
 // `associate --solver siamese`: the Siamese BiLSTM (seed 003, TTCSN) on the local tracks of two
-// sensors of a schema v1 track file (DESIGN §3), written as an /associations/<name>/ record.
+// sensors of a schema v1 track file (docs/design.md §3), written as an /associations/<name>/ record.
 //
 // Tracks. Each local track (sensor, /tracks/track) of the two sensors becomes one sequence of
 // points (x, y, t), in time order. The points are (options key "points"):

@@ -1,5 +1,5 @@
 // The components of the sparse three-sensor pipeline (`associate --sparse`) shared out over MPI
-// ranks (DESIGN §8; issue 19), as engine/pipeline/sparse_sd_sharded.hpp does for the default path.
+// ranks (docs/design.md §8; issue 19), as engine/pipeline/sparse_sd_sharded.hpp does for the default path.
 //
 // Rank 0 reads the file and builds the problem (alignment, candidates, gated pair statistics,
 // components: engine/pipeline/sparse_pipeline.hpp); a tuple lies in one component, so

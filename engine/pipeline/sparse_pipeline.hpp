@@ -1,4 +1,4 @@
-// The sparse association pipeline for three sensors (DESIGN §4.3, "Sparse form"): the path for
+// The sparse association pipeline for three sensors (docs/design.md §4.3, "Sparse form"): the path for
 // recorded track sets too large for the dense n1·n2·n3 tensor.
 //
 //   local tracks → common times → alignment                       (as engine/pipeline/pipeline.hpp)

@@ -1,6 +1,6 @@
 // One connected component of the sparse S-D pipeline (engine/pipeline/sparse_sd_pipeline.hpp) as a
 // self-contained problem: its tracks by sensor, the link costs among them and when each track is
-// valid, so that it can be solved where its problem was not built (another MPI rank, DESIGN §8;
+// valid, so that it can be solved where its problem was not built (another MPI rank, docs/design.md §8;
 // engine/pipeline/sparse_sd_sharded.hpp). The formulation (tuple cost, what is allowed, the dense
 // sub-tensor and the sequential LAP merging fallback) is the header's; this file holds it.
 #pragma once

@@ -1,5 +1,5 @@
 // The default association pipeline for recorded track sets: every sensor, sparse gated
-// candidates, and an S-D assignment with dummies per connected component (DESIGN §4.3; issue 20).
+// candidates, and an S-D assignment with dummies per connected component (docs/design.md §4.3; issue 20).
 //
 //   local tracks of S ≥ 2 sensors → common times over the union of their reports
 //   → two-sided alignment (nearest report on either side) kernels/statistics/association_statistic.hpp → for
@@ -20,7 +20,7 @@
 // track costs 0. A tuple is allowed only if
 //   * no two of its members overlap in time and fail the gate (a tested pair outside the gate),
 //   * and its members are connected through gated-in pairs.
-// Pairs that never coexist carry no evidence (DESIGN §4.3): they neither forbid a tuple nor link it,
+// Pairs that never coexist carry no evidence (docs/design.md §4.3): they neither forbid a tuple nor link it,
 // so a target seen by sensor A early and sensor C late joins through a sensor B that saw both.
 //
 // Why components are independent: a tuple is connected through gated-in pairs, so all its members
@@ -60,7 +60,7 @@ struct SparseSDOptions {
   // After the assignment, the segments of one target on one sensor joined to it
   // (engine/pipeline/track_segments.hpp); associate_sparse_sd runs it, solve_sparse_sd_association not.
   SegmentOptions segments;
-  // The ranks that share the components (DESIGN §8; engine/pipeline/sparse_sd_sharded.hpp): null
+  // The ranks that share the components (docs/design.md §8; engine/pipeline/sparse_sd_sharded.hpp): null
   // or one rank solves them all here. On more ranks this is rank 0's call; the others serve.
   distributed::Communicator* ranks = nullptr;
   void validate() const;

@@ -1,4 +1,4 @@
-// The components of the sparse S-D pipeline shared out over MPI ranks (DESIGN §8; issue 19 item 3).
+// The components of the sparse S-D pipeline shared out over MPI ranks (docs/design.md §8; issue 19 item 3).
 //
 // Rank 0 reads the file and builds the problem (alignment, candidates, statistics, components:
 // engine/pipeline/sparse_sd_pipeline.hpp); the components are independent S-D problems (a tuple

@@ -1,4 +1,4 @@
-// Track hygiene (DESIGN §4.9): a recorded (sensor, track) key is not always one track. A sensor
+// Track hygiene (docs/design.md §4.10): a recorded (sensor, track) key is not always one track. A sensor
 // that recycles its track numbers reuses a number after the track ends, so one key stops, pauses
 // and jumps to where the track's own motion cannot take it. Such keys are split here before the
 // association, each piece a new local track.

@@ -2,7 +2,7 @@
 // sparse (engine/pipeline/sparse_pipeline.hpp) three-sensor pipelines, which differ only in how they look
 // up a pair's gated-in λ.
 //
-// Rules (DESIGN §4.3, "Decoding"):
+// Rules (docs/design.md §4.3, "Decoding"):
 //  * split_tuple: a solver tuple whose chained pairs (1–2 and 2–3; with the all-pairs cost form
 //    also 1–3) are all inside the gate is kept whole; otherwise its best gated-in pair by λ is kept
 //    and the remaining tracks are left over.

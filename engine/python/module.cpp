@@ -1,4 +1,4 @@
-// The pybind11 module trackassoc._core (DESIGN §9; the package is engine/python/trackassoc/):
+// The pybind11 module trackassoc._core (docs/design.md §9; the package is engine/python/trackassoc/):
 // associate, fuse, evaluate, read and write over the engine's own association interface
 // (engine/pipeline/associator.hpp), track fuser and schema v1 io, so an array or a file is
 // validated, associated and written by the code the command line runs, with the same results,

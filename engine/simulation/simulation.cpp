@@ -1,4 +1,4 @@
-// Scenario simulation (DESIGN §4.1); see engine/simulation/simulation.hpp,
+// Scenario simulation (docs/design.md §4.1); see engine/simulation/simulation.hpp,
 // engine/simulation/simulation_truth.hpp (trajectories) and engine/simulation/simulation_tracker.hpp (local
 // tracking).
 //

@@ -1,4 +1,4 @@
-// Scenario simulation and local tracking (DESIGN §4.1).
+// Scenario simulation and local tracking (docs/design.md §4.1).
 //
 // Targets move in 2-D or 3-D; each sensor measures range and bearing (and elevation) with
 // Gaussian errors at its own period and offset, may miss detections, and adds clutter. Each

@@ -1,4 +1,4 @@
-// What a real sensor adds to its reports beyond noise (DESIGN §4.9): the model of
+// What a real sensor adds to its reports beyond noise (docs/design.md §4.10): the model of
 // Scenario::sensor_errors (kernels/core/scenario.hpp), one SensorErrors per sensor.
 //
 // Registration errors act on the plots (engine/simulation/simulation.cpp, simulate_sensor):

@@ -1,4 +1,4 @@
-// Local tracking (DESIGN §4.1): each sensor turns its measurements into local tracks with its own
+// Local tracking (docs/design.md §4.1): each sensor turns its measurements into local tracks with its own
 // filter bank. Used by `simulate` and by `trackassoc filter`.
 //
 // Measurement-to-track origin is taken as known: a measurement's `target` field says which

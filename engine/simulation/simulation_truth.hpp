@@ -1,4 +1,4 @@
-// Ground-truth trajectories of the simulation (DESIGN §4.1): a target's motion as a list of
+// Ground-truth trajectories of the simulation (docs/design.md §4.1): a target's motion as a list of
 // pieces, each with closed-form kinematics, so truth is exact at any sensor time (no integration
 // error, no dependence on the truth sampling step).
 //

@@ -11,7 +11,7 @@
 // Enum fields read and write their names through kernels/core/enum_names.hpp.
 //
 // The range of a field is documentation here; the field's own range is enforced by the struct's
-// validate() (DESIGN §2), which the callers run after read(). read() checks only what the member's
+// validate() (docs/design.md §2), which the callers run after read(). read() checks only what the member's
 // type can hold (an int32 count of 5e9, a float weight of 1e300), as read_option_number always has.
 //
 //   const OptionFields<LocalSearchOptions> kFields{{

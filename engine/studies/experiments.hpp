@@ -1,4 +1,4 @@
-// Pieces shared by the paper experiments (DESIGN §5, `trackassoc experiment NAME`; each study's
+// Pieces shared by the paper experiments (docs/design.md §5, `trackassoc experiment NAME`; each study's
 // subcommand is registered in engine/cli/cmd_experiment*.cpp through finish_study_command): the
 // plot invocation and the experiment file header.
 #pragma once

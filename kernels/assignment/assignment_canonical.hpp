@@ -7,7 +7,7 @@
 // relaxation algorithm; Pattipati et al. 1992), and the relaxed constraints are equalities only
 // when n1 = n3 (otherwise "≤ 1", whose multipliers must stay ≥ 0).
 //
-// Dummy index (finite CostTensor3::miss_cost, DESIGN §4.3): each dimension d is padded with
+// Dummy index (finite CostTensor3::miss_cost, docs/design.md §4.3): each dimension d is padded with
 // n_d' + n_d'' dummy indices, enough for every other index to sit in a tuple without d, to a cube
 // of side M = n1 + n2 + n3. A tuple with q dummy indices costs q·miss_cost (q < 3), and an
 // all-dummy tuple costs 0 (padding). Every solution of the original problem maps onto a complete

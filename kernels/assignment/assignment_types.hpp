@@ -1,11 +1,11 @@
 // Shared types of the 3-D (and S-D) assignment stage: the dense cost tensor, the solution and the
-// solver summary (DESIGN §2 "Options in, summary out", after Ceres' Solver::Summary).
+// solver summary (docs/design.md §2 "Options in, summary out", after Ceres' Solver::Summary).
 //
 // 3-D assignment problem (seed 000 Eq. 5–6): choose tuples (i, j, k), one index per sensor, each
 // index used at most once per dimension, minimising Σ b_ijk. With n1 = n2 = n3 = n every index is
 // used exactly once (an axial 3-D assignment, NP-hard: Karp 1972). Unequal sizes are handled by
 // tuples that leave a dimension out, index kNoTrack (the "dummy index 0" of the S-D assignment
-// literature, DESIGN §4.3), at CostTensor3::miss_cost per missing index.
+// literature, docs/design.md §4.3), at CostTensor3::miss_cost per missing index.
 #pragma once
 
 #include <algorithm>
@@ -20,7 +20,7 @@ namespace trackassoc {
 
 inline constexpr int32_t kNoTrack = -1;
 
-// Dense n1×n2×n3 cost tensor, float (DESIGN §2 Precision), first index slowest:
+// Dense n1×n2×n3 cost tensor, float (docs/design.md §2 Precision), first index slowest:
 //   b(i, j, k) = cost[(i·n2 + j)·n3 + k].
 struct CostTensor3 {
   int32_t n1 = 0, n2 = 0, n3 = 0;
@@ -89,7 +89,7 @@ struct SolverSummary {
   std::string message;
 };
 
-// Optional per-restart table of multi-start solvers (Hopfield: one row per restart, DESIGN §4.4
+// Optional per-restart table of multi-start solvers (Hopfield: one row per restart, docs/design.md §4.4
 // "Report per restart"), written to /associations/<name>/restarts/ (one 1-D dataset per column);
 // empty when the solver has no restarts. All columns have size() rows.
 struct RestartTable {

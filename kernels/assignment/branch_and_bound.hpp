@@ -1,4 +1,4 @@
-// Exact 3-D assignment by depth-first branch and bound with Lagrangian bounds (DESIGN §4.5): the
+// Exact 3-D assignment by depth-first branch and bound with Lagrangian bounds (docs/design.md §4.5): the
 // project's ground truth for small n.
 //
 // The scheme of Balas & Saltzman, "An algorithm for the three-index assignment problem", Oper. Res.

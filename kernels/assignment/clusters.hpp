@@ -1,4 +1,4 @@
-// Connected components of the candidate graph (DESIGN §4.3, "Sparse form").
+// Connected components of the candidate graph (docs/design.md §4.3, "Sparse form").
 //
 // Nodes are the local tracks of all sensors (sensor s's track i is node offset[s] + i); an edge
 // joins two tracks of different sensors whose pair is inside the gate. No gated-in tuple and no

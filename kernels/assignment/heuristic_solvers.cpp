@@ -1,4 +1,4 @@
-// Greedy and sequential pairwise heuristics for the 3-D assignment (DESIGN §4.5). See the header.
+// Greedy and sequential pairwise heuristics for the 3-D assignment (docs/design.md §4.5). See the header.
 //
 // Unequal sizes and misses (what is supported):
 // * miss_cost = +inf (the pipeline's default): both solvers return min(n1, n2, n3) complete

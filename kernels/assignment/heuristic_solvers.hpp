@@ -1,4 +1,4 @@
-// One-pass heuristics for the 3-D assignment, the simple baselines of DESIGN §4.5.
+// One-pass heuristics for the 3-D assignment, the simple baselines of docs/design.md §4.5.
 //
 // greedy: sort all n1·n2·n3 tuples by cost and take each tuple whose indices are all still free.
 //         O(N log N) for N = n1·n2·n3 (a partial sort is used).

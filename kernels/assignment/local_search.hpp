@@ -1,4 +1,4 @@
-// Local search for the 3-D assignment (DESIGN §4.5): fix two dimensions of the current solution and
+// Local search for the 3-D assignment (docs/design.md §4.5): fix two dimensions of the current solution and
 // re-solve the third by a 2-D LAP, cycling over the three choices until none improves.
 //
 // With the pairs (i, j) of the current tuples fixed, choosing k for each pair is a rectangular LAP

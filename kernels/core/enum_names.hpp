@@ -1,4 +1,4 @@
-// One enum <-> name mapping for every option enum (DESIGN §2: options in, names in JSON, HDF5 and
+// One enum <-> name mapping for every option enum (docs/design.md §2: options in, names in JSON, HDF5 and
 // on the command line).
 //
 // Each enum declares, beside itself, one constexpr table of its enumerators and their names, and

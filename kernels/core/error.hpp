@@ -1,6 +1,6 @@
 // Errors raised for bad user input (files, options, scenarios).
 //
-// DESIGN §2: bad user input throws trackassoc::InputError. Its message names the file, the dataset
+// docs/design.md §2: bad user input throws trackassoc::InputError. Its message names the file, the dataset
 // or field, what was expected and what was found. The CLI prints it on one line and exits with 2.
 // Internal invariants use assertions instead.
 #pragma once

@@ -1,4 +1,4 @@
-// Thin oneTBB wrappers (DESIGN §2, Threads), after oneTBB's `seismic` example: every parallel
+// Thin oneTBB wrappers (docs/design.md §2, Threads), after oneTBB's `seismic` example: every parallel
 // kernel is written as a serial function over an index range [begin, end), and these wrappers
 // split the range across the task arena. The thread count is set once by the caller through
 // tbb::global_control (the CLI's --threads).

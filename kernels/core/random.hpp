@@ -1,4 +1,4 @@
-// Counter-based random streams (DESIGN §2, Determinism).
+// Counter-based random streams (docs/design.md §2, Determinism).
 //
 // Every random stream is keyed by (seed, run, stream), e.g. stream = restart number or sensor id,
 // and draws number `counter` as a pure function of (key, counter): the SplitMix64 finaliser

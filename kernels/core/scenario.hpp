@@ -1,4 +1,4 @@
-// A simulation scenario (DESIGN §3): targets with motion segments, sensors, duration and seed.
+// A simulation scenario (docs/design.md §3): targets with motion segments, sensors, duration and seed.
 // It is read from and written to JSON by io/scenario_json.hpp; the embedded defaults live in
 // data/scenarios/. This header is plain data; the simulation is engine/simulation/simulation.hpp.
 #pragma once
@@ -81,7 +81,7 @@ struct RandomTargetSpec {
 
 // The local tracker each sensor runs to turn its measurements into local tracks.
 struct LocalTrackerSpec {
-  std::string filter = "cv";   // cv | ca | ab | cs | cs-nn | imm (DESIGN §4.2)
+  std::string filter = "cv";   // cv | ca | ab | cs | cs-nn | imm (docs/design.md §4.2)
   double process_noise = 1.0;  // σ of the white-noise acceleration [m/s²]
   friend bool operator==(const LocalTrackerSpec&, const LocalTrackerSpec&) = default;
 };
@@ -98,7 +98,7 @@ struct RecordingSpec {
   friend bool operator==(const RecordingSpec&, const RecordingSpec&) = default;
 };
 
-// What a real sensor adds to its reports beyond noise (DESIGN §4.9; engine/simulation/
+// What a real sensor adds to its reports beyond noise (docs/design.md §4.10; engine/simulation/
 // simulation_errors.hpp has the model): systematic registration errors, a mis-stated covariance,
 // recycled track numbers and swaps at crossings. One per sensor (Scenario::sensor_errors, in the
 // order of Scenario::sensors), or none. All zero (scale 1) is a clean sensor and draws nothing.

@@ -1,4 +1,4 @@
-// Elapsed wall time for the Summary structs' wall_time_s and the stage reports (DESIGN §2).
+// Elapsed wall time for the Summary structs' wall_time_s and the stage reports (docs/design.md §2).
 #pragma once
 
 #include <chrono>

@@ -1,4 +1,4 @@
-// The in-memory data model of trackassoc (DESIGN §3), as structures of arrays.
+// The in-memory data model of trackassoc (docs/design.md §3), as structures of arrays.
 //
 // Kernels see spans of columns and never a row object. A TrackTable has one row per
 // (sensor, local track, time); state and covariance are stored column by column:
@@ -98,7 +98,7 @@ struct TruthTable {
   std::size_t size() const { return t.size(); }
 };
 
-// Polar measurements (DESIGN §3). elevation is empty for 2-D sensors; target is -1 for clutter.
+// Polar measurements (docs/design.md §3). elevation is empty for 2-D sensors; target is -1 for clutter.
 struct Measurements {
   std::vector<int32_t> sensor;
   std::vector<double> t, range, bearing, elevation;

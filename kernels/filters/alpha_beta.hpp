@@ -1,4 +1,4 @@
-// Batched alpha-beta filter bank (DESIGN §4.2), structure of arrays, 2-D and 3-D.
+// Batched alpha-beta filter bank (docs/design.md §4.2), structure of arrays, 2-D and 3-D.
 //
 // Algorithm. Each track is a constant-velocity state per axis a (position p, velocity v), filtered
 // independently per axis with scalar gains α, β (Bar-Shalom, Li, Kirubarajan, "Estimation with

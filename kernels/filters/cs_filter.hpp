@@ -1,4 +1,4 @@
-// The "current" statistical (CS) model adaptive filter, batched (seed 002 §1; DESIGN §4.2).
+// The "current" statistical (CS) model adaptive filter, batched (seed 002 §1; docs/design.md §4.2).
 //
 // Model (Zhou & Kumar, "A non-zero mean acceleration model ... for maneuvering targets", 1984;
 // Singer, IEEE T-AES 6(4), 1970). Per axis the state is (position, velocity, acceleration); the
@@ -9,7 +9,7 @@
 //   σ_w² = 2 α σ_a²                                          (seed 002 Eq. 1)
 //   σ_a² = (4−π)/π · (a_max − ā)²     for ā ≥ 0
 //   σ_a² = (4−π)/π · (a_−max − ā)²    for ā < 0             (seed 002 Eq. 2, with the square that
-//                                                             the seed as printed omits; DESIGN §4.2)
+//                                                             the seed as printed omits; docs/design.md §4.2)
 // The mean ā is the predicted acceleration: ā = â(k|k) per axis (Zhou & Kumar's choice), so the
 // state prediction Φ x̂ + U ā reduces to the CA prediction (p + vT + âT²/2, v + âT, â) while the
 // covariance propagates with Φ: P ← Φ P Φᵀ + Q. Update: position measurement, as the Kalman bank.

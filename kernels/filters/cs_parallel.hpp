@@ -1,5 +1,5 @@
 // Two parallel "current" statistical filters F1 and F2 tuned by a back-propagation network,
-// batched (seed 002 §1, after Jing Zhongliang 1995; DESIGN §4.2).
+// batched (seed 002 §1, after Jing Zhongliang 1995; docs/design.md §4.2).
 //
 // Algorithm, per track and scan:
 //   1. F1 (CS filter with a large acceleration variance, a_max = 100 m/s²) predicts.

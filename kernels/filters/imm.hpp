@@ -1,5 +1,5 @@
 // Interacting multiple model (IMM) filter bank, batched, over models of different state
-// dimension (seed 002 §2; DESIGN §4.2).
+// dimension (seed 002 §2; docs/design.md §4.2).
 //
 // Algorithm (Blom & Bar-Shalom 1988; Bar-Shalom, Li, Kirubarajan 2001, §11.6.6; seed 002 Eqs. 6–9):
 //   1. Mixing probabilities: c̄_j = Σ_i π_ij μ_i,  μ_{i|j} = π_ij μ_i / c̄_j           (Eq. 6)

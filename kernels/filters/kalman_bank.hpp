@@ -1,5 +1,5 @@
 // Batched Kalman filter banks: constant velocity (CV) and constant acceleration (CA), 2-D and 3-D
-// (DESIGN §4.2).
+// (docs/design.md §4.2).
 //
 // Algorithm. The linear Kalman filter (Bar-Shalom, Li, Kirubarajan, "Estimation with Applications
 // to Tracking and Navigation", 2001, §5.2.3) with a position measurement H = [I 0]:

@@ -1,4 +1,4 @@
-// Polar-to-Cartesian converted measurements for the position Kalman update (DESIGN §4.1).
+// Polar-to-Cartesian converted measurements for the position Kalman update (docs/design.md §4.1).
 //
 // Algorithm. The linearised converted measurement (CM) of Lerro & Bar-Shalom, "Tracking with
 // debiased consistent converted measurements versus EKF", IEEE T-AES 29(3), 1993, §II (also

@@ -1,5 +1,5 @@
 // Fuzzy track-to-track association with temporary tracks and track reliability (seed 001,
-// Fan, Xie, Liu, Li 2011; DESIGN §4.6).
+// Fan, Xie, Liu, Li 2011; docs/design.md §4.6).
 //
 // The fusion centre receives the local tracks as a stream of packets, one plot each
 // (seed 001 §2: s_l^i(k) = {x_l^i(k), h_l^i, t_k, ω'_l}), and processes them sequentially in time

@@ -20,7 +20,7 @@
 // Neurons of infinite cost are fixed at V = 0 and never stored, so the network is a sparse list of
 // finite tuples; Eq. 12's gating shrinks that list.
 //
-// Network (Hopfield–Tank; the paper's Eqs. 5, 6, 8, 10, 11 were lost, DESIGN §4.4): with R_s(x)
+// Network (Hopfield–Tank; the paper's Eqs. 5, 6, 8, 10, 11 were lost, docs/design.md §4.4): with R_s(x)
 // the sum of V over the neurons whose sensor-s index is x and M = Σ V,
 //   E = A/2 Σ_{s≥2} Σ_x R_s(x)(R_s(x) − 1)   each extended column at most once     (term 1)
 //     + B/2 Σ_j (R_1(j) − 1)²                 each reference track exactly once    (term 2)

@@ -1,4 +1,4 @@
-// Hopfield solvers for the 3-D assignment with restarts (seed 000 §3, seed 004; DESIGN §4.4).
+// Hopfield solvers for the 3-D assignment with restarts (seed 000 §3, seed 004; docs/design.md §4.4).
 //
 // One restart: normalise the cost (ĉ ∈ [0, 1]), set the initial state, run sweeps of the chosen
 // schedule (kernels/hopfield/hopfield_discrete.hpp, kernels/hopfield/hopfield_continuous.hpp) until no neuron
@@ -141,7 +141,7 @@ struct HopfieldOptions {
   int32_t mean_field_steps = 300;
   HopfieldRepair repair = HopfieldRepair::kGreedy;
   // Polish every restart's repaired assignment by the dimension-wise LAP local search
-  // (kernels/assignment/local_search.hpp, DESIGN §4.5) before choosing the best.
+  // (kernels/assignment/local_search.hpp, docs/design.md §4.5) before choosing the best.
   bool polish = false;
   bool trace = false;  // record the energy after every sweep, per restart
   void validate() const;

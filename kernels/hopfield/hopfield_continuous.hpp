@@ -2,7 +2,7 @@
 // "Neural computation of decisions in optimization problems", Biol. Cybern. 52 (1985) 141–152).
 //
 // Seed 004's Eqs. 5, 6, 8, 10 and 11 were lost in the text, so the standard Hopfield–Tank form is
-// used with the paper's description of each term (DESIGN §4.4): the full-plane energy of
+// used with the paper's description of each term (docs/design.md §4.4): the full-plane energy of
 // kernels/hopfield/hopfield_energy.hpp with continuous V ∈ (0, 1),
 //   E(V) = A/2·Σ_i(R_i−1)² + B/2·Σ_j(S_j−1)² + C/2·Σ_k(T_k−1)² + D/2·(M−N)² + E·Σ ĉ V,
 // the net input h = −∂E/∂V_ijk = −[A(R_i−1) + B(S_j−1) + C(T_k−1) + D(M−N) + E·ĉ_ijk], and

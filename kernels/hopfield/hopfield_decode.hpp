@@ -1,4 +1,4 @@
-// Decoding a Hopfield state into a valid 3-D assignment, and repair (DESIGN §4.4 "Decoding and
+// Decoding a Hopfield state into a valid 3-D assignment, and repair (docs/design.md §4.4 "Decoding and
 // repair").
 //
 // A network state is "raw valid" when it is itself an assignment: min(n1, n2, n3) active neurons,

@@ -1,4 +1,4 @@
-// The diagonal schedule of the discrete 3-D Hopfield network (DESIGN §4.4 "Schedules").
+// The diagonal schedule of the discrete 3-D Hopfield network (docs/design.md §4.4 "Schedules").
 //
 // Block (a, b) is the set of n1 neurons {(i, (i+a) mod n2, (i+b) mod n3) : i < n1}. Its
 // neurons share no plane (distinct i, distinct j, distinct k), so for the full-plane energy

@@ -1,5 +1,5 @@
 // The discrete 3-D Hopfield network and its sweep schedules (seed 000 Eq. 9–10 and §3.2;
-// DESIGN §4.4).
+// docs/design.md §4.4).
 //
 // Update rule (seed 000 Eq. 10 with 0/1 states): V ← 1 when net = −ΔE_on > 0, V ← 0 when
 // net < 0, unchanged at net = 0. ΔE_on is the exact energy change of turning the neuron on,

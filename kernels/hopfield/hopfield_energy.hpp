@@ -1,4 +1,4 @@
-// Energies of the 3-D Hopfield network for the axial 3-D assignment (seed 000 §3.1; DESIGN §4.4).
+// Energies of the 3-D Hopfield network for the axial 3-D assignment (seed 000 §3.1; docs/design.md §4.4).
 //
 // Neuron V_ijk ∈ {0, 1} (uint8) means "tracks i, j, k (one per sensor) are the same target".
 // Every update reads O(1) marginal sums instead of an n⁶ weight matrix:
@@ -17,7 +17,7 @@
 //     + C·Σ_ijk Σ_{x≠i} Σ_{y≠j} V_ijk V_xyk + D/2·(M−N)² + E·Σ ĉ_ijk V_ijk
 // By inclusion–exclusion Σ_{y≠j,z≠k} V_iyz = R_i − L_ij − L_ik + V_ijk, so
 //   ΔE_on = 2A(R'_i−L'_ij−L'_ik) + 2B(S'_j−L'_ij−L'_jk) + 2C(T'_k−L'_ik−L'_jk) + D(M'−N+½) + E·ĉ_ijk.
-// Errata of the paper (DESIGN §4.4), as implemented here:
+// Errata of the paper (docs/design.md §4.4), as implemented here:
 //   - two neurons on the same line (same i and j, different k) are not penalised by Eq. 11;
 //   - θ_ijk = D·N − E·b_ijk of Eq. 12 has the sign that favours high cost: from Eq. 11 it is
 //     θ = D(½−N) + E·ĉ (the ½ is the self-coupling of the D term for 0/1 states);
@@ -130,7 +130,7 @@ double delta_on(HopfieldEnergy form, const HopfieldWeights& w, const NormalisedC
                 const HopfieldMarginals& m, std::span<const uint8_t> V, int32_t i, int32_t j, int32_t k);
 
 // Largest E for which every valid assignment is a fixed point (ĉ_max = 1 after normalisation):
-//   full plane: E·ĉ_max < (A+B+C+D)/2 (DESIGN §4.4);
+//   full plane: E·ĉ_max < (A+B+C+D)/2 (docs/design.md §4.4);
 //   printed:    E·ĉ_max < D/2 (an active neuron of a valid state has no plane or line partner, so
 //               only the D term keeps it on; without D every neuron switches off).
 inline double fixed_point_E_bound(const HopfieldWeights& w) { return 0.5 * (w.A + w.B + w.C + w.D); }

@@ -1,5 +1,5 @@
 // The 3-7-1 back-propagation network that tunes filter F2 of the parallel CS filters
-// (seed 002 §1 and §3; DESIGN §4.2).
+// (seed 002 §1 and §3; docs/design.md §4.2).
 //
 // Network: 3 inputs, 7 logistic hidden units, 1 logistic output in (0, 1) (seed 002 §1: "3 input
 // nodes, 7 hidden nodes, 1 output node ... a value in [0 1]"). Training: on-line back-propagation

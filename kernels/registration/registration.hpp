@@ -1,4 +1,4 @@
-// Relative sensor registration by weighted least squares with a ridge prior (DESIGN §4.9).
+// Relative sensor registration by weighted least squares with a ridge prior (docs/design.md §4.10).
 //
 // Problem. Each sensor s reports positions with a systematic error: x_reported ≈ x + J_s(x)·b_s,
 // linearised about the reported position. With the sensor's site p_s known (/sensors/position),

@@ -1,5 +1,5 @@
 // Track alignment at common times and the independent / correlated sequential statistic
-// (seed 000 §2 Eq. 1–2; Bar-Shalom & Campo 1986; DESIGN §4.3). See the header for the contract.
+// (seed 000 §2 Eq. 1–2; Bar-Shalom & Campo 1986; docs/design.md §4.3). See the header for the contract.
 //
 // Choices made here (the papers leave them open):
 //

@@ -1,5 +1,5 @@
 // Track-to-track association statistics (seed 000 §2 Eq. 1–2; Bar-Shalom & Campo 1986) and the
-// gate that decides which pairs of local tracks may be the same target (DESIGN §4.3).
+// gate that decides which pairs of local tracks may be the same target (docs/design.md §4.3).
 //
 // Alignment. Local tracks of one sensor are resampled at common times. Two ways (AlignmentOptions):
 //  * two-sided (default, for recorded data): a track's report nearest in time to the common time t,
@@ -25,7 +25,7 @@
 //    freedom and the pair is gated in when λ ≤ χ²_p(n·D). That holds for independent errors only.
 //    The errors of two *filtered* tracks are correlated from scan to scan (a Kalman filter's error
 //    has a memory of several scans) and a manoeuvre breaks the motion model for a stretch, so on
-//    recorded data this gate rejects 12–22 % of the true pairs at p = 0.99 (DESIGN §4.3).
+//    recorded data this gate rejects 12–22 % of the true pairs at p = 0.99 (docs/design.md §4.3).
 //  * kCalibrated (default): capped robust accumulation with Satterthwaite moment matching.
 //      - Each scan's term is capped: λ_c = Σ_k min(dᵀC⁻¹d, c), c = χ²_D(cap_probability), so one
 //        manoeuvre or one bad report adds at most c and cannot veto a pair alone.

@@ -1,4 +1,4 @@
-// Chi-square quantiles for the association gate (DESIGN §4.3), for integer and fractional degrees
+// Chi-square quantiles for the association gate (docs/design.md §4.3), for integer and fractional degrees
 // of freedom (the calibrated gate's effective dof n·D/f is fractional).
 #include "kernels/statistics/chi_square.hpp"
 

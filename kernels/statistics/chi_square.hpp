@@ -1,4 +1,4 @@
-// Chi-square quantiles for the association gates (DESIGN §4.3): seed 000's χ²(n·D) gate and the
+// Chi-square quantiles for the association gates (docs/design.md §4.3): seed 000's χ²(n·D) gate and the
 // calibrated gate's f·χ²(n·D/f), whose effective degrees of freedom are fractional.
 //
 // Algorithm: the regularised lower incomplete gamma P(dof/2, x/2) by its series (x < a + 1) or

@@ -1,11 +1,11 @@
-// The dense 3-D assignment cost tensor (seed 000 Eq. 3; DESIGN §4.3). See the header.
+// The dense 3-D assignment cost tensor (seed 000 Eq. 3; docs/design.md §4.3). See the header.
 //
 // Layout of the work: the pair costs are first converted once to float matrices e12 (n1×n2),
 // e23 (n2×n3) and e13 (n1×n3) with the gate applied. Then every (i, j) row of the tensor is
 //   chain:      b[i, j, :] = e12[i, j] + e23[j, :]
 //   all-pairs:  b[i, j, :] = e12[i, j] + e23[j, :] + e13[i, :]
 // a unit-stride loop over k that the compiler vectorises; the inputs are O(n²) and stay in cache,
-// so the kernel is bound by the write bandwidth of the n³ floats (DESIGN §6). One TBB task per
+// so the kernel is bound by the write bandwidth of the n³ floats (docs/design.md §6). One TBB task per
 // block of i-slices; each element is computed independently, so the result is bit-identical for
 // any thread count.
 #include "kernels/statistics/cost_tensor.hpp"
@@ -122,7 +122,7 @@ void build_cost_tensor_into(const PairStatistic& s12, const PairStatistic& s23, 
                      std::to_string(bytes >> 20) + " MiB), over the memory budget of " +
                      std::to_string(options.memory_budget_bytes) +
                      " bytes (CostTensorOptions.memory_budget_bytes); use the sparse form (gated candidate "
-                     "tuples only, DESIGN §4.3) for track sets this large, or raise the budget");
+                     "tuples only, docs/design.md §4.3) for track sets this large, or raise the budget");
 
   double gated = options.gated_pair_cost;
   if (gated == 0.0) gated = std::max(10.0 * max_lambda, 1e3);

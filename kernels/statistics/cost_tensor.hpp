@@ -1,4 +1,4 @@
-// The 3-D assignment cost tensor (seed 000 Eq. 3; DESIGN §4.3).
+// The 3-D assignment cost tensor (seed 000 Eq. 3; docs/design.md §4.3).
 //
 //   chain form (as in the paper):  b_ijk = λ_ij + λ_jk
 //   all-pairs form:                b_ijk = λ_ij + λ_jk + λ_ik

@@ -1,4 +1,4 @@
-// Candidate pairs for the calibrated gate, from a spatial index per common time (DESIGN §4.3,
+// Candidate pairs for the calibrated gate, from a spatial index per common time (docs/design.md §4.3,
 // "Sparse form"; kernels/statistics/association_statistic.hpp, GateMethod::kCalibrated).
 //
 // The calibrated gate accepts a pair only if at least one common scan k has a term

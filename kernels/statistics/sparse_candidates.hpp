@@ -1,4 +1,4 @@
-// Sparse gated candidates for large recorded track sets (DESIGN §4.3, "Sparse form").
+// Sparse gated candidates for large recorded track sets (docs/design.md §4.3, "Sparse form").
 //
 // The dense path computes the sequential statistic λ (seed 000 Eq. 1–2) for all n_a·n_b pairs of
 // two sensors. At n = 10⁴ tracks per sensor that is 10⁸ pairs per sensor pair. Here a uniform grid

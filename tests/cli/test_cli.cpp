@@ -1,5 +1,5 @@
 // The `trackassoc` binary end to end: the main job, exit statuses, one-line errors, and that bad
-// input never leaves an output file behind (DESIGN §2 Errors, §7).
+// input never leaves an output file behind (docs/design.md §2 Errors, §7).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 

@@ -1,6 +1,6 @@
-// Every README command runs as written (issue 16, Done when): each `trackassoc ...` line of
-// README.md's code blocks, and each one-line `trackassoc ...` code span of its text, is checked
-// against the built CLI. CLI11 accepts unknown flags beside --help (it prints the help before it
+// Every documented command runs as written (issue 16, Done when; issue 33: README.md and every
+// docs/*.md): each `trackassoc ...` line of their code blocks, and each one-line `trackassoc ...`
+// code span of their text, is checked against the built CLI. CLI11 accepts unknown flags beside --help (it prints the help before it
 // checks for extras), so exit 0 of `CMD --help` alone proves nothing about the flags: the test
 // reads the command's own --help instead and requires that
 //   - `--help` exits 0 and its usage line names the README's subcommand chain (an unknown
@@ -11,6 +11,8 @@
 // subcommand; brackets of optional flags ([--scenario S]) are dropped; `;` separates commands.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -49,7 +51,9 @@ std::vector<std::vector<std::string>> readme_commands(const std::string& readme)
     }
     if (fenced) {
       const auto hash = line.find(" #");  // a trailing comment
-      lines.push_back(hash == std::string::npos ? line : line.substr(0, hash));
+      std::string command = hash == std::string::npos ? line : line.substr(0, hash);
+      if (command.rfind("$ ", 0) == 0) command.erase(0, 2);  // a shell prompt before the command
+      lines.push_back(command);
     } else {
       static const std::regex span("`(trackassoc [^`]*)`");
       for (std::sregex_iterator it(line.begin(), line.end(), span), end; it != end; ++it)
@@ -112,7 +116,7 @@ class ReadmeCommands : public testing_support::CliFixture {
         path_words += " " + w;
       }
     }
-    SCOPED_TRACE("README: trackassoc" + text);
+    SCOPED_TRACE("documented: trackassoc" + text);
     ++checked_;
     const testing_support::CliResult r = run(path_words + " --help");
     ASSERT_EQ(r.status, 0) << r.err;
@@ -130,26 +134,47 @@ class ReadmeCommands : public testing_support::CliFixture {
   int checked_ = 0;
 };
 
+// README.md, then docs/*.md in name order.
+std::vector<std::string> documentation_files() {
+  std::vector<std::string> files{TRACKASSOC_SOURCE_DIR "/README.md"};
+  std::vector<std::string> docs;
+  for (const auto& e : std::filesystem::directory_iterator(TRACKASSOC_SOURCE_DIR "/docs"))
+    if (e.path().extension() == ".md") docs.push_back(e.path().string());
+  std::sort(docs.begin(), docs.end());
+  files.insert(files.end(), docs.begin(), docs.end());
+  return files;
+}
+
 TEST_F(ReadmeCommands, EveryCommandNamesItsSubcommandAndFlagsAsTheCliHasThem) {
-  const std::string readme = slurp(TRACKASSOC_SOURCE_DIR "/README.md");
-  const auto commands = readme_commands(readme);
-  ASSERT_GE(commands.size(), 15u) << "the README's command lines were not found";
-  for (const auto& c : commands) {
-    // Expand the alternatives of the subcommand words (seed000|seed001|...).
-    std::size_t alt = c.size();
-    for (std::size_t k = 0; k < c.size() && c[k][0] != '-'; ++k)
-      if (c[k].find('|') != std::string::npos) alt = k;
-    if (alt == c.size()) {
-      check(c);
-      continue;
-    }
-    for (const auto& a : split(c[alt], '|')) {
-      std::vector<std::string> one = c;
-      one[alt] = a;
-      check(one);
+  std::size_t total = 0;
+  for (const std::string& file : documentation_files()) {
+    SCOPED_TRACE(file);
+    const auto commands = readme_commands(slurp(file));
+    total += commands.size();
+    for (const auto& c : commands) {
+      // Expand the alternatives of the subcommand words (seed000|seed001|...).
+      std::size_t alt = c.size();
+      for (std::size_t k = 0; k < c.size() && c[k][0] != '-'; ++k)
+        if (c[k].find('|') != std::string::npos) alt = k;
+      if (alt == c.size()) {
+        check(c);
+        continue;
+      }
+      for (const auto& a : split(c[alt], '|')) {
+        std::vector<std::string> one = c;
+        one[alt] = a;
+        check(one);
+      }
     }
   }
-  EXPECT_GE(checked_, 20);
+  ASSERT_GE(total, 30u) << "the command lines of README.md and docs/ were not found";
+  EXPECT_GE(checked_, 40);
+}
+
+// The front door and the reference both hold commands, so neither file can lose them unnoticed.
+TEST_F(ReadmeCommands, TheReadmeAndTheCommandReferenceBothHoldCommands) {
+  EXPECT_GE(readme_commands(slurp(TRACKASSOC_SOURCE_DIR "/README.md")).size(), 6u);
+  EXPECT_GE(readme_commands(slurp(TRACKASSOC_SOURCE_DIR "/docs/commands.md")).size(), 20u);
 }
 
 // The checker itself: it refuses what the CLI does not have.
@@ -164,8 +189,8 @@ TEST_F(ReadmeCommands, TheCheckerRefusesAnUnknownFlagOrSubcommand) {
   EXPECT_EQ(usage_chain(bogus.out), std::vector<std::string>{"experiment"}) << bogus.out;
   EXPECT_EQ(positionals_section(bogus.out).find("seed999"), std::string::npos) << bogus.out;
   const auto parsed =
-      readme_commands("```\ntrackassoc a b --x 1 ; trackassoc c [--y Y]  # note --z\n```\n`trackassoc d`");
-  const std::vector<std::vector<std::string>> want{{"a", "b", "--x", "1"}, {"c", "--y", "Y"}, {"d"}};
+      readme_commands("```\ntrackassoc a b --x 1 ; trackassoc c [--y Y]  # note --z\n$ trackassoc e\nout\n```\n`trackassoc d`");
+  const std::vector<std::vector<std::string>> want{{"a", "b", "--x", "1"}, {"c", "--y", "Y"}, {"e"}, {"d"}};
   EXPECT_EQ(parsed, want);
 }
 

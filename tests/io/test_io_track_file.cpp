@@ -140,7 +140,7 @@ TEST(TrackFileLayout, ReadableWithH5pyAndFollowsTheSchema) {
   EXPECT_NE(std::system(cmd.c_str()), 0);
 }
 
-// DESIGN §7: the same content gives bit-identical files, whenever it is written (object
+// docs/design.md §7: the same content gives bit-identical files, whenever it is written (object
 // modification times are off; HDF5 stores them with 1 s resolution, hence the pause).
 TEST(TrackFileLayout, SameContentGivesBitIdenticalFiles) {
   TempDir dir;

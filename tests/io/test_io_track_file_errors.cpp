@@ -1,4 +1,4 @@
-// Bad input to the HDF5 reader (DESIGN §7): each case gives an InputError whose message names
+// Bad input to the HDF5 reader (docs/design.md §7): each case gives an InputError whose message names
 // the file, the dataset (and row) and what is wrong. Files are damaged with the raw HDF5 C API
 // after a valid write, so they are files our writer would never produce.
 #include <chrono>
@@ -325,7 +325,7 @@ TEST_F(BadTrackFile, MetricsWithoutRates) {
                "/metrics/empty attribute correct_rate: missing");
 }
 
-// DESIGN §7 edge cases that are valid input: a silent sensor (zero tracks), and tracks without
+// docs/design.md §7 edge cases that are valid input: a silent sensor (zero tracks), and tracks without
 // /tracks/truth (a recorded set without ground truth).
 TEST_F(BadTrackFile, SensorWithZeroTracksAndNoTruthColumnAreValid) {
   test::damage_file(path_, [](hid_t f) {

@@ -1,5 +1,5 @@
 // Geometric 3-sensor tracking instances for testing and measuring the 3-D assignment solvers
-// (DESIGN §4.4 "Measure against the strong simple baseline"). Pure: no files, no global state.
+// (docs/design.md §4.4 "Measure against the strong simple baseline"). Pure: no files, no global state.
 //
 // n targets are drawn uniformly in a square of side `side`; each of the three sensors reports a
 // noisy copy of every target position (isotropic Gaussian noise, σ_s per sensor), with its local

@@ -1,4 +1,4 @@
-"""trackassoc: multi-sensor track-to-track association, from Python (DESIGN §9).
+"""trackassoc: multi-sensor track-to-track association, from Python (docs/design.md §9).
 
 The C++ engine of the `trackassoc` command line on numpy arrays, with the same validation and the
 same results, bit for bit:

@@ -1,4 +1,4 @@
-"""A Stone Soup track-to-track associator backed by trackassoc (issue 32, DESIGN §9).
+"""A Stone Soup track-to-track associator backed by trackassoc (issue 32, docs/design.md §9).
 
 A drop-in for Stone Soup's ``OneToOneTrackAssociator`` and ``TrackToTrackCounting``::
 

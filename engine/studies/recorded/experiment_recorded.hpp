@@ -1,4 +1,4 @@
-// Experiment `recorded` (DESIGN §5; issue 20 item 7): the default association on the engine's
+// Experiment `recorded` (docs/design.md §5; issue 20 item 7): the default association on the engine's
 // realistic-recording family, side by side with Stone Soup on the same files.
 //
 // Each scenario of the family (data/scenarios/recorded_*.json: asynchronous radars, targets some

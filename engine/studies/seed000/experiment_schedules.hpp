@@ -1,4 +1,4 @@
-// Experiment `schedules` (issue 5 item 7; DESIGN §4.4 "Schedules. Compare them"): every Hopfield
+// Experiment `schedules` (issue 5 item 7; docs/design.md §4.4 "Schedules. Compare them"): every Hopfield
 // schedule and both energies, against the strong simple baseline (greedy + LAP local search) and
 // the Lagrangian relaxation, on
 //   - seed 000 tracking instances: the embedded `seed000` scenario with n = 10, 20, 50, 100
@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/report/svg_scatter.hpp"  // svg_scatter, used by the studies that include this header
 #include "kernels/assignment/assignment_types.hpp"
 
 namespace trackassoc {
@@ -69,13 +70,5 @@ std::string schedules_summary_table(const std::vector<ScheduleRow>& rows);
 
 // HDF5 (atomic) and SVG (atomic) outputs.
 void write_schedules_outputs(const std::vector<ScheduleRow>& rows, const SchedulesExperimentOptions& options);
-
-// A minimal SVG scatter plot (log x), shared by the Hopfield experiments: one series per label.
-struct SvgSeries {
-  std::string label;
-  std::vector<double> x, y;
-};
-std::string svg_scatter(const std::string& title, const std::string& xlabel, const std::string& ylabel,
-                        const std::vector<SvgSeries>& series, bool log_x);
 
 }  // namespace trackassoc

@@ -136,7 +136,7 @@ std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& o
 }
 
 // The runs of every configuration, flattened in the order one process visits them (target count,
-// then independent before correlated, then run), are sharded over the ranks (DESIGN §8): a run
+// then independent before correlated, then run), are sharded over the ranks (docs/design.md §8): a run
 // draws from (seed, run) only, so the rows do not depend on the ranks.
 std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& o, std::ostream* progress,
                                                distributed::Communicator& comm) {
@@ -233,7 +233,7 @@ std::string seed000_summary_table(const std::vector<Seed000Row>& rows, const See
        << " of " << lr_runs
        << " runs, so no solver can beat it on the objective; a 3-D solver differs from lr only where it "
           "misses the optimum.\n";
-  os << "  - Chain cost (Eq. 3): b_ijk = λ_ij + λ_jk separates into two 2-D assignments (DESIGN §4.3), so "
+  os << "  - Chain cost (Eq. 3): b_ijk = λ_ij + λ_jk separates into two 2-D assignments (docs/design.md §4.3), so "
         "the optimum is two LAPs;\n    the all-pairs form adds λ_ik and is where the 3-D solvers differ.\n";
   for (int32_t targets : o.targets) {
     const auto i = mean.find({targets, false, o.forms.front(), o.solvers.front()});

@@ -19,7 +19,7 @@
 //    statistic with the Bar-Shalom–Campo cross-covariance computed from common process noise
 //    (kernels/statistics/cross_covariance.hpp), C = P_a + P_b − P_ab − P_ba.
 //
-// Cost forms (DESIGN §4.3). With the paper's chain cost b_ijk = λ_ij + λ_jk (Eq. 3) the 3-D problem
+// Cost forms (docs/design.md §4.3). With the paper's chain cost b_ijk = λ_ij + λ_jk (Eq. 3) the 3-D problem
 // separates into two independent 2-D assignments (1–2 and 2–3), so every exact solver gives the
 // same tuples and a 3-D solver can only lose to the two LAPs; with the all-pairs cost
 // λ_ij + λ_jk + λ_ik the 3-D structure is real. Both are run.

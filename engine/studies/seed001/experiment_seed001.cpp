@@ -332,7 +332,7 @@ Seed001Result run_seed001(const Seed001Options& o) {
 }
 
 // The runs of every reading, flattened in the order one process visits them (reading, then run),
-// dealt to the ranks round robin and run in parallel within a rank (DESIGN §8); rank 0 reduces
+// dealt to the ranks round robin and run in parallel within a rank (docs/design.md §8); rank 0 reduces
 // them in run order. Item 0, the example's run, is always rank 0's (owner_of_item).
 std::vector<Seed001Result> run_seed001_readings(const std::vector<Seed001Options>& readings,
                                                 distributed::Communicator& comm) {

@@ -6,7 +6,7 @@
 // 34500 m, −400 m/s], x02 = [−12250 m, 125 m/s, 32500 m, −400 m/s] (paper order x, vx, y, vy);
 // gate 800 m; 100 Monte Carlo runs; FTAA decides with m ≥ 6, D ≥ 6 (§1).
 //
-// Erratum (DESIGN §5): σθ₁ = 1° as printed contradicts the paper's own reliabilities. They follow
+// Erratum (docs/design.md §5): σθ₁ = 1° as printed contradicts the paper's own reliabilities. They follow
 // σr (50/100/50/120 m → 1.0/0.8/1.0/0.6), which makes node 1 as good as node 3 — true only if
 // σθ₁ = σθ₃ = 0.1°. At 1° node 1's cross-range σ is 0.35–1.2 km at 20–70 km, by far the worst
 // sensor, yet the paper gives it the top reliability. The study therefore reads σθ₁ = 0.1°

@@ -235,7 +235,7 @@ Seed002Motion decode_motion(distributed::ByteReader& rd) {
 }  // namespace
 
 // One item per (setting, motion), in the order one process visits them, dealt to the ranks round
-// robin (DESIGN §8). A motion's runs stay together: they are the lanes of one filter bank and its
+// robin (docs/design.md §8). A motion's runs stay together: they are the lanes of one filter bank and its
 // RMSE sums them in run order per scan, so splitting them would need every run's errors per scan
 // on rank 0 to keep the sums bit for bit. The network is trained on every rank alike.
 std::vector<Seed002Motion> run_seed002_motions(const Seed002Options& o,

@@ -100,7 +100,7 @@ struct SceneScore {
 }  // namespace
 
 // The scenes, flattened in the order one process visits them (density, then run), dealt to the
-// ranks round robin (DESIGN §8); a scene draws from (seed, density index, run) alone, and every rank
+// ranks round robin (docs/design.md §8); a scene draws from (seed, density index, run) alone, and every rank
 // holds the same models, so the scores are those of one process. Rank 0 files them by method.
 Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
                                                const Seed003ExperimentOptions& o,

@@ -129,7 +129,7 @@ Seed004Row decode_row(distributed::ByteReader& rd) {
 }  // namespace
 
 // The runs of every scenario, in the order of one process, sharded over the process's ranks
-// (DESIGN §8; engine/distributed/sharding.hpp): a run draws from (seed, run) only.
+// (docs/design.md §8; engine/distributed/sharding.hpp): a run draws from (seed, run) only.
 std::vector<Seed004Row> run_seed004_experiment(const Seed004ExperimentOptions& o, std::ostream* progress) {
   o.validate();
   std::vector<Scenario> scenarios;

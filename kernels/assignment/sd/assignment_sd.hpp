@@ -1,4 +1,4 @@
-// The S-D assignment with a dummy index, for S ≥ 2 sensors (DESIGN §4.3; Deb, Yeddanapudi,
+// The S-D assignment with a dummy index, for S ≥ 2 sensors (docs/design.md §4.3; Deb, Yeddanapudi,
 // Pattipati, Bar-Shalom, "A generalized S-D assignment algorithm for multisensor-multitarget state
 // estimation", IEEE TAES 33(2) 1997; Poore & Rijavec, SIAM J. Optim. 3(3) 1993; MATLAB `assignsd`).
 //
@@ -29,7 +29,7 @@
 
 namespace trackassoc {
 
-// Dense cost over Π (n_s + 1) entries, row-major (first sensor slowest), float (DESIGN §2). The
+// Dense cost over Π (n_s + 1) entries, row-major (first sensor slowest), float (docs/design.md §2). The
 // all-dummy entry is never read. Entries may be +inf (forbidden hypothesis); NaN is rejected by
 // validate().
 struct CostTensorSD {

@@ -1,4 +1,4 @@
-// The sharding layer of DESIGN §8 (engine/distributed/) and the sharded sparse S-D solve
+// The sharding layer of docs/design.md §8 (engine/distributed/) and the sharded sparse S-D solve
 // (engine/pipeline/sparse_sd_sharded.hpp), without MPI: the plain functions, and the collectives
 // over an in-process stand-in for N ranks (each "rank" run in turn, the gather through a shared
 // mailbox). The same code under mpirun is checked byte for byte by tests/mpi/ (MPI build only).

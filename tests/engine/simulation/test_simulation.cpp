@@ -1,4 +1,4 @@
-// Simulation and local tracking (DESIGN §4.1): determinism across thread counts, shuffled local
+// Simulation and local tracking (docs/design.md §4.1): determinism across thread counts, shuffled local
 // track numbers with truth kept, detection / clutter / noise statistics, exact truth kinematics,
 // and consistency of the local tracks.
 #include <gtest/gtest.h>

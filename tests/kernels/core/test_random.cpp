@@ -1,5 +1,5 @@
 // The counter-based random streams (kernels/core/random.hpp) and the stream independence that
-// determinism rests on (DESIGN §2): distinct keys (seed, run, restart, stream) give distinct,
+// determinism rests on (docs/design.md §2): distinct keys (seed, run, restart, stream) give distinct,
 // uncorrelated sequences; one key gives one sequence whatever the thread count and the order in
 // which streams are created or consumed; no two streams of the simulation (engine/
 // simulation_truth.hpp SimulationStream) collide. And the batched Fisher–Yates shuffle of large

@@ -315,7 +315,7 @@ TEST(HopfieldDiscrete, PlannedAsyncEqualsAsyncInTheSameOrder) {
 }
 
 // E·ĉ_max < (A+B+C+D)/2 makes every valid assignment a fixed point of the full-plane network
-// (DESIGN §4.4), under every schedule; above the bound the most expensive one is not.
+// (docs/design.md §4.4), under every schedule; above the bound the most expensive one is not.
 TEST(HopfieldDiscrete, EveryValidAssignmentIsAFixedPointBelowTheBound) {
   CounterRng rng(11, 2);
   const int32_t n = 5;

@@ -139,7 +139,7 @@ INSTANTIATE_TEST_SUITE_P(ScansAndMotion, GateCalibration,
                          });
 
 // The seed 000 setting on the same pairs (forward prediction, no lag term, χ²(n·D) gate): the
-// reason for the calibrated one (DESIGN §4.3). Through manoeuvres it rejects most true pairs.
+// reason for the calibrated one (docs/design.md §4.3). Through manoeuvres it rejects most true pairs.
 TEST(GateCalibration, ChiSquareSumGateRejectsTruePairsOfFilteredTracks) {
   const Acceptance acc = measure(30, true, 4);
   EXPECT_LT(acc.chi2_rate(), 0.5);
