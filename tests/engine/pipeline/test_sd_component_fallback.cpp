@@ -35,13 +35,17 @@ SDComponentView overlapping_view(const std::vector<int32_t>& n) {
     }
   v.link.resize(static_cast<std::size_t>(v.S) * v.S);
   for (int32_t a = 0; a < v.S; ++a)
-    for (int32_t b = a + 1; b < v.S; ++b)
-      v.link[static_cast<std::size_t>(a) * v.S + b].assign(static_cast<std::size_t>(n[a]) * n[b], kNoLink);
+    for (int32_t b = a + 1; b < v.S; ++b) {  // dense link matrices (SDLinkMatrix), NaN = no link
+      SDLinkMatrix& m = v.link[static_cast<std::size_t>(a) * v.S + b];
+      m.rows = n[a];
+      m.cols = n[b];
+      m.dense.assign(static_cast<std::size_t>(n[a]) * n[b], kNoLink);
+    }
   return v;
 }
 
 void set_link(SDComponentView& v, int32_t a, int32_t i, int32_t b, int32_t j, double cost) {
-  v.link[static_cast<std::size_t>(a) * v.S + b][static_cast<std::size_t>(i) * v.tracks[b].size() + j] = cost;
+  v.link[static_cast<std::size_t>(a) * v.S + b].dense[static_cast<std::size_t>(i) * v.tracks[b].size() + j] = cost;
 }
 
 std::set<std::set<int32_t>> groups(const SDComponentResult& r) {
