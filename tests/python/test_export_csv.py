@@ -17,7 +17,9 @@ def results(simulated, tmp_path_factory):
     """recorded_formation associated (default pipeline) and fused (naive), as the CLI writes it."""
     folder = tmp_path_factory.mktemp("export")
     out = folder / "a.h5"
-    run_cli("associate", "--input", simulated("recorded_formation"), "--output", out)
+    # --no-registration: the tests below write their own /registration (test_registration) or need
+    # a file without one (test_refusals)
+    run_cli("associate", "--input", simulated("recorded_formation"), "--output", out, "--no-registration")
     run_cli("fuse", "--input", out, "--rule", "naive")
     return out
 
@@ -111,27 +113,31 @@ def test_fused(results, tmp_path):
     assert got[:, 6:16].tobytes() == np.ascontiguousarray(cov).tobytes()
 
 
-def test_registration(results, tmp_path):
+def test_registration(simulated, tmp_path):
+    # A /registration as associate writes it (registration on), every per-sensor dataset read back
+    # from the CSV exactly: S rows -> one column, S x k -> NAME_0..NAME_k-1; others left out.
     path = tmp_path / "registered.h5"
-    shutil.copyfile(results, path)
-    with h5py.File(path, "a") as h:
-        s = len(h["sensors/id"])
-        g = h.create_group("registration")
-        g.create_dataset("bias_range", data=np.arange(s) * 1.5)
-        g.create_dataset("offset", data=np.arange(2 * s, dtype=np.float64).reshape(s, 2) / 3.0)
-        g.create_dataset("iterations", data=np.arange(s, dtype=np.int32) + 4)
-        g.create_dataset("residuals", data=np.zeros(s + 5))  # not one row per sensor: left out
-        g.attrs["method"] = "test"
-        ids = h["sensors/id"][()]
+    run_cli("associate", "--input", simulated("recorded_formation"), "--output", path)
     header, rows, _ = export(path, tmp_path, "registration")
-    assert sorted(header) == sorted(["sensor", "bias_range", "offset_0", "offset_1", "iterations"])
     assert header[0] == "sensor"
     col = {n: i for i, n in enumerate(header)}
+    with h5py.File(path, "r") as h:
+        ids = h["sensors/id"][()]
+        s = len(ids)
+        per_sensor = {n: d[()] for n, d in h["registration"].items()
+                      if isinstance(d, h5py.Dataset) and d.ndim in (1, 2) and d.shape[0] == s}
     assert [int(r[0]) for r in rows] == ids.tolist()
+    expected = []
+    for n, v in per_sensor.items():
+        expected += [n] if v.ndim == 1 else ["%s_%d" % (n, k) for k in range(v.shape[1])]
+    assert sorted(header[1:]) == sorted(expected)
     for i, r in enumerate(rows):
-        assert float(r[col["bias_range"]]) == i * 1.5
-        assert float(r[col["offset_0"]]) == (2 * i) / 3.0 and float(r[col["offset_1"]]) == (2 * i + 1) / 3.0
-        assert r[col["iterations"]] == str(i + 4)
+        for n, v in per_sensor.items():
+            cells = [v[i]] if v.ndim == 1 else list(v[i])
+            names = [n] if v.ndim == 1 else ["%s_%d" % (n, k) for k in range(v.shape[1])]
+            for name, want in zip(names, cells):
+                got = float(r[col[name]])
+                assert got == float(want) or (np.isnan(got) and np.isnan(want)), (name, i)
 
 
 def test_refusals(results, simulated, tmp_path):
