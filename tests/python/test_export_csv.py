@@ -111,32 +111,42 @@ def test_fused(results, tmp_path):
     assert got[:, 6:16].tobytes() == np.ascontiguousarray(cov).tobytes()
 
 
-def test_registration(results, tmp_path):
+def test_a_malformed_registration_is_refused(results, tmp_path):
+    """A /registration group that is not the schema's (no reference_sensor attribute) is refused by the
+    reader in one line naming the group and what is missing, and nothing is written."""
     path = tmp_path / "registered.h5"
     shutil.copyfile(results, path)
     with h5py.File(path, "a") as h:
         s = len(h["sensors/id"])
+        del h["registration"]  # the default pipeline's own; replaced by a hand-made one
         g = h.create_group("registration")
         g.create_dataset("bias_range", data=np.arange(s) * 1.5)
-        g.create_dataset("offset", data=np.arange(2 * s, dtype=np.float64).reshape(s, 2) / 3.0)
-        g.create_dataset("iterations", data=np.arange(s, dtype=np.int32) + 4)
-        g.create_dataset("residuals", data=np.zeros(s + 5))  # not one row per sensor: left out
-        g.attrs["method"] = "test"
-        ids = h["sensors/id"][()]
-    header, rows, _ = export(path, tmp_path, "registration")
-    assert sorted(header) == sorted(["sensor", "bias_range", "offset_0", "offset_1", "iterations"])
-    assert header[0] == "sensor"
-    col = {n: i for i, n in enumerate(header)}
-    assert [int(r[0]) for r in rows] == ids.tolist()
-    for i, r in enumerate(rows):
-        assert float(r[col["bias_range"]]) == i * 1.5
-        assert float(r[col["offset_0"]]) == (2 * i) / 3.0 and float(r[col["offset_1"]]) == (2 * i + 1) / 3.0
-        assert r[col["iterations"]] == str(i + 4)
+    out = tmp_path / "r.csv"
+    p = run_cli("export", "csv", "--input", path, "--output", out, "--what", "registration", check=False)
+    assert p.returncode == 2 and "/registration/reference_sensor: missing attribute" in p.stderr
+    assert len(p.stderr.strip().splitlines()) == 1 and not out.exists()
+
+
+def test_registration_of_associate(simulated, tmp_path):
+    """recorded_bias: the registration the default pipeline estimated, one row per sensor, each column the
+    /registration dataset of that name (estimates and standard errors), exact numbers."""
+    out = tmp_path / "bias.h5"
+    run_cli("associate", "--input", simulated("recorded_bias"), "--output", out)
+    header, rows, _ = export(out, tmp_path, "registration")
+    with h5py.File(out, "r") as h:
+        g = h["registration"]
+        assert g.attrs["applied"] == 1
+        names = [n for n in g if g[n].ndim == 1 and len(g[n]) == len(h["sensors/id"])]
+        assert set(header) >= set(names) and "range_bias" in header and "azimuth_bias_se" in header
+        col = {n: i for i, n in enumerate(header)}
+        for n in names:
+            got = np.array([float(r[col[n]]) for r in rows])
+            np.testing.assert_array_equal(got, g[n][()].astype(np.float64))
 
 
 def test_refusals(results, simulated, tmp_path):
-    p = run_cli("export", "csv", "--input", results, "--output", tmp_path / "r.csv", "--what", "registration",
-                check=False)
+    p = run_cli("export", "csv", "--input", simulated("recorded_3s"), "--output", tmp_path / "r.csv", "--what",
+                "registration", check=False)
     assert p.returncode == 2 and "no /registration group" in p.stderr
     assert len(p.stderr.strip().splitlines()) == 1 and not (tmp_path / "r.csv").exists()
     p = run_cli("export", "csv", "--input", simulated("recorded_3s"), "--output", tmp_path / "a.csv", "--what",
