@@ -17,9 +17,7 @@ def results(simulated, tmp_path_factory):
     """recorded_formation associated (default pipeline) and fused (naive), as the CLI writes it."""
     folder = tmp_path_factory.mktemp("export")
     out = folder / "a.h5"
-    # --no-registration: the tests below write their own /registration (test_registration) or need
-    # a file without one (test_refusals)
-    run_cli("associate", "--input", simulated("recorded_formation"), "--output", out, "--no-registration")
+    run_cli("associate", "--input", simulated("recorded_formation"), "--output", out)
     run_cli("fuse", "--input", out, "--rule", "naive")
     return out
 
@@ -113,36 +111,42 @@ def test_fused(results, tmp_path):
     assert got[:, 6:16].tobytes() == np.ascontiguousarray(cov).tobytes()
 
 
-def test_registration(simulated, tmp_path):
-    # A /registration as associate writes it (registration on), every per-sensor dataset read back
-    # from the CSV exactly: S rows -> one column, S x k -> NAME_0..NAME_k-1; others left out.
+def test_a_malformed_registration_is_refused(results, tmp_path):
+    """A /registration group that is not the schema's (no reference_sensor attribute) is refused by the
+    reader in one line naming the group and what is missing, and nothing is written."""
     path = tmp_path / "registered.h5"
-    run_cli("associate", "--input", simulated("recorded_formation"), "--output", path)
-    header, rows, _ = export(path, tmp_path, "registration")
-    assert header[0] == "sensor"
-    col = {n: i for i, n in enumerate(header)}
-    with h5py.File(path, "r") as h:
-        ids = h["sensors/id"][()]
-        s = len(ids)
-        per_sensor = {n: d[()] for n, d in h["registration"].items()
-                      if isinstance(d, h5py.Dataset) and d.ndim in (1, 2) and d.shape[0] == s}
-    assert [int(r[0]) for r in rows] == ids.tolist()
-    expected = []
-    for n, v in per_sensor.items():
-        expected += [n] if v.ndim == 1 else ["%s_%d" % (n, k) for k in range(v.shape[1])]
-    assert sorted(header[1:]) == sorted(expected)
-    for i, r in enumerate(rows):
-        for n, v in per_sensor.items():
-            cells = [v[i]] if v.ndim == 1 else list(v[i])
-            names = [n] if v.ndim == 1 else ["%s_%d" % (n, k) for k in range(v.shape[1])]
-            for name, want in zip(names, cells):
-                got = float(r[col[name]])
-                assert got == float(want) or (np.isnan(got) and np.isnan(want)), (name, i)
+    shutil.copyfile(results, path)
+    with h5py.File(path, "a") as h:
+        s = len(h["sensors/id"])
+        del h["registration"]  # the default pipeline's own; replaced by a hand-made one
+        g = h.create_group("registration")
+        g.create_dataset("bias_range", data=np.arange(s) * 1.5)
+    out = tmp_path / "r.csv"
+    p = run_cli("export", "csv", "--input", path, "--output", out, "--what", "registration", check=False)
+    assert p.returncode == 2 and "/registration/reference_sensor: missing attribute" in p.stderr
+    assert len(p.stderr.strip().splitlines()) == 1 and not out.exists()
+
+
+def test_registration_of_associate(simulated, tmp_path):
+    """recorded_bias: the registration the default pipeline estimated, one row per sensor, each column the
+    /registration dataset of that name (estimates and standard errors), exact numbers."""
+    out = tmp_path / "bias.h5"
+    run_cli("associate", "--input", simulated("recorded_bias"), "--output", out)
+    header, rows, _ = export(out, tmp_path, "registration")
+    with h5py.File(out, "r") as h:
+        g = h["registration"]
+        assert g.attrs["applied"] == 1
+        names = [n for n in g if g[n].ndim == 1 and len(g[n]) == len(h["sensors/id"])]
+        assert set(header) >= set(names) and "range_bias" in header and "azimuth_bias_se" in header
+        col = {n: i for i, n in enumerate(header)}
+        for n in names:
+            got = np.array([float(r[col[n]]) for r in rows])
+            np.testing.assert_array_equal(got, g[n][()].astype(np.float64))
 
 
 def test_refusals(results, simulated, tmp_path):
-    p = run_cli("export", "csv", "--input", results, "--output", tmp_path / "r.csv", "--what", "registration",
-                check=False)
+    p = run_cli("export", "csv", "--input", simulated("recorded_3s"), "--output", tmp_path / "r.csv", "--what",
+                "registration", check=False)
     assert p.returncode == 2 and "no /registration group" in p.stderr
     assert len(p.stderr.strip().splitlines()) == 1 and not (tmp_path / "r.csv").exists()
     p = run_cli("export", "csv", "--input", simulated("recorded_3s"), "--output", tmp_path / "a.csv", "--what",

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <tuple>
 #include <vector>
 
 #include "engine/pipeline/sparse_sd_components.hpp"
@@ -14,8 +15,6 @@
 
 namespace trackassoc {
 namespace {
-
-constexpr double kNoLink = std::numeric_limits<double>::quiet_NaN();
 
 // A component of S sensors with n[s] tracks each, all valid over the same common times (so every pair
 // overlaps and an ungated pair forbids a tuple); node ids are s·100 + i.
@@ -35,17 +34,20 @@ SDComponentView overlapping_view(const std::vector<int32_t>& n) {
     }
   v.link.resize(static_cast<std::size_t>(v.S) * v.S);
   for (int32_t a = 0; a < v.S; ++a)
-    for (int32_t b = a + 1; b < v.S; ++b) {  // dense link matrices (SDLinkMatrix), NaN = no link
-      SDLinkMatrix& m = v.link[static_cast<std::size_t>(a) * v.S + b];
-      m.rows = n[a];
-      m.cols = n[b];
-      m.dense.assign(static_cast<std::size_t>(n[a]) * n[b], kNoLink);
-    }
+    for (int32_t b = a + 1; b < v.S; ++b)
+      v.link[static_cast<std::size_t>(a) * v.S + b] = SDLinkMatrix::from_entries(n[a], n[b], {});
   return v;
 }
 
+// Gates in the pair (sensor a, track i)–(sensor b, track j), a < b, with link cost `cost`.
 void set_link(SDComponentView& v, int32_t a, int32_t i, int32_t b, int32_t j, double cost) {
-  v.link[static_cast<std::size_t>(a) * v.S + b].dense[static_cast<std::size_t>(i) * v.tracks[b].size() + j] = cost;
+  SDLinkMatrix& m = v.link[static_cast<std::size_t>(a) * v.S + b];
+  std::vector<std::tuple<int32_t, int32_t, double>> entries;
+  m.for_each([&](int32_t r, int32_t c, double x) {
+    if (r != i || c != j) entries.emplace_back(r, c, x);
+  });
+  entries.emplace_back(i, j, cost);
+  m = SDLinkMatrix::from_entries(m.rows, m.cols, std::move(entries));
 }
 
 std::set<std::set<int32_t>> groups(const SDComponentResult& r) {
