@@ -12,7 +12,7 @@
 //    is the LP relaxation CBC solves first (CLP; bench/cbc_3d.py reports its bound and time from
 //    the same CBC runs): the Lagrangian dual of the axial 3-AP bounds at most the LP bound.
 // The MILP peer (CBC) runs on the same files: bench/cbc_3d.py (--set decomplib; --ours merges this
-// binary's JSON output into one table, README "exact branch and bound").
+// binary's JSON output into one table, docs/performance.md, "exact branch and bound").
 //
 // Tracking cost tensor (tracking_cost_tensor): n targets at uniform positions in a 1000 m square;
 // sensor s ∈ {1, 2, 3} reports every target with Gaussian position noise σ_s = 10, 15, 20 m

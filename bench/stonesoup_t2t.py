@@ -2,7 +2,7 @@
 """Peer comparison: Stone Soup's track-to-track associators on a trackassoc schema-v1 track file.
 
 What it does
-    Reads /sensors and /tracks of a schema-v1 HDF5 file (README "Output: HDF5 schema v1",
+    Reads /sensors and /tracks of a schema-v1 HDF5 file (docs/schema.md,
     docs/design.md §3), builds one Stone Soup Track of GaussianStates per (sensor, local track), and runs
       one2one   OneToOneTrackAssociator(measure=MeanMeasure(StateSequenceMeasure(
                     SquaredMahalanobis())), association_threshold=T, maximise_measure=False):

@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
   trackassoc::cli::register_export(app);
   trackassoc::cli::register_experiment(app);
   trackassoc::cli::register_autoferry(app);  // after import and experiment: adds to both
-  // More than one rank: the commands that shard (README "More than one machine") and no other, so
+  // More than one rank: the commands that shard (docs/mpi.md) and no other, so
   // no command writes one file from several ranks.
   std::string sharded = "`associate`";
   for (const auto& s : trackassoc::cli::sharded_studies()) sharded += ", `experiment " + s + "`";

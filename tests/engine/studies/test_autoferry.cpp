@@ -260,7 +260,7 @@ TEST_F(CliFixture, ImportAndExperimentAutoferryOnTheDataSet) {
   EXPECT_EQ(unlabelled, e.total.unlabelled_predicted);
   // Its time (issue 17: the whole set in <= 10 s) is bench/bench_recorded.cpp's BM_AutoferryExperiment.
   // Issue 17's goal over the 9 scenarios, scored against the GNSS truth: radar–lidar pair
-  // precision >= 95 % and recall >= 90 % (measured: 95.7 % and 100 %, README "Real data").
+  // precision >= 95 % and recall >= 90 % (measured: 95.7 % and 100 %, docs/autoferry.md).
   EXPECT_GE(e.total.precision(), 0.95);
   EXPECT_GE(e.total.recall(), 0.90);
   for (const int n : kAutoferryScenarios) {
