@@ -92,7 +92,12 @@ BENCHMARK(BM_DefaultAssociation)
     ->UseRealTime()
     ->Iterations(2);
 BENCHMARK(BM_DenseSDAssociation)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
-BENCHMARK(BM_AutoferryExperiment)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_AutoferryExperiment)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
 
 }  // namespace
 }  // namespace trackassoc::bench

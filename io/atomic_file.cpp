@@ -14,7 +14,8 @@ namespace trackassoc {
 
 bool same_file(const std::string& a, const std::string& b) {
   namespace fs = std::filesystem;
-  struct stat sa {}, sb {};
+  struct stat sa {
+  }, sb{};
   const bool a_exists = ::stat(a.c_str(), &sa) == 0, b_exists = ::stat(b.c_str(), &sb) == 0;
   if (a_exists && b_exists) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
   if (a_exists != b_exists) return false;  // one exists and the other does not

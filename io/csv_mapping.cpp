@@ -82,7 +82,8 @@ CsvColumnMapping parse_csv_mapping(const std::string& json_text, const std::stri
       for (const auto& [component, column] : value.items())
         m.sigma[component] = column_name(column, source, "sigma." + component);
     } else {
-      throw InputError(source + ": mapping key " + quoted_preview(key, 80) + " is unknown (known: " + known_keys() + ")");
+      throw InputError(source + ": mapping key " + quoted_preview(key, 80) +
+                       " is unknown (known: " + known_keys() + ")");
     }
   }
   return m;

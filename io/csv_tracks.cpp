@@ -48,7 +48,8 @@ bool read_csv_line(std::istream& in, std::string& line, std::size_t line_number,
     line.append(chunk, newline ? n - 1 : n);
     if (line.size() > kMaxCsvLineBytes)
       throw InputError(source + ": line " + std::to_string(line_number) + " is longer than " +
-                       std::to_string(kMaxCsvLineBytes) + " bytes (the cap of a CSV line); is it a CSV file?");
+                       std::to_string(kMaxCsvLineBytes) +
+                       " bytes (the cap of a CSV line); is it a CSV file?");
     if (!more) break;
     in.clear();
   }
@@ -116,7 +117,8 @@ class Errors {
   Errors(std::string source, std::size_t limit) : source_(std::move(source)), limit_(limit) {}
   void add(std::size_t line, const std::string& column, const std::string& what) {
     if (++count_ <= limit_)
-      messages_.push_back("line " + std::to_string(line) + ", column '" + printable_text(column) + "': " + what);
+      messages_.push_back("line " + std::to_string(line) + ", column '" + printable_text(column) +
+                          "': " + what);
   }
   void add_line(std::size_t line, const std::string& what) {
     if (++count_ <= limit_) messages_.push_back("line " + std::to_string(line) + ": " + what);
@@ -220,8 +222,8 @@ std::vector<int> bind_header(std::istream& in, const std::string& source, char d
     for (std::size_t c = 0; c < columns; ++c)
       if (names[c] == slots[s].column) {
         if (found >= 0)
-          throw InputError(source + ": line 1: column '" + printable_text(slots[s].column) + "' (mapping key '" +
-                           slots[s].key + "') appears twice in the header");
+          throw InputError(source + ": line 1: column '" + printable_text(slots[s].column) +
+                           "' (mapping key '" + slots[s].key + "') appears twice in the header");
         found = static_cast<int>(c);
       }
     if (found < 0) {

@@ -457,8 +457,8 @@ void require_format(const Group& root, const std::string& path, const std::strin
                      "')");
   const std::string found = root.read_string_attribute("format");
   if (found != format)
-    throw InputError(path + ": / attribute format is " + quoted_preview(found, 80) + ", expected '" + format + "' (a " + what +
-                     ")");
+    throw InputError(path + ": / attribute format is " + quoted_preview(found, 80) + ", expected '" + format +
+                     "' (a " + what + ")");
   const int64_t v = root.read_integer_attribute("schema_version");
   if (v != version)
     throw InputError(path + ": schema_version " + std::to_string(v) + " is not supported (expected " +

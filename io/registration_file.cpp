@@ -33,9 +33,11 @@ void check_registration(const std::string& file, const RegistrationRecord& r, st
       throw InputError(file + ": /registration/" + what + ": expected " + expected + ", found " +
                        std::to_string(found));
   };
-  need(r.sensor.size() == S, "sensor", std::to_string(S) + " entries (one per /sensors entry)", r.sensor.size());
+  need(r.sensor.size() == S, "sensor", std::to_string(S) + " entries (one per /sensors entry)",
+       r.sensor.size());
   need(k > 0, "parameters", "at least one parameter", k);
-  need(r.estimate.size() == S * k, r.parameters.front(), std::to_string(S * k) + " values", r.estimate.size());
+  need(r.estimate.size() == S * k, r.parameters.front(), std::to_string(S * k) + " values",
+       r.estimate.size());
   need(r.standard_error.size() == S * k, r.parameters.front() + "_se", std::to_string(S * k) + " values",
        r.standard_error.size());
   need(r.covariance_scale.size() == S * S, "covariance_scale", std::to_string(S * S) + " values",
@@ -80,7 +82,8 @@ std::optional<RegistrationRecord> read_registration(const h5::Group& root, const
   if (g.has_attribute("rounds")) r.rounds = static_cast<int32_t>(g.read_integer_attribute("rounds"));
   if (g.has_attribute("wald")) r.wald = g.read_double_attribute("wald");
   if (g.has_attribute("wald_dof")) r.wald_dof = static_cast<int32_t>(g.read_integer_attribute("wald_dof"));
-  if (g.has_attribute("observations")) r.observations = static_cast<int64_t>(g.read_unsigned_attribute("observations"));
+  if (g.has_attribute("observations"))
+    r.observations = static_cast<int64_t>(g.read_unsigned_attribute("observations"));
   if (g.has_attribute("association")) r.association = g.read_string_attribute("association");
   if (g.has_attribute("options")) r.options_json = g.read_string_attribute("options");
   std::vector<hsize_t> dims;

@@ -34,9 +34,9 @@ class Group;
 }
 
 struct RegistrationRecord {
-  int32_t reference_sensor = 0;         // a /sensors id
-  std::vector<int32_t> sensor;          // S, /sensors order
-  std::vector<std::string> parameters;  // k names
+  int32_t reference_sensor = 0;                  // a /sensors id
+  std::vector<int32_t> sensor;                   // S, /sensors order
+  std::vector<std::string> parameters;           // k names
   std::vector<double> estimate, standard_error;  // S×k, sensor-major
   std::vector<double> covariance_scale;          // S×S
   std::vector<int64_t> pair_observations;        // S×S

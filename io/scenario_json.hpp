@@ -28,7 +28,8 @@
 //       "p_detect": 1.0,                    in (0, 1]
 //       "clutter_rate": 0.0,                expected false plots per scan, >= 0
 //       "reliability": 1.0,                 > 0, seed 001 weight ω
-//       "errors": {                         optional: what the sensor adds beyond noise (docs/design.md §4.10;
+//       "errors": {                         optional: what the sensor adds beyond noise (docs/design.md
+//       §4.10;
 //                                           engine/simulation/simulation_errors.hpp has the model)
 //         "range_bias": 0.0,                m, added to every measured range
 //         "azimuth_bias_deg": 0.0,          added to every measured bearing

@@ -391,8 +391,8 @@ TrackFile read_track_file_in_process(const std::string& path) {
   tv::check_sensors(path, file.sensors);
   file.tracks = read_tracks(root, path);
   if (root.open_group("tracks").has("source_track"))
-    file.source_track = h5::read_int32_column(root.open_group("tracks"), "source_track", file.tracks.size(),
-                                              "/tracks/t");
+    file.source_track =
+        h5::read_int32_column(root.open_group("tracks"), "source_track", file.tracks.size(), "/tracks/t");
   tv::check_tracks(path, file.tracks, file.sensors);
   file.recording = read_recording_info(root);
   tv::check_recording_info(path, file.recording);
@@ -485,7 +485,8 @@ void write_track_file_with(const std::string& path, const TrackFile& file,
           throw InputError(path + ": /tracks/source_track: expected " + std::to_string(file.tracks.size()) +
                            " rows (one per /tracks row), found " + std::to_string(file.source_track.size()));
         const hsize_t n = file.tracks.size();
-        root.open_group("tracks").write_dataset("source_track", std::span<const int32_t>(file.source_track), {n});
+        root.open_group("tracks").write_dataset("source_track", std::span<const int32_t>(file.source_track),
+                                                {n});
       }
       if (model_prob) {
         const Group tracks = root.open_group("tracks");

@@ -105,9 +105,9 @@ struct TrackFile {
   TrackTable tracks;
   std::vector<AssociationRecord> associations;
   std::vector<MetricsRecord> metrics;
-  std::vector<SystemTrackRecord> system_tracks;  // /system_tracks/<name>/ (io/system_tracks_file.hpp)
-  std::vector<FusedTrackRecord> fused;           // /fused/<name>/ (io/fused_tracks_file.hpp)
-  RecordingInfo recording;                       // optional /tracks and /sensors attributes
+  std::vector<SystemTrackRecord> system_tracks;    // /system_tracks/<name>/ (io/system_tracks_file.hpp)
+  std::vector<FusedTrackRecord> fused;             // /fused/<name>/ (io/fused_tracks_file.hpp)
+  RecordingInfo recording;                         // optional /tracks and /sensors attributes
   std::optional<RegistrationRecord> registration;  // /registration (io/registration_file.hpp)
   // /tracks/source_track (optional, one per row): the track number as recorded, where a split
   // (engine/pipeline/track_hygiene.hpp) gave the row's track a new number; empty = none.

@@ -84,7 +84,8 @@ void check_object_name(const std::string& file, const std::string& group, const 
   bool ok = !name.empty() && name != "." && name.find('/') == std::string::npos;
   for (unsigned char c : name) ok = ok && c >= 32 && c != 127;
   if (!ok)
-    fail(file, group, "invalid name " + quoted_preview(name, 80) + " (non-empty, no '/', no control characters, not '.')");
+    fail(file, group,
+         "invalid name " + quoted_preview(name, 80) + " (non-empty, no '/', no control characters, not '.')");
 }
 
 std::string positive_definite_failure(const double* packed, int d) {

@@ -36,8 +36,9 @@ void print_registration(const RegistrationRecord& r) {
   std::cout << "registration (reference sensor " << r.reference_sensor << ", Wald " << fmt(r.wald, "%.1f")
             << " on " << r.wald_dof << " dof, " << r.observations << " observations): "
             << (r.applied ? "applied, " + std::to_string(r.rounds) + " associations"
-                          : r.rounds == 1 ? std::string("not significant, reports left as recorded")
-                                          : std::string("the corrected reports linked no more tracks, reports left as recorded"))
+                : r.rounds == 1
+                    ? std::string("not significant, reports left as recorded")
+                    : std::string("the corrected reports linked no more tracks, reports left as recorded"))
             << "\n";
   for (std::size_t s = 0; s < r.sensor.size(); ++s) {
     if (r.sensor[s] == r.reference_sensor) continue;
@@ -47,7 +48,9 @@ void print_registration(const RegistrationRecord& r) {
       const double f = angle ? 180.0 / 3.14159265358979323846 : 1.0;
       std::cout << (j ? ", " : " ") << r.parameters[j] << " " << fmt(f * r.estimate[s * k + j], "%.4g")
                 << " +- " << fmt(f * r.standard_error[s * k + j], "%.2g")
-                << (angle ? " deg" : r.parameters[j] == "clock_offset" ? " s" : " m");
+                << (angle                               ? " deg"
+                    : r.parameters[j] == "clock_offset" ? " s"
+                                                        : " m");
     }
     std::cout << "\n";
   }
@@ -109,7 +112,8 @@ void print_outcome(const AssociationOutcome& out, const TrackFile& file, const s
   }
   if (!s.empty_sensors.empty()) {
     std::cout << "sensors with no local tracks:";
-    for (std::size_t i = 0; i < s.empty_sensors.size(); ++i) std::cout << (i ? ", " : " ") << s.empty_sensors[i];
+    for (std::size_t i = 0; i < s.empty_sensors.size(); ++i)
+      std::cout << (i ? ", " : " ") << s.empty_sensors[i];
     std::cout << " (associated around; their column of the tuples is -1)\n";
   }
   if (out.registration) print_registration(*out.registration);
@@ -154,9 +158,10 @@ void register_associate(CLI::App& app) {
                   "--solver siamese: model file from train-siamese (default: the shipped seed 003 model)")
       ->capture_default_str();
   cmd->add_option("--name", args->name, "Group name under /associations (default: the solver name)");
-  cmd->add_option("--plots", args->plot,
-                  "Draw the recording as a map with the association: tracks coloured by output target, "
-                  "unassociated in grey, wrong links in red and missed targets dashed where truth exists (PNG)");
+  cmd->add_option(
+      "--plots", args->plot,
+      "Draw the recording as a map with the association: tracks coloured by output target, "
+      "unassociated in grey, wrong links in red and missed targets dashed where truth exists (PNG)");
   cmd->add_flag("--svg", args->svg, "--plots as SVG (a .png name becomes .svg)");
   cmd->add_flag("--sd", args->sd,
                 "S-D formulation with a dummy per sensor (any number of sensors; solvers " +
@@ -169,17 +174,19 @@ void register_associate(CLI::App& app) {
       "Default pipeline: keep the assignment's tuples, one track per sensor per target (default: the "
       "segments of a target that follow each other on one sensor, after a track break, join it; "
       "engine/pipeline/track_segments.hpp)");
-  cmd->add_flag("--no-registration", args->no_registration,
-                "Default pipeline: associate the reports as recorded (default: joint registration and "
-                "association: fit each sensor's range, azimuth (elevation), site and clock errors relative to a "
-                "reference sensor on the linked tuples, and when they are significant correct the reports and "
-                "re-associate until the tuples stop changing; the estimate goes to /registration and is "
-                "printed; engine/pipeline/registration_stage.hpp)");
-  cmd->add_flag("--no-split", args->no_split,
-                "Default pipeline: keep every recorded (sensor, track) key as one track (default: a key that "
-                "pauses and then jumps where its own motion cannot take it, a recycled track number, is split "
-                "into new local tracks before the association; /tracks/source_track keeps the recorded number; "
-                "engine/pipeline/track_hygiene.hpp)");
+  cmd->add_flag(
+      "--no-registration", args->no_registration,
+      "Default pipeline: associate the reports as recorded (default: joint registration and "
+      "association: fit each sensor's range, azimuth (elevation), site and clock errors relative to a "
+      "reference sensor on the linked tuples, and when they are significant correct the reports and "
+      "re-associate until the tuples stop changing; the estimate goes to /registration and is "
+      "printed; engine/pipeline/registration_stage.hpp)");
+  cmd->add_flag(
+      "--no-split", args->no_split,
+      "Default pipeline: keep every recorded (sensor, track) key as one track (default: a key that "
+      "pauses and then jumps where its own motion cannot take it, a recycled track number, is split "
+      "into new local tracks before the association; /tracks/source_track keeps the recorded number; "
+      "engine/pipeline/track_hygiene.hpp)");
   cmd->add_option("--segment-overlap", args->segment_overlap,
                   "Default pipeline: the report overlap [s] two segments of one sensor may have and still "
                   "follow each other (a coasting old track and its successor)")
@@ -253,7 +260,8 @@ void register_associate(CLI::App& app) {
       std::cout << "split " << split.cuts << " recycled track number(s) into new local tracks (" << split.gaps
                 << " gaps tested; /tracks/source_track keeps the recorded numbers)\n";
     if (!args->plot.empty()) {
-      report::write_association_map(args->plot, report::picture_format(args->plot, args->svg), file, outcome.record,
+      report::write_association_map(args->plot, report::picture_format(args->plot, args->svg), file,
+                                    outcome.record,
                                     "trackassoc associate: '" + outcome.record.name + "' on " + args->input);
       std::cout << "drew " << args->plot << "\n";
     }

@@ -69,9 +69,10 @@ void register_evaluate(CLI::App& app) {
     // The reader fills a missing /tracks/truth with -1 (it is optional); then it is missing, not
     // "-1 everywhere". The file read cleanly above, so it is opened here in process.
     if (!h5::File::open_read_only(args->input).root().open_group("tracks").has("truth"))
-      throw InputError(args->input +
-                       ": /tracks/truth: missing dataset; evaluate scores each association against the target "
-                       "id of every /tracks row (int32, -1 = a false track)");
+      throw InputError(
+          args->input +
+          ": /tracks/truth: missing dataset; evaluate scores each association against the target "
+          "id of every /tracks row (int32, -1 = a false track)");
     if (file.associations.empty())
       throw InputError(args->input + ": /associations is empty; run `trackassoc associate` first");
     TextTable table({"association", "targets", "correct", "false", "missed", "false tuples"});

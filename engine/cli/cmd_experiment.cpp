@@ -7,8 +7,8 @@
 namespace trackassoc::cli {
 
 void register_experiment(CLI::App& app) {
-  CLI::App* cmd =
-      app.add_subcommand("experiment", "Reproduce a paper's study or run an engine study (docs/design.md §5)");
+  CLI::App* cmd = app.add_subcommand("experiment",
+                                     "Reproduce a paper's study or run an engine study (docs/design.md §5)");
   cmd->require_subcommand(1);
   register_experiment_seed000(*cmd);
   register_experiment_seed001(*cmd);

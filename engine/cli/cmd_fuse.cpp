@@ -55,7 +55,8 @@ void register_fuse(CLI::App& app) {
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
     check_output_paths({{args->output, "--output"}});  // "" or the input: in place, by design
-    if (!args->name.empty()) track_validation::check_object_name("--name", "/fused", args->name);  // before any work
+    if (!args->name.empty())
+      track_validation::check_object_name("--name", "/fused", args->name);  // before any work
     TrackFuserOptions o = args->o;
     o.rule = parse_enum<FusionRule>(args->rule, "--rule");
     o.ci.criterion = parse_enum<CiCriterion>(args->criterion, "--ci-criterion");

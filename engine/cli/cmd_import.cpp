@@ -61,7 +61,8 @@ void register_import(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    check_output_paths({{args->output, "--output"}}, {{args->input, "--input"}, {args->mapping, "--mapping"}});
+    check_output_paths({{args->output, "--output"}},
+                       {{args->input, "--input"}, {args->mapping, "--mapping"}});
     check_input_file(args->input, "--input", "CSV track file");
     CsvImportOptions o;
     if (!args->mapping.empty()) o.columns = read_csv_mapping_file(args->mapping, "--mapping");
@@ -121,15 +122,17 @@ void register_export(CLI::App& app) {
                        {{args->input, "--input"}});
     const char delimiter = parse_csv_delimiter(args->delimiter, "--delimiter");
     const TrackFile file = read_track_file(args->input);
-    const ResultTableSummary s = write_result_table(args->output, args->input, file, what, args->name, delimiter);
+    const ResultTableSummary s =
+        write_result_table(args->output, args->input, file, what, args->name, delimiter);
     if (!args->mapping_output.empty())
       write_atomically(args->mapping_output, [&](const std::string& tmp) {
         std::ofstream(tmp) << csv_mapping_to_json(csv_export_mapping(file.tracks.layout)) << "\n";
       });
-    std::cout << "exported " << s.rows << (what == ResultTable::kTracks ? " reports" : " rows") << " of " << s.group
-              << " -> " << args->output
+    std::cout << "exported " << s.rows << (what == ResultTable::kTracks ? " reports" : " rows") << " of "
+              << s.group << " -> " << args->output
               << (args->mapping_output.empty() ? "" : " (mapping " + args->mapping_output + ")") << "\n";
-    for (const std::string& skipped : s.skipped) std::cout << "  not exported: /registration/" << skipped << "\n";
+    for (const std::string& skipped : s.skipped)
+      std::cout << "  not exported: /registration/" << skipped << "\n";
   });
 }
 

@@ -100,8 +100,9 @@ void register_run(CLI::App& app) {
     job.seed = args->common.seed;
     check_run_solver_options(job.solver_options, job.solvers);
     merge_run_hopfield_flags(args->hopfield, job.solvers, job.solver_options);
-    check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}, {summary, "--plots"}},  // before any work
-                       {{job.scenario, "--scenario"}});
+    check_output_paths(
+        {{args->output, "--output"}, {args->plot, "--plots"}, {summary, "--plots"}},  // before any work
+        {{job.scenario, "--scenario"}});
     const RunJobResult result = run_main_job(job, [&](const RunJobResult& scene) {
       std::cout << "scenario '" << scene.scenario_name << "', seed " << job.seed << ": "
                 << scene.file.sensors.size() << " sensors, " << scene.local_tracks << " local tracks\n\n";
@@ -123,8 +124,8 @@ void register_run(CLI::App& app) {
            "time: statistics + cost + solve; default*: the default pipeline (every sensor, sparse S-D); the "
            "other rows: the 3-D solvers on the three-sensor tensor (seed 000 Eq. 3, all-pairs)\n";
     write_run_outputs(result, args->output, args->plot, args->svg);
-    std::cout << "\nwrote " << args->output << (args->plot.empty() ? "" : ", " + args->plot + " and " + summary)
-              << "\n";
+    std::cout << "\nwrote " << args->output
+              << (args->plot.empty() ? "" : ", " + args->plot + " and " + summary) << "\n";
   });
 }
 

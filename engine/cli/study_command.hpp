@@ -93,7 +93,7 @@ template <class Options, class Run>
 void finish_experiment_command(CLI::App* cmd, const std::shared_ptr<ExperimentArgs<Options>>& args,
                                const std::string& plot_help, Run run, bool sharded = false) {
   std::function<std::vector<InputPath>()> inputs;
-  if constexpr (requires(Options& o) { o.scenarios; })  // the scenario JSON files of --scenarios
+  if constexpr (requires(Options & o) { o.scenarios; })  // the scenario JSON files of --scenarios
     inputs = [args] { return scenario_inputs(args->o.scenarios); };
   finish_study_command(cmd, args,
                        {.output = &args->o.output,
@@ -101,14 +101,14 @@ void finish_experiment_command(CLI::App* cmd, const std::shared_ptr<ExperimentAr
                         .plots_help = plot_help,
                         .sharded = sharded,
                         .inputs = inputs},
-      [args, run](std::ostream* progress, bool plots) {
-        if (!plots) args->o.plot.clear();
-        args->o.seed = args->common.seed;
-        run(args->o, progress);
-        if (!distributed::world().root()) return;
-        std::cout << "\nwrote " << args->o.output << (args->o.plot.empty() ? "" : " and " + args->o.plot)
-                  << "\n";
-      });
+                       [args, run](std::ostream* progress, bool plots) {
+                         if (!plots) args->o.plot.clear();
+                         args->o.seed = args->common.seed;
+                         run(args->o, progress);
+                         if (!distributed::world().root()) return;
+                         std::cout << "\nwrote " << args->o.output
+                                   << (args->o.plot.empty() ? "" : " and " + args->o.plot) << "\n";
+                       });
 }
 
 }  // namespace trackassoc::cli

@@ -12,9 +12,9 @@
 #include "io/scenario_json.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
+#include "kernels/core/stopwatch.hpp"
 #include "kernels/statistics/association_statistic.hpp"
 #include "kernels/statistics/cross_covariance.hpp"
-#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 namespace {

@@ -86,8 +86,8 @@ struct AssociationSummary {
   int32_t components = 0;             // sparse paths: connected components
   int64_t candidate_pairs = 0, gated_pairs = 0, fallback_components = 0;  // sparse S-D
   std::vector<int32_t> empty_sensors;  // sparse S-D: chosen sensors without local tracks (column -1)
-  int64_t local_tracks = 0, packets = 0, system_tracks = 0;               // fusion centre
-  int64_t points = 0, points_outside_domain = 0;                          // siamese
+  int64_t local_tracks = 0, packets = 0, system_tracks = 0;  // fusion centre
+  int64_t points = 0, points_outside_domain = 0;             // siamese
 };
 
 struct AssociationOutcome {

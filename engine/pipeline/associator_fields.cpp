@@ -19,8 +19,8 @@ OptionField<O> choice_field(std::string key, A member, std::string first, T firs
   return {key, first + " | " + second, std::move(doc),
           [=](O& o, const nlohmann::json& v, const std::string& k, const std::string& solver) {
             if (!v.is_string() || (v != first && v != second))
-              throw InputError("solver '" + solver + "' options: '" + k + "' must be \"" + first + "\" or \"" +
-                               second + "\", got " + v.dump().substr(0, 80));
+              throw InputError("solver '" + solver + "' options: '" + k + "' must be \"" + first +
+                               "\" or \"" + second + "\", got " + v.dump().substr(0, 80));
             at(o) = v == first ? first_value : second_value;
           },
           [=](const O& o) -> std::optional<nlohmann::json> { return at(o) == first_value ? first : second; }};
@@ -56,8 +56,9 @@ const OptionFields<AssociatorOptions>& associator_option_fields() {
        }},
       field("common_period", path(&O::pipeline, &PipelineOptions::common_period), ">= 0",
             "step of the common time grid [s] (0 = the largest scan period)"),
-      field("process_noise", path(&O::pipeline, &PipelineOptions::alignment, &AlignmentOptions::process_noise),
-            ">= 0", "white-noise acceleration sigma [m/s^2] moving tracks to common times"),
+      field("process_noise",
+            path(&O::pipeline, &PipelineOptions::alignment, &AlignmentOptions::process_noise), ">= 0",
+            "white-noise acceleration sigma [m/s^2] moving tracks to common times"),
       field("extent_sigma", path(&O::pipeline, &PipelineOptions::alignment, &AlignmentOptions::extent_sigma),
             ">= 0", "reference-point sigma [m] per axis added to every pair's position covariance"),
       choice_field("common_span", path(&O::pipeline, &PipelineOptions::span_union), "union", true,
@@ -66,7 +67,8 @@ const OptionFields<AssociatorOptions>& associator_option_fields() {
                    "per-scan", LinkCost::kPerScan, "per-independent-scan", LinkCost::kPerIndependentScan,
                    "S-D link cost of a gated-in pair (--link-cost)"),
       field("common_process_noise",
-            path(&O::pipeline, &PipelineOptions::statistic, &StatisticOptions::common_process_noise), "[0, 1000]",
+            path(&O::pipeline, &PipelineOptions::statistic, &StatisticOptions::common_process_noise),
+            "[0, 1000]",
             "Bar-Shalom-Campo cross-covariance from common process noise SIGMA [m/s^2] (0 = off)"),
       {"options", "a JSON object", "the solver's own options (--options; `trackassoc solvers NAME`)",
        [](O& o, const nlohmann::json& v, const std::string& key, const std::string& solver) {
@@ -81,8 +83,9 @@ const OptionFields<AssociatorOptions>& associator_option_fields() {
             "default pipeline: join the segments of a target on one sensor (False = --no-segments)"),
       field("segment_overlap", path(&O::segments, &SegmentOptions::max_overlap_s), ">= 0",
             "default pipeline: report overlap [s] of two segments that still follow each other"),
-      field("duplicate_sensors", path(&O::segments, &SegmentOptions::duplicate_sensors), "sensor ids",
-            "default pipeline: sensors whose tracker may hold two tracks of one target (--duplicate-sensors)"),
+      field(
+          "duplicate_sensors", path(&O::segments, &SegmentOptions::duplicate_sensors), "sensor ids",
+          "default pipeline: sensors whose tracker may hold two tracks of one target (--duplicate-sensors)"),
       field("registration", path(&O::registration, &RegistrationStageOptions::enabled), "",
             "default pipeline: joint registration and association (False = --no-registration)"),
       field("split", path(&O::split, &TrackSplitOptions::enabled), "",
@@ -99,9 +102,9 @@ AssociatorOptions read_associator_options(const nlohmann::json& fields, const st
     o.validate();
     // The dense tensor's budget, as `associate`'s (engine/cli/association_flags.hpp): the smaller
     // of CostTensorOptions' 2 GiB and the process's memory budget.
-    o.pipeline.cost.memory_budget_bytes = memory_budget_was_set()
-                                              ? memory_budget_bytes()
-                                              : std::min(o.pipeline.cost.memory_budget_bytes, memory_budget_bytes());
+    o.pipeline.cost.memory_budget_bytes =
+        memory_budget_was_set() ? memory_budget_bytes()
+                                : std::min(o.pipeline.cost.memory_budget_bytes, memory_budget_bytes());
     o.pipeline.validate();
     return o;
   } catch (const InputError& e) {

@@ -64,7 +64,8 @@ class SparseSDAssociator final : public TrackAssociator {
       out.registration = reg.to_record(file, out.record.name, ro);
       // The stages are the last association's; the registration is everything else.
       const double total = seconds_since(t0);
-      out.summary.stages.push_back({"registration", std::max(0.0, total - out.record.runtime_s), peak_rss_mib(), 0.0});
+      out.summary.stages.push_back(
+          {"registration", std::max(0.0, total - out.record.runtime_s), peak_rss_mib(), 0.0});
       out.record.runtime_s = total;
     }
     AssociationSummary& s = out.summary;

@@ -15,9 +15,7 @@
 #include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 void PipelineOptions::validate() const {
   require(sensors.empty() || sensors.size() >= 2, "PipelineOptions.sensors",

@@ -40,7 +40,8 @@ struct PipelineOptions {
   bool span_union = true;
   AlignmentOptions alignment;
   StatisticOptions statistic;
-  CostTensorOptions cost{CostForm::kAllPairs};  // every pair: all the evidence (chain separates, docs/design.md §4.3)
+  CostTensorOptions cost{
+      CostForm::kAllPairs};  // every pair: all the evidence (chain separates, docs/design.md §4.3)
   void validate() const;
   nlohmann::json to_json() const;
   // The settings of the paper studies (seed 000, seed 004, the Hopfield schedules and the sparse

@@ -48,7 +48,8 @@ std::vector<std::array<double, 3>> sites_of(const TrackFile& file) {
 
 void RegistrationStageOptions::validate() const {
   require(max_rounds >= 2 && max_rounds <= 20, "registration.max_rounds", "expected 2..20");
-  require(significance > 0.0 && significance < 1.0, "registration.significance", "expected a level in (0, 1)");
+  require(significance > 0.0 && significance < 1.0, "registration.significance",
+          "expected a level in (0, 1)");
   require(max_observations_per_pair >= 1, "registration.max_observations_per_pair", "expected >= 1");
   require(std::isfinite(max_gap) && max_gap > 0.0, "registration.max_gap", "expected a finite gap > 0 [s]");
   require(std::isfinite(pattern_radius) && pattern_radius > 0.0, "registration.pattern_radius",
@@ -105,9 +106,9 @@ namespace {
 
 // Appends the observations of one pair of local tracks, rows A (column a) and B (column b) in
 // time order: A's reports inside B's span, B interpolated between its reports around each.
-void add_pair_observations(RegistrationObservations& obs, const TrackTable& t, const std::vector<std::size_t>& A,
-                           const std::vector<std::size_t>& B, int32_t a, int32_t b, int64_t cluster,
-                           const RegistrationStageOptions& o) {
+void add_pair_observations(RegistrationObservations& obs, const TrackTable& t,
+                           const std::vector<std::size_t>& A, const std::vector<std::size_t>& B, int32_t a,
+                           int32_t b, int64_t cluster, const RegistrationStageOptions& o) {
   const int D = t.dim(), d = D / 2;
   auto position_cov = [&](std::size_t r, Eigen::MatrixXd& P) {
     for (int i = 0; i < d; ++i)
@@ -117,7 +118,8 @@ void add_pair_observations(RegistrationObservations& obs, const TrackTable& t, c
   Eigen::MatrixXd Pa(d, d), Pb0(d, d), Pb1(d, d);
   std::vector<std::pair<std::size_t, std::size_t>> usable;  // (A row, B index of the report at or after)
   for (std::size_t r : A) {
-    auto it = std::lower_bound(B.begin(), B.end(), t.t[r], [&](std::size_t x, double v) { return t.t[x] < v; });
+    auto it =
+        std::lower_bound(B.begin(), B.end(), t.t[r], [&](std::size_t x, double v) { return t.t[x] < v; });
     if (it == B.end()) continue;
     if (t.t[*it] != t.t[r] && (it == B.begin() || t.t[*it] - t.t[*std::prev(it)] > o.max_gap)) continue;
     usable.push_back({r, static_cast<std::size_t>(it - B.begin())});
@@ -136,16 +138,20 @@ void add_pair_observations(RegistrationObservations& obs, const TrackTable& t, c
     position_cov(r, Pa);
     position_cov(r0, Pb0);
     position_cov(r1, Pb1);
-    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C = Pa + (1 - w) * Pb0 + w * Pb1;
-    obs.add(a, b, cluster, xa, xb, va, vb, std::span<const double>(C.data(), static_cast<std::size_t>(d * d)));
+    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> C =
+        Pa + (1 - w) * Pb0 + w * Pb1;
+    obs.add(a, b, cluster, xa, xb, va, vb,
+            std::span<const double>(C.data(), static_cast<std::size_t>(d * d)));
   }
 }
 
 // A track's position at time tm (linear between its reports; tm inside its span) and the trace
 // of its position covariance there.
-void position_at(const TrackTable& t, const std::vector<std::size_t>& rows, double tm, double* x, double& var) {
+void position_at(const TrackTable& t, const std::vector<std::size_t>& rows, double tm, double* x,
+                 double& var) {
   const int D = t.dim(), d = D / 2;
-  auto it = std::lower_bound(rows.begin(), rows.end(), tm, [&](std::size_t r, double v) { return t.t[r] < v; });
+  auto it =
+      std::lower_bound(rows.begin(), rows.end(), tm, [&](std::size_t r, double v) { return t.t[r] < v; });
   if (it == rows.end()) it = std::prev(it);
   const std::size_t r1 = *it, r0 = it == rows.begin() ? r1 : *std::prev(it);
   const double w = t.t[r1] == t.t[r0] ? 1.0 : std::clamp((tm - t.t[r0]) / (t.t[r1] - t.t[r0]), 0.0, 1.0);
@@ -208,7 +214,8 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
     for (const auto* kv : keys[s]) {
       std::array<double, 6> b{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
       for (std::size_t r : kv->second)
-        for (int i = 0; i < d; ++i) b[i] = std::min(b[i], t.state[i][r]), b[3 + i] = std::max(b[3 + i], t.state[i][r]);
+        for (int i = 0; i < d; ++i)
+          b[i] = std::min(b[i], t.state[i][r]), b[3 + i] = std::max(b[3 + i], t.state[i][r]);
       box[s].push_back(b);
     }
   auto near = [&](const std::array<double, 6>& a, const std::array<double, 6>& b) {
@@ -232,13 +239,15 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
       for (std::size_t ib = 0; ib < keys[s].size(); ++ib) {
         if (!near(box[reference][ia], box[s][ib])) continue;
         const auto& B = keys[s][ib]->second;
-        const double lo = std::max(t.t[A.front()], t.t[B.front()]), hi = std::min(t.t[A.back()], t.t[B.back()]);
+        const double lo = std::max(t.t[A.front()], t.t[B.front()]),
+                     hi = std::min(t.t[A.back()], t.t[B.back()]);
         if (lo > hi) continue;
         double xa[3] = {0, 0, 0}, xb[3] = {0, 0, 0}, va = 0, vb = 0;
         position_at(t, A, 0.5 * (lo + hi), xa, va);
         position_at(t, B, 0.5 * (lo + hi), xb, vb);
         Candidate c{ia, ib, {xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]}, std::sqrt((va + vb) / d)};
-        if (std::sqrt(c.diff[0] * c.diff[0] + c.diff[1] * c.diff[1] + c.diff[2] * c.diff[2]) <= o.pattern_radius)
+        if (std::sqrt(c.diff[0] * c.diff[0] + c.diff[1] * c.diff[1] + c.diff[2] * c.diff[2]) <=
+            o.pattern_radius)
           cand.push_back(c);
       }
     }
@@ -249,7 +258,8 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
     std::nth_element(sig.begin(), sig.begin() + sig.size() / 2, sig.end());
     const double rho = 3.0 * sig[sig.size() / 2];
     auto dist = [&](const double* u, const double* v) {
-      return std::sqrt((u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]) + (u[2] - v[2]) * (u[2] - v[2]));
+      return std::sqrt((u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]) +
+                       (u[2] - v[2]) * (u[2] - v[2]));
     };
     std::size_t best = 0, best_count = 0;
     for (std::size_t i = 0; i < cand.size(); ++i) {
@@ -281,20 +291,23 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
   return obs;
 }
 
-TrackFile registered_file(const TrackFile& file, const RegistrationEstimate& e, const RegistrationOptions& model) {
+TrackFile registered_file(const TrackFile& file, const RegistrationEstimate& e,
+                          const RegistrationOptions& model) {
   TrackFile out = file;
   TrackTable& t = out.tracks;
   const int D = t.dim(), d = D / 2, K = e.k();
   std::map<int32_t, int32_t> column;
   for (std::size_t s = 0; s < file.sensors.size(); ++s) column[file.sensors[s].id] = static_cast<int32_t>(s);
   const auto azimuth = std::find(e.parameter_names.begin(), e.parameter_names.end(), "azimuth_bias");
-  const int az = azimuth == e.parameter_names.end() ? -1 : static_cast<int>(azimuth - e.parameter_names.begin());
+  const int az =
+      azimuth == e.parameter_names.end() ? -1 : static_cast<int>(azimuth - e.parameter_names.begin());
   std::vector<double> x(d), v(d);
   for (std::size_t r = 0; r < t.size(); ++r) {
     const int32_t s = column.at(t.sensor[r]);
     if (s == e.reference) continue;
     const Eigen::Map<const Eigen::VectorXd> b(e.bias.data() + static_cast<std::size_t>(s) * K, K);
-    const Eigen::Map<const Eigen::MatrixXd> V(e.covariance.data() + static_cast<std::size_t>(s) * K * K, K, K);
+    const Eigen::Map<const Eigen::MatrixXd> V(e.covariance.data() + static_cast<std::size_t>(s) * K * K, K,
+                                              K);
     for (int i = 0; i < d; ++i) x[i] = t.state[i][r], v[i] = t.state[d + i][r];
     const Eigen::MatrixXd J = registration_jacobian(model, d, file.sensors[s].position, x, v);
     const Eigen::VectorXd dx = J * b;
@@ -311,9 +324,9 @@ TrackFile registered_file(const TrackFile& file, const RegistrationEstimate& e, 
   return out;
 }
 
-AssociationRecord associate_with_registration(const TrackFile& file, const RegistrationStageOptions& o,
-                                              const std::function<AssociationRecord(const TrackFile&)>& associate,
-                                              RegistrationStageResult* result) {
+AssociationRecord associate_with_registration(
+    const TrackFile& file, const RegistrationStageOptions& o,
+    const std::function<AssociationRecord(const TrackFile&)>& associate, RegistrationStageResult* result) {
   o.validate();
   RegistrationStageResult local;
   RegistrationStageResult& res = result ? *result : local;
@@ -327,7 +340,8 @@ AssociationRecord associate_with_registration(const TrackFile& file, const Regis
   RegistrationOptions m = model;
   {
     std::map<int32_t, std::set<int32_t>> tracks_of;
-    for (std::size_t r = 0; r < file.tracks.size(); ++r) tracks_of[file.tracks.sensor[r]].insert(file.tracks.track[r]);
+    for (std::size_t r = 0; r < file.tracks.size(); ++r)
+      tracks_of[file.tracks.sensor[r]].insert(file.tracks.track[r]);
     std::size_t most = 0;
     for (std::size_t s = 0; s < file.sensors.size(); ++s) {
       const std::size_t n = tracks_of[file.sensors[s].id].size();

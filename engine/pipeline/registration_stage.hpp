@@ -54,7 +54,7 @@ struct RegistrationStageOptions {
   double max_gap = 30.0;                   // s, the largest gap between a partner's reports bridged
   double pattern_radius = 5000.0;          // m, the largest registration offset the pattern step looks for
   int32_t pattern_tracks = 300;            // reference tracks the pattern step samples (evenly)
-  int32_t reference_sensor = -1;           // a /sensors id held at zero; −1: the sensor in the most observations
+  int32_t reference_sensor = -1;  // a /sensors id held at zero; −1: the sensor in the most observations
   RegistrationOptions fit{.clock_offset = true};  // model and priors (fit.reference_sensor is set here)
   void validate() const;
   nlohmann::json to_json() const;
@@ -89,8 +89,8 @@ TrackFile registered_file(const TrackFile& file, const RegistrationEstimate& est
                           const RegistrationOptions& model);
 
 // Steps 1-5 with `associate` as the association; `result` (optional) gets the registration.
-AssociationRecord associate_with_registration(const TrackFile& file, const RegistrationStageOptions& options,
-                                              const std::function<AssociationRecord(const TrackFile&)>& associate,
-                                              RegistrationStageResult* result);
+AssociationRecord associate_with_registration(
+    const TrackFile& file, const RegistrationStageOptions& options,
+    const std::function<AssociationRecord(const TrackFile&)>& associate, RegistrationStageResult* result);
 
 }  // namespace trackassoc

@@ -68,14 +68,16 @@ const R& pick(const std::vector<R>& records, const std::string& name, const std:
     names += (names.empty() ? "" : ", ") + r.name;
     if (r.name == name) found = &r;
   }
-  if (records.empty()) throw InputError(path + ": /" + group + " is empty; run `trackassoc " + producer + "` first");
+  if (records.empty())
+    throw InputError(path + ": /" + group + " is empty; run `trackassoc " + producer + "` first");
   if (name.empty()) {
     if (records.size() != 1)
-      throw InputError("--name: " + path + " has " + std::to_string(records.size()) + " /" + group + " groups (" +
-                       names + "); name one");
+      throw InputError("--name: " + path + " has " + std::to_string(records.size()) + " /" + group +
+                       " groups (" + names + "); name one");
     return records.front();
   }
-  if (!found) throw InputError("--name: no /" + group + "/" + name + " in " + path + " (it has " + names + ")");
+  if (!found)
+    throw InputError("--name: no /" + group + "/" + name + " in " + path + " (it has " + names + ")");
   return *found;
 }
 
@@ -174,7 +176,8 @@ std::vector<std::string> state_names(StateLayout layout) {
   return names;
 }
 
-ResultTableSummary fused_table(const std::string& path, const TrackFile& file, const std::string& name, CsvRows& csv) {
+ResultTableSummary fused_table(const std::string& path, const TrackFile& file, const std::string& name,
+                               CsvRows& csv) {
   const FusedTrackRecord& f = pick(file.fused, name, path, "fused", "fuse");
   const std::vector<std::string> names = state_names(f.layout);
   std::vector<std::string> header{"tuple", "t"};
@@ -200,7 +203,8 @@ ResultTableSummary registration_table(const std::string& path, const TrackFile& 
   const File f = File::open_read_only(path);
   const Group root = f.root();
   if (!root.has("registration") || !root.is_group("registration"))
-    throw InputError(path + ": no /registration group (the file's sensors were not registered); nothing to export");
+    throw InputError(path +
+                     ": no /registration group (the file's sensors were not registered); nothing to export");
   const Group reg = root.open_group("registration");
   const std::size_t s = file.sensors.size();
   ResultTableSummary summary{s, "/registration", {}};
@@ -246,23 +250,28 @@ ResultTableSummary registration_table(const std::string& path, const TrackFile& 
 ResultTableSummary export_result_table(const std::string& path, const TrackFile& file, ResultTable what,
                                        const std::string& name, std::ostream& out, char delimiter) {
   if (!name.empty() && (what == ResultTable::kTracks || what == ResultTable::kRegistration))
-    throw InputError("--name: picks an /associations or /fused group; --what " + std::string(enum_name(what)) +
-                     " has none");
+    throw InputError("--name: picks an /associations or /fused group; --what " +
+                     std::string(enum_name(what)) + " has none");
   CsvRows csv(out, delimiter);
   switch (what) {
     case ResultTable::kTracks:
       export_csv_tracks(file, out, delimiter);
       return {file.tracks.size(), "/tracks", {}};
-    case ResultTable::kAssociations: return associations_table(path, file, name, csv);
-    case ResultTable::kUnassociated: return unassociated_table(path, file, name, csv);
-    case ResultTable::kFused: return fused_table(path, file, name, csv);
-    case ResultTable::kRegistration: return registration_table(path, file, csv);
+    case ResultTable::kAssociations:
+      return associations_table(path, file, name, csv);
+    case ResultTable::kUnassociated:
+      return unassociated_table(path, file, name, csv);
+    case ResultTable::kFused:
+      return fused_table(path, file, name, csv);
+    case ResultTable::kRegistration:
+      return registration_table(path, file, csv);
   }
   return {};
 }
 
-ResultTableSummary write_result_table(const std::string& output, const std::string& path, const TrackFile& file,
-                                      ResultTable what, const std::string& name, char delimiter) {
+ResultTableSummary write_result_table(const std::string& output, const std::string& path,
+                                      const TrackFile& file, ResultTable what, const std::string& name,
+                                      char delimiter) {
   ResultTableSummary s;
   write_atomically(output, [&](const std::string& tmp) {
     std::ofstream out(tmp, std::ios::binary);

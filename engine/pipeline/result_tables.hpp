@@ -48,7 +48,8 @@ ResultTableSummary export_result_table(const std::string& path, const TrackFile&
                                        const std::string& name, std::ostream& out, char delimiter = ',');
 
 // The same, written to `output` atomically.
-ResultTableSummary write_result_table(const std::string& output, const std::string& path, const TrackFile& file,
-                                      ResultTable what, const std::string& name, char delimiter = ',');
+ResultTableSummary write_result_table(const std::string& output, const std::string& path,
+                                      const TrackFile& file, ResultTable what, const std::string& name,
+                                      char delimiter = ',');
 
 }  // namespace trackassoc

@@ -153,21 +153,24 @@ RunJobResult run_main_job(const RunJobOptions& o, const std::function<void(const
 
 std::string run_summary_path(const std::string& plot) { return report::sibling_picture(plot, "-summary"); }
 
-void write_run_outputs(const RunJobResult& job, const std::string& output, const std::string& plot, bool svg) {
+void write_run_outputs(const RunJobResult& job, const std::string& output, const std::string& plot,
+                       bool svg) {
   write_track_file(output, job.file);
   if (plot.empty() || job.rows.empty()) return;
   const report::ImageFormat format = report::picture_format(plot, svg);
   const std::string& first = job.rows.front().name;
   for (const AssociationRecord& rec : job.file.associations)
     if (rec.name == first)
-      report::write_association_map(plot, format, job.file, rec,
-                                    "trackassoc run, " + job.scenario_name + ": the '" + first + "' association");
+      report::write_association_map(
+          plot, format, job.file, rec,
+          "trackassoc run, " + job.scenario_name + ": the '" + first + "' association");
   std::vector<report::SummaryRow> rows;
   for (const RunRow& r : job.rows)
     rows.push_back({r.name, r.metrics.correct_rate, r.metrics.false_rate, r.metrics.missed_rate, r.runtime_s,
                     r.name == "default"});
   report::write_summary_chart(run_summary_path(plot), format,
-                              "trackassoc run, " + job.scenario_name + ": every solver on the same recording", rows);
+                              "trackassoc run, " + job.scenario_name + ": every solver on the same recording",
+                              rows);
 }
 
 }  // namespace trackassoc

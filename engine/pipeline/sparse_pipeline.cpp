@@ -14,8 +14,8 @@
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
 #include "kernels/core/stopwatch.hpp"
+#include "kernels/statistics/scan_candidates.hpp"
 
 namespace trackassoc {
 namespace {

@@ -7,9 +7,9 @@
 #include <limits>
 
 #include "engine/pipeline/pipeline_sd.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/assignment/lap_sparse.hpp"
-#include "io/memory_budget.hpp"
 #include "kernels/core/parallel.hpp"
 
 namespace trackassoc {
@@ -134,7 +134,8 @@ SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool a
       for (std::size_t g = lo; g < hi; ++g) {
         partners.clear();
         for (const auto& [sm, i] : groups[g])  // members are of sensors before s
-          v.link[static_cast<std::size_t>(sm) * v.S + s].for_row(i, [&](int32_t j, double) { partners.push_back(j); });
+          v.link[static_cast<std::size_t>(sm) * v.S + s].for_row(
+              i, [&](int32_t j, double) { partners.push_back(j); });
         std::sort(partners.begin(), partners.end());
         partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
         const double before = sd_tuple_cost(v, groups[g], all_pairs);
@@ -161,8 +162,9 @@ SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool a
       // sparse solver (or a side is small): that matrix is counted against the memory budget.
       if (solve_gated_lap_is_dense(ng, nt, col.size()))
         require_memory(bytes_of(static_cast<double>(ng) * nt, sizeof(double)) + v.link_bytes(),
-                       "the merging fallback's dense LAP of a component (" + std::to_string(ng) + " groups x " +
-                           std::to_string(nt) + " tracks, " + std::to_string(col.size()) + " gated)");
+                       "the merging fallback's dense LAP of a component (" + std::to_string(ng) +
+                           " groups x " + std::to_string(nt) + " tracks, " + std::to_string(col.size()) +
+                           " gated)");
       col_to_row = solve_gated_lap(SparseCostView{ng, nt, row_start, col, val}, lo).col_to_row;
     }
     for (int32_t j = 0; j < nt; ++j) {
@@ -204,7 +206,8 @@ SDLinkMatrix SDLinkMatrix::from_entries(int32_t rows, int32_t cols,
     return m;
   }
   auto key = [](const auto& x) { return std::make_pair(std::get<0>(x), std::get<1>(x)); };
-  std::stable_sort(entries.begin(), entries.end(), [&](const auto& x, const auto& y) { return key(x) < key(y); });
+  std::stable_sort(entries.begin(), entries.end(),
+                   [&](const auto& x, const auto& y) { return key(x) < key(y); });
   m.row_start.assign(static_cast<std::size_t>(rows) + 1, 0);
   for (std::size_t e = 0; e < entries.size(); ++e) {
     const auto& [i, j, c] = entries[e];
@@ -385,11 +388,13 @@ SDComponentView decode_sd_component_view(distributed::ByteReader& r) {
     const auto index = r.get_vector<uint64_t>();
     const auto cost = r.get_vector<double>();
     if (size != static_cast<uint64_t>(rows) * static_cast<uint64_t>(cols) || index.size() != cost.size())
-      throw std::runtime_error("decode_sd_component_view: link matrix " + std::to_string(slot) + " has the wrong size");
+      throw std::runtime_error("decode_sd_component_view: link matrix " + std::to_string(slot) +
+                               " has the wrong size");
     entries.clear();
     for (std::size_t k = 0; k < index.size(); ++k) {
       if (index[k] >= size) throw std::runtime_error("decode_sd_component_view: link index out of range");
-      entries.emplace_back(static_cast<int32_t>(index[k] / cols), static_cast<int32_t>(index[k] % cols), cost[k]);
+      entries.emplace_back(static_cast<int32_t>(index[k] / cols), static_cast<int32_t>(index[k] % cols),
+                           cost[k]);
     }
     v.link[slot] = SDLinkMatrix::from_entries(rows, cols, entries);
   }

@@ -18,8 +18,8 @@
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/random.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
 #include "kernels/core/stopwatch.hpp"
+#include "kernels/statistics/scan_candidates.hpp"
 
 namespace trackassoc {
 namespace {
@@ -192,9 +192,9 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       // The statistic of every candidate (SparsePairStatistic: 21 bytes each) before the gate, and
       // the link cost and both nodes of each (at most every) gated one.
       const auto n = static_cast<double>(cand[slot].size());
-      require_held(bytes + n * (21.0 + 8.0 + 8.0),
-                   "the statistics of the " + std::to_string(cand[slot].size()) + " candidate pairs of " +
-                       pair_name(a, b));
+      require_held(bytes + n * (21.0 + 8.0 + 8.0), "the statistics of the " +
+                                                       std::to_string(cand[slot].size()) +
+                                                       " candidate pairs of " + pair_name(a, b));
       p.pairs[slot] =
           keep_in_gate(sparse_sequential_statistic(p.aligned[a], p.aligned[b], cand[slot], po.statistic));
       CandidatePairs().a.swap(cand[slot].a);

@@ -68,11 +68,11 @@ struct SparseSDOptions {
 };
 
 struct SparseSDProblem {
-  std::vector<int32_t> sensor_ids;      // the chosen sensors with local tracks, in their order
+  std::vector<int32_t> sensor_ids;        // the chosen sensors with local tracks, in their order
   std::vector<int32_t> empty_sensor_ids;  // the chosen sensors without any (their tuple column is -1)
-  std::vector<int32_t> sensor_columns;  // their columns in /sensors order
-  int32_t file_sensors = 0;             // columns of the output tuples
-  int32_t dim = 4;                      // state dimension D
+  std::vector<int32_t> sensor_columns;    // their columns in /sensors order
+  int32_t file_sensors = 0;               // columns of the output tuples
+  int32_t dim = 4;                        // state dimension D
   std::vector<double> common_times;
   std::vector<AlignedTracks> aligned;
   std::vector<int32_t> first_valid, last_valid;  // per node: first and last valid common time (−1: never)

@@ -26,10 +26,10 @@ namespace trackassoc {
 
 struct TrackSplitOptions {
   bool enabled = true;
-  double min_gap_s = 10.0;          // s, shorter pauses are never cut
-  double gap_factor = 3.0;          // a gap is longer than this many median report intervals
-  double manoeuvre_sigma = 3.0;     // σ_a [m/s²] of the allowance
-  double gate_probability = 0.9999; // of χ²_D
+  double min_gap_s = 10.0;           // s, shorter pauses are never cut
+  double gap_factor = 3.0;           // a gap is longer than this many median report intervals
+  double manoeuvre_sigma = 3.0;      // σ_a [m/s²] of the allowance
+  double gate_probability = 0.9999;  // of χ²_D
   void validate() const;
 };
 

@@ -17,7 +17,9 @@ namespace trackassoc::python {
 
 namespace {
 
-std::string dataset(const std::string& group, const std::string& column) { return "/" + group + "/" + column; }
+std::string dataset(const std::string& group, const std::string& column) {
+  return "/" + group + "/" + column;
+}
 
 [[noreturn]] void fail(const std::string& group, const std::string& column, const std::string& what) {
   throw InputError(std::string(kArraysSource) + ": " + dataset(group, column) + ": " + what);
@@ -56,8 +58,8 @@ void check_shape(const py::array& a, const std::string& group, const char* key, 
     fail(group, key, "expected " + expected + ", found shape " + shape_text(a));
 }
 
-std::vector<int32_t> int32_column(const py::array& a, const std::string& group, const char* key, py::ssize_t rows,
-                                  const std::string& expected) {
+std::vector<int32_t> int32_column(const py::array& a, const std::string& group, const char* key,
+                                  py::ssize_t rows, const std::string& expected) {
   check_shape(a, group, key, rows, expected);
   const char kind = dtype_kind(a);
   if (kind != 'i' && kind != 'u')
@@ -75,16 +77,16 @@ std::vector<int32_t> int32_column(const py::array& a, const std::string& group, 
 }
 
 py::array_t<double, py::array::c_style | py::array::forcecast> float_array(const py::array& a,
-                                                                          const std::string& group,
-                                                                          const char* key) {
+                                                                           const std::string& group,
+                                                                           const char* key) {
   const char kind = dtype_kind(a);
   if (kind != 'f' && kind != 'i' && kind != 'u')
     fail(group, key, "expected real numbers, found dtype " + py::str(a.dtype()).cast<std::string>());
   return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
 }
 
-std::vector<double> float_column(const py::array& a, const std::string& group, const char* key, py::ssize_t rows,
-                                 const std::string& expected) {
+std::vector<double> float_column(const py::array& a, const std::string& group, const char* key,
+                                 py::ssize_t rows, const std::string& expected) {
   check_shape(a, group, key, rows, expected);
   const auto v = float_array(a, group, key);
   return std::vector<double>(v.data(), v.data() + v.size());
@@ -94,15 +96,16 @@ std::vector<double> float_column(const py::array& a, const std::string& group, c
 
 TrackTable tracks_from_python(const py::handle& tracks) {
   if (!py::isinstance<py::dict>(tracks) && !py::isinstance<py::array>(tracks))
-    throw InputError(std::string(kArraysSource) +
-                     ": expected a dict of arrays or a structured numpy array (sensor, track, t, state, cov), "
-                     "found " +
-                     py::str(py::type::of(tracks).attr("__name__")).cast<std::string>());
+    throw InputError(
+        std::string(kArraysSource) +
+        ": expected a dict of arrays or a structured numpy array (sensor, track, t, state, cov), "
+        "found " +
+        py::str(py::type::of(tracks).attr("__name__")).cast<std::string>());
   const std::string g = "tracks";
   const py::array state = column(tracks, g, "state");
   if (state.ndim() != 2 || (state.shape(1) != 4 && state.shape(1) != 6))
-    fail(g, "state", "expected N x 4 (x, y, vx, vy) or N x 6 (x, y, z, vx, vy, vz), found shape " +
-                         shape_text(state));
+    fail(g, "state",
+         "expected N x 4 (x, y, vx, vy) or N x 6 (x, y, z, vx, vy, vz), found shape " + shape_text(state));
   const py::ssize_t n = state.shape(0);
   const int d = static_cast<int>(state.shape(1));
   const std::string rows = "N = " + std::to_string(n) + " values (as /tracks/state's rows)";
@@ -122,9 +125,10 @@ TrackTable tracks_from_python(const py::handle& tracks) {
   const bool packed = cov.ndim() == 2 && cov.shape(0) == n && cov.shape(1) == p;
   const bool full = cov.ndim() == 3 && cov.shape(0) == n && cov.shape(1) == d && cov.shape(2) == d;
   if (!packed && !full)
-    fail(g, "cov", "expected N x " + std::to_string(p) + " (the packed upper triangle, row-major) or N x " +
-                       std::to_string(d) + " x " + std::to_string(d) + " with N = " + std::to_string(n) +
-                       ", found shape " + shape_text(cov));
+    fail(g, "cov",
+         "expected N x " + std::to_string(p) + " (the packed upper triangle, row-major) or N x " +
+             std::to_string(d) + " x " + std::to_string(d) + " with N = " + std::to_string(n) +
+             ", found shape " + shape_text(cov));
   const auto c = float_array(cov, g, "cov");
   for (auto& col : t.cov) col.resize(static_cast<std::size_t>(n));
   for (py::ssize_t r = 0; r < n; ++r) {
@@ -135,8 +139,9 @@ TrackTable tracks_from_python(const py::handle& tracks) {
         // A full matrix must be symmetric: only its upper triangle would be kept otherwise.
         if (full && !(v == m[j * d + i]) && std::isfinite(v) &&
             std::abs(v - m[j * d + i]) > 1e-9 * std::max({std::abs(v), std::abs(m[j * d + i]), 1e-300}))
-          fail(g, "cov", "row " + std::to_string(r) + ": expected a symmetric matrix, found (" + std::to_string(i) +
-                             "," + std::to_string(j) + ") != (" + std::to_string(j) + "," + std::to_string(i) + ")");
+          fail(g, "cov",
+               "row " + std::to_string(r) + ": expected a symmetric matrix, found (" + std::to_string(i) +
+                   "," + std::to_string(j) + ") != (" + std::to_string(j) + "," + std::to_string(i) + ")");
         t.cov[k][r] = v;
       }
   }
@@ -158,7 +163,8 @@ std::vector<Sensor> sensors_from_python(const py::handle& sensors, const TrackTa
     }
     // The period of each sensor: the median interval between consecutive reports of its tracks.
     std::map<std::pair<int32_t, int32_t>, std::vector<double>> times;
-    for (std::size_t r = 0; r < tracks.size(); ++r) times[{tracks.sensor[r], tracks.track[r]}].push_back(tracks.t[r]);
+    for (std::size_t r = 0; r < tracks.size(); ++r)
+      times[{tracks.sensor[r], tracks.track[r]}].push_back(tracks.t[r]);
     std::map<int32_t, std::vector<double>> intervals;
     for (auto& [key, ts] : times) {
       std::sort(ts.begin(), ts.end());
@@ -186,11 +192,14 @@ std::vector<Sensor> sensors_from_python(const py::handle& sensors, const TrackTa
   out.resize(ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i) out[i].id = ids[i];
   const std::string rows = "S = " + std::to_string(n) + " values (as /sensors/id)";
-  const std::pair<const char*, double Sensor::*> scalars[] = {
-      {"period", &Sensor::period},         {"offset", &Sensor::offset},
-      {"sigma_range", &Sensor::sigma_range}, {"sigma_bearing", &Sensor::sigma_bearing},
-      {"sigma_elevation", &Sensor::sigma_elevation}, {"p_detect", &Sensor::p_detect},
-      {"clutter_rate", &Sensor::clutter_rate}, {"reliability", &Sensor::reliability}};
+  const std::pair<const char*, double Sensor::*> scalars[] = {{"period", &Sensor::period},
+                                                              {"offset", &Sensor::offset},
+                                                              {"sigma_range", &Sensor::sigma_range},
+                                                              {"sigma_bearing", &Sensor::sigma_bearing},
+                                                              {"sigma_elevation", &Sensor::sigma_elevation},
+                                                              {"p_detect", &Sensor::p_detect},
+                                                              {"clutter_rate", &Sensor::clutter_rate},
+                                                              {"reliability", &Sensor::reliability}};
   for (const auto& [key, member] : scalars)
     if (has_field(sensors, key)) {
       const auto v = float_column(column(sensors, g, key), g, key, n, rows);
@@ -199,7 +208,8 @@ std::vector<Sensor> sensors_from_python(const py::handle& sensors, const TrackTa
   if (has_field(sensors, "position")) {
     const py::array pos = column(sensors, g, "position");
     if (pos.ndim() != 2 || pos.shape(0) != n || pos.shape(1) != 3)
-      fail(g, "position", "expected S x 3 with S = " + std::to_string(n) + ", found shape " + shape_text(pos));
+      fail(g, "position",
+           "expected S x 3 with S = " + std::to_string(n) + ", found shape " + shape_text(pos));
     const auto p = float_array(pos, g, "position");
     for (std::size_t i = 0; i < out.size(); ++i)
       for (int k = 0; k < 3; ++k) out[i].position[k] = p.data()[i * 3 + k];

@@ -32,7 +32,8 @@ class ThreadLimit {
     if (!py::isinstance<py::int_>(threads) || py::isinstance<py::bool_>(threads) ||
         threads.cast<py::int_>().attr("__lt__")(1).cast<bool>() ||
         threads.cast<py::int_>().attr("__gt__")(1 << 16).cast<bool>())
-      throw InputError("threads: expected None or an integer in [1, 65536], got " + py::repr(threads).cast<std::string>());
+      throw InputError("threads: expected None or an integer in [1, 65536], got " +
+                       py::repr(threads).cast<std::string>());
     n_ = threads.cast<int>();
   }
   // Made with the GIL released (global_control may wait for the arena's workers).
@@ -75,7 +76,8 @@ PyAssociation associate(const py::object& tracks, const py::object& sensors, con
     // Track hygiene as `associate` does it: a recycled track number becomes new local tracks, and the
     // association's `tracks` is then the split file (source_track keeps the recorded numbers).
     TrackFile split = *file;
-    if (split_recorded_keys(split, request).cuts > 0) file = std::make_shared<const TrackFile>(std::move(split));
+    if (split_recorded_keys(split, request).cuts > 0)
+      file = std::make_shared<const TrackFile>(std::move(split));
     result.outcome = associator->associate(*file);
   }
   result.input = file;
@@ -83,7 +85,8 @@ PyAssociation associate(const py::object& tracks, const py::object& sensors, con
 }
 
 py::dict evaluate(const PyAssociation& association, const py::object& tracks) {
-  std::shared_ptr<const TrackFile> file = tracks.is_none() ? association.input : track_file_of(tracks, py::none());
+  std::shared_ptr<const TrackFile> file =
+      tracks.is_none() ? association.input : track_file_of(tracks, py::none());
   AssociationMetrics m;
   {
     py::gil_scoped_release release;
@@ -143,7 +146,7 @@ PyTrackFile read_file(const std::string& path) {
 }
 
 void write_file(const std::string& path, const py::object& tracks, const py::object& sensors,
-           const std::vector<PyAssociation>& associations, const std::vector<PyFused>& fused) {
+                const std::vector<PyAssociation>& associations, const std::vector<PyFused>& fused) {
   TrackFile file = *track_file_of(tracks, sensors);
   for (const PyAssociation& a : associations) store_outcome(file, a.outcome);
   for (const PyFused& f : fused) {
@@ -171,7 +174,8 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = trackassoc::kVersion;
   bind_results(m);
 
-  m.def("associate", &associate, py::arg("tracks"), py::arg("sensors") = py::none(), py::arg("threads") = py::none(),
+  m.def("associate", &associate, py::arg("tracks"), py::arg("sensors") = py::none(),
+        py::arg("threads") = py::none(),
         R"(associate(tracks, sensors=None, threads=None, **options) -> Association
 
 Associates the local tracks of every sensor (the engine's association interface, the same code

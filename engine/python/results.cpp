@@ -18,12 +18,18 @@ namespace {
 
 const char* path_name(AssociationPath p) {
   switch (p) {
-    case AssociationPath::kSparseSD: return "sparse-sd";
-    case AssociationPath::kDenseSD: return "dense-sd";
-    case AssociationPath::kDense3D: return "dense-3d";
-    case AssociationPath::kSparse3D: return "sparse-3d";
-    case AssociationPath::kFusionCentre: return "fusion-centre";
-    case AssociationPath::kSiamese: return "siamese";
+    case AssociationPath::kSparseSD:
+      return "sparse-sd";
+    case AssociationPath::kDenseSD:
+      return "dense-sd";
+    case AssociationPath::kDense3D:
+      return "dense-3d";
+    case AssociationPath::kSparse3D:
+      return "sparse-3d";
+    case AssociationPath::kFusionCentre:
+      return "fusion-centre";
+    case AssociationPath::kSiamese:
+      return "siamese";
   }
   return "?";
 }
@@ -139,19 +145,22 @@ void bind_results(py::module_& m) {
             if (!f.file->source_track.empty()) d["source_track"] = to_array(f.file->source_track);
             return d;
           },
-          "/tracks as a dict of numpy arrays: sensor, track, t, state (N x D), cov (N x D(D+1)/2 packed), truth; "
+          "/tracks as a dict of numpy arrays: sensor, track, t, state (N x D), cov (N x D(D+1)/2 packed), "
+          "truth; "
           "source_track (the recorded track number) when associate split a recycled number.")
       .def_property_readonly(
           "sensors", [](const PyTrackFile& f) { return sensors_to_python(f.file->sensors); },
           "/sensors as a dict of numpy arrays (id, position (S x 3), sigma_*, period, offset, ...).")
       .def_property_readonly(
-          "state_layout", [](const PyTrackFile& f) { return std::string(layout_name(f.file->tracks.layout)); },
+          "state_layout",
+          [](const PyTrackFile& f) { return std::string(layout_name(f.file->tracks.layout)); },
           "The state columns: 'x,y,vx,vy' or 'x,y,z,vx,vy,vz'.")
       .def_property_readonly(
           "associations",
           [](const PyTrackFile& f) {
             py::dict d;
-            for (const auto& rec : f.file->associations) d[py::str(rec.name)] = association_of_file(f.file, rec);
+            for (const auto& rec : f.file->associations)
+              d[py::str(rec.name)] = association_of_file(f.file, rec);
             return d;
           },
           "The /associations groups: name -> Association.")
@@ -164,12 +173,13 @@ void bind_results(py::module_& m) {
           },
           "The /fused groups: name -> Fused.")
       .def_property_readonly(
-          "has_truth", [](const PyTrackFile& f) { return f.file->truth.has_value(); }, "Whether /truth is present.")
+          "has_truth", [](const PyTrackFile& f) { return f.file->truth.has_value(); },
+          "Whether /truth is present.")
       .def_readonly("source", &PyTrackFile::source, "The path read, or 'tracks' for arrays.")
       .def("__repr__", [](const PyTrackFile& f) {
-        return "<trackassoc.TrackFile " + f.source + ": " + std::to_string(f.file->sensors.size()) + " sensors, " +
-               std::to_string(f.file->tracks.size()) + " rows, " + std::to_string(f.file->associations.size()) +
-               " associations>";
+        return "<trackassoc.TrackFile " + f.source + ": " + std::to_string(f.file->sensors.size()) +
+               " sensors, " + std::to_string(f.file->tracks.size()) + " rows, " +
+               std::to_string(f.file->associations.size()) + " associations>";
       });
 
   py::class_<PyAssociation>(m, "Association",
@@ -180,7 +190,8 @@ void bind_results(py::module_& m) {
             const auto& r = a.outcome.record;
             return to_array(r.tuples, r.num_tuples(), static_cast<std::size_t>(r.num_sensors));
           },
-          "K x S int32: column s holds the /tracks/track number of sensor sensor_ids[s] in the tuple, -1 = none.")
+          "K x S int32: column s holds the /tracks/track number of sensor sensor_ids[s] in the tuple, -1 = "
+          "none.")
       .def_property_readonly(
           "sensor_ids", [](const PyAssociation& a) { return to_array(sensor_ids(*a.input)); },
           "The sensor id of each tuple column (the /sensors order).")
@@ -198,7 +209,8 @@ void bind_results(py::module_& m) {
           "K int32 target numbers: tuples of one number are one target followed by several local tracks "
           "of a sensor (track segments); without segments each tuple is its own target (0..K-1).")
       .def_property_readonly(
-          "cost", [](const PyAssociation& a) { return to_array(a.outcome.record.cost); }, "K float64 tuple costs.")
+          "cost", [](const PyAssociation& a) { return to_array(a.outcome.record.cost); },
+          "K float64 tuple costs.")
       .def_property_readonly(
           "unassociated",
           [](const PyAssociation& a) {
@@ -207,38 +219,46 @@ void bind_results(py::module_& m) {
             return d;
           },
           "sensor id -> int32 array of its local tracks in no tuple of two or more (ascending).")
-      .def_property_readonly("registration", &registration_of,
-                             "The default pipeline's registration (/registration), or None: dict of reference_sensor, "
-                             "sensor (ids), parameters (names), estimate and standard_error (S x k; angles in rad, "
-                             "lengths in m, clock in s), covariance_scale (S x S), applied, rounds, wald, wald_dof, "
-                             "observations.")
       .def_property_readonly(
-          "name", [](const PyAssociation& a) { return a.outcome.record.name; }, "The /associations group name.")
-      .def_property_readonly("summary", &summary_of,
-                             "dict: name, solver, objective, bound (Lagrangian lower bound, NaN when none), gap, "
-                             "termination, runtime_s, seed, options; for a computed association also path, "
-                             "sensor_ids, track_counts, stages [{name, seconds, peak_rss_mib}], components, "
-                             "candidate_pairs, gated_pairs, fallback_components.")
+          "registration", &registration_of,
+          "The default pipeline's registration (/registration), or None: dict of reference_sensor, "
+          "sensor (ids), parameters (names), estimate and standard_error (S x k; angles in rad, "
+          "lengths in m, clock in s), covariance_scale (S x S), applied, rounds, wald, wald_dof, "
+          "observations.")
       .def_property_readonly(
-          "tracks", [](const PyAssociation& a) { return PyTrackFile{a.input, "tracks"}; },
+          "name", [](const PyAssociation& a) { return a.outcome.record.name; },
+          "The /associations group name.")
+      .def_property_readonly(
+          "summary", &summary_of,
+          "dict: name, solver, objective, bound (Lagrangian lower bound, NaN when none), gap, "
+          "termination, runtime_s, seed, options; for a computed association also path, "
+          "sensor_ids, track_counts, stages [{name, seconds, peak_rss_mib}], components, "
+          "candidate_pairs, gated_pairs, fallback_components.")
+      .def_property_readonly(
+          "tracks",
+          [](const PyAssociation& a) {
+            return PyTrackFile{a.input, "tracks"};
+          },
           "The TrackFile that was associated.")
       .def("__len__", [](const PyAssociation& a) { return a.outcome.record.num_tuples(); })
       .def("__repr__", [](const PyAssociation& a) {
-        return "<trackassoc.Association '" + a.outcome.record.name + "': " +
-               std::to_string(a.outcome.record.num_tuples()) + " tuples of " +
+        return "<trackassoc.Association '" + a.outcome.record.name +
+               "': " + std::to_string(a.outcome.record.num_tuples()) + " tuples of " +
                std::to_string(a.outcome.record.num_sensors) + " sensors>";
       });
 
-  py::class_<PyFused>(m, "Fused", "Fused tracks of an association (fuse(), or a /fused group of a file read).")
+  py::class_<PyFused>(m, "Fused",
+                      "Fused tracks of an association (fuse(), or a /fused group of a file read).")
       .def_property_readonly(
           "name", [](const PyFused& f) { return f.record.name; }, "The /fused group name.")
       .def_property_readonly(
           "association", [](const PyFused& f) { return f.record.association; }, "The association fused.")
       .def_property_readonly(
           "rule", [](const PyFused& f) { return f.record.rule; }, "naive, bsc or ci.")
-      .def_property_readonly("arrays", &fused_arrays,
-                             "dict of numpy arrays, one row per fused time: tuple, t, state (N x D), cov (N x "
-                             "D(D+1)/2 packed), sources (tracks fused), truth, and omega (N x S, ci only).")
+      .def_property_readonly(
+          "arrays", &fused_arrays,
+          "dict of numpy arrays, one row per fused time: tuple, t, state (N x D), cov (N x "
+          "D(D+1)/2 packed), sources (tracks fused), truth, and omega (N x S, ci only).")
       .def_property_readonly(
           "summary",
           [](const PyFused& f) {
@@ -257,12 +277,13 @@ void bind_results(py::module_& m) {
             }
             return d;
           },
-          "dict: options, cross_covariance, rows; for fuse() results also tuples, fused_tuples, single_member, "
+          "dict: options, cross_covariance, rows; for fuse() results also tuples, fused_tuples, "
+          "single_member, "
           "no_overlap, shrunk_cells, runtime_s, termination.")
       .def("__len__", [](const PyFused& f) { return f.record.size(); })
       .def("__repr__", [](const PyFused& f) {
-        return "<trackassoc.Fused '" + f.record.name + "' (" + f.record.rule + "): " + std::to_string(f.record.size()) +
-               " rows>";
+        return "<trackassoc.Fused '" + f.record.name + "' (" + f.record.rule +
+               "): " + std::to_string(f.record.size()) + " rows>";
       });
 }
 

@@ -15,9 +15,9 @@ namespace {
 using TrackKey = std::pair<int32_t, int32_t>;  // (tuple column, local track)
 
 // Distinct colours for output targets; no red (wrong links) and no grey (unassociated tracks).
-constexpr Rgb kTargetColours[] = {rgb(0x1f77b4), rgb(0xff7f0e), rgb(0x2ca02c), rgb(0x9467bd), rgb(0x8c564b),
-                                  rgb(0xe377c2), rgb(0xbcbd22), rgb(0x17becf), rgb(0x393b79), rgb(0xe6ab02),
-                                  rgb(0x637939), rgb(0x7b4173)};
+constexpr Rgb kTargetColours[] = {rgb(0x1f77b4), rgb(0xff7f0e), rgb(0x2ca02c), rgb(0x9467bd),
+                                  rgb(0x8c564b), rgb(0xe377c2), rgb(0xbcbd22), rgb(0x17becf),
+                                  rgb(0x393b79), rgb(0xe6ab02), rgb(0x637939), rgb(0x7b4173)};
 constexpr Marker kSensorMarkers[] = {Marker::kCircle, Marker::kSquare, Marker::kTriangle, Marker::kDiamond,
                                      Marker::kTriangleDown};
 constexpr Rgb kUnassociated = rgb(0xa8a8a8), kWrong = rgb(0xd62728), kInk = rgb(0x222222);
@@ -59,11 +59,13 @@ std::size_t nearest_report(const Path& p, double t) {
 
 }  // namespace
 
-void draw_association_map(Canvas& c, const TrackFile& file, const AssociationRecord& rec, const std::string& title) {
+void draw_association_map(Canvas& c, const TrackFile& file, const AssociationRecord& rec,
+                          const std::string& title) {
   const int32_t S = rec.num_sensors;
   const std::size_t K = rec.num_tuples();
   std::map<int32_t, int32_t> column_of_sensor;
-  for (int32_t s = 0; s < static_cast<int32_t>(file.sensors.size()); ++s) column_of_sensor[file.sensors[s].id] = s;
+  for (int32_t s = 0; s < static_cast<int32_t>(file.sensors.size()); ++s)
+    column_of_sensor[file.sensors[s].id] = s;
   const TrackTable& tt = file.tracks;
   const auto tracks = paths_by(tt.size(), tt.t, tt.state, [&](std::size_t r) {
     const auto it = column_of_sensor.find(tt.sensor[r]);
@@ -92,10 +94,12 @@ void draw_association_map(Canvas& c, const TrackFile& file, const AssociationRec
   std::map<TrackKey, Path> missed_truth;
   if (metrics.has_truth && file.truth) {
     const TruthTable& truth = *file.truth;
-    const auto all = paths_by(truth.size(), truth.t, truth.state,
-                              [&](std::size_t r) { return TrackKey{truth.target[r], 0}; });
+    const auto all = paths_by(truth.size(), truth.t, truth.state, [&](std::size_t r) {
+      return TrackKey{truth.target[r], 0};
+    });
     for (const auto& [target, outcome] : detail.outcome)
-      if (outcome == TargetOutcome::kMissed && all.count({target, 0})) missed_truth[{target, 0}] = all.at({target, 0});
+      if (outcome == TargetOutcome::kMissed && all.count({target, 0}))
+        missed_truth[{target, 0}] = all.at({target, 0});
   }
 
   // The data box: every track and every dashed truth path, 4 % margin, one km as long on both axes.
@@ -104,7 +108,8 @@ void draw_association_map(Canvas& c, const TrackFile& file, const AssociationRec
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
   auto extend = [&](const Path& p) {
     for (std::size_t i = 0; i < p.t.size(); ++i)
-      x0 = std::min(x0, p.x[i]), x1 = std::max(x1, p.x[i]), y0 = std::min(y0, p.y[i]), y1 = std::max(y1, p.y[i]);
+      x0 = std::min(x0, p.x[i]), x1 = std::max(x1, p.x[i]), y0 = std::min(y0, p.y[i]),
+      y1 = std::max(y1, p.y[i]);
   };
   for (const auto& [key, p] : tracks) extend(p);
   for (const auto& [key, p] : missed_truth) extend(p);
@@ -112,8 +117,12 @@ void draw_association_map(Canvas& c, const TrackFile& file, const AssociationRec
   const double pad = 0.04 * std::max({x1 - x0, y1 - y0, 1e-3});
   area.x0 = x0 - pad, area.x1 = x1 + pad, area.y0 = y0 - pad, area.y1 = y1 + pad;
   area.equal_aspect();
-  const std::string unit = file.recording.frame == "NED" ? " (north)" : file.recording.frame == "ENU" ? " (east)" : "";
-  const std::string unit_y = file.recording.frame == "NED" ? " (east)" : file.recording.frame == "ENU" ? " (north)" : "";
+  const std::string unit = file.recording.frame == "NED"   ? " (north)"
+                           : file.recording.frame == "ENU" ? " (east)"
+                                                           : "";
+  const std::string unit_y = file.recording.frame == "NED"   ? " (east)"
+                             : file.recording.frame == "ENU" ? " (north)"
+                                                             : "";
   area.draw_axes(c, "x [km]" + unit, "y [km]" + unit_y);
 
   auto points_of = [&](const Path& p) {
@@ -139,12 +148,14 @@ void draw_association_map(Canvas& c, const TrackFile& file, const AssociationRec
         for (int32_t b = a + 1; b < S; ++b) {
           const TrackKey ka{a, rec.tuples[q * S + a]}, kb{b, rec.tuples[q * S + b]};
           if (ka.second < 0 || kb.second < 0 || !tracks.count(ka) || !tracks.count(kb)) continue;
-          const int32_t ta = truth_of.count(ka) ? truth_of.at(ka) : -1, tb = truth_of.count(kb) ? truth_of.at(kb) : -1;
+          const int32_t ta = truth_of.count(ka) ? truth_of.at(ka) : -1,
+                        tb = truth_of.count(kb) ? truth_of.at(kb) : -1;
           if (ta >= 0 && ta == tb) continue;  // this link is right; another of the tuple is not
           const Path &pa = tracks.at(ka), &pb = tracks.at(kb);
           const double lo = std::max(pa.t.front(), pb.t.front()), hi = std::min(pa.t.back(), pb.t.back());
-          const double t = lo <= hi ? 0.5 * (lo + hi) : 0.5 * (std::min(pa.t.back(), pb.t.back()) +
-                                                              std::max(pa.t.front(), pb.t.front()));
+          const double t =
+              lo <= hi ? 0.5 * (lo + hi)
+                       : 0.5 * (std::min(pa.t.back(), pb.t.back()) + std::max(pa.t.front(), pb.t.front()));
           const std::size_t ia = nearest_report(pa, t), ib = nearest_report(pb, t);
           const Point a_px{area.px(pa.x[ia]), area.py(pa.y[ia])}, b_px{area.px(pb.x[ib]), area.py(pb.y[ib])};
           c.line(a_px.x, a_px.y, b_px.x, b_px.y, {kWrong, 2.6});
@@ -152,7 +163,8 @@ void draw_association_map(Canvas& c, const TrackFile& file, const AssociationRec
           const double r = 0.5 * std::hypot(a_px.x - b_px.x, a_px.y - b_px.y) + 9.0;
           std::vector<Point> ring;
           for (int k = 0; k <= 40; ++k)
-            ring.push_back({0.5 * (a_px.x + b_px.x) + r * std::cos(k * M_PI / 20), 0.5 * (a_px.y + b_px.y) + r * std::sin(k * M_PI / 20)});
+            ring.push_back({0.5 * (a_px.x + b_px.x) + r * std::cos(k * M_PI / 20),
+                            0.5 * (a_px.y + b_px.y) + r * std::sin(k * M_PI / 20)});
           c.polyline(ring, {kWrong, 2.0});
           ++wrong_links;
         }
@@ -160,18 +172,20 @@ void draw_association_map(Canvas& c, const TrackFile& file, const AssociationRec
   const int marker_kinds = static_cast<int>(sizeof kSensorMarkers / sizeof kSensorMarkers[0]);
   for (const auto& [key, p] : tracks) {
     const Rgb fill = target_of.count(key) ? colour_of[target_of[key]] : kUnassociated;
-    c.marker(area.px(p.x.back()), area.py(p.y.back()), kSensorMarkers[key.first % marker_kinds], 8, fill, kInk);
+    c.marker(area.px(p.x.back()), area.py(p.y.back()), kSensorMarkers[key.first % marker_kinds], 8, fill,
+             kInk);
   }
 
   // Title, the counts, and the legend to the right of the map.
   c.text(area.left, 26, title, kInk, Anchor::kStart, Face::kBold);
-  std::string counts = std::to_string(tracks.size()) + " local tracks of " + std::to_string(file.sensors.size()) +
-                       " sensors, " + std::to_string(targets.size()) + " output targets, " +
-                       std::to_string(unassociated) + " tracks unassociated";
+  std::string counts = std::to_string(tracks.size()) + " local tracks of " +
+                       std::to_string(file.sensors.size()) + " sensors, " + std::to_string(targets.size()) +
+                       " output targets, " + std::to_string(unassociated) + " tracks unassociated";
   if (metrics.has_truth)
-    counts += "; of " + std::to_string(metrics.targets) + " targets seen by 2+ sensors: " +
-              std::to_string(metrics.correct) + " correct, " + std::to_string(metrics.false_associations) +
-              " false, " + std::to_string(metrics.missed) + " missed";
+    counts += "; of " + std::to_string(metrics.targets) +
+              " targets seen by 2+ sensors: " + std::to_string(metrics.correct) + " correct, " +
+              std::to_string(metrics.false_associations) + " false, " + std::to_string(metrics.missed) +
+              " missed";
   c.text(area.left, 48, counts, kInk);
 
   double lx = area.left + area.width + 24, ly = area.top + 14;
@@ -196,7 +210,8 @@ void draw_association_map(Canvas& c, const TrackFile& file, const AssociationRec
     ly += 24;
     c.line(lx + 8, ly - 4, lx + 32, ly - 4, {kWrong, 2.6});
     std::vector<Point> ring;
-    for (int k = 0; k <= 40; ++k) ring.push_back({lx + 20 + 17 * std::cos(k * M_PI / 20), ly - 4 + 9 * std::sin(k * M_PI / 20)});
+    for (int k = 0; k <= 40; ++k)
+      ring.push_back({lx + 20 + 17 * std::cos(k * M_PI / 20), ly - 4 + 9 * std::sin(k * M_PI / 20)});
     c.polyline(ring, {kWrong, 2.0});
     c.text(lx + 50, ly, "wrongly joined (" + std::to_string(wrong_links) + " links)", kInk);
     ly += 22;

@@ -70,6 +70,7 @@ class Canvas {
 std::vector<Point> marker_outline(Marker shape, double x, double y, double size);
 
 // The pieces of a polyline that a dash pattern draws (the whole line when `dash` is empty).
-std::vector<std::vector<Point>> dash_polyline(const std::vector<Point>& points, const std::vector<double>& dash);
+std::vector<std::vector<Point>> dash_polyline(const std::vector<Point>& points,
+                                              const std::vector<double>& dash);
 
 }  // namespace trackassoc::report

@@ -9,15 +9,15 @@
 namespace trackassoc::report {
 
 struct Glyph {
-  int advance;          // pen advance [px]
-  int dx, dy;           // top-left of the bitmap from the pen on the baseline (dy < 0: above)
-  int width, height;    // bitmap size [px]
-  const char* coverage; // width·height hex digits, row by row, 0 = empty .. f = full
+  int advance;           // pen advance [px]
+  int dx, dy;            // top-left of the bitmap from the pen on the baseline (dy < 0: above)
+  int width, height;     // bitmap size [px]
+  const char* coverage;  // width·height hex digits, row by row, 0 = empty .. f = full
 };
 
 struct FontFace {
-  int size, ascent, descent;    // [px]
-  std::array<Glyph, 95> glyphs; // ASCII 32..126
+  int size, ascent, descent;     // [px]
+  std::array<Glyph, 95> glyphs;  // ASCII 32..126
   // The glyph of `c`; anything outside printable ASCII is drawn as '?'.
   const Glyph& glyph(char c) const {
     const int code = static_cast<unsigned char>(c);

@@ -62,7 +62,8 @@ std::vector<Point> marker_outline(Marker shape, double x, double y, double size)
   }
 }
 
-std::vector<std::vector<Point>> dash_polyline(const std::vector<Point>& points, const std::vector<double>& dash) {
+std::vector<std::vector<Point>> dash_polyline(const std::vector<Point>& points,
+                                              const std::vector<double>& dash) {
   if (dash.empty() || points.size() < 2) return {points};
   std::vector<std::vector<Point>> pieces;
   std::size_t phase = 0;
@@ -165,7 +166,8 @@ void RasterCanvas::polyline(const std::vector<Point>& points, const Stroke& stro
     }
     for (int py = by0; py <= by1; ++py)
       for (int px = bx0; px <= bx1; ++px)
-        blend(px, py, stroke.colour, stroke.opacity * thin * cover[static_cast<std::size_t>(py - by0) * bw + (px - bx0)]);
+        blend(px, py, stroke.colour,
+              stroke.opacity * thin * cover[static_cast<std::size_t>(py - by0) * bw + (px - bx0)]);
   }
 }
 
@@ -179,7 +181,8 @@ void RasterCanvas::fill_polygon(const std::vector<Point>& polygon, Rgb colour) {
     for (int px = static_cast<int>(std::floor(xmin)); px <= static_cast<int>(std::ceil(xmax)); ++px) {
       int hits = 0;
       for (int sy = 0; sy < 4; ++sy)
-        for (int sx = 0; sx < 4; ++sx) hits += inside_polygon(polygon, px + (sx + 0.5) / 4, py + (sy + 0.5) / 4);
+        for (int sx = 0; sx < 4; ++sx)
+          hits += inside_polygon(polygon, px + (sx + 0.5) / 4, py + (sy + 0.5) / 4);
       blend(px, py, colour, hits / 16.0);
     }
 }
@@ -239,8 +242,8 @@ std::string encode_png(int width, int height, const std::vector<uint8_t>& rgb_by
   }
   uLongf packed_size = compressBound(static_cast<uLong>(raw.size()));
   std::string packed(packed_size, '\0');
-  if (compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size, reinterpret_cast<const Bytef*>(raw.data()),
-                static_cast<uLong>(raw.size()), 9) != Z_OK)
+  if (compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size,
+                reinterpret_cast<const Bytef*>(raw.data()), static_cast<uLong>(raw.size()), 9) != Z_OK)
     throw std::runtime_error("PNG: zlib could not compress the picture");
   packed.resize(packed_size);
   std::string png("\x89PNG\r\n\x1a\n", 8);

@@ -31,13 +31,15 @@ void draw_summary_chart(Canvas& c, const std::string& title, const std::vector<S
   c.text(24, 28, title, kInk, Anchor::kStart, Face::kBold);
   // Legend of the three shares.
   double lx = 24;
-  const std::pair<Rgb, const char*> legend[] = {{kCorrect, "correct"}, {kFalse, "false"}, {kMissed, "missed"}};
+  const std::pair<Rgb, const char*> legend[] = {
+      {kCorrect, "correct"}, {kFalse, "false"}, {kMissed, "missed"}};
   for (const auto& [colour, name] : legend) {
     c.fill_rect(lx, 44, 14, 14, colour);
     c.text(lx + 20, 56, name, kInk);
     lx += 20 + Canvas::text_width(name) + 24;
   }
-  c.text(lx + 8, 56, "share of the targets seen by 2+ sensors; time: statistics + cost + solve", rgb(0x555555));
+  c.text(lx + 8, 56, "share of the targets seen by 2+ sensors; time: statistics + cost + solve",
+         rgb(0x555555));
   for (int p = 0; p <= 100; p += 20) {
     const double x = left + width * p / 100.0;
     c.line(x, kTop - 8, x, kTop + kRow * static_cast<double>(rows.size()), {rgb(0xdddddd), 1.0});
@@ -50,7 +52,8 @@ void draw_summary_chart(Canvas& c, const std::string& title, const std::vector<S
     const Face face = r.highlight ? Face::kBold : Face::kRegular;
     c.text(left - 12, y + 19, r.name, kInk, Anchor::kEnd, face);
     double x = left;
-    const std::pair<double, Rgb> parts[] = {{r.correct, kCorrect}, {r.false_rate, kFalse}, {r.missed, kMissed}};
+    const std::pair<double, Rgb> parts[] = {
+        {r.correct, kCorrect}, {r.false_rate, kFalse}, {r.missed, kMissed}};
     for (const auto& [share, colour] : parts) {
       c.fill_rect(x, y + 5, width * share, kRow - 10, colour);
       x += width * share;

@@ -55,8 +55,7 @@ std::string svg_scatter(const std::string& title, const std::string& xlabel, con
     const double xs = L + (xv - xmin) * px, ys = H - B - (yv - ymin) * py;
     os << "<text x='" << xs << "' y='" << H - B + 18 << "' text-anchor='middle'>"
        << (log_x ? number(std::pow(10.0, xv)) : number(xv)) << "</text>\n";
-    os << "<text x='" << L - 6 << "' y='" << ys + 4 << "' text-anchor='end'>" << number(yv)
-       << "</text>\n";
+    os << "<text x='" << L - 6 << "' y='" << ys + 4 << "' text-anchor='end'>" << number(yv) << "</text>\n";
     os << "<line x1='" << L << "' y1='" << ys << "' x2='" << W - R << "' y2='" << ys << "' stroke='#ddd'/>\n";
   }
   os << "<text x='" << (L + W - R) / 2 << "' y='" << H - 15 << "' text-anchor='middle'>" << xlabel

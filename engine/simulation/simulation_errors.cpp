@@ -65,8 +65,9 @@ void swap_at_crossings(TrackTable& t, int32_t id, double distance, int d,
       };
       if (margin_ok(ia->second) && margin_ok(ib->second)) crossings.push_back({tc, ia->first, ib->first});
     }
-  std::stable_sort(crossings.begin(), crossings.end(),
-                   [](const Crossing& x, const Crossing& y) { return std::tie(x.tc, x.a, x.b) < std::tie(y.tc, y.a, y.b); });
+  std::stable_sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) {
+    return std::tie(x.tc, x.a, x.b) < std::tie(y.tc, y.a, y.b);
+  });
   std::map<int32_t, bool> swapped;
   for (const Crossing& c : crossings) {
     if (swapped[c.a] || swapped[c.b]) continue;
@@ -124,7 +125,8 @@ void validate_sensor_errors(const Scenario& sc) {
     require(std::isfinite(e.elevation_bias) && std::abs(e.elevation_bias) < 0.5, w + "elevation_bias",
             "expected a finite bias below 0.5 rad");
     for (double v : e.site_offset)
-      require(std::isfinite(v) && std::abs(v) <= 1e7, w + "site_offset", "expected coordinates within ±10^7 m");
+      require(std::isfinite(v) && std::abs(v) <= 1e7, w + "site_offset",
+              "expected coordinates within ±10^7 m");
     require(std::isfinite(e.clock_offset) && std::abs(e.clock_offset) <= sc.duration, w + "clock_offset",
             "expected an offset within ± the duration [s]");
     require(std::isfinite(e.covariance_scale) && e.covariance_scale > 0.0 && e.covariance_scale <= 1e6,
@@ -142,7 +144,8 @@ Sensor true_site(const Sensor& surveyed, const SensorErrors& e) {
   return s;
 }
 
-void apply_sensor_errors(const Scenario& sc, const std::vector<TargetTrajectory>& targets, TrackTable& tracks) {
+void apply_sensor_errors(const Scenario& sc, const std::vector<TargetTrajectory>& targets,
+                         TrackTable& tracks) {
   if (sc.sensor_errors.empty()) return;
   std::unordered_map<int32_t, const TargetTrajectory*> trajectory;
   for (const auto& tr : targets) trajectory[tr.id] = &tr;

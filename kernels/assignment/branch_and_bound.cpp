@@ -277,9 +277,7 @@ class Search {
   }
 
  private:
-  double elapsed() const {
-    return seconds_since(t0_);
-  }
+  double elapsed() const { return seconds_since(t0_); }
 
   // A bound `raw` cannot lead to a strictly better solution than the incumbent.
   bool prunable(double raw) const { return cannot_beat(raw, incumbent_cost, p_.integer_costs); }

@@ -38,8 +38,8 @@
 //    ≥ bound + 1 and the next pass looks one higher, until the target reaches the incumbent (the
 //    plain search).
 // Worst case exponential. Every DecompLib ap3 instance (n ≤ 50) and Balas–Saltzman instance
-// (n ≤ 26) is proven optimal (docs/performance.md, "exact branch and bound"; bench/bench_3d_solvers.cpp, against
-// CBC in bench/cbc_3d.py).
+// (n ≤ 26) is proven optimal (docs/performance.md, "exact branch and bound"; bench/bench_3d_solvers.cpp,
+// against CBC in bench/cbc_3d.py).
 //
 // Termination: kOptimal with lower_bound = objective when the search completes; kTimeLimit (or
 // kIterationLimit at max_nodes) with the best incumbent and a valid global lower bound (the least

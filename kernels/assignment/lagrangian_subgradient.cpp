@@ -1,8 +1,9 @@
 #include "kernels/assignment/lagrangian_subgradient.hpp"
-#include "kernels/core/stopwatch.hpp"
 
 #include <algorithm>
 #include <cmath>
+
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -18,9 +19,7 @@ SubgradientResult run_subgradient(const SubgradientProblem& problem, std::vector
   std::vector<double> g(m, 0.0), direction(m, 0.0);
   double theta = options.theta, delta0 = -1.0;
   int since_better = 0;
-  auto elapsed = [&] {
-    return seconds_since(start);
-  };
+  auto elapsed = [&] { return seconds_since(start); };
   auto converged = [&] {
     const double abs_gap = run.upper_bound - run.lower_bound;
     if (abs_gap <= options.absolute_gap_tolerance) return Termination::kOptimal;

@@ -60,6 +60,7 @@ LapResult solve_gated_lap(const SparseCostView& matrix, const LapOptions& option
                           const GatedLapOptions& gated = {});
 // Whether solve_gated_lap solves a rows × cols problem with `finite` finite entries by the dense
 // solve_lap (it then holds the rows × cols matrix: callers count it against a memory budget).
-bool solve_gated_lap_is_dense(int32_t rows, int32_t cols, std::size_t finite, const GatedLapOptions& gated = {});
+bool solve_gated_lap_is_dense(int32_t rows, int32_t cols, std::size_t finite,
+                              const GatedLapOptions& gated = {});
 
 }  // namespace trackassoc

@@ -46,7 +46,8 @@ inline std::string printable_text(std::string_view s) {
       }
       cp = (cp << 6) | (d & 0x3fu);
     }
-    const bool well_formed = n > 0 && !(n == 3 && cp < 0x800) && !(n == 4 && (cp < 0x10000 || cp > 0x10ffff)) &&
+    const bool well_formed = n > 0 && !(n == 3 && cp < 0x800) &&
+                             !(n == 4 && (cp < 0x10000 || cp > 0x10ffff)) &&
                              !(cp >= 0xd800 && cp <= 0xdfff) && !(cp >= 0x80 && cp <= 0x9f);
     if (!well_formed) {
       escape(c);
@@ -70,10 +71,10 @@ inline std::string quoted_preview(std::string_view s, std::size_t max = 40) {
 // holds but UTF-16 text of ASCII characters holds in every other byte. `save_as` names the fix
 // ("UTF-8 CSV").
 inline std::string not_utf8_text_reason(std::string_view head, const std::string& save_as) {
-  const bool bom = head.size() >= 2 && ((static_cast<unsigned char>(head[0]) == 0xff &&
-                                         static_cast<unsigned char>(head[1]) == 0xfe) ||
-                                        (static_cast<unsigned char>(head[0]) == 0xfe &&
-                                         static_cast<unsigned char>(head[1]) == 0xff));
+  const bool bom =
+      head.size() >= 2 &&
+      ((static_cast<unsigned char>(head[0]) == 0xff && static_cast<unsigned char>(head[1]) == 0xfe) ||
+       (static_cast<unsigned char>(head[0]) == 0xfe && static_cast<unsigned char>(head[1]) == 0xff));
   if (!bom && head.find('\0') == std::string_view::npos) return "";
   return "not UTF-8 text (UTF-16? save as " + save_as + "): found " +
          (bom ? "a UTF-16 byte-order mark" : "NUL bytes");

@@ -103,14 +103,14 @@ struct RecordingSpec {
 // recycled track numbers and swaps at crossings. One per sensor (Scenario::sensor_errors, in the
 // order of Scenario::sensors), or none. All zero (scale 1) is a clean sensor and draws nothing.
 struct SensorErrors {
-  double range_bias = 0.0;                  // [m], added to every measured range
-  double azimuth_bias = 0.0;                // [rad], added to every measured bearing
-  double elevation_bias = 0.0;              // [rad], added to every measured elevation (3-D)
+  double range_bias = 0.0;                     // [m], added to every measured range
+  double azimuth_bias = 0.0;                   // [rad], added to every measured bearing
+  double elevation_bias = 0.0;                 // [rad], added to every measured elevation (3-D)
   std::array<double, 3> site_offset{0, 0, 0};  // [m], true site − surveyed site (Sensor::position)
-  double clock_offset = 0.0;                // [s], reported time − true time of every plot
-  double covariance_scale = 1.0;            // reported covariance = scale × the tracker's own
-  double recycle_after = 0.0;               // [s], > 0: a track number is reused this long after its track ends
-  double swap_distance = 0.0;               // [m], > 0: two local tracks whose targets pass this close swap
+  double clock_offset = 0.0;                   // [s], reported time − true time of every plot
+  double covariance_scale = 1.0;               // reported covariance = scale × the tracker's own
+  double recycle_after = 0.0;  // [s], > 0: a track number is reused this long after its track ends
+  double swap_distance = 0.0;  // [m], > 0: two local tracks whose targets pass this close swap
   bool is_default() const { return *this == SensorErrors{}; }
   friend bool operator==(const SensorErrors&, const SensorErrors&) = default;
 };

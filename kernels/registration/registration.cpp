@@ -19,9 +19,12 @@ void RegistrationOptions::validate() const {
   require(reference_sensor >= 0, w + "reference_sensor", "expected a sensor index >= 0");
   require(polar || site_offset || clock_offset, w + "polar",
           "expected at least one of polar, site_offset, clock_offset");
-  for (auto [v, name] : {std::pair{prior_range, "prior_range"}, {prior_azimuth, "prior_azimuth"},
-                         {prior_elevation, "prior_elevation"}, {prior_site_offset, "prior_site_offset"},
-                         {prior_clock, "prior_clock"}, {huber, "huber"}})
+  for (auto [v, name] : {std::pair{prior_range, "prior_range"},
+                         {prior_azimuth, "prior_azimuth"},
+                         {prior_elevation, "prior_elevation"},
+                         {prior_site_offset, "prior_site_offset"},
+                         {prior_clock, "prior_clock"},
+                         {huber, "huber"}})
     require(std::isfinite(v) && v > 0.0, w + name, "expected a finite value > 0");
   require(iterations >= 1 && iterations <= 100, w + "iterations", "expected 1..100");
 }
@@ -63,19 +66,25 @@ namespace {
 std::vector<double> prior_sigmas(const RegistrationOptions& o, int32_t d) {
   std::vector<double> sigma;
   for (const auto& n : registration_parameter_names(o, d)) {
-    if (n == "range_bias") sigma.push_back(o.prior_range);
-    else if (n == "azimuth_bias") sigma.push_back(o.prior_azimuth);
-    else if (n == "elevation_bias") sigma.push_back(o.prior_elevation);
-    else if (n == "clock_offset") sigma.push_back(o.prior_clock);
-    else sigma.push_back(o.prior_site_offset);
+    if (n == "range_bias")
+      sigma.push_back(o.prior_range);
+    else if (n == "azimuth_bias")
+      sigma.push_back(o.prior_azimuth);
+    else if (n == "elevation_bias")
+      sigma.push_back(o.prior_elevation);
+    else if (n == "clock_offset")
+      sigma.push_back(o.prior_clock);
+    else
+      sigma.push_back(o.prior_site_offset);
   }
   return sigma;
 }
 
 }  // namespace
 
-Eigen::MatrixXd registration_jacobian(const RegistrationOptions& o, int32_t d, const std::array<double, 3>& site,
-                                      std::span<const double> x, std::span<const double> v) {
+Eigen::MatrixXd registration_jacobian(const RegistrationOptions& o, int32_t d,
+                                      const std::array<double, 3>& site, std::span<const double> x,
+                                      std::span<const double> v) {
   const int k = static_cast<int>(registration_parameter_names(o, d).size());
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(d, k);
   int c = 0;
@@ -123,13 +132,16 @@ double RegistrationEstimate::wald(int32_t& dof) const {
 }
 
 RegistrationEstimate fit_registration(const RegistrationObservations& obs,
-                                      std::span<const std::array<double, 3>> sites, const RegistrationOptions& o) {
+                                      std::span<const std::array<double, 3>> sites,
+                                      const RegistrationOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   o.validate();
   const int32_t S = static_cast<int32_t>(sites.size()), d = obs.dim;
-  require(d == 2 || d == 3, "fit_registration: observations.dim", "expected 2 or 3, found " + std::to_string(d));
-  require(o.reference_sensor < S, "RegistrationOptions.reference_sensor",
-          "expected a sensor index below " + std::to_string(S) + ", found " + std::to_string(o.reference_sensor));
+  require(d == 2 || d == 3, "fit_registration: observations.dim",
+          "expected 2 or 3, found " + std::to_string(d));
+  require(
+      o.reference_sensor < S, "RegistrationOptions.reference_sensor",
+      "expected a sensor index below " + std::to_string(S) + ", found " + std::to_string(o.reference_sensor));
   const std::size_t N = obs.size();
   require(obs.sensor_b.size() == N && obs.cluster.size() == N && obs.position_a.size() == N * d &&
               obs.position_b.size() == N * d && obs.covariance.size() == N * d * d,
@@ -164,14 +176,15 @@ RegistrationEstimate fit_registration(const RegistrationObservations& obs,
     Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> C(
         obs.covariance.data() + i * d * d, d, d);
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(C);
-    require(ldlt.info() == Eigen::Success && ldlt.isPositive(), "fit_registration: observation " + std::to_string(i),
-            "expected a positive definite covariance");
+    require(ldlt.info() == Eigen::Success && ldlt.isPositive(),
+            "fit_registration: observation " + std::to_string(i), "expected a positive definite covariance");
     Cinv[i] = ldlt.solve(Eigen::MatrixXd::Identity(d, d));
     const std::span<const double> xa(obs.position_a.data() + i * d, d), xb(obs.position_b.data() + i * d, d);
     const std::span<const double> va(obs.velocity_a.data() + i * d, d), vb(obs.velocity_b.data() + i * d, d);
     Ja[i] = registration_jacobian(o, d, sites[obs.sensor_a[i]], xa, va);
     Jb[i] = registration_jacobian(o, d, sites[obs.sensor_b[i]], xb, vb);
-    diff[i] = Eigen::Map<const Eigen::VectorXd>(xa.data(), d) - Eigen::Map<const Eigen::VectorXd>(xb.data(), d);
+    diff[i] =
+        Eigen::Map<const Eigen::VectorXd>(xa.data(), d) - Eigen::Map<const Eigen::VectorXd>(xb.data(), d);
   }
   // A_i β = J_a b_a − J_b b_b: the rows touch at most two parameter blocks.
   auto residual = [&](std::size_t i, const Eigen::VectorXd& beta) {
@@ -182,8 +195,8 @@ RegistrationEstimate fit_registration(const RegistrationObservations& obs,
     return r;
   };
   // Scatters the d×unknowns A_i as (block, sign, J) pairs.
-  auto accumulate = [&](std::size_t i, double w, Eigen::MatrixXd& H, Eigen::VectorXd* g, Eigen::VectorXd* score,
-                        const Eigen::VectorXd* r) {
+  auto accumulate = [&](std::size_t i, double w, Eigen::MatrixXd& H, Eigen::VectorXd* g,
+                        Eigen::VectorXd* score, const Eigen::VectorXd* r) {
     const int32_t blocks[2] = {slot[obs.sensor_a[i]], slot[obs.sensor_b[i]]};
     const Eigen::MatrixXd* J[2] = {&Ja[i], &Jb[i]};
     const double sign[2] = {1.0, -1.0};
@@ -272,7 +285,8 @@ RegistrationEstimate fit_registration(const RegistrationObservations& obs,
         c = wj > 0 && wl > 0 ? c * std::sqrt(vj * vl / (wj * wl)) : 0.0;
       }
     for (int32_t j = 0; j < K; ++j)
-      est.standard_error[s * K + j] = std::sqrt(est.covariance[(static_cast<std::size_t>(s) * K + j) * K + j]);
+      est.standard_error[s * K + j] =
+          std::sqrt(est.covariance[(static_cast<std::size_t>(s) * K + j) * K + j]);
   }
   est.summary.observations = N;
   est.summary.clusters = score.size();

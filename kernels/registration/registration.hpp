@@ -49,21 +49,20 @@
 // O((S·k)³) per IRLS iteration for the solve; S·k is small (≤ 5 sensors × 7 parameters typically).
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
 namespace trackassoc {
 
 struct RegistrationOptions {
-  int32_t reference_sensor = 0;  // index of the sensor held at zero bias
-  bool polar = true;             // range, azimuth (and elevation in 3-D) biases about the sites
-  bool site_offset = true;       // a translation per sensor (the whole model when !polar)
-  bool clock_offset = false;     // a clock offset per sensor (needs velocities)
+  int32_t reference_sensor = 0;               // index of the sensor held at zero bias
+  bool polar = true;                          // range, azimuth (and elevation in 3-D) biases about the sites
+  bool site_offset = true;                    // a translation per sensor (the whole model when !polar)
+  bool clock_offset = false;                  // a clock offset per sensor (needs velocities)
   double prior_range = 300.0;                 // σ of the ridge prior on Δr [m]
   double prior_azimuth = 0.01745329251994;    // [rad] (1°)
   double prior_elevation = 0.00872664625997;  // [rad] (0.5°)
@@ -91,7 +90,7 @@ struct RegistrationObservations {
 struct RegistrationSummary {
   int32_t iterations = 0;
   std::size_t observations = 0, clusters = 0;
-  double objective = 0.0;      // the weighted sum of squares plus the prior term at the estimate
+  double objective = 0.0;  // the weighted sum of squares plus the prior term at the estimate
   double wall_time_s = 0.0;
 };
 
@@ -116,13 +115,15 @@ std::vector<std::string> registration_parameter_names(const RegistrationOptions&
 
 // J_s at reported position x (velocity v, used by the clock column) for a sensor at `site`:
 // d × k, in the order of registration_parameter_names.
-Eigen::MatrixXd registration_jacobian(const RegistrationOptions& o, int32_t d, const std::array<double, 3>& site,
-                                      std::span<const double> x, std::span<const double> v);
+Eigen::MatrixXd registration_jacobian(const RegistrationOptions& o, int32_t d,
+                                      const std::array<double, 3>& site, std::span<const double> x,
+                                      std::span<const double> v);
 
 // Fits every sensor's registration relative to o.reference_sensor. `sites` has one entry per
 // sensor (ignored unless o.polar). Throws InputError on bad options or observations naming
 // sensors outside 0..S−1.
 RegistrationEstimate fit_registration(const RegistrationObservations& observations,
-                                      std::span<const std::array<double, 3>> sites, const RegistrationOptions& o);
+                                      std::span<const std::array<double, 3>> sites,
+                                      const RegistrationOptions& o);
 
 }  // namespace trackassoc

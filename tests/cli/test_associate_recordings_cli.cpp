@@ -37,14 +37,16 @@ std::string report(double t, int sensor, int track, double x, double y, int trut
 // The tuples of `rec` as sets of (sensor column, track) with >= 2 members, and their truth ids.
 std::vector<std::set<int32_t>> linked_truths(const TrackFile& f, const AssociationRecord& rec) {
   std::map<std::pair<int32_t, int32_t>, int32_t> truth;  // (sensor id, track) -> truth
-  for (std::size_t r = 0; r < f.tracks.size(); ++r) truth[{f.tracks.sensor[r], f.tracks.track[r]}] = f.tracks.truth[r];
+  for (std::size_t r = 0; r < f.tracks.size(); ++r)
+    truth[{f.tracks.sensor[r], f.tracks.track[r]}] = f.tracks.truth[r];
   std::vector<std::set<int32_t>> out;
   const std::size_t S = f.sensors.size();
   for (std::size_t k = 0; k < rec.num_tuples(); ++k) {
     std::set<int32_t> ids;
     int members = 0;
     for (std::size_t s = 0; s < S; ++s)
-      if (const int32_t t = rec.tuples[k * S + s]; t >= 0) ++members, ids.insert(truth.at({f.sensors[s].id, t}));
+      if (const int32_t t = rec.tuples[k * S + s]; t >= 0)
+        ++members, ids.insert(truth.at({f.sensors[s].id, t}));
     if (members >= 2) out.push_back(ids);
   }
   return out;
@@ -58,15 +60,20 @@ TEST_F(AssociateRecordings, ASensorWithNoLocalTracksIsAssociatedAround) {
   for (int t = 0; t <= 20; ++t)
     for (int sensor : {1, 2, 3})
       for (int target = 0; target < 4; ++target)
-        csv += report(t, sensor, 10 * sensor + target, 5000.0 * target + 100.0 * t + 3.0 * sensor, -50.0 * t, target);
+        csv += report(t, sensor, 10 * sensor + target, 5000.0 * target + 100.0 * t + 3.0 * sensor, -50.0 * t,
+                      target);
   write("t.csv", csv);
-  ASSERT_EQ(run("import csv -i " + path("t.csv") + kColumns + " --sensors 1 2 9 3 --period 9:1 -o " + path("with.h5"))
+  ASSERT_EQ(run("import csv -i " + path("t.csv") + kColumns + " --sensors 1 2 9 3 --period 9:1 -o " +
+                path("with.h5"))
                 .status,
             0);
-  ASSERT_EQ(run("import csv -i " + path("t.csv") + kColumns + " --sensors 1 2 3 -o " + path("without.h5")).status, 0);
+  ASSERT_EQ(
+      run("import csv -i " + path("t.csv") + kColumns + " --sensors 1 2 3 -o " + path("without.h5")).status,
+      0);
   const CliResult r = run("associate --input " + path("with.h5") + " --output " + path("a.h5"));
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_TRUE(has(r.out, "sensors with no local tracks: 9 (associated around; their column of the tuples is -1)"))
+  EXPECT_TRUE(
+      has(r.out, "sensors with no local tracks: 9 (associated around; their column of the tuples is -1)"))
       << r.out;
   EXPECT_TRUE(has(r.out, "sensor 9 0")) << r.out;  // among the unassociated tracks per sensor: none
   ASSERT_EQ(run("associate --input " + path("without.h5") + " --output " + path("b.h5")).status, 0);
@@ -88,12 +95,14 @@ TEST_F(AssociateRecordings, ASensorWithNoLocalTracksIsAssociatedAround) {
   for (const auto& ids : truths) EXPECT_EQ(ids.size(), 1u);
   // Only one sensor with tracks: nothing to associate, said so.
   write("one.csv", "t,sensor,track,x,y,truth\n" + report(0, 1, 0, 0, 0, 0) + report(1, 1, 0, 100, 0, 0));
-  ASSERT_EQ(run("import csv -i " + path("one.csv") + kColumns + " --sensors 1 2 --period 2:1 -o " + path("one.h5"))
-                .status,
-            0);
+  ASSERT_EQ(
+      run("import csv -i " + path("one.csv") + kColumns + " --sensors 1 2 --period 2:1 -o " + path("one.h5"))
+          .status,
+      0);
   const CliResult one = run("associate --input " + path("one.h5") + " --output " + path("c.h5"));
   EXPECT_EQ(one.status, 2);
-  EXPECT_TRUE(has(one.err, "association needs the local tracks of at least 2 sensors; sensor 2 of 2 has none"))
+  EXPECT_TRUE(
+      has(one.err, "association needs the local tracks of at least 2 sensors; sensor 2 of 2 has none"))
       << one.err;
 }
 
@@ -106,7 +115,8 @@ TEST_F(AssociateRecordings, TwentySensorsAreAssociated) {
     for (int sensor = 0; sensor < 20; ++sensor)
       for (int k = 0; k < 3; ++k) {
         const int target = (sensor - k + 20) % 20;
-        csv += report(t, sensor, k, 1e5 * target + 200.0 * t + 7.0 * (sensor % 3), 20.0 * t - 5.0 * k, target);
+        csv +=
+            report(t, sensor, k, 1e5 * target + 200.0 * t + 7.0 * (sensor % 3), 20.0 * t - 5.0 * k, target);
       }
   write("t.csv", csv);
   ASSERT_EQ(run("import csv -i " + path("t.csv") + kColumns + " -o " + path("t.h5")).status, 0);
@@ -207,8 +217,8 @@ TEST_F(AssociateRecordings, AGiantComponentStaysWithinTheMemoryBudget) {
       EXPECT_EQ(std::set<int32_t>(tracks.begin(), tracks.end()).size(), std::size_t(n)) << "sensor " << s;
     }
   }
-  std::cout << "peak RSS " << rss_kib / 1024 << " MiB (budget " << budget_mib << " MiB + baseline " << baseline_mib
-            << " MiB); exit " << status << "\n";
+  std::cout << "peak RSS " << rss_kib / 1024 << " MiB (budget " << budget_mib << " MiB + baseline "
+            << baseline_mib << " MiB); exit " << status << "\n";
   if (!kAddressSanitizer) {  // ASan's shadow memory and quarantine are not the program's
     EXPECT_LT(rss_kib / 1024, budget_mib + baseline_mib);
   }

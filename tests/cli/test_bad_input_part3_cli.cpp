@@ -47,8 +47,8 @@ class BadInputPart3 : public testing_support::CliFixture {
   // A simulated file and its CSV export with the mapping.
   void make_csv() {
     ASSERT_EQ(run("simulate --scenario recorded_3s --output " + path("sim.h5")).status, 0);
-    ASSERT_EQ(run("export csv --input " + path("sim.h5") + " --output " + path("t.csv") + " --mapping-output " +
-                  path("m.json"))
+    ASSERT_EQ(run("export csv --input " + path("sim.h5") + " --output " + path("t.csv") +
+                  " --mapping-output " + path("m.json"))
                   .status,
               0);
   }
@@ -78,13 +78,14 @@ TEST_F(BadInputPart3, AnOutputThatIsAnInputIsRefusedBeforeAnyWork) {
       {"export csv --input " + sim + " --output " + path("hard.h5"), "--output " + path("hard.h5"),
        "--input " + sim},
       {"associate --input " + sim + " --output " + sim, "--output " + sim, "--input " + sim},
-      {"filter --input " + sim + " --output " + path("hard.h5"), "--output " + path("hard.h5"), "--input " + sim},
+      {"filter --input " + sim + " --output " + path("hard.h5"), "--output " + path("hard.h5"),
+       "--input " + sim},
       {"simulate --scenario " + path("scenario.json") + " --output " + path("scenario.json"),
        "--output " + path("scenario.json"), "--scenario " + path("scenario.json")},
       {"run --scenario " + path("scenario.json") + " --no-plots --output " + path("scenario.json"),
        "--output " + path("scenario.json"), "--scenario " + path("scenario.json")},
-      {"experiment recorded --scenarios " + path("scenario.json") + " --runs 1 --no-peer --no-plots --output " +
-           path("scenario.json"),
+      {"experiment recorded --scenarios " + path("scenario.json") +
+           " --runs 1 --no-peer --no-plots --output " + path("scenario.json"),
        "--output " + path("scenario.json"), "--scenarios " + path("scenario.json")},
   };
   const std::string files[] = {csv, map, sim, path("scenario.json")};
@@ -106,7 +107,8 @@ TEST_F(BadInputPart3, AnOutputThatIsAnInputIsRefusedBeforeAnyWork) {
 // ---------------------------------------------------------------- 2. error lines are text
 
 TEST_F(BadInputPart3, ControlBytesInAnInputAreEscapedInTheErrorLine) {
-  const std::string cols = " -c time=t -c sensor=sensor -c track=track -c x=x -c y=y --sigma-pos 5 --sigma-vel 1 -o ";
+  const std::string cols =
+      " -c time=t -c sensor=sensor -c track=track -c x=x -c y=y --sigma-pos 5 --sigma-vel 1 -o ";
   // A header holding the bell and a terminal escape sequence (red text): the column list of the
   // message shows them as \x07 and \x1b.
   write_bytes("esc.csv", "time\x07,\x1b[31mred,sensor,track,x,y\n0,1,0,1,2,3\n");
@@ -134,10 +136,12 @@ TEST_F(BadInputPart3, Utf16TextIsNamedAsSuch) {
     return s;
   };
   write_bytes("u16.csv", utf16("t,sensor,track,x,y\n0,1,0,1,2\n"));
-  CliResult r = run("import csv -i " + path("u16.csv") +
-                    " -c time=t -c sensor=sensor -c track=track -c x=x -c y=y --sigma-pos 5 --sigma-vel 1 -o " +
-                    path("o.h5"));
-  expect_refusal(r, {"u16.csv: line 1: not UTF-8 text (UTF-16? save as UTF-8 CSV): found a UTF-16 byte-order mark"});
+  CliResult r =
+      run("import csv -i " + path("u16.csv") +
+          " -c time=t -c sensor=sensor -c track=track -c x=x -c y=y --sigma-pos 5 --sigma-vel 1 -o " +
+          path("o.h5"));
+  expect_refusal(
+      r, {"u16.csv: line 1: not UTF-8 text (UTF-16? save as UTF-8 CSV): found a UTF-16 byte-order mark"});
   expect_printable(r.err);
   // The mapping JSON and a scenario JSON saved as UTF-16 alike.
   write("t.csv", "t,sensor,track,x,y\n0,1,0,1,2\n");
@@ -176,7 +180,8 @@ TEST_F(BadInputPart3, SolversListsEverySolverAssociateAccepts) {
     for (std::size_t start = 0; start < keys.size();) {
       const std::size_t end = std::min(keys.find(", ", start), keys.size());
       const std::string key = keys.substr(start, end - start);
-      EXPECT_TRUE(has(one.out, "  " + key + " ")) << key << " not listed by `solvers " << name << "`:\n" << one.out;
+      EXPECT_TRUE(has(one.out, "  " + key + " ")) << key << " not listed by `solvers " << name << "`:\n"
+                                                  << one.out;
       ++listed;
       start = end + 2;
     }
@@ -185,14 +190,16 @@ TEST_F(BadInputPart3, SolversListsEverySolverAssociateAccepts) {
   // With no names, every solver: the three among them.
   const CliResult all = run("solvers");
   ASSERT_EQ(all.status, 0);
-  for (const char* name : {"\nfuzzy: ", "\nftaa: ", "\nsiamese: ", "\nlr+ls: "}) EXPECT_TRUE(has(all.out, name)) << name;
+  for (const char* name : {"\nfuzzy: ", "\nftaa: ", "\nsiamese: ", "\nlr+ls: "})
+    EXPECT_TRUE(has(all.out, name)) << name;
   expect_refusal(run("solvers fuzy"), {"unknown solver 'fuzy' (did you mean 'fuzzy'?)"});
 }
 
 // ---------------------------------------------------------------- 5. the CSV line cap
 
 TEST_F(BadInputPart3, ALineLongerThanTheCapIsRefusedNamingIt) {
-  const std::string cols = " -c time=t -c sensor=sensor -c track=track -c x=x -c y=y --sigma-pos 5 --sigma-vel 1 -o ";
+  const std::string cols =
+      " -c time=t -c sensor=sensor -c track=track -c x=x -c y=y --sigma-pos 5 --sigma-vel 1 -o ";
   // A 3 MiB header line (a file with no line breaks, or the wrong file).
   write("long.csv", "t,sensor,track,x,y," + std::string(3 << 20, 'a') + "\n0,1,0,1,2,3\n");
   CliResult r = run("import csv -i " + path("long.csv") + cols + path("o.h5"));
@@ -202,7 +209,8 @@ TEST_F(BadInputPart3, ALineLongerThanTheCapIsRefusedNamingIt) {
   r = run("import csv -i " + path("data.csv") + cols + path("o.h5"));
   expect_refusal(r, {"data.csv: line 3 is longer than 1048576 bytes"});
   const std::string exact = "1,1,0,1,";
-  write("cap.csv", "t,sensor,track,x,y\n0,1,0,1,2\n" + exact + std::string((1 << 20) - exact.size(), '2') + "\n");
+  write("cap.csv",
+        "t,sensor,track,x,y\n0,1,0,1,2\n" + exact + std::string((1 << 20) - exact.size(), '2') + "\n");
   r = run("import csv -i " + path("cap.csv") + cols + path("o.h5"));
   expect_refusal(r, {"cap.csv: line 3, column 'y': number out of the double range: '2222"});
   EXPECT_FALSE(fs::exists(path("o.h5")));
@@ -219,8 +227,9 @@ TEST_F(BadInputPart3, NamesAreCheckedBeforeAnyWork) {
     expect_refusal(run("fuse --input " + path("a.h5") + " --name '" + name + "'"),
                    {"--name: /fused: invalid name '" + name + "'"});
     EXPECT_EQ(slurp(path("a.h5")), a);
-    expect_refusal(run("associate --input " + path("sim.h5") + " --output " + path("b.h5") + " --name '" + name + "'"),
-                   {"--name: /associations: invalid name '" + name + "'"});
+    expect_refusal(
+        run("associate --input " + path("sim.h5") + " --output " + path("b.h5") + " --name '" + name + "'"),
+        {"--name: /associations: invalid name '" + name + "'"});
     EXPECT_FALSE(fs::exists(path("b.h5")));
   }
   // A name with a real control byte: refused, and shown escaped.

@@ -1,8 +1,8 @@
 // Every documented command runs as written (issue 16, Done when; issue 33: README.md and every
 // docs/*.md): each `trackassoc ...` line of their code blocks, and each one-line `trackassoc ...`
-// code span of their text, is checked against the built CLI. CLI11 accepts unknown flags beside --help (it prints the help before it
-// checks for extras), so exit 0 of `CMD --help` alone proves nothing about the flags: the test
-// reads the command's own --help instead and requires that
+// code span of their text, is checked against the built CLI. CLI11 accepts unknown flags beside --help (it
+// prints the help before it checks for extras), so exit 0 of `CMD --help` alone proves nothing about the
+// flags: the test reads the command's own --help instead and requires that
 //   - `--help` exits 0 and its usage line names the README's subcommand chain (an unknown
 //     subcommand would print its parent's help);
 //   - the words after the chain are values of the command's positionals (dataset seed003);
@@ -188,8 +188,9 @@ TEST_F(ReadmeCommands, TheCheckerRefusesAnUnknownFlagOrSubcommand) {
   ASSERT_EQ(bogus.status, 0);  // CLI11 prints `experiment`'s help
   EXPECT_EQ(usage_chain(bogus.out), std::vector<std::string>{"experiment"}) << bogus.out;
   EXPECT_EQ(positionals_section(bogus.out).find("seed999"), std::string::npos) << bogus.out;
-  const auto parsed =
-      readme_commands("```\ntrackassoc a b --x 1 ; trackassoc c [--y Y]  # note --z\n$ trackassoc e\nout\n```\n`trackassoc d`");
+  const auto parsed = readme_commands(
+      "```\ntrackassoc a b --x 1 ; trackassoc c [--y Y]  # note --z\n$ trackassoc e\nout\n```\n`trackassoc "
+      "d`");
   const std::vector<std::vector<std::string>> want{{"a", "b", "--x", "1"}, {"c", "--y", "Y"}, {"e"}, {"d"}};
   EXPECT_EQ(parsed, want);
 }

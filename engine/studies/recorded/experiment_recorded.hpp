@@ -36,12 +36,11 @@
 namespace trackassoc {
 
 struct RecordedExperimentOptions {
-  std::vector<std::string> scenarios{"recorded_sync",       "recorded_3s",      "recorded_3s_long",
-                                     "recorded_4s",         "recorded_5s",      "recorded_dense",
-                                     "recorded_formation",  "recorded_bias",    "recorded_bias_dense",
-                                     "recorded_site",       "recorded_clock",   "recorded_covscale",
-                                     "recorded_recycled",   "recorded_swaps",   "recorded_bias_3d",
-                                     "recorded_mixed"};
+  std::vector<std::string> scenarios{
+      "recorded_sync",       "recorded_3s",    "recorded_3s_long",   "recorded_4s",
+      "recorded_5s",         "recorded_dense", "recorded_formation", "recorded_bias",
+      "recorded_bias_dense", "recorded_site",  "recorded_clock",     "recorded_covscale",
+      "recorded_recycled",   "recorded_swaps", "recorded_bias_3d",   "recorded_mixed"};
   std::vector<std::string> methods{"default", "unregistered", "exact", "chi2-sum", "3d-exact", "3d-nogate"};
   int32_t runs = 3;
   std::string files_dir = "experiment-recorded-files";  // the simulated track files, kept for peers

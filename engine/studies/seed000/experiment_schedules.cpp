@@ -22,8 +22,8 @@
 #include "kernels/assignment/lagrangian_relaxation.hpp"
 #include "kernels/assignment/local_search.hpp"
 #include "kernels/core/error.hpp"
-#include "kernels/hopfield/hopfield.hpp"
 #include "kernels/core/stopwatch.hpp"
+#include "kernels/hopfield/hopfield.hpp"
 
 namespace trackassoc {
 

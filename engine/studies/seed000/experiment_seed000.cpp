@@ -233,7 +233,8 @@ std::string seed000_summary_table(const std::vector<Seed000Row>& rows, const See
        << " of " << lr_runs
        << " runs, so no solver can beat it on the objective; a 3-D solver differs from lr only where it "
           "misses the optimum.\n";
-  os << "  - Chain cost (Eq. 3): b_ijk = λ_ij + λ_jk separates into two 2-D assignments (docs/design.md §4.3), so "
+  os << "  - Chain cost (Eq. 3): b_ijk = λ_ij + λ_jk separates into two 2-D assignments (docs/design.md "
+        "§4.3), so "
         "the optimum is two LAPs;\n    the all-pairs form adds λ_ik and is where the 3-D solvers differ.\n";
   for (int32_t targets : o.targets) {
     const auto i = mean.find({targets, false, o.forms.front(), o.solvers.front()});

@@ -15,11 +15,11 @@
 #include "io/hdf5_wrapper.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
+#include "kernels/core/stopwatch.hpp"
 #include "kernels/filters/cs_parallel.hpp"
 #include "kernels/filters/imm.hpp"
 #include "kernels/filters/kalman_converted.hpp"
 #include "kernels/learning/bp_network.hpp"
-#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
 
@@ -274,8 +274,7 @@ Seed002Result run_seed002(const Seed002Options& o, distributed::Communicator& co
   result.wall_time_s = std::chrono::duration<double>(mid - start).count();
   if (o.sensitivity) {
     result.sensitivity = run_seed002_sensitivity(o, net, comm);
-    result.sensitivity_wall_time_s =
-        seconds_since(mid);
+    result.sensitivity_wall_time_s = seconds_since(mid);
   }
   return result;
 }

@@ -65,9 +65,7 @@ struct Search {
 
   bool out_of_budget() {
     if (stopped) return true;
-    if (++nodes >= options.max_nodes ||
-        ((nodes & 1023) == 0 &&
-         seconds_since(t0) > options.time_limit_s))
+    if (++nodes >= options.max_nodes || ((nodes & 1023) == 0 && seconds_since(t0) > options.time_limit_s))
       stopped = true;
     return stopped;
   }

@@ -95,7 +95,8 @@ TEST(RegistrationStage, RegistrationIsWrittenToTheFileAndReadBack) {
   TrackFile file = simulation_to_track_file(sc, simulate(sc, 3));
   const AssociationOutcome out = run_default(file, true);
   store_outcome(file, out);
-  const std::string path = (std::filesystem::temp_directory_path() / "trackassoc_registration_test.h5").string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "trackassoc_registration_test.h5").string();
   write_track_file(path, file);
   const TrackFile back = read_track_file_in_process(path);
   ASSERT_TRUE(back.registration.has_value());

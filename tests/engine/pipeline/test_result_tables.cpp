@@ -53,7 +53,8 @@ TEST(ResultTables, AssociationsAndUnassociatedWithSourceTrack) {
   test::damage_file(path, [&](hid_t h) {
     std::vector<int32_t> source(f.tracks.size());
     for (std::size_t r = 0; r < source.size(); ++r) source[r] = static_cast<int32_t>(7 * r + 1);
-    test::put_dataset(h, "/tracks/source_track", H5T_STD_I32LE, H5T_NATIVE_INT32, {source.size()}, source.data());
+    test::put_dataset(h, "/tracks/source_track", H5T_STD_I32LE, H5T_NATIVE_INT32, {source.size()},
+                      source.data());
   });
   EXPECT_EQ(table(path, f, ResultTable::kAssociations),
             "target,tuple,sensor,track,source_track,cost\n"
@@ -107,7 +108,8 @@ TEST(ResultTables, NamePicksTheGroup) {
   f.associations.push_back(b);
   write_track_file(path, f);
   std::ostringstream out;
-  EXPECT_THROW(export_result_table(path, f, ResultTable::kAssociations, "", out), InputError);  // two: name one
+  EXPECT_THROW(export_result_table(path, f, ResultTable::kAssociations, "", out),
+               InputError);  // two: name one
   EXPECT_THROW(export_result_table(path, f, ResultTable::kAssociations, "nosuch", out), InputError);
   export_result_table(path, f, ResultTable::kAssociations, "other", out);
   EXPECT_NE(out.str().find("1,2,30,1,1,3\n"), std::string::npos) << out.str();

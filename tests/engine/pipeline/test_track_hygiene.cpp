@@ -23,8 +23,9 @@ TrackFile hand_made(const std::vector<std::array<double, 8>>& segments) {
   for (const auto& g : segments)
     for (double t = g[2]; t <= g[3] + 1e-9; t += 2.0) {
       const double dt = t - g[2];
-      f.tracks.push_back(0, static_cast<int32_t>(g[0]), t, Eigen::Vector4d(g[4] + g[6] * dt, g[5] + g[7] * dt, g[6], g[7]),
-                         P, static_cast<int32_t>(g[1]));
+      f.tracks.push_back(0, static_cast<int32_t>(g[0]), t,
+                         Eigen::Vector4d(g[4] + g[6] * dt, g[5] + g[7] * dt, g[6], g[7]), P,
+                         static_cast<int32_t>(g[1]));
     }
   return f;
 }

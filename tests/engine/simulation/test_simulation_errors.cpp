@@ -53,7 +53,8 @@ TEST(SimulationErrors, AllZeroErrorsAreNoErrorsInTheJsonAndTheOutput) {
   const std::string clean = scenario_to_json(sc);
   std::string with_zero = clean;
   const std::string key = "\"reliability\": 1.0";
-  with_zero.replace(with_zero.find(key), key.size(), key + ", \"errors\": {\"range_bias\": 0, \"covariance_scale\": 1}");
+  with_zero.replace(with_zero.find(key), key.size(),
+                    key + ", \"errors\": {\"range_bias\": 0, \"covariance_scale\": 1}");
   const Scenario parsed = parse_scenario_json(with_zero);
   EXPECT_TRUE(parsed.sensor_errors.empty());
   EXPECT_EQ(scenario_to_json(parsed), clean);
@@ -186,7 +187,8 @@ TEST(SimulationErrors, BadErrorsNameTheField) {
     simulate(sc, 1);
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("sensors[1].errors.covariance_scale"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("sensors[1].errors.covariance_scale"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(parse_scenario_json(R"({"sensors": [{"errors": {"range_bias": "x"}}]})"), InputError);
   EXPECT_THROW(parse_scenario_json(R"({"sensors": [{"errors": {"rnage_bias": 1}}]})"), InputError);

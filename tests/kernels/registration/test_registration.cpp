@@ -22,7 +22,8 @@ struct Truth {
 
 // What sensor `site` (surveyed) with errors `e` reports of a target at p: polar from the true
 // site, biases added, converted back about the surveyed site (the exact, nonlinear model).
-std::array<double, 3> report(const std::array<double, 3>& site, const Truth& e, const std::array<double, 3>& p) {
+std::array<double, 3> report(const std::array<double, 3>& site, const Truth& e,
+                             const std::array<double, 3>& p) {
   const double sx = site[0] + e.site_offset[0], sy = site[1] + e.site_offset[1];
   const double r = std::hypot(p[0] - sx, p[1] - sy) + e.range;
   const double th = std::atan2(p[1] - sy, p[0] - sx) + e.azimuth;
@@ -32,8 +33,8 @@ std::array<double, 3> report(const std::array<double, 3>& site, const Truth& e, 
 // 3 sensors, `targets` targets moving for `scans` scans; every pair of sensors observes every
 // target every scan, with independent isotropic noise σ per report; C = 2σ²·I / cov_factor.
 RegistrationObservations make_observations(const std::vector<std::array<double, 3>>& sites,
-                                           const std::vector<Truth>& truth, int targets, int scans, double sigma,
-                                           double spread, double cov_factor, uint32_t seed) {
+                                           const std::vector<Truth>& truth, int targets, int scans,
+                                           double sigma, double spread, double cov_factor, uint32_t seed) {
   std::mt19937 gen(seed);
   std::uniform_real_distribution<double> u(-spread, spread), heading(0, 2 * std::numbers::pi);
   std::normal_distribution<double> n(0.0, sigma);
@@ -73,7 +74,8 @@ TEST(Registration, InjectedRangeAzimuthAndSiteErrorsAreRecoveredWithinTwoStandar
   ASSERT_EQ(e.k(), 4);  // range, azimuth, site x, site y
   EXPECT_EQ(e.parameter_names[1], "azimuth_bias");
   for (int s = 1; s < 3; ++s) {
-    const double want[4] = {truth[s].range, truth[s].azimuth, truth[s].site_offset[0], truth[s].site_offset[1]};
+    const double want[4] = {truth[s].range, truth[s].azimuth, truth[s].site_offset[0],
+                            truth[s].site_offset[1]};
     for (int j = 0; j < 4; ++j) {
       const double est = e.bias[s * 4 + j], se = e.standard_error[s * 4 + j];
       EXPECT_GT(se, 0.0);
@@ -104,7 +106,7 @@ TEST(Registration, PolarOnlyModelRecoversRangeAndAzimuthTightly) {
   for (int s = 1; s < 3; ++s) {
     EXPECT_LT(std::abs(e.bias[s * 2] - truth[s].range), 2.0 * e.standard_error[s * 2]);
     EXPECT_LT(std::abs(e.bias[s * 2 + 1] - truth[s].azimuth), 2.0 * e.standard_error[s * 2 + 1]);
-    EXPECT_LT(e.standard_error[s * 2], 20.0);          // metres
+    EXPECT_LT(e.standard_error[s * 2], 20.0);             // metres
     EXPECT_LT(e.standard_error[s * 2 + 1], 0.05 * kDeg);  // a twelfth of the bias or better
   }
 }
