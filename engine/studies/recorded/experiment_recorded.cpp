@@ -20,8 +20,8 @@
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/registration_stage.hpp"
-#include "engine/pipeline/track_hygiene.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "engine/studies/experiments.hpp"
@@ -36,7 +36,8 @@ extern char** environ;
 namespace trackassoc {
 namespace {
 
-const std::vector<std::string> kMethods{"default", "unregistered", "exact", "chi2-sum", "3d-exact", "3d-nogate"};
+const std::vector<std::string> kMethods{"default",  "unregistered", "exact",
+                                        "chi2-sum", "3d-exact",     "3d-nogate"};
 const std::vector<std::string> kPeerMethods{"stonesoup-one2one", "stonesoup-counting"};
 
 RecordedRow score(const std::string& scenario, const std::string& method, int32_t run, const TrackFile& file,
@@ -188,9 +189,10 @@ std::vector<RecordedRow> run_recorded_experiment(const RecordedExperimentOptions
         if (method == "default") {  // as `associate`: recycled numbers split first, scored on the split keys
           const auto t0 = std::chrono::steady_clock::now();
           TrackFile split = file;
-          split_recycled_tracks(split, TrackSplitOptions{});
+          split_recorded_keys(split, AssociatorOptions{});  // the default request's split
           const double split_s = seconds_since(t0);
-          const AssociationRecord rec = associate_method(split, method, o.seed + static_cast<uint64_t>(run), t);
+          const AssociationRecord rec =
+              associate_method(split, method, o.seed + static_cast<uint64_t>(run), t);
           rows.push_back(score(o.scenarios[s], method, run, split, rec, t + split_s));
           continue;
         }
