@@ -17,11 +17,11 @@
 #include <sstream>
 
 #include "engine/cli/table.hpp"
+#include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/registration_stage.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
-#include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "engine/studies/experiments.hpp"
