@@ -181,7 +181,9 @@ std::vector<RecordedRow> run_recorded_experiment(const RecordedExperimentOptions
     for (int32_t run = 0; run < o.runs; ++run) {
       const Scenario& sc = scenarios[s];
       const TrackFile file = simulation_to_track_file(sc, simulate(sc, o.seed, run));
-      const std::string path = o.files_dir + "/" + o.scenarios[s] + "_run" + std::to_string(run) + ".h5";
+      // A scenario given as a JSON path names its files by the file's name, in --files.
+      const std::string path = o.files_dir + "/" + std::filesystem::path(o.scenarios[s]).filename().string() +
+                               "_run" + std::to_string(run) + ".h5";
       write_track_file(path, file);
       for (const auto& method : o.methods) {
         if (method.rfind("3d-", 0) == 0 && file.sensors.size() != 3) continue;

@@ -62,5 +62,17 @@ TEST_F(ExperimentRecordedCli, BadInputIsExitTwoAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(path("y.h5")));
 }
 
+TEST_F(ExperimentRecordedCli, AScenarioFileInAnotherFolderNamesItsFilesByItsFileName) {
+  // Was: --files/<the whole path>_run0.h5, "output folder ... does not exist".
+  std::filesystem::create_directories(path("scenarios"));
+  std::filesystem::copy_file(std::string(TRACKASSOC_SOURCE_DIR) + "/data/scenarios/recorded_sync.json",
+                             path("scenarios/mine.json"));
+  const auto r = run("experiment recorded --scenarios " + path("scenarios/mine.json") +
+                     " --methods default --runs 1 --no-peer --no-plots --files " + path("files") +
+                     " --output " + path("rec.h5"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(path("files/mine.json_run0.h5")));
+}
+
 }  // namespace
 }  // namespace trackassoc
