@@ -108,6 +108,9 @@ void print_outcome(const AssociationOutcome& out, const TrackFile& file, const s
       std::cout << ", segments joined " << info["segments_joined"].get<int64_t>() << " (to "
                 << info["segment_targets_joined"].get<int64_t>() << " targets; duplicates "
                 << info.value("segment_duplicates_joined", int64_t{0}) << ")";
+    if (s.stitching.stitches > 0)
+      std::cout << ", fragments stitched " << s.stitching.stitches << " (" << s.stitching.candidates
+                << " gated continuations of " << s.stitching.groups << " targets)";
     std::cout << "\n";
   }
   if (!s.empty_sensors.empty()) {
@@ -134,7 +137,7 @@ void register_associate(CLI::App& app) {
     bool svg = false;
     HopfieldFlags hopfield;  // merged into --options
     bool sd = false, three_d = false;
-    bool no_segments = false, no_registration = false, no_split = false;
+    bool no_segments = false, no_registration = false, no_split = false, no_stitch = false;
     double segment_overlap = SegmentOptions{}.max_overlap_s;
     std::vector<int32_t> duplicate_sensors;
     std::string model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";  // --solver siamese
@@ -187,6 +190,11 @@ void register_associate(CLI::App& app) {
       "pauses and then jumps where its own motion cannot take it, a recycled track number, is split "
       "into new local tracks before the association; /tracks/source_track keeps the recorded number; "
       "engine/pipeline/track_hygiene.hpp)");
+  cmd->add_flag("--no-stitch", args->no_stitch,
+                "Default pipeline: keep output targets that never coexist apart (default: a target whose "
+                "first report continues another's last, within 180 s, by constant velocity with a 3 m/s^2 "
+                "manoeuvre allowance, unambiguously (each the other's only match), is joined to it: a "
+                "target handed over between sensors; engine/pipeline/track_stitching.hpp)");
   cmd->add_option("--segment-overlap", args->segment_overlap,
                   "Default pipeline: the report overlap [s] two segments of one sensor may have and still "
                   "follow each other (a coasting old track and its successor)")
@@ -225,6 +233,7 @@ void register_associate(CLI::App& app) {
     request.segments.enabled = !args->no_segments;
     request.registration.enabled = !args->no_registration;
     request.split.enabled = !args->no_split;
+    request.stitching.enabled = !args->no_stitch;
     request.segments.max_overlap_s = args->segment_overlap;
     request.segments.duplicate_sensors = args->duplicate_sensors;
     if (!args->duplicate_sensors.empty() && args->no_segments)

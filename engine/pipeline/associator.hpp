@@ -37,6 +37,7 @@
 #include "engine/pipeline/sparse_pipeline.hpp"
 #include "engine/pipeline/track_hygiene.hpp"
 #include "engine/pipeline/track_segments.hpp"
+#include "engine/pipeline/track_stitching.hpp"
 #include "io/track_file.hpp"
 
 namespace trackassoc {
@@ -61,6 +62,9 @@ struct AssociatorOptions {
   // The default (sparse S-D) path: recycled track numbers split before the association
   // (split_recorded_keys below, engine/pipeline/track_hygiene.hpp); the CLI's --no-split.
   TrackSplitOptions split;
+  // The default (sparse S-D) path: groups that never coexist joined when one continues the other
+  // (engine/pipeline/track_stitching.hpp); the CLI's --no-stitch.
+  TrackStitchOptions stitching;
   // The default (sparse S-D) path and --sparse: the MPI ranks that share its components (rank 0's
   // call; the others run serve_sd_components, engine/pipeline/sparse_sd_sharded.hpp, or
   // serve_sparse_components, engine/pipeline/sparse_3d_sharded.hpp). Null: this process.
@@ -85,6 +89,7 @@ struct AssociationSummary {
   std::vector<StageReport> stages;    // sparse S-D: alignment, candidates, statistics, components, solve
   int32_t components = 0;             // sparse paths: connected components
   int64_t candidate_pairs = 0, gated_pairs = 0, fallback_components = 0;  // sparse S-D
+  TrackStitchSummary stitching;        // sparse S-D: groups that never coexist, joined (track_stitching.hpp)
   std::vector<int32_t> empty_sensors;  // sparse S-D: chosen sensors without local tracks (column -1)
   int64_t local_tracks = 0, packets = 0, system_tracks = 0;  // fusion centre
   int64_t points = 0, points_outside_domain = 0;             // siamese

@@ -90,6 +90,9 @@ const OptionFields<AssociatorOptions>& associator_option_fields() {
             "default pipeline: joint registration and association (False = --no-registration)"),
       field("split", path(&O::split, &TrackSplitOptions::enabled), "",
             "default pipeline: split recycled track numbers into new local tracks (False = --no-split)"),
+      field("stitch", path(&O::stitching, &TrackStitchOptions::enabled), "",
+            "default pipeline: join output targets that never coexist when one continues the other "
+            "(False = --no-stitch)"),
   }};
   return fields;
 }

@@ -59,6 +59,17 @@ class SparseSDAssociator final : public TrackAssociator {
           return associate_sparse_sd(f, o_.solver, o_.solver_options, o_.seed, so, &out.summary.stages);
         },
         &reg);
+    // Fragments: on the reports the association used (corrected when the registration applied).
+    if (o_.stitching.enabled) {
+      const auto ts = std::chrono::steady_clock::now();
+      if (reg.applied)
+        out.summary.stitching = stitch_fragments(registered_file(file, reg.estimate, model_for(file, ro.fit)),
+                                                 out.record, o_.stitching);
+      else
+        out.summary.stitching = stitch_fragments(file, out.record, o_.stitching);
+      out.summary.stages.push_back({"stitching", seconds_since(ts), peak_rss_mib(), 0.0});
+      out.record.runtime_s += seconds_since(ts);
+    }
     apply_name(o_, out.record);
     if (reg.fitted) {
       out.registration = reg.to_record(file, out.record.name, ro);
@@ -218,6 +229,7 @@ void AssociatorOptions::validate() const {
   if (!solver_options.is_object())
     throw InputError("--options: expected a JSON object, got '" + solver_options.dump().substr(0, 200) + "'");
   segments.validate();
+  stitching.validate();
   if (!segments.enabled && !segments.duplicate_sensors.empty())
     throw InputError("--duplicate-sensors: duplicates join targets in the segment pass; drop --no-segments");
 }

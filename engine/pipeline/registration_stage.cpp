@@ -29,6 +29,14 @@ bool positions_unknown(const TrackFile& file) {
   return file.recording.sensors_unknown.find("position") != std::string::npos;
 }
 
+std::vector<std::array<double, 3>> sites_of(const TrackFile& file) {
+  std::vector<std::array<double, 3>> sites;
+  for (const Sensor& s : file.sensors) sites.push_back(s.position);
+  return sites;
+}
+
+}  // namespace
+
 RegistrationOptions model_for(const TrackFile& file, const RegistrationOptions& fit) {
   RegistrationOptions o = fit;
   if (positions_unknown(file)) {
@@ -37,14 +45,6 @@ RegistrationOptions model_for(const TrackFile& file, const RegistrationOptions& 
   }
   return o;
 }
-
-std::vector<std::array<double, 3>> sites_of(const TrackFile& file) {
-  std::vector<std::array<double, 3>> sites;
-  for (const Sensor& s : file.sensors) sites.push_back(s.position);
-  return sites;
-}
-
-}  // namespace
 
 void RegistrationStageOptions::validate() const {
   require(max_rounds >= 2 && max_rounds <= 20, "registration.max_rounds", "expected 2..20");

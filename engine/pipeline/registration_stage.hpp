@@ -83,6 +83,10 @@ RegistrationObservations registration_observations(const TrackFile& file, const 
 RegistrationObservations pattern_observations(const TrackFile& file, int32_t reference,
                                               const RegistrationStageOptions& options);
 
+// The registration model for `file`: `fit`, or a translation and a clock offset when the file says
+// the sensor positions are unknown (/sensors attr unknown).
+RegistrationOptions model_for(const TrackFile& file, const RegistrationOptions& fit);
+
 // `file` with every report of every sensor corrected by `estimate` and its position covariance
 // widened by the estimate's uncertainty (see the header).
 TrackFile registered_file(const TrackFile& file, const RegistrationEstimate& estimate,

@@ -20,39 +20,21 @@ void TrackSplitOptions::validate() const {
           "expected a probability in (0, 1)");
 }
 
-namespace {
-
-Eigen::VectorXd state_of(const TrackTable& t, std::size_t r) {
-  Eigen::VectorXd x(t.dim());
-  for (int i = 0; i < t.dim(); ++i) x[i] = t.state[i][r];
-  return x;
-}
-
-Eigen::MatrixXd cov_of(const TrackTable& t, std::size_t r) {
-  const int D = t.dim();
-  Eigen::MatrixXd P(D, D);
-  for (int i = 0; i < D; ++i)
-    for (int j = 0; j < D; ++j) P(i, j) = t.cov[packed_index(D, std::min(i, j), std::max(i, j))][r];
-  return P;
-}
-
-// m² of the report after a gap against the prediction of the report before it.
-double jump_statistic(const TrackTable& t, std::size_t before, std::size_t after, double q) {
+double continuation_statistic(const TrackTable& t, std::size_t before, std::size_t after, double q) {
   const int D = t.dim(), d = D / 2;
   const double dt = t.t[after] - t.t[before];
+  const double adt = std::fabs(dt), sgn = dt < 0 ? -1.0 : 1.0;  // Q's cross term follows F's direction
   Eigen::MatrixXd F = Eigen::MatrixXd::Identity(D, D), Q = Eigen::MatrixXd::Zero(D, D);
   for (int i = 0; i < d; ++i) {
     F(i, d + i) = dt;
-    Q(i, i) = q * dt * dt * dt / 3.0;
-    Q(i, d + i) = Q(d + i, i) = q * dt * dt / 2.0;
-    Q(d + i, d + i) = q * dt;
+    Q(i, i) = q * adt * adt * adt / 3.0;
+    Q(i, d + i) = Q(d + i, i) = sgn * q * adt * adt / 2.0;
+    Q(d + i, d + i) = q * adt;
   }
-  const Eigen::VectorXd e = state_of(t, after) - F * state_of(t, before);
-  const Eigen::MatrixXd C = F * cov_of(t, before) * F.transpose() + Q + cov_of(t, after);
+  const Eigen::VectorXd e = t.state_at(after) - F * t.state_at(before);
+  const Eigen::MatrixXd C = F * t.cov_at(before) * F.transpose() + Q + t.cov_at(after);
   return e.dot(C.ldlt().solve(e));
 }
-
-}  // namespace
 
 TrackSplitSummary split_recycled_tracks(TrackFile& file, const TrackSplitOptions& o) {
   o.validate();
@@ -80,7 +62,7 @@ TrackSplitSummary split_recycled_tracks(TrackFile& file, const TrackSplitOptions
     for (std::size_t i = 1; i < v.size(); ++i) {
       if (t.t[v[i]] - t.t[v[i - 1]] > gap) {
         ++summary.gaps;
-        if (jump_statistic(t, v[i - 1], v[i], q) > gate) {
+        if (continuation_statistic(t, v[i - 1], v[i], q) > gate) {
           ++summary.cuts;
           number = next_number[key.first]++;
         }

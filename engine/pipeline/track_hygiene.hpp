@@ -37,6 +37,12 @@ struct TrackSplitSummary {
   int32_t gaps = 0, cuts = 0;  // gaps tested, and cut
 };
 
+// m² of report `after` against report `before` predicted to its time by constant velocity with
+// the allowance q = σ_a² (the rule above; `after` may be earlier than `before` by a short overlap,
+// the prediction then runs backwards with the same Q). Fragment stitching uses it too
+// (engine/pipeline/track_stitching.hpp).
+double continuation_statistic(const TrackTable& tracks, std::size_t before, std::size_t after, double q);
+
 // Splits the recycled keys of file.tracks in place and fills file.source_track (when any key is
 // cut; left as it was otherwise). Returns what it did.
 TrackSplitSummary split_recycled_tracks(TrackFile& file, const TrackSplitOptions& options);

@@ -82,10 +82,10 @@ AssociationRecord associate_method(const TrackFile& file, const std::string& met
       so.pipeline.alignment.method = AlignmentMethod::kForward;
       so.pipeline.alignment.process_noise = 1.0;
     }
-    if (method == "default") {  // with the registration stage, as `associate` runs it
-      rec = associate_with_registration(
-          file, RegistrationStageOptions{},
-          [&](const TrackFile& f) { return associate_sparse_sd(f, solver, options, seed, so); }, nullptr);
+    if (method == "default") {  // `associate`'s default request: registration, segments, stitching
+      AssociatorOptions request;
+      request.seed = seed;
+      rec = make_associator(request)->associate(file).record;
     } else {
       rec = associate_sparse_sd(file, solver, options, seed, so);
     }

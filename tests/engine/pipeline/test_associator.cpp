@@ -89,10 +89,13 @@ TEST(Associator, SparseSDIsAssociateSparseSD) {
   EXPECT_EQ(out.summary.sensor_ids, (std::vector<int32_t>{file.sensors[0].id, file.sensors[1].id,
                                                           file.sensors[2].id, file.sensors[3].id}));
   EXPECT_GE(out.summary.components, 1);
-  // alignment, candidates, statistics, components, solve, segments, then the registration stage's
-  // own time (engine/pipeline/registration_stage.hpp): this file has no registration errors, so
-  // the estimate is not applied and the tuples are associate_sparse_sd's.
-  EXPECT_EQ(out.summary.stages.size(), 7u);
+  // alignment, candidates, statistics, components, solve, segments, stitching, then the
+  // registration stage's own time (engine/pipeline/registration_stage.hpp): this file has no
+  // registration errors, so the estimate is not applied and the tuples are associate_sparse_sd's;
+  // its tracks all coexist, so no fragment is stitched.
+  EXPECT_EQ(out.summary.stages.size(), 8u);
+  EXPECT_EQ(out.summary.stages[6].name, "stitching");
+  EXPECT_EQ(out.summary.stitching.stitches, 0);
   EXPECT_EQ(out.summary.stages.back().name, "registration");
   ASSERT_TRUE(out.registration.has_value());
   EXPECT_FALSE(out.registration->applied);
