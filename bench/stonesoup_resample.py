@@ -32,7 +32,9 @@ Choices (and why)
               tracker.process_noise); the continuous model gives the same velocity variance over
               a T = 4 s scan (the family's median period) at q = σ_w² T = 9 · 4 = 36. Predictions
               span at most 5 s here, so Q adds at most q · 5³/3 = 1500 m² (σ 39 m) per position
-              axis, small beside the tracks' position variances (10⁴-10⁵ m²).
+              axis, small beside the tracks' position variances (medians 9·10³-10⁵ m² per axis
+              on the family). q = 4 or 400, or a 2 s grid, changes the correct rates by a few
+              points, not the picture (docs/status.md).
 Cost: one KalmanPredictor.predict call per (track, grid time).
 """
 import math
