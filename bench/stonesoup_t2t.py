@@ -10,6 +10,12 @@ What it does
                     scipy's linear_sum_assignment; T defaults to the chi-square(D) 0.99 quantile;
       counting  TrackToTrackCounting (Sagild, Hem, Brekke, FUSION 2021): position-only
                     distance, 3 consecutive hits confirm, 2 consecutive misses end.
+    and, unless --no-resampled, the same two on the tracks predicted onto one common time grid
+    with Stone Soup's KalmanPredictor (CombinedLinearGaussianTransitionModel of ConstantVelocity,
+    q = --q; grid step --grid-step, default the largest sensor period; only within each track's
+    span, from its latest report at most one step before): stonesoup-one2one-resampled and
+    stonesoup-counting-resampled, what a user writes so that asynchronous tracks share timestamps
+    (bench/stonesoup_resample.py states the choices and why). Their time includes the predictions.
     Both are two-set associators; the S-sensor tuples are "pairwise chained", as a user of the
     peer would write it: union-find over (sensor, track) nodes with the links of the consecutive
     sensor pairs 0-1, 1-2, ..., then of the pairs (a, b), b > a+1 (by growing gap), restricted to
@@ -24,11 +30,12 @@ What it does
 How to run (from the repo root, with Debian's Python and the apt packages of
 ../shared/peers/stonesoup-src/README.md plus python3-h5py):
     /usr/bin/python3 bench/stonesoup_t2t.py FILE.h5 [--threshold T] [--cov first|sum]
-        [--count-measure euclidean|mahalanobis] [--count-threshold M] [--json OUT.json]
-        [--write-into OUT.h5]
+        [--count-measure euclidean|mahalanobis] [--count-threshold M] [--no-resampled]
+        [--grid-step S] [--q Q] [--json OUT.json] [--write-into OUT.h5]
     Stone Soup is found through $STONESOUP_SRC (default <repo>/../shared/peers/stonesoup-src and
     its stub/ folder). With --write-into, OUT.h5 is a copy of FILE.h5 plus
-    /associations/stonesoup-one2one and /associations/stonesoup-counting, written atomically
+    /associations/stonesoup-one2one, /associations/stonesoup-counting (and the two
+    /associations/stonesoup-*-resampled), written atomically
     (OUT.h5.tmp, then rename), so `trackassoc evaluate --input OUT.h5` scores them too.
     Exit status: 0 ok, 2 bad input, 3 Stone Soup (or a dependency) cannot be imported.
 
@@ -39,8 +46,9 @@ Caveats
       then returns None, OneToOne treats the pair as "at the threshold" (never associated) and
       Counting skips it, so both degrade to few or zero associations. The script counts, per
       associator, the candidate pairs without any shared timestamp (and those whose time spans
-      overlap yet share none) and flags sensor pairs where it produced no association. No
-      prediction / interpolation to common times is done: that is the peer as shipped.
+      overlap yet share none) and flags sensor pairs where it produced no association. The two
+      runs without "-resampled" do no prediction / interpolation to common times: that is the
+      peer as shipped; the resampled runs are the fair version a user would write.
     * SquaredMahalanobis uses the FIRST track's covariance only (not P1 + P2), so it is
       asymmetric and, for radars seeing a target from different angles (one narrow in range,
       the other wide in cross-range), far above chi-square(D): on seed000, sensor 0 vs 1, the
@@ -68,6 +76,9 @@ from datetime import datetime, timedelta
 import numpy as np
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import stonesoup_resample as resample  # noqa: E402  (bench/, beside this script)
+
 EPOCH = datetime(2000, 1, 1)
 # schema-v1 layout -> permutation into Stone Soup's ordering, and the position rows after it.
 LAYOUTS = {"x,y,vx,vy": ([0, 2, 1, 3], [0, 2]),
@@ -90,6 +101,9 @@ def import_stonesoup():
                                                            TrackToTrackCounting)
         from stonesoup.measures import Euclidean, Mahalanobis, SquaredMahalanobis
         from stonesoup.measures.multi import MeanMeasure, StateSequenceMeasure
+        from stonesoup.models.transition.linear import (CombinedLinearGaussianTransitionModel,
+                                                        ConstantVelocity)
+        from stonesoup.predictor.kalman import KalmanPredictor
         from stonesoup.types.array import CovarianceMatrix, StateVector
         from stonesoup.types.state import GaussianState
         from stonesoup.types.track import Track
@@ -103,7 +117,9 @@ def import_stonesoup():
     return dict(OneToOne=OneToOneTrackAssociator, Counting=TrackToTrackCounting,
                 Euclidean=Euclidean, Mahalanobis=Mahalanobis, SqMaha=SquaredMahalanobis,
                 Mean=MeanMeasure, Seq=StateSequenceMeasure, Cov=CovarianceMatrix,
-                SV=StateVector, GS=GaussianState, Track=Track, chi2=chi2)
+                SV=StateVector, GS=GaussianState, Track=Track, chi2=chi2,
+                CombinedLGTM=CombinedLinearGaussianTransitionModel, CV=ConstantVelocity,
+                KalmanPredictor=KalmanPredictor)
 
 
 def load(path):
@@ -373,9 +389,17 @@ def main(argv=None):
                     help="Counting's per-state position distance (default euclidean, as its docs)")
     ap.add_argument("--count-threshold", type=float, default=None,
                     help="Counting gate (metres for euclidean); default data-derived, see caveats")
+    ap.add_argument("--no-resampled", action="store_true",
+                    help="skip the resampled runs (bench/stonesoup_resample.py)")
+    ap.add_argument("--grid-step", type=float, default=None,
+                    help="resampled runs: the common grid's step [s] (default: the largest "
+                         "sensor period in the file)")
+    ap.add_argument("--q", type=float, default=resample.DEFAULT_Q,
+                    help="resampled runs: ConstantVelocity's noise_diff_coeff q [m^2/s^3] "
+                         "(default %(default)g, see bench/stonesoup_resample.py)")
     ap.add_argument("--json", metavar="FILE", help="write the results as JSON")
     ap.add_argument("--write-into", metavar="OUT.h5",
-                    help="copy the input to OUT.h5 with the two associations added")
+                    help="copy the input to OUT.h5 with the associations added")
     args = ap.parse_args(argv)
 
     ss = import_stonesoup()
@@ -383,8 +407,13 @@ def main(argv=None):
         return 0
     if args.input is None:
         ap.error("an input file is required (or --check)")
+    if args.grid_step is not None and not args.grid_step > 0:
+        ap.error(f"--grid-step: expected a step > 0 s, found {args.grid_step}")
+    if not args.q >= 0:
+        ap.error(f"--q: expected q >= 0, found {args.q}")
     try:
         d = load(args.input)
+        step = None if args.no_resampled else (args.grid_step or resample.grid_step(d))
     except (OSError, KeyError, ValueError) as e:
         print(f"stonesoup_t2t: {args.input}: {e}", file=sys.stderr)
         return 2
@@ -398,21 +427,39 @@ def main(argv=None):
     thr = args.threshold if args.threshold is not None else float(ss["chi2"].ppf(0.99, D))
     cthr = (args.count_threshold if args.count_threshold is not None
             else count_threshold(d, pos, args.count_measure))
-    runs = [("stonesoup-one2one", "stonesoup OneToOneTrackAssociator",
-             make_one2one(ss, tracks, thr, args.cov),
-             dict(measure="MeanMeasure(StateSequenceMeasure(SquaredMahalanobis()))"
-                  + (" with P1+P2" if args.cov == "sum" else ""),
-                  association_threshold=thr, maximise_measure=False)),
-            ("stonesoup-counting", "stonesoup TrackToTrackCounting",
-             make_counting(ss, tracks, cthr, args.count_measure, pos),
-             dict(measure=f"{args.count_measure}(position)", association_threshold=cthr,
-                  consec_pairs_confirm=3, consec_misses_end=2, use_positional_only=True,
-                  one_to_one="longest total duration per sensor pair"))]
+    one2one_options = dict(measure="MeanMeasure(StateSequenceMeasure(SquaredMahalanobis()))"
+                           + (" with P1+P2" if args.cov == "sum" else ""),
+                           association_threshold=thr, maximise_measure=False)
+    counting_options = dict(measure=f"{args.count_measure}(position)", association_threshold=cthr,
+                            consec_pairs_confirm=3, consec_misses_end=2, use_positional_only=True,
+                            one_to_one="longest total duration per sensor pair")
+    # (name, solver, tracks, times, associate, options, seconds spent before associating)
+    runs = [("stonesoup-one2one", "stonesoup OneToOneTrackAssociator", tracks, times,
+             make_one2one(ss, tracks, thr, args.cov), one2one_options, 0.0),
+            ("stonesoup-counting", "stonesoup TrackToTrackCounting", tracks, times,
+             make_counting(ss, tracks, cthr, args.count_measure, pos), counting_options, 0.0)]
+    if step is not None:  # the same associators on the tracks predicted onto a common grid
+        t0 = time.perf_counter()
+        predictor = resample.make_predictor(ss, len(pos), args.q)
+        rtracks, rtimes, calls = resample.resample_tracks(tracks, ss, predictor, step, EPOCH)
+        predict_time = time.perf_counter() - t0
+        grid = dict(resampled=f"KalmanPredictor(CombinedLinearGaussianTransitionModel("
+                              f"[ConstantVelocity({args.q:g})] * {len(pos)})) onto t = k * "
+                              f"{step:g} s within each track's span, from its latest report at "
+                              f"most {step:g} s before", grid_step=step, q=args.q,
+                    predict_calls=calls, predict_time_s=predict_time)
+        runs += [("stonesoup-one2one-resampled", "stonesoup OneToOneTrackAssociator", rtracks,
+                  rtimes, make_one2one(ss, rtracks, thr, args.cov), {**one2one_options, **grid},
+                  predict_time),
+                 ("stonesoup-counting-resampled", "stonesoup TrackToTrackCounting", rtracks,
+                  rtimes, make_counting(ss, rtracks, cthr, args.count_measure, pos),
+                  {**counting_options, **grid}, predict_time)]
     results = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # StateSequenceMeasure warns on every no-common-time pair
-        for name, solver, associate, options in runs:
-            tuples, assoc_time, diag = run_chained(tracks, times, S, associate)
+        for name, solver, run_tracks, run_times, associate, options, before in runs:
+            tuples, assoc_time, diag = run_chained(run_tracks, run_times, S, associate)
+            assoc_time += before  # resampled: the predictions are part of the method
             m = score(tuples, truth_of)
             options.update(chaining="pairwise chained: consecutive pairs, then growing gaps; "
                                     "no same-sensor merge", timestamp_epoch=EPOCH.isoformat())
@@ -426,12 +473,13 @@ def main(argv=None):
 
     print(f"{args.input}: {S} sensors, {len(tracks)} local tracks, layout {d['layout']}, "
           f"one2one threshold {thr:.3g} (cov {args.cov}), "
-          f"counting threshold {cthr:.3g} ({args.count_measure})")
+          f"counting threshold {cthr:.3g} ({args.count_measure})"
+          + ("" if step is None else f", resampled onto a {step:g} s grid (q {args.q:g})"))
     pct = lambda x: "   n/a" if x != x else f"{100 * x:5.1f}%"  # noqa: E731
-    print(f"{'associator':20} {'targets':>7} {'correct':>7} {'false':>7} {'missed':>7} "
+    print(f"{'associator':28} {'targets':>7} {'correct':>7} {'false':>7} {'missed':>7} "
           f"{'false tuples':>12} {'assoc s':>8} {'build s':>8} {'no-common':>13}")
     for r in results:
-        print(f"{r['name']:20} {r['targets']:7d} {pct(r['correct_rate']):>7} "
+        print(f"{r['name']:28} {r['targets']:7d} {pct(r['correct_rate']):>7} "
               f"{pct(r['false_rate']):>7} {pct(r['missed_rate']):>7} "
               f"{'n/a' if r['false_tuples'] is None else r['false_tuples']!s:>4} "
               f"of {r['linked_tuples']:<4d} "
@@ -439,7 +487,7 @@ def main(argv=None):
               f"{r['pairs_without_common_time']:6d}/{r['candidate_pairs']:<6d}")
         for x in r["sensor_pairs"]:
             if x["candidates"] and not x["links"]:
-                hint = r["name"].endswith("one2one") and args.cov == "first"
+                hint = "one2one" in r["name"] and args.cov == "first"
                 why = ("no candidate pair shares a timestamp"
                        if x["no_common_time"] == x["candidates"] else
                        "no pair passed the gate" + (" (try --cov sum)" if hint else ""))

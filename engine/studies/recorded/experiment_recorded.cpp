@@ -38,7 +38,10 @@ namespace {
 
 const std::vector<std::string> kMethods{"default",  "unregistered", "exact",
                                         "chi2-sum", "3d-exact",     "3d-nogate"};
-const std::vector<std::string> kPeerMethods{"stonesoup-one2one", "stonesoup-counting"};
+// Stone Soup as shipped (only timestamps two tracks share), then the same associators on the tracks
+// predicted onto a common grid with its KalmanPredictor (bench/stonesoup_resample.py).
+const std::vector<std::string> kPeerMethods{"stonesoup-one2one", "stonesoup-counting",
+                                            "stonesoup-one2one-resampled", "stonesoup-counting-resampled"};
 
 RecordedRow score(const std::string& scenario, const std::string& method, int32_t run, const TrackFile& file,
                   const AssociationRecord& rec, double time_s) {
@@ -121,7 +124,7 @@ std::vector<RecordedRow> peer_rows(const std::string& scenario, int32_t run, con
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
   std::vector<RecordedRow> rows;
   if (j.is_discarded()) return rows;
-  for (const auto& name : kPeerMethods) {  // {"stonesoup-one2one": {...}, "stonesoup-counting": {...}}
+  for (const auto& name : kPeerMethods) {  // {"stonesoup-one2one": {...}, "stonesoup-counting": {...}, ...}
     const nlohmann::json a = j.is_object() && j.contains(name) ? j.at(name) : nlohmann::json();
     if (!a.is_object() || !a.contains("targets")) continue;
     RecordedRow r;

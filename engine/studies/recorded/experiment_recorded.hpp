@@ -22,10 +22,15 @@
 //   3d-nogate    the same tensor with the gate off on the summed statistic, exact (the
 //                reference rate for the dense and formation cases).
 // and, when `peer` is on, by Stone Soup's OneToOneTrackAssociator and TrackToTrackCounting,
-// pairwise chained (bench/stonesoup_t2t.py, run with Debian's Python). Every method is scored on
-// the decoded tuples it writes, by the rule of `trackassoc evaluate` (engine/pipeline/metrics.hpp).
+// pairwise chained (bench/stonesoup_t2t.py, run with Debian's Python): as shipped
+// (stonesoup-one2one, stonesoup-counting: states compared only at timestamps two tracks share, so
+// nothing is linked on asynchronous files) and resampled (stonesoup-one2one-resampled,
+// stonesoup-counting-resampled: every track first predicted onto a common grid with Stone Soup's
+// KalmanPredictor and a CV model, bench/stonesoup_resample.py). Every method is scored on the
+// decoded tuples it writes, by the rule of `trackassoc evaluate` (engine/pipeline/metrics.hpp).
 // Times: ours = the pipeline from the loaded file to the tuples; the peer's = its association
-// calls (its Track objects' construction reported apart).
+// calls, plus the predictions for the resampled rows (its Track objects' construction reported
+// apart).
 #pragma once
 
 #include <cstdint>
