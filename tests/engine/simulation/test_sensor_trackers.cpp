@@ -1,9 +1,10 @@
 // Per-sensor local trackers (Scenario::sensor_trackers, kernels/core/scenario.hpp): a sensor with
 // its own tracker gives, for the same measurements, exactly the tracks the scenario gives when that
 // tracker is every sensor's; the JSON reads, validates and round-trips it (also through a track
-// file's root attribute "scenario").
+// file's root attribute "scenario"); the embedded recorded_trackers runs them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -157,6 +158,41 @@ TEST(SensorTrackers, TrackFileRecordsTheScenarioWithItsTrackers) {
   const TrackFile f = read_track_file(path.string());
   std::filesystem::remove(path);
   EXPECT_EQ(parse_scenario_json(f.scenario_json), sc);
+}
+
+
+// Median position error of `sensor`'s reports of true targets.
+double median_error(const std::vector<TargetTrajectory>& truth, const TrackTable& t, int32_t sensor) {
+  std::vector<double> e;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (t.sensor[i] != sensor || t.truth[i] < 0) continue;
+    for (const auto& g : truth)
+      if (g.id == t.truth[i])
+        e.push_back(std::hypot(t.state[0][i] - g.at(t.t[i]).p[0], t.state[1][i] - g.at(t.t[i]).p[1]));
+  }
+  std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
+  return e[e.size() / 2];
+}
+
+TEST(SensorTrackers, RecordedTrackersGivesEachRadarItsTracker) {
+  const Scenario sc = load_scenario("recorded_trackers");  // the embedded copy
+  ASSERT_EQ(sc.sensors.size(), 5u);
+  EXPECT_EQ(tracker_of(sc, 0), (LocalTrackerSpec{"cv", 0.1}));
+  EXPECT_EQ(tracker_of(sc, 1), (LocalTrackerSpec{"cv", 8.0}));
+  EXPECT_EQ(tracker_of(sc, 2), (LocalTrackerSpec{"ab", 3.0}));
+  EXPECT_EQ(tracker_of(sc, 3).filter, "imm");
+  EXPECT_EQ(tracker_of(sc, 4), sc.tracker);
+  EXPECT_EQ(sc.tracker, (LocalTrackerSpec{"cv", 3.0}));
+  EXPECT_EQ(sc.random_targets.manoeuvres.p_turn, 1.0);  // every manoeuvre a turn
+  // The low-noise CV radar lags the turns: its median error is several times the others'.
+  const SimulationResult r = simulate(sc, sc.seed);
+  const auto truth = simulate_trajectories(sc, sc.seed, 0);
+  const double low = median_error(truth, r.tracks, sc.sensors[0].id);
+  for (std::size_t s = 1; s < 5; ++s) {
+    const double other = median_error(truth, r.tracks, sc.sensors[s].id);
+    EXPECT_GT(low, 2.0 * other) << "radar " << s << ": " << low << " m vs " << other << " m";
+  }
+  RecordProperty("median_error_cv_0.1_m", std::to_string(low));
 }
 
 }  // namespace
