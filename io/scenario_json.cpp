@@ -168,7 +168,11 @@ void read_sensor_errors(Reader& r, SensorErrors& e) {
   r.finish();
 }
 
-void read_sensor(Reader& r, Sensor& s, SensorErrors& errors) {
+void read_tracker(Reader& r, LocalTrackerSpec& t);
+
+// A sensor's own "tracker" block overrides the scenario's "tracker" key by key (`scenario_tracker`).
+void read_sensor(Reader& r, Sensor& s, SensorErrors& errors, std::optional<LocalTrackerSpec>& tracker,
+                 const LocalTrackerSpec& scenario_tracker) {
   r.integer("id", s.id, 0, std::numeric_limits<int32_t>::max());
   r.vector3("position", s.position);
   r.number("sigma_range", s.sigma_range, positive, " > 0");
@@ -182,6 +186,11 @@ void read_sensor(Reader& r, Sensor& s, SensorErrors& errors) {
   if (const json* e = r.get("errors")) {
     Reader er(*e, r.key_path("errors"), r.source());
     read_sensor_errors(er, errors);
+  }
+  if (const json* t = r.get("tracker")) {
+    Reader tr(*t, r.key_path("tracker"), r.source());
+    tracker = scenario_tracker;
+    read_tracker(tr, *tracker);
   }
   r.finish();
 }
@@ -348,6 +357,10 @@ void write_angle(ordered_json& j, const std::string& key, const std::string& suf
 
 ordered_json vector_json(const std::array<double, 3>& v) { return ordered_json::array({v[0], v[1], v[2]}); }
 
+ordered_json tracker_json(const LocalTrackerSpec& t) {
+  return {{"filter", t.filter}, {"process_noise", t.process_noise}};
+}
+
 }  // namespace
 
 Scenario parse_scenario_json(const std::string& text, const std::string& source) {
@@ -367,20 +380,31 @@ Scenario parse_scenario_json(const std::string& text, const std::string& source)
   r.number("duration", s.duration, positive, " > 0");
   r.number("truth_step", s.truth_step, positive, " > 0");
   r.seed("seed", s.seed);
+  // Before the sensors: a sensor's own tracker starts from the scenario's.
+  if (const json* t = r.get("tracker")) {
+    Reader tr(*t, "tracker", source);
+    read_tracker(tr, s.tracker);
+  }
   if (const json* sensors = r.array("sensors")) {
     for (std::size_t i = 0; i < sensors->size(); ++i) {
       Reader sr((*sensors)[i], "sensors[" + std::to_string(i) + "]", source);
       Sensor sensor;
       sensor.id = static_cast<int32_t>(i);
       SensorErrors errors;
-      read_sensor(sr, sensor, errors);
+      std::optional<LocalTrackerSpec> tracker;
+      read_sensor(sr, sensor, errors, tracker, s.tracker);
       s.sensors.push_back(sensor);
       s.sensor_errors.push_back(errors);
+      s.sensor_trackers.push_back(tracker);
     }
-    // No sensor with errors: none at all (the scenario equals one written without the key).
+    // No sensor with errors (its own tracker): none at all, so the scenario equals one written
+    // without the key.
     if (std::all_of(s.sensor_errors.begin(), s.sensor_errors.end(),
                     [](const SensorErrors& e) { return e.is_default(); }))
       s.sensor_errors.clear();
+    if (std::none_of(s.sensor_trackers.begin(), s.sensor_trackers.end(),
+                     [](const std::optional<LocalTrackerSpec>& t) { return t.has_value(); }))
+      s.sensor_trackers.clear();
   }
   if (const json* targets = r.array("targets")) {
     for (std::size_t i = 0; i < targets->size(); ++i) {
@@ -394,10 +418,6 @@ Scenario parse_scenario_json(const std::string& text, const std::string& source)
   if (const json* g = r.get("random_targets")) {
     Reader gr(*g, "random_targets", source);
     read_random_targets(gr, s.random_targets);
-  }
-  if (const json* t = r.get("tracker")) {
-    Reader tr(*t, "tracker", source);
-    read_tracker(tr, s.tracker);
   }
   if (const json* g = r.get("recording")) {
     Reader gr(*g, "recording", source);
@@ -473,6 +493,8 @@ std::string scenario_to_json(const Scenario& s) {
       eo["swap_distance"] = e.swap_distance;
       o["errors"] = eo;
     }
+    if (i < s.sensor_trackers.size() && s.sensor_trackers[i])
+      o["tracker"] = tracker_json(*s.sensor_trackers[i]);
     j["sensors"].push_back(o);
   }
   j["targets"] = ordered_json::array();
@@ -526,7 +548,7 @@ std::string scenario_to_json(const Scenario& s) {
     rt["group_spacing"] = g.group_spacing;
   }
   j["random_targets"] = rt;
-  j["tracker"] = {{"filter", s.tracker.filter}, {"process_noise", s.tracker.process_noise}};
+  j["tracker"] = tracker_json(s.tracker);
   if (!s.recording.is_default())
     j["recording"] = {{"p_seen", s.recording.p_seen},
                       {"coverage_min", s.recording.coverage_min},

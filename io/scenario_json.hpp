@@ -38,7 +38,10 @@
 //         "clock_offset": 0.0,              s, a plot's reported time minus its true time
 //         "covariance_scale": 1.0,          > 0, reported covariance = scale x the tracker's own
 //         "recycle_after": 0.0,             s, >= 0: > 0 reuses a track number this long after its track ends
-//         "swap_distance": 0.0 } } ],       m, >= 0: > 0 swaps two local tracks whose targets pass this close
+//         "swap_distance": 0.0 },           m, >= 0: > 0 swaps two local tracks whose targets pass this close
+//       "tracker": {                        optional: this sensor's own local tracker (Scenario::sensor_trackers),
+//         "filter": "ab",                   as the top-level "tracker"; a key left out is the top-level
+//         "process_noise": 5.0 } } ],       "tracker"'s. Absent: the sensor runs the top-level tracker
 //     "targets": [ {                        scripted targets; ids unique (default: index)
 //       "id": 0, "position": [x, y, z], "velocity": [vx, vy, vz],
 //       "segments": [ {                     played in order; the last one lasts to the end
@@ -64,7 +67,7 @@
 //         "p_turn": 0.5 },                  in [0, 1]: probability that a manoeuvre is a turn
 //       "group_size": 1,                    integer in [1, 1e6]: formations of this many targets
 //       "group_spacing": 0.0 },             m, >= 0: line abreast, neighbours this far apart
-//     "tracker": {                          the local tracker of every sensor
+//     "tracker": {                          the local tracker of every sensor without its own
 //       "filter": "cv",                     "cv" | "ca" | "ab" | "cs" | "cs-nn" | "imm"
 //       "process_noise": 2.0 },             m/s², >= 0
 //     "recording": {                        optional: a "recorded" track set
@@ -75,8 +78,8 @@
 //       "false_tracks": 0.0 }               in [0, 100]: per sensor, mean false tracks / targets
 //   }
 // The writer leaves out "manoeuvres" when off, "group_size" / "group_spacing" when 1 / 0 and
-// "recording" when it has the defaults and a sensor's "errors" when they are all zero (scale 1), so
-// the text of scenarios without them is unchanged.
+// "recording" when it has the defaults, a sensor's "errors" when they are all zero (scale 1) and a
+// sensor's "tracker" when it has none of its own, so the text of scenarios without them is unchanged.
 #pragma once
 
 #include <string>

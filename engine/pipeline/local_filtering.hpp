@@ -3,7 +3,8 @@
 // /measurements/target, clutter ignored, two-point initialisation, shuffled local track numbers).
 // Everything else of the input is kept except /associations and /metrics, which described the old
 // tracks. The filter's spec (process noise, ...) is the file's scenario's tracker when it records
-// one, else LocalTrackerSpec's defaults. The IMM banks' model probabilities go to
+// one, else LocalTrackerSpec's defaults; --filter runs on every sensor, so a sensor's own tracker in
+// the scenario (Scenario::sensor_trackers) is not used. The IMM banks' model probabilities go to
 // /tracks/model_prob with /tracks/models naming the columns (io/track_file.hpp), in the same
 // atomic write as the rest of the file.
 #pragma once

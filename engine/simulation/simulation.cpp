@@ -68,6 +68,23 @@ void validate_recording(const Scenario& sc) {
   require(m.p_turn >= 0.0 && m.p_turn <= 1.0, w + "p_turn", "expected a probability in [0, 1]");
 }
 
+// A sensor's own tracker (Scenario::sensor_trackers) is checked as the scenario's is, by building
+// its filter bank; the message names the sensor.
+void validate_sensor_trackers(const Scenario& sc) {
+  if (sc.sensor_trackers.empty()) return;
+  require(sc.sensor_trackers.size() == sc.sensors.size(), "scenario.sensor_trackers",
+          "expected none or one per sensor (" + std::to_string(sc.sensors.size()) + "), found " +
+              std::to_string(sc.sensor_trackers.size()));
+  for (std::size_t s = 0; s < sc.sensors.size(); ++s) {
+    if (!sc.sensor_trackers[s]) continue;
+    try {
+      make_local_filter_bank(*sc.sensor_trackers[s], spatial_dim(sc.layout), 0);
+    } catch (const InputError& e) {  // "tracker.filter: ..." -> "scenario.sensors[s].tracker.filter: ..."
+      throw InputError("scenario.sensors[" + std::to_string(s) + "]." + e.what());
+    }
+  }
+}
+
 // Refuses a scenario whose run would not fit the memory budget, before anything is allocated.
 // What a run holds at least, before the writer copies it: truth rows (id, t, state) for every
 // target and truth step; per sensor and scan, the plots of the targets and of the expected false
@@ -115,6 +132,7 @@ void validate_scenario(const Scenario& sc) {
   }
   validate_recording(sc);
   validate_sensor_errors(sc);
+  validate_sensor_trackers(sc);
   check_size(sc);
 }
 
@@ -307,7 +325,9 @@ SimulationResult simulate(const Scenario& sc, uint64_t seed, int run) {
     all.target.insert(all.target.end(), p.m.target.begin(), p.m.target.end());
     scans.push_back(std::move(p.scans));
   }
-  result.tracks = track_measurements(all, sc.sensors, sc.layout, sc.tracker, seed, run, scans).tracks;
+  std::vector<LocalTrackerSpec> trackers;
+  for (std::size_t s = 0; s < sc.sensors.size(); ++s) trackers.push_back(tracker_of(sc, s));
+  result.tracks = track_measurements(all, sc.sensors, sc.layout, trackers, seed, run, scans).tracks;
   apply_recording(plan, sc, targets, result);
   apply_sensor_errors(sc, targets, result.tracks);
   explain_degenerate_tracks(sc, targets, result.tracks, seed, run);

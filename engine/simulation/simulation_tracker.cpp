@@ -360,7 +360,19 @@ std::unique_ptr<LocalFilterBank> make_local_filter_bank(const LocalTrackerSpec& 
 LocalTrackingResult track_measurements(const Measurements& meas, const std::vector<Sensor>& sensors,
                                        StateLayout layout, const LocalTrackerSpec& spec, uint64_t seed,
                                        int run, const std::vector<std::vector<double>>& scan_times) {
-  make_local_filter_bank(spec, spatial_dim(layout), 0);  // validates the spec before any work
+  return track_measurements(meas, sensors, layout, std::vector<LocalTrackerSpec>(sensors.size(), spec), seed,
+                            run, scan_times);
+}
+
+LocalTrackingResult track_measurements(const Measurements& meas, const std::vector<Sensor>& sensors,
+                                       StateLayout layout, std::span<const LocalTrackerSpec> specs,
+                                       uint64_t seed, int run,
+                                       const std::vector<std::vector<double>>& scan_times) {
+  require(specs.size() == sensors.size(), "track_measurements.specs",
+          "expected one tracker per sensor (" + std::to_string(sensors.size()) + "), found " +
+              std::to_string(specs.size()));
+  for (const LocalTrackerSpec& spec : specs)
+    make_local_filter_bank(spec, spatial_dim(layout), 0);  // validates the specs before any work
   require(scan_times.empty() || scan_times.size() == sensors.size(), "track_measurements.scan_times",
           "expected one list per sensor");
   if (spatial_dim(layout) == 3)
@@ -379,15 +391,23 @@ LocalTrackingResult track_measurements(const Measurements& meas, const std::vect
   std::vector<SensorTracks> parts(sensors.size());
   parallel_for_range(sensors.size(), 1, [&](std::size_t b, std::size_t e) {
     for (std::size_t s = b; s < e; ++s)
-      parts[s] = track_one_sensor(meas, rows[s], sensors[s], s, layout, spec, seed, run,
+      parts[s] = track_one_sensor(meas, rows[s], sensors[s], s, layout, specs[s], seed, run,
                                   scan_times.empty() ? std::vector<double>{} : scan_times[s]);
   });
   LocalTrackingResult result;
   result.tracks.reset(layout);
+  bool one_model_set = true, first = true;  // every sensor with tracks has the same number of models
   for (auto& p : parts) {
     append(result.tracks, p.table);
-    if (p.num_models > 0) result.num_models = p.num_models;
+    if (p.table.size() == 0) continue;
+    if (first) result.num_models = p.num_models;
+    first = false;
+    one_model_set = one_model_set && p.num_models == result.num_models;
     result.model_prob.insert(result.model_prob.end(), p.model_prob.begin(), p.model_prob.end());
+  }
+  if (!one_model_set || result.num_models == 0) {
+    result.num_models = 0;
+    result.model_prob.clear();
   }
   return result;
 }

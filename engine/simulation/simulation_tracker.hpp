@@ -59,7 +59,8 @@ std::unique_ptr<LocalFilterBank> make_local_filter_bank(const LocalTrackerSpec& 
 
 struct LocalTrackingResult {
   TrackTable tracks;
-  // IMM model probabilities, one row per track row (row-major, num_models per row); empty otherwise.
+  // IMM model probabilities, one row per track row (row-major, num_models per row), when every
+  // sensor with tracks runs the same multiple-model filter; empty otherwise.
   int num_models = 0;
   std::vector<double> model_prob;
 };
@@ -69,5 +70,10 @@ struct LocalTrackingResult {
 LocalTrackingResult track_measurements(const Measurements& measurements, const std::vector<Sensor>& sensors,
                                        StateLayout layout, const LocalTrackerSpec& spec, uint64_t seed,
                                        int run, const std::vector<std::vector<double>>& scan_times = {});
+// As above, sensor s running specs[s] (one per sensor, e.g. tracker_of(scenario, s)).
+LocalTrackingResult track_measurements(const Measurements& measurements, const std::vector<Sensor>& sensors,
+                                       StateLayout layout, std::span<const LocalTrackerSpec> specs,
+                                       uint64_t seed, int run,
+                                       const std::vector<std::vector<double>>& scan_times = {});
 
 }  // namespace trackassoc

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -79,7 +81,8 @@ struct RandomTargetSpec {
   friend bool operator==(const RandomTargetSpec&, const RandomTargetSpec&) = default;
 };
 
-// The local tracker each sensor runs to turn its measurements into local tracks.
+// The local tracker a sensor runs to turn its measurements into local tracks: Scenario::tracker for
+// every sensor, unless Scenario::sensor_trackers gives that sensor its own.
 struct LocalTrackerSpec {
   std::string filter = "cv";   // cv | ca | ab | cs | cs-nn | imm (docs/design.md §4.2)
   double process_noise = 1.0;  // σ of the white-noise acceleration [m/s²]
@@ -125,10 +128,19 @@ struct Scenario {
   std::vector<TargetSpec> targets;
   RandomTargetSpec random_targets;
   std::vector<Sensor> sensors;
-  LocalTrackerSpec tracker;
+  LocalTrackerSpec tracker;  // of every sensor without its own in sensor_trackers
   RecordingSpec recording;
   std::vector<SensorErrors> sensor_errors;  // empty, or one per sensor
+  // Empty, or one per sensor (order of `sensors`): a sensor's own local tracker, or nullopt for
+  // `tracker`. Real sensors run different trackers (issue 29: low and high process noise,
+  // alpha-beta, IMM); their tracks then lag and smooth differently after the same manoeuvre.
+  std::vector<std::optional<LocalTrackerSpec>> sensor_trackers;
   friend bool operator==(const Scenario&, const Scenario&) = default;
 };
+
+// The local tracker of sensor s (index into Scenario::sensors).
+inline const LocalTrackerSpec& tracker_of(const Scenario& sc, std::size_t s) {
+  return s < sc.sensor_trackers.size() && sc.sensor_trackers[s] ? *sc.sensor_trackers[s] : sc.tracker;
+}
 
 }  // namespace trackassoc

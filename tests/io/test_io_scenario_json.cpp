@@ -154,7 +154,7 @@ TEST(ScenarioJson, RecordingManoeuvresAndFormationsRoundTripExactly) {
 
 TEST(ScenarioJson, RecordedFamilyParsesAndRoundTrips) {
   for (const char* name : {"recorded_3s", "recorded_3s_long", "recorded_4s", "recorded_5s", "recorded_dense",
-                           "recorded_formation", "recorded_sync", "recorded_10k"}) {
+                           "recorded_formation", "recorded_sync", "recorded_10k", "recorded_trackers"}) {
     const Scenario s = read_scenario_file(kScenarios + name + ".json");
     EXPECT_EQ(s.name, name);
     EXPECT_FALSE(s.description.empty()) << name;

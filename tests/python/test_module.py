@@ -16,7 +16,8 @@ from conftest import run_cli
 # the sensors and splits recycled keys before it associates.
 RECORDED = ["recorded_sync", "recorded_3s", "recorded_3s_long", "recorded_4s", "recorded_5s", "recorded_dense",
             "recorded_formation", "recorded_bias", "recorded_bias_dense", "recorded_site", "recorded_clock",
-            "recorded_covscale", "recorded_recycled", "recorded_swaps", "recorded_bias_3d", "recorded_mixed"]
+            "recorded_covscale", "recorded_recycled", "recorded_swaps", "recorded_bias_3d", "recorded_trackers",
+            "recorded_mixed"]
 
 
 def cli_association(tmp_path, path, *flags, name=None):

@@ -6,7 +6,8 @@
 // 10-minute recordings, a dense and a formation case, 3 to 5 sensors; and, issue 29, registration
 // errors (range, azimuth, elevation biases, a site-survey error, clock offsets; recorded_bias,
 // _bias_dense, _bias_3d, _site, _clock), mis-stated covariances (_covscale), recycled track numbers
-// (_recycled), swaps at crossings (_swaps) and all of them at once (_mixed)) is simulated `runs` times;
+// (_recycled), swaps at crossings (_swaps), local trackers that differ per sensor (_trackers) and
+// all of them at once (_mixed)) is simulated `runs` times;
 // each run's track file is kept in `files_dir` (schema v1, readable with h5py) and associated by:
 //   default      `trackassoc associate` with no flags: every sensor, the sparse S-D pipeline, the
 //                calibrated gate, all-pairs cost, lr+ls (engine/pipeline/sparse_sd_pipeline.hpp),
@@ -41,11 +42,12 @@
 namespace trackassoc {
 
 struct RecordedExperimentOptions {
-  std::vector<std::string> scenarios{
-      "recorded_sync",       "recorded_3s",    "recorded_3s_long",   "recorded_4s",
-      "recorded_5s",         "recorded_dense", "recorded_formation", "recorded_bias",
-      "recorded_bias_dense", "recorded_site",  "recorded_clock",     "recorded_covscale",
-      "recorded_recycled",   "recorded_swaps", "recorded_bias_3d",   "recorded_mixed"};
+  std::vector<std::string> scenarios{"recorded_sync",      "recorded_3s",    "recorded_3s_long",
+                                     "recorded_4s",        "recorded_5s",    "recorded_dense",
+                                     "recorded_formation", "recorded_bias",  "recorded_bias_dense",
+                                     "recorded_site",      "recorded_clock", "recorded_covscale",
+                                     "recorded_recycled",  "recorded_swaps", "recorded_bias_3d",
+                                     "recorded_trackers",  "recorded_mixed"};
   std::vector<std::string> methods{"default", "unregistered", "exact", "chi2-sum", "3d-exact", "3d-nogate"};
   int32_t runs = 3;
   std::string files_dir = "experiment-recorded-files";  // the simulated track files, kept for peers

@@ -13,36 +13,14 @@
 #include "io/scenario_json.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
+#include "tests/support/two_radar_scenario.hpp"
 
 namespace trackassoc {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Two targets on straight lines, two radars 60-100 km away.
-Scenario two_targets() {
-  Scenario sc;
-  sc.name = "errors-test";
-  sc.duration = 60.0;
-  TargetSpec a, b;
-  a.id = 0;
-  a.initial_state = {0, 0, 0, 200, 0, 0};
-  b.id = 1;
-  b.initial_state = {5000, 8000, 0, -100, 150, 0};
-  sc.targets = {a, b};
-  const double pos[2][2] = {{-60e3, 10e3}, {40e3, -90e3}};
-  for (int s = 0; s < 2; ++s) {
-    Sensor x;
-    x.id = s;
-    x.position = {pos[s][0], pos[s][1], 0};
-    x.sigma_range = 50.0;
-    x.sigma_bearing = 0.2 * kDeg;
-    x.period = 2.0 + s;
-    x.offset = 0.5;
-    sc.sensors.push_back(x);
-  }
-  return sc;
-}
+Scenario two_targets() { return two_radar_scenario("errors-test"); }
 
 double range_of(const std::array<double, 3>& site, const std::array<double, 3>& p) {
   return std::hypot(p[0] - site[0], p[1] - site[1]);
