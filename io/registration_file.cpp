@@ -40,6 +40,8 @@ void check_registration(const std::string& file, const RegistrationRecord& r, st
        r.estimate.size());
   need(r.standard_error.size() == S * k, r.parameters.front() + "_se", std::to_string(S * k) + " values",
        r.standard_error.size());
+  need(r.covariance.empty() || r.covariance.size() == S * k * k, "covariance",
+       std::to_string(S * k * k) + " values (S x k x k)", r.covariance.size());
   need(r.covariance_scale.size() == S * S, "covariance_scale", std::to_string(S * S) + " values",
        r.covariance_scale.size());
   need(r.pair_observations.size() == S * S, "pair_observations", std::to_string(S * S) + " values",
@@ -66,6 +68,8 @@ void write_registration(const h5::Group& root, const std::optional<RegistrationR
     g.write_dataset(r->parameters[j], std::span<const double>(v), {S});
     g.write_dataset(r->parameters[j] + "_se", std::span<const double>(se), {S});
   }
+  if (!r->covariance.empty())
+    g.write_dataset("covariance", std::span<const double>(r->covariance), {S, k, k});
   g.write_dataset("covariance_scale", std::span<const double>(r->covariance_scale), {S, S});
   g.write_dataset("pair_observations", std::span<const int64_t>(r->pair_observations), {S, S});
 }
@@ -99,6 +103,7 @@ std::optional<RegistrationRecord> read_registration(const h5::Group& root, const
       g.fail(r.parameters[j], "expected " + std::to_string(S) + " values (one per sensor)");
     for (std::size_t s = 0; s < S; ++s) r.estimate[s * k + j] = v[s], r.standard_error[s * k + j] = se[s];
   }
+  if (g.has("covariance")) r.covariance = g.read_doubles("covariance", 3, dims);
   r.covariance_scale = g.read_doubles("covariance_scale", 2, dims);
   r.pair_observations = g.read_integers("pair_observations", 2, dims);
   check_registration(file, r, S);

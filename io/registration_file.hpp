@@ -15,6 +15,10 @@
 //                                  site minus /sensors/position), clock_offset [s] (reported minus
 //                                  true time); 0 for the reference sensor
 //     <parameter>_se (S float64)   its standard error (0 for the reference)
+//     covariance    (S×k×k float64) each sensor's covariance of its k estimates, parameters in the
+//                                  order of `parameters` (its diagonal is the squared _se; 0 for
+//                                  the reference): what `fuse` widens the corrected covariances by.
+//                                  Optional (absent in files written before it; then diag(_se²))
 //     covariance_scale  (S×S float64)  per pair of sensors, the mean normalised squared residual
 //                                      per coordinate of their paired reports after registration
 //                                      (≈ 1 when the reported covariances are right; NaN: no pair)
@@ -38,6 +42,7 @@ struct RegistrationRecord {
   std::vector<int32_t> sensor;                   // S, /sensors order
   std::vector<std::string> parameters;           // k names
   std::vector<double> estimate, standard_error;  // S×k, sensor-major
+  std::vector<double> covariance;                // S×k×k, sensor-major; empty: not recorded
   std::vector<double> covariance_scale;          // S×S
   std::vector<int64_t> pair_observations;        // S×S
   bool applied = false;

@@ -1,5 +1,6 @@
 // trackassoc evaluate --input G.h5 [--output H.h5]: correct / false / missed association rates of
-// every association in the file, written to /metrics/<name>/, and with /truth the position RMSE
+// every association in the file by per-row truth (the rule: engine/pipeline/metrics.hpp, stated in
+// --help), written to /metrics/<name>/, and with /truth the position RMSE
 // of every /fused group beside each sensor's (engine/fusion/fused_accuracy.hpp), written to the
 // /fused group (in place, atomically, by default).
 #include <iostream>
@@ -49,15 +50,18 @@ void register_evaluate(CLI::App& app) {
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
       "evaluate",
-      "Score the associations of a file against its ground truth. Scoring rule: a target tracked by >= 2 "
-      "sensors is correct when one output tuple holds exactly its local tracks; false when one of its "
-      "tracks shares a tuple with a track of another target or a false track (truth -1); missed "
-      "otherwise (rates are fractions of those targets). A false tuple joins tracks of different "
-      "targets, or a false track with anything. With /fused and /truth it also prints the fused position "
-      "RMSE "
-      "of each /fused group beside each sensor's, over the same targets and times (the members' reports at "
-      "the "
-      "fused times).");
+      "Score the associations of a file against its ground truth, by per-row truth. Scoring rule: a key is "
+      "a local track as /tracks holds it, (sensor, track) (after associate split a recycled track number "
+      "into new tracks; /tracks/source_track keeps the recorded one). A key's target is the majority of its "
+      "rows' /tracks/truth: the target id most of its rows carry (ties: the lowest id; a key none of whose "
+      "rows has a target, all -1, is a false track). A target whose keys lie on >= 2 of the association's "
+      "sensors needs association. An output group is the rows (tuples) sharing /associations/NAME/target "
+      "(each tuple alone when the association has no target numbers). A target is correct when one output "
+      "group holds exactly its keys; false when one of its keys shares a group with a key of another "
+      "target or a false track; missed otherwise (rates are fractions of the targets that need "
+      "association). A false tuple joins keys of different targets, or a false track with anything. With "
+      "/fused and /truth it also prints the fused position RMSE of each /fused group beside each "
+      "sensor's, over the same targets and times (the members' reports at the fused times).");
   cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks/truth and /associations")->required();
   cmd->add_option("--output,-o", args->output,
                   "Where to write the file with /metrics (default: replace the input)");

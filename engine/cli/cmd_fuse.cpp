@@ -1,6 +1,6 @@
-// trackassoc fuse --input A.h5 [--association NAME] --rule naive|bsc|ci [-o OUT]: the fused tracks
-// of an association, written to /fused/<name> (engine/fusion/track_fuser.hpp; in place, atomically,
-// by default).
+// trackassoc fuse --input A.h5 [--association NAME] --rule naive|bsc|ci [--no-registration] [-o OUT]:
+// the fused tracks of an association, written to /fused/<name> (engine/fusion/track_fuser.hpp; in
+// place, atomically, by default), of the reports corrected by the association's /registration.
 #include <iostream>
 
 #include "engine/cli/common.hpp"
@@ -16,6 +16,7 @@ void register_fuse(CLI::App& app) {
     std::string input, output, association, name;
     std::string rule = "naive", criterion = "trace";
     double common_process_noise = 0.0, correlation = -1.0;
+    bool no_registration = false;
     TrackFuserOptions o;
   };
   auto args = std::make_shared<Args>();
@@ -24,7 +25,12 @@ void register_fuse(CLI::App& app) {
       "Fuse the local tracks of each tuple of an association into one track over time (/fused/NAME). Times: "
       "the members' report times where at least two members' spans overlap (the tuples of one target over "
       "their own time slices); the other members are predicted there by the CV model from their latest "
-      "report. Tuples of one member and members that never coexist give no rows.");
+      "report. Tuples of one member and members that never coexist give no rows. Registration: when the "
+      "file's /registration belongs to the association (its attribute association; one per file, written "
+      "by the default associate) and was applied, every report is first corrected as associate corrected "
+      "it (each sensor's range, azimuth, elevation, site and clock errors relative to the reference "
+      "sensor removed, the position covariance widened by the estimate's uncertainty), so the fused "
+      "states are of the registered reports; otherwise the reports are fused as recorded.");
   cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks and /associations")->required();
   add_output_option(cmd, args->output, "Where to write the file with /fused (default: replace the input)");
   cmd->add_option("--association", args->association,
@@ -51,6 +57,9 @@ void register_fuse(CLI::App& app) {
                   "White-noise acceleration σ [m/s²] moving a report to a fused time")
       ->check(in_range(0, 1000))
       ->capture_default_str();
+  cmd->add_flag("--no-registration", args->no_registration,
+                "Fuse the reports as recorded even when /registration belongs to the association (default: "
+                "corrected by it, as associate associated them)");
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
@@ -62,16 +71,18 @@ void register_fuse(CLI::App& app) {
     o.ci.criterion = parse_enum<CiCriterion>(args->criterion, "--ci-criterion");
     o.common_process_noise = args->common_process_noise;
     o.correlation = args->correlation;
+    o.registration = !args->no_registration;
     if (o.rule != FusionRule::kBarShalomCampo && (o.common_process_noise > 0.0 || o.correlation >= 0.0))
       throw InputError("--common-process-noise and --correlation apply to --rule bsc only");
     if (o.common_process_noise > 0.0 && o.correlation >= 0.0)
       throw InputError("--common-process-noise and --correlation: give one cross-covariance, not both");
     TrackFile file = read_track_file(args->input);
-    const TrackFuserSummary s = fuse_track_file(file, args->association, args->name, o);
+    const TrackFuserSummary s = fuse_track_file(file, args->association, args->name, o, args->input);
     const FusedTrackRecord& rec = file.fused.back();
     std::cout << "fused /associations/" << rec.association << " with rule " << rec.rule
               << (rec.ci_criterion.empty() ? "" : " (" + rec.ci_criterion + ")") << ": " << s.termination
               << "\n";
+    std::cout << "registration: " << s.registration << "\n";
     if (o.rule == FusionRule::kBarShalomCampo)
       std::cout << "cross-covariance: "
                 << (s.cross_covariance == "correlation" ? "rho = " + fmt(o.correlation) + " (given)"

@@ -100,7 +100,8 @@ void register_export(CLI::App& app) {
       "mapping gives the same /tracks; associations: target, tuple, sensor, track, source_track, cost, one "
       "row per member of a tuple; unassociated: sensor, track, source_track, first_t, last_t, reports, the "
       "local tracks in no tuple of two or more; fused: /fused/NAME, tuple, t, state, cov_R_C, sources, "
-      "truth; registration: /registration, one row per sensor, one column per dataset (NAME_0.. for S x k)");
+      "truth; registration: /registration, one row per sensor, one column per dataset (NAME_0.. for S x k, "
+      "NAME_0_0.. for S x k x k)");
   cmd->add_option("--input,-i", args->input, "HDF5 file (schema v1)")->required();
   cmd->add_option("--output,-o", args->output, "Output CSV file")->required();
   cmd->add_option("--what", args->what, "The table: " + enum_name_list<ResultTable>())

@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 
+#include "engine/pipeline/registration_stage.hpp"
 #include "io/scenario_json.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
@@ -351,7 +352,7 @@ FusedTrackRecord fuse_association(const TrackTable& tracks, const std::vector<Se
 }
 
 TrackFuserSummary fuse_track_file(TrackFile& file, const std::string& association, const std::string& name,
-                                  TrackFuserOptions options) {
+                                  TrackFuserOptions options, const std::string& path) {
   const AssociationRecord* rec = nullptr;
   std::string names;
   for (const auto& a : file.associations) {
@@ -390,9 +391,33 @@ TrackFuserSummary fuse_track_file(TrackFile& file, const std::string& associatio
     }
   }
   const std::string out_name = name.empty() ? rec->name : name;
+  // The association's registration, when the stage applied it: the same correction of every report.
+  const std::optional<RegistrationRecord>& reg = file.registration;
+  std::string why;
+  std::optional<TrackTable> registered;
+  if (!options.registration)
+    why = "not applied (switched off): reports as recorded";
+  else if (!reg)
+    why = "no /registration in the file: reports as recorded";
+  else if (reg->association != rec->name)
+    why = "/registration belongs to /associations/" + reg->association + ": reports as recorded";
+  else if (!reg->applied)
+    why = "/registration was not applied by the association: reports as recorded";
+  else {
+    const RecordedRegistration r = recorded_registration(file, path, *reg);
+    registered = registered_file(file, r.estimate, r.model).tracks;
+    why = "reports corrected by /registration (relative to reference sensor " +
+          std::to_string(reg->reference_sensor) + ")";
+  }
   TrackFuserSummary summary;
-  FusedTrackRecord fused = fuse_association(file.tracks, file.sensors, *rec, options, out_name, &summary);
+  FusedTrackRecord fused = fuse_association(registered ? *registered : file.tracks, file.sensors, *rec,
+                                            options, out_name, &summary);
   summary.cross_covariance_source = source;
+  summary.registered = registered.has_value();
+  summary.registration = why;
+  nlohmann::json j = nlohmann::json::parse(fused.options_json);
+  j["registration"] = summary.registered;
+  fused.options_json = j.dump();
   std::erase_if(file.fused, [&](const FusedTrackRecord& r) { return r.name == out_name; });
   file.fused.push_back(std::move(fused));
   return summary;

@@ -43,6 +43,16 @@
 //  positive definite with the recursion's P_ab (an inconsistent cross-covariance estimate) has
 //  P_ab halved until it is; such cells are counted (`shrunk_cells`).
 //
+// Registration (fuse_track_file). When the file's /registration belongs to the association fused
+// (its attribute `association`) and was applied (the association used the corrected reports),
+// every report is first corrected exactly as `associate`'s registration stage corrected it
+// (registered_file of engine/pipeline/registration_stage.hpp: x ← x − J_s(x)·b_s for every sensor
+// but the reference, the velocity rotated back by the azimuth bias, the position covariance
+// widened by J_s V_s J_sᵀ), so the fused states are those of the registered reports. The
+// correction is relative to the reference sensor: its own error stays in every fused state.
+// /registration is one per file, of the association `associate` wrote last with the default
+// pipeline; any other association (or an estimate not applied) is fused as recorded.
+//
 // Output rows are ordered by tuple, then time; the tuple's truth is its members' common
 // /tracks/truth (−1 when they differ). Work is split over tuples (oneTBB), each tuple serial, so
 // the result is bit-identical for any thread count.
@@ -66,6 +76,7 @@ struct TrackFuserOptions {
   double common_process_noise = 0.0;  // rule bsc: σ_a [m/s²] of the BSC recursion; 0 = not given
   double correlation = -1.0;          // rule bsc: ρ in [0, 1) for P_ab = ρ·P_a^½ P_b^½; < 0 = not given
   double process_noise = 2.0;         // σ [m/s²] moving a report to a fused time (the alignment default)
+  bool registration = true;           // fuse_track_file: correct by the association's /registration
   void validate() const;              // bsc: exactly one of common_process_noise, correlation
   nlohmann::json to_json() const;
 };
@@ -79,6 +90,8 @@ struct TrackFuserSummary {
   int64_t shrunk_cells = 0;               // bsc: cells where P_ab was shrunk to a positive definite joint
   std::string cross_covariance = "none";  // "common-process-noise" | "correlation" (bsc)
   std::string cross_covariance_source;    // where σ_a or ρ came from, for the printout
+  bool registered = false;                // fuse_track_file: the reports were corrected by /registration
+  std::string registration;               // fuse_track_file: why they were, or were not, for the printout
   double runtime_s = 0.0;
   std::string termination;
 };
@@ -91,7 +104,10 @@ FusedTrackRecord fuse_association(const TrackTable& tracks, const std::vector<Se
 // Fuses /associations/<association> of `file` ("" = the file's only association) into
 // /fused/<name> ("" = the association's name), replacing a group of that name; for bsc without
 // σ_a or ρ, σ_a is the scenario's tracker.process_noise (InputError when the file has none).
+// With options.registration, the reports are corrected by the association's /registration first
+// (above); the group's options JSON records "registration": true when they were. `path` names the
+// file in errors.
 TrackFuserSummary fuse_track_file(TrackFile& file, const std::string& association, const std::string& name,
-                                  TrackFuserOptions options);
+                                  TrackFuserOptions options, const std::string& path = "the input file");
 
 }  // namespace trackassoc

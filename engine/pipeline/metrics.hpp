@@ -1,12 +1,15 @@
 // Association metrics (docs/design.md §3 /metrics, seed 000 §4 "correct association rate").
 //
-// Evaluated per target, over the sensors an association covers. A target "needs association"
-// when at least two covered sensors hold a local track of it. For each such target T:
-//   correct  — one output tuple holds exactly T's local tracks (all of them, nothing else), or,
-//              when the record has target numbers (track segments), the tuples of one target
-//              number together hold exactly T's local tracks;
-//   false    — some track of T shares a tuple with a track of another target;
-//   missed   — otherwise: T's tracks are split over several tuples but never mixed with others.
+// Evaluated per target by per-row truth, over the sensors an association covers. A local track is
+// a (sensor, track) key of the /tracks given, so a recycled number `associate` split into new
+// tracks (engine/pipeline/track_hygiene.hpp) is scored as its pieces; its target is the majority
+// of its rows' truth (local_track_truth: the most frequent id ≥ 0, ties to the lowest; −1, a false
+// track, when no row has one). A target "needs association" when at least two covered sensors
+// hold a local track of it. An output group is the tuples sharing a target number
+// (/associations/NAME/target), or each tuple alone when the record has none. For each such target T:
+//   correct  — one output group holds exactly T's local tracks (all of them, nothing else);
+//   false    — some track of T shares a group with a track of another target (or a false track);
+//   missed   — otherwise: T's tracks are split over several groups but never mixed with others.
 // The three rates are fractions of the targets that need association, so they sum to 1.
 // A target seen by 3 of 4 sensors is correct when its 3 tracks are grouped (dummy for the 4th).
 // Local tracks whose truth is unknown (-1) make a target-less tuple count as false when grouped

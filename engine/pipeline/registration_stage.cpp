@@ -88,6 +88,7 @@ RegistrationRecord RegistrationStageResult::to_record(const TrackFile& file, con
   r.parameters = estimate.parameter_names;
   r.estimate = estimate.bias;
   r.standard_error = estimate.standard_error;
+  r.covariance = estimate.covariance;
   r.covariance_scale = estimate.covariance_scale;
   r.pair_observations = estimate.pair_observations;
   if (r.covariance_scale.size() != S * S) r.covariance_scale.assign(S * S, std::nan(""));
@@ -321,6 +322,57 @@ TrackFile registered_file(const TrackFile& file, const RegistrationEstimate& e,
     for (int i = 0; i < d; ++i)
       for (int j = i; j < d; ++j) t.cov[packed_index(D, i, j)][r] += 0.5 * (W(i, j) + W(j, i));
   }
+  return out;
+}
+
+RecordedRegistration recorded_registration(const TrackFile& file, const std::string& path,
+                                           const RegistrationRecord& r) {
+  const std::size_t S = file.sensors.size(), k = r.parameters.size();
+  check_registration(path, r, S);
+  auto fail = [&](const std::string& what, const std::string& expected, const std::string& found) {
+    throw InputError(path + ": /registration/" + what + ": expected " + expected + ", found " + found);
+  };
+  RecordedRegistration out;
+  const auto has = [&](const char* name) {
+    return std::find(r.parameters.begin(), r.parameters.end(), name) != r.parameters.end();
+  };
+  out.model.polar = has("range_bias");
+  out.model.site_offset = has("site_offset_x");
+  out.model.clock_offset = has("clock_offset");
+  const int32_t d = file.tracks.dim() / 2;
+  const std::vector<std::string> names = registration_parameter_names(out.model, d);
+  if (names != r.parameters) {
+    std::string want;
+    for (const auto& n : names) want += (want.empty() ? "" : ",") + n;
+    fail("parameters (attribute)", "a model of the stage in " + std::to_string(d) + "-D (" + want + ")",
+         std::to_string(k) + " names starting " + r.parameters.front());
+  }
+  RegistrationEstimate& e = out.estimate;
+  e.sensors = static_cast<int32_t>(S);
+  e.dim = d;
+  e.reference = -1;
+  e.parameter_names = r.parameters;
+  e.bias.assign(S * k, 0.0);
+  e.standard_error.assign(S * k, 0.0);
+  e.covariance.assign(S * k * k, 0.0);
+  for (std::size_t s = 0; s < S; ++s) {
+    const auto it = std::find(r.sensor.begin(), r.sensor.end(), file.sensors[s].id);
+    if (it == r.sensor.end())
+      fail("sensor", "every /sensors id", "no row for sensor " + std::to_string(file.sensors[s].id));
+    const std::size_t row = static_cast<std::size_t>(it - r.sensor.begin());
+    if (file.sensors[s].id == r.reference_sensor) e.reference = static_cast<int32_t>(s);
+    for (std::size_t j = 0; j < k; ++j) {
+      e.bias[s * k + j] = r.estimate[row * k + j];
+      e.standard_error[s * k + j] = r.standard_error[row * k + j];
+      for (std::size_t l = 0; l < k; ++l)
+        e.covariance[(s * k + j) * k + l] =
+            !r.covariance.empty() ? r.covariance[(row * k + j) * k + l]
+            : j == l              ? r.standard_error[row * k + j] * r.standard_error[row * k + j]
+                                  : 0.0;
+    }
+  }
+  if (e.reference < 0)
+    fail("reference_sensor (attribute)", "a /sensors id", std::to_string(r.reference_sensor));
   return out;
 }
 

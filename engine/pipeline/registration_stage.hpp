@@ -92,6 +92,19 @@ RegistrationOptions model_for(const TrackFile& file, const RegistrationOptions& 
 TrackFile registered_file(const TrackFile& file, const RegistrationEstimate& estimate,
                           const RegistrationOptions& model);
 
+// The estimate and model a /registration record holds, as the stage used them: rows in /sensors
+// order (matched by id), the model read off the parameter names, each sensor's covariance block
+// (diag(se²) when the record has none), so registered_file(file, estimate, model) repeats the
+// stage's correction (`fuse` corrects with it). InputError (naming `path`, the dataset, expected
+// and found) when the record does not fit the file: a /sensors id without a row, a reference
+// outside /sensors, parameters no model of the stage has in the file's dimension.
+struct RecordedRegistration {
+  RegistrationEstimate estimate;
+  RegistrationOptions model;
+};
+RecordedRegistration recorded_registration(const TrackFile& file, const std::string& path,
+                                           const RegistrationRecord& record);
+
 // Steps 1-5 with `associate` as the association; `result` (optional) gets the registration.
 AssociationRecord associate_with_registration(
     const TrackFile& file, const RegistrationStageOptions& options,

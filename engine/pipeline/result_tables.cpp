@@ -216,7 +216,7 @@ ResultTableSummary registration_table(const std::string& path, const TrackFile& 
       continue;
     }
     const std::vector<hsize_t> shape = reg.dataset_shape(name);
-    if (shape.empty() || shape.size() > 2 || shape[0] != s) {
+    if (shape.empty() || shape.size() > 3 || shape[0] != s) {
       summary.skipped.push_back(name + " (shape " + shape_text(shape) + ", not one row per sensor)");
       continue;
     }
@@ -228,9 +228,13 @@ ResultTableSummary registration_table(const std::string& path, const TrackFile& 
       summary.skipped.push_back(name + " (not numeric)");
       continue;
     }
-    const std::size_t k = shape.size() == 2 ? shape[1] : 1;
+    // Columns NAME (S), NAME_j (S × k), NAME_j_l (S × k × m, e.g. each sensor's covariance).
+    const std::size_t m = shape.size() == 3 ? shape[2] : 1, k = (shape.size() >= 2 ? shape[1] : 1) * m;
     for (std::size_t j = 0; j < k; ++j) {
-      header.push_back(shape.size() == 2 ? name + "_" + std::to_string(j) : name);
+      header.push_back(shape.size() == 1 ? name
+                       : shape.size() == 2
+                           ? name + "_" + std::to_string(j)
+                           : name + "_" + std::to_string(j / m) + "_" + std::to_string(j % m));
       std::vector<double> col(s);
       for (std::size_t i = 0; i < s; ++i) col[i] = v[i * k + j];
       columns.push_back(std::move(col));

@@ -13,7 +13,8 @@
 //   fused         /fused/<name>, one row per fused time: tuple, t, the state columns, cov_R_C, sources, truth
 //   registration  /registration, one row per sensor (/sensors order): sensor, then one column per
 //                 numeric dataset with one entry per sensor, a 2-D S x k dataset as k columns
-//                 NAME_0..NAME_{k-1}; datasets of another first dimension and the group's
+//                 NAME_0..NAME_{k-1}, a 3-D S x k x m one (each sensor's covariance) as k·m
+//                 columns NAME_j_l; datasets of another first dimension and the group's
 //                 attributes are not rows of this table and are left out (listed in the summary)
 #pragma once
 

@@ -109,12 +109,13 @@ py::dict evaluate(const PyAssociation& association, const py::object& tracks) {
 
 PyFused fuse(const PyAssociation& association, const std::string& rule, const std::string& ci_criterion,
              const py::object& common_process_noise, const py::object& correlation, double process_noise,
-             const std::string& name, const py::object& threads) {
+             const std::string& name, bool registration, const py::object& threads) {
   const ThreadLimit limit(threads);
   TrackFuserOptions o;
   o.rule = parse_enum<FusionRule>(rule, "fuse: rule");
   o.ci.criterion = parse_enum<CiCriterion>(ci_criterion, "fuse: ci_criterion");
   o.process_noise = process_noise;
+  o.registration = registration;
   if (!common_process_noise.is_none()) o.common_process_noise = common_process_noise.cast<double>();
   if (!correlation.is_none()) o.correlation = correlation.cast<double>();
   if (o.rule != FusionRule::kBarShalomCampo && (!common_process_noise.is_none() || !correlation.is_none()))
@@ -204,24 +205,28 @@ to_pandas(). The GIL is released while the engine runs.)");
   m.def("evaluate", &evaluate, py::arg("association"), py::arg("tracks") = py::none(),
         R"(evaluate(association, tracks=None) -> dict
 
-Scores an Association against the ground truth in /tracks/truth (as `trackassoc evaluate`): a
-target tracked by >= 2 sensors is correct when one tuple holds exactly its local tracks, false when
-one of its tracks shares a tuple with another target's or a false track, missed otherwise. Returns
+Scores an Association against the ground truth in /tracks/truth (as `trackassoc evaluate`), by
+per-row truth: a local track (sensor, track; a recycled number split into its pieces) has as its
+target the majority of its rows' truth; a target tracked by >= 2 sensors is correct when one output
+group (the tuples sharing a target number) holds exactly its local tracks, false when one of its
+tracks shares a group with another target's or a false track, missed otherwise. Returns
 targets, correct, false, missed, correct_rate, false_rate, missed_rate, linked_tuples, false_tuples.
 tracks: the TrackFile or arrays to score against (default: those associated).)");
   m.def("fuse", &fuse, py::arg("association"), py::arg("rule") = "naive", py::arg("ci_criterion") = "trace",
         py::arg("common_process_noise") = py::none(), py::arg("correlation") = py::none(),
-        py::arg("process_noise") = 2.0, py::arg("name") = "", py::arg("threads") = py::none(),
+        py::arg("process_noise") = 2.0, py::arg("name") = "", py::arg("registration") = true,
+        py::arg("threads") = py::none(),
         R"(fuse(association, rule='naive', ci_criterion='trace', common_process_noise=None,
-     correlation=None, process_noise=2.0, name='', threads=None) -> Fused
+     correlation=None, process_noise=2.0, name='', registration=True, threads=None) -> Fused
 
 Fuses the local tracks of each tuple into one track over time (as `trackassoc fuse`): rule 'naive'
 (information-weighted, independent errors), 'bsc' (Bar-Shalom-Campo with the cross-covariance of
 common_process_noise SIGMA or correlation RHO; without either, the scenario's tracker process noise)
 or 'ci' (covariance intersection, omega minimising ci_criterion 'trace' or 'det'). process_noise:
 the CV model's sigma [m/s^2] moving a report to a fused time. name: the /fused name (default: the
-association's). Returns a Fused: arrays (tuple, t, state, cov, sources, truth, omega), summary,
-to_pandas().)");
+association's). registration: when the association's registration was applied, fuse the reports
+corrected by it, as `trackassoc fuse` does (False: as recorded, its --no-registration). Returns a
+Fused: arrays (tuple, t, state, cov, sources, truth, omega), summary, to_pandas().)");
   m.def("read", &read_file, py::arg("path"),
         R"(read(path) -> TrackFile
 

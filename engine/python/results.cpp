@@ -274,12 +274,14 @@ void bind_results(py::module_& m) {
               d["shrunk_cells"] = f.summary->shrunk_cells;
               d["runtime_s"] = f.summary->runtime_s;
               d["termination"] = f.summary->termination;
+              d["registration"] = f.summary->registration;
             }
             return d;
           },
-          "dict: options, cross_covariance, rows; for fuse() results also tuples, fused_tuples, "
-          "single_member, "
-          "no_overlap, shrunk_cells, runtime_s, termination.")
+          "dict: options (its 'registration': True when the reports were corrected by the association's "
+          "registration), cross_covariance, rows; for fuse() results also tuples, fused_tuples, "
+          "single_member, no_overlap, shrunk_cells, runtime_s, termination, registration (what was "
+          "done, in words).")
       .def("__len__", [](const PyFused& f) { return f.record.size(); })
       .def("__repr__", [](const PyFused& f) {
         return "<trackassoc.Fused '" + f.record.name + "' (" + f.record.rule +

@@ -1,11 +1,16 @@
 // `trackassoc fuse` and the fused RMSE of `trackassoc evaluate`, end to end on a simulated
 // recording: every rule writes /fused/<name>, evaluate reports the fused position RMSE beside
 // each sensor's (fused below every sensor for naive and bsc), a replaced association drops its
-// stale fused tracks, and bad requests exit 2 with one line and nothing written.
+// stale fused tracks, the reports corrected by the association's /registration (and as recorded
+// with --no-registration), and bad requests exit 2 with one line and nothing written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
+#include "io/hdf5_wrapper.hpp"
 #include "io/track_file.hpp"
 #include "tests/support/cli_runner.hpp"
 
@@ -57,6 +62,55 @@ TEST_F(FuseCli, EveryRuleThenEvaluateReportsFusedBelowEachSensor) {
   const testing_support::CliResult again = run("associate --input " + file_ + " --output " + path("b.h5"));
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_TRUE(read_track_file(path("b.h5")).fused.empty());
+}
+
+TEST_F(FuseCli, RegisteredReportsByDefaultAsRecordedWithNoRegistration) {
+  const std::string sim = path("bias_sim.h5"), file = path("bias.h5");
+  ASSERT_EQ(run("simulate --scenario recorded_bias --output " + sim).status, 0);
+  ASSERT_EQ(run("associate --input " + sim + " --output " + file).status, 0);
+  const TrackFile associated = read_track_file(file);
+  ASSERT_TRUE(associated.registration && associated.registration->applied);
+  // /registration/covariance: S × k × k, its diagonal the squared standard errors.
+  {
+    const RegistrationRecord& r = *associated.registration;
+    const std::size_t S = r.sensor.size(), k = r.parameters.size();
+    std::vector<hsize_t> dims;
+    const std::vector<double> cov =
+        h5::File::open_read_only(file).root().open_group("registration").read_doubles("covariance", 3, dims);
+    ASSERT_EQ(dims, (std::vector<hsize_t>{S, k, k}));
+    for (std::size_t s = 0; s < S; ++s)
+      for (std::size_t j = 0; j < k; ++j)
+        EXPECT_NEAR(std::sqrt(cov[(s * k + j) * k + j]), r.standard_error[s * k + j],
+                    1e-12 * (1 + r.standard_error[s * k + j]));
+  }
+  const testing_support::CliResult on = run("fuse --input " + file);
+  ASSERT_EQ(on.status, 0) << on.err;
+  EXPECT_NE(on.out.find("registration: reports corrected by /registration"), std::string::npos) << on.out;
+  const testing_support::CliResult off = run("fuse --input " + file + " --no-registration --name raw");
+  ASSERT_EQ(off.status, 0) << off.err;
+  EXPECT_NE(off.out.find("registration: not applied (switched off)"), std::string::npos) << off.out;
+  // Without /registration in the file, the same fusion as --no-registration, to the bit.
+  TrackFile plain = associated;
+  plain.registration.reset();
+  write_track_file(path("plain.h5"), plain);
+  const testing_support::CliResult recorded = run("fuse --input " + path("plain.h5") + " --name raw");
+  ASSERT_EQ(recorded.status, 0) << recorded.err;
+  EXPECT_NE(recorded.out.find("registration: no /registration in the file"), std::string::npos)
+      << recorded.out;
+  const TrackFile f = read_track_file(file), g = read_track_file(path("plain.h5"));
+  ASSERT_EQ(f.fused.size(), 2u);
+  const FusedTrackRecord &registered = f.fused[0], &raw = f.fused[1];
+  EXPECT_TRUE(nlohmann::json::parse(registered.options_json).at("registration").get<bool>());
+  EXPECT_FALSE(nlohmann::json::parse(raw.options_json).at("registration").get<bool>());
+  EXPECT_EQ(raw.state, g.fused.at(0).state);
+  EXPECT_EQ(raw.cov, g.fused.at(0).cov);
+  // The correction moves the fused states: the biases are hundreds of metres (recorded_bias).
+  ASSERT_EQ(registered.t, raw.t);
+  double moved = 0.0;
+  for (std::size_t i = 0; i < raw.size(); ++i)
+    moved = std::max(moved, std::hypot(registered.state[0][i] - raw.state[0][i],
+                                       registered.state[1][i] - raw.state[1][i]));
+  EXPECT_GT(moved, 100.0);
 }
 
 TEST_F(FuseCli, BadRequestsExitTwoAndWriteNothing) {

@@ -1,7 +1,12 @@
-// Association metrics against hand-counted cases (engine/pipeline/metrics.hpp).
+// Association metrics against hand-counted cases (engine/pipeline/metrics.hpp), including a
+// recycled track number split by track hygiene and scored by per-row truth.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+
 #include "engine/pipeline/metrics.hpp"
+#include "engine/pipeline/track_hygiene.hpp"
 
 namespace trackassoc {
 namespace {
@@ -115,6 +120,94 @@ TEST(Metrics, SegmentsOfOneTargetCountAsOne) {
   const auto s = evaluate_association(tracks, three_sensors(), r);
   EXPECT_EQ(s.correct, 1);
   EXPECT_EQ(s.missed, 1);
+}
+
+// Two sensors (ids 0, 1) reporting every 2 s; segments (sensor, track, truth, t0, t1, x0, y0, vx, vy)
+// are straight, the last `relabel` rows of a segment carry truth `relabel_to` instead.
+struct Segment {
+  int32_t sensor, track, truth;
+  double t0, t1, x0, y0, vx, vy;
+  int relabel = 0;
+  int32_t relabel_to = -1;
+};
+
+TrackFile two_sensor_file(const std::vector<Segment>& segments) {
+  TrackFile f;
+  f.sensors.resize(2);
+  f.sensors[0].id = 0, f.sensors[1].id = 1;
+  f.tracks = TrackTable(StateLayout::kXY_VXVY);
+  Eigen::Matrix4d P = Eigen::Matrix4d::Zero();
+  P.diagonal() << 100.0 * 100.0, 100.0 * 100.0, 10.0 * 10.0, 10.0 * 10.0;
+  for (const Segment& g : segments) {
+    const int n = static_cast<int>(std::lround((g.t1 - g.t0) / 2.0)) + 1;
+    for (int i = 0; i < n; ++i) {
+      const double dt = 2.0 * i;
+      f.tracks.push_back(g.sensor, g.track, g.t0 + dt,
+                         Eigen::Vector4d(g.x0 + g.vx * dt, g.y0 + g.vy * dt, g.vx, g.vy), P,
+                         i >= n - g.relabel ? g.relabel_to : g.truth);
+    }
+  }
+  return f;
+}
+
+AssociationRecord two_sensor_record(std::vector<std::array<int32_t, 2>> tuples, std::vector<int32_t> target) {
+  AssociationRecord r;
+  r.num_sensors = 2;
+  for (const auto& t : tuples) r.tuples.insert(r.tuples.end(), t.begin(), t.end());
+  r.cost.assign(tuples.size(), 0.0);
+  r.target = std::move(target);
+  return r;
+}
+
+// The counts of `m`: targets, correct, false, missed, linked tuples, false tuples.
+void expect_counts(const AssociationMetrics& m, std::array<int32_t, 6> want, const char* what) {
+  const std::array<int32_t, 6> got{m.targets, m.correct,       m.false_associations,
+                                   m.missed,  m.linked_tuples, m.false_tuples};
+  EXPECT_EQ(got, want) << what << " (targets, correct, false, missed, linked tuples, false tuples)";
+}
+
+TEST(Metrics, ARecycledNumberSplitByHygieneIsScoredByItsPieces) {
+  // Sensor 0's track 5 follows target 1 over 0-40 s (21 rows), pauses 30 s, then target 2, 20 km
+  // away, over 70-100 s (16 rows): a recycled number. Sensor 1 follows target 1 with track 1 over
+  // 0-40 s (its last 3 of 21 rows mislabelled target 2: the majority, 18, is target 1) and target 2
+  // with track 2 over 70-100 s.
+  TrackFile f = two_sensor_file({{0, 5, 1, 0, 40, 0, 0, 200, 0},
+                                 {0, 5, 2, 70, 100, 20000, 20000, 0, -150},
+                                 {1, 1, 1, 0, 40, 50, 0, 200, 0, 3, 2},
+                                 {1, 2, 2, 70, 100, 20050, 20000, 0, -150}});
+  const TrackFile recorded = f;
+  // Unsplit, key (0, 5) has 21 rows of target 1 and 16 of target 2: its target is 1, so target 2
+  // has a key on sensor 1 only and needs no association. The key with both of sensor 1's tracks
+  // under one target number holds target 2's key (1, 2): target 1 is false (1 target, 1 false).
+  expect_counts(
+      evaluate_association(recorded.tracks, recorded.sensors, two_sensor_record({{5, 1}, {5, 2}}, {0, 0})),
+      {1, 0, 1, 0, 2, 1}, "unsplit, one target number");
+
+  // Track hygiene splits (0, 5) at its jump: rows of target 2 become track 6 (one above the
+  // sensor's largest number), /tracks/source_track keeps 5.
+  ASSERT_EQ(split_recycled_tracks(f, TrackSplitOptions{}).cuts, 1);
+  for (std::size_t r = 0; r < f.tracks.size(); ++r)
+    if (f.tracks.sensor[r] == 0) {
+      EXPECT_EQ(f.tracks.track[r], f.tracks.truth[r] == 1 ? 5 : 6);
+      EXPECT_EQ(f.source_track[r], 5);
+    }
+  // Each piece in its own target's group (target numbers 0 and 1): keys of target 1 are (0, 5),
+  // (1, 1); of target 2, (0, 6), (1, 2). Hand count: 2 targets, both correct, 2 linked tuples,
+  // none false.
+  const auto right = evaluate_association(f.tracks, f.sensors, two_sensor_record({{5, 1}, {6, 2}}, {0, 1}));
+  expect_counts(right, {2, 2, 0, 0, 2, 0}, "split, each piece with its target");
+  EXPECT_DOUBLE_EQ(right.correct_rate, 1.0);
+  // The pieces crossed: (0, 5) with (1, 2) and (0, 6) with (1, 1): both targets false, both tuples.
+  expect_counts(evaluate_association(f.tracks, f.sensors, two_sensor_record({{5, 2}, {6, 1}}, {0, 1})),
+                {2, 0, 2, 0, 2, 2}, "split, pieces crossed");
+  // Right tuples, but one target number over both: the group holds the keys of two targets, so
+  // neither is held exactly: both false, though no tuple is (0 false tuples of 2).
+  expect_counts(evaluate_association(f.tracks, f.sensors, two_sensor_record({{5, 1}, {6, 2}}, {0, 0})),
+                {2, 0, 2, 0, 2, 0}, "split, one group for both targets");
+  // The second piece left alone: target 1 correct, target 2 missed (its keys in two groups).
+  expect_counts(
+      evaluate_association(f.tracks, f.sensors, two_sensor_record({{5, 1}, {6, -1}, {-1, 2}}, {0, 1, 2})),
+      {2, 1, 0, 1, 1, 0}, "split, second piece alone");
 }
 
 }  // namespace
