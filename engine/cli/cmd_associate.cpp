@@ -139,6 +139,7 @@ void register_associate(CLI::App& app) {
     bool sd = false, three_d = false;
     bool no_segments = false, no_registration = false, no_split = false, no_stitch = false;
     double segment_overlap = SegmentOptions{}.max_overlap_s;
+    int32_t reference_sensor = -1;
     std::vector<int32_t> duplicate_sensors;
     std::string model = TRACKASSOC_DATA_DIR "/models/siamese_seed003.h5";  // --solver siamese
   };
@@ -195,6 +196,11 @@ void register_associate(CLI::App& app) {
                 "first report continues another's last, within 180 s, by constant velocity with a 3 m/s^2 "
                 "manoeuvre allowance, unambiguously (each the other's only match), is joined to it: a "
                 "target handed over between sensors; engine/pipeline/track_stitching.hpp)");
+  cmd->add_option(
+      "--reference-sensor", args->reference_sensor,
+      "Default pipeline: the /sensors id the registration holds fixed, a sensor you trust (default: "
+      "the one with the most local tracks); `fuse` then estimates in its frame, else in the "
+      "sensors' information-weighted average frame");
   cmd->add_option("--segment-overlap", args->segment_overlap,
                   "Default pipeline: the report overlap [s] two segments of one sensor may have and still "
                   "follow each other (a coasting old track and its successor)")
@@ -235,6 +241,7 @@ void register_associate(CLI::App& app) {
     request.split.enabled = !args->no_split;
     request.stitching.enabled = !args->no_stitch;
     request.segments.max_overlap_s = args->segment_overlap;
+    request.registration.reference_sensor = args->reference_sensor;
     request.segments.duplicate_sensors = args->duplicate_sensors;
     if (!args->duplicate_sensors.empty() && args->no_segments)
       throw InputError(

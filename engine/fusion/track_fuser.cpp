@@ -405,9 +405,18 @@ TrackFuserSummary fuse_track_file(TrackFile& file, const std::string& associatio
     why = "/registration was not applied by the association: reports as recorded";
   else {
     const RecordedRegistration r = recorded_registration(file, path, *reg);
-    registered = registered_file(file, r.estimate, r.model).tracks;
-    why = "reports corrected by /registration (relative to reference sensor " +
-          std::to_string(reg->reference_sensor) + ")";
+    // A reference the user named (a sensor they trust) gives its frame; one chosen by the stage
+    // (the sensor with the most tracks) the sensors' information-weighted average.
+    const nlohmann::json stage = nlohmann::json::parse(reg->options_json, nullptr, false);
+    const bool named = stage.is_object() && stage.value("reference_sensor", -1) >= 0;
+    registered = registered_file(file, r.estimate, r.model,
+                                 named ? RegistrationFrame::kReference : RegistrationFrame::kCentroid)
+                     .tracks;
+    why = named ? "reports corrected by /registration into the frame of reference sensor " +
+                      std::to_string(reg->reference_sensor) + " (named by the association)"
+                : "reports corrected by /registration into the sensors' information-weighted average frame "
+                  "(estimated relative to reference sensor " +
+                      std::to_string(reg->reference_sensor) + ", chosen by the stage)";
   }
   TrackFuserSummary summary;
   FusedTrackRecord fused = fuse_association(registered ? *registered : file.tracks, file.sensors, *rec,

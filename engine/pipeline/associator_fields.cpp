@@ -88,6 +88,10 @@ const OptionFields<AssociatorOptions>& associator_option_fields() {
           "default pipeline: sensors whose tracker may hold two tracks of one target (--duplicate-sensors)"),
       field("registration", path(&O::registration, &RegistrationStageOptions::enabled), "",
             "default pipeline: joint registration and association (False = --no-registration)"),
+      field("reference_sensor", path(&O::registration, &RegistrationStageOptions::reference_sensor),
+            "sensor id",
+            "default pipeline: the sensor the registration holds fixed (-1: the one with the most tracks; "
+            "--reference-sensor)"),
       field("split", path(&O::split, &TrackSplitOptions::enabled), "",
             "default pipeline: split recycled track numbers into new local tracks (False = --no-split)"),
       field("stitch", path(&O::stitching, &TrackStitchOptions::enabled), "",

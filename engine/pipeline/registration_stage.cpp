@@ -35,6 +35,35 @@ std::vector<std::array<double, 3>> sites_of(const TrackFile& file) {
   return sites;
 }
 
+// The information (inverse covariance) of one plot of sensor `s` at position x: σ_range along the
+// line of sight, range × σ_bearing across it (and range × σ_elevation, or σ_bearing when that is 0,
+// on the third axis in 3-D). A translation model (sensor positions unknown) weighs every sensor
+// alike.
+Eigen::MatrixXd measurement_information(const Sensor& s, const RegistrationOptions& model,
+                                        const std::vector<double>& x) {
+  const int d = static_cast<int>(x.size());
+  Eigen::VectorXd u(d);
+  for (int i = 0; i < d; ++i) u[i] = x[i] - s.position[i];
+  const double r = u.norm();
+  if (!model.polar || r <= 0.0 || s.sigma_range <= 0.0 || s.sigma_bearing <= 0.0)
+    return Eigen::MatrixXd::Identity(d, d);
+  u /= r;
+  const double cross = r * s.sigma_bearing;
+  const double vertical = r * (s.sigma_elevation > 0.0 ? s.sigma_elevation : s.sigma_bearing);
+  Eigen::MatrixXd P = s.sigma_range * s.sigma_range * u * u.transpose();
+  if (d == 2) {
+    const Eigen::Vector2d w(-u[1], u[0]);
+    P += cross * cross * w * w.transpose();
+  } else {
+    Eigen::Vector3d w(-u[1], u[0], 0.0);
+    if (w.norm() < 1e-12) w = Eigen::Vector3d(1, 0, 0);
+    w.normalize();
+    const Eigen::Vector3d z = Eigen::Vector3d(u[0], u[1], u[2]).cross(w);
+    P += cross * cross * w * w.transpose() + vertical * vertical * z * z.transpose();
+  }
+  return P.inverse();
+}
+
 }  // namespace
 
 RegistrationOptions model_for(const TrackFile& file, const RegistrationOptions& fit) {
@@ -293,7 +322,7 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
 }
 
 TrackFile registered_file(const TrackFile& file, const RegistrationEstimate& e,
-                          const RegistrationOptions& model) {
+                          const RegistrationOptions& model, RegistrationFrame frame) {
   TrackFile out = file;
   TrackTable& t = out.tracks;
   const int D = t.dim(), d = D / 2, K = e.k();
@@ -302,19 +331,38 @@ TrackFile registered_file(const TrackFile& file, const RegistrationEstimate& e,
   const auto azimuth = std::find(e.parameter_names.begin(), e.parameter_names.end(), "azimuth_bias");
   const int az =
       azimuth == e.parameter_names.end() ? -1 : static_cast<int>(azimuth - e.parameter_names.begin());
+  const std::size_t S = file.sensors.size();
+  const bool centroid = frame == RegistrationFrame::kCentroid && S > 1;
+  auto bias_of = [&](std::size_t s) {
+    return Eigen::Map<const Eigen::VectorXd>(e.bias.data() + s * static_cast<std::size_t>(K), K);
+  };
+  double mean_azimuth = 0.0;  // kCentroid: the sensors' mean azimuth bias
+  if (centroid && az >= 0)
+    for (std::size_t s = 0; s < S; ++s) mean_azimuth += bias_of(s)[az] / static_cast<double>(S);
   std::vector<double> x(d), v(d);
   for (std::size_t r = 0; r < t.size(); ++r) {
     const int32_t s = column.at(t.sensor[r]);
-    if (s == e.reference) continue;
-    const Eigen::Map<const Eigen::VectorXd> b(e.bias.data() + static_cast<std::size_t>(s) * K, K);
+    if (s == e.reference && !centroid) continue;
+    const auto b = bias_of(static_cast<std::size_t>(s));
     const Eigen::Map<const Eigen::MatrixXd> V(e.covariance.data() + static_cast<std::size_t>(s) * K * K, K,
                                               K);
     for (int i = 0; i < d; ++i) x[i] = t.state[i][r], v[i] = t.state[d + i][r];
     const Eigen::MatrixXd J = registration_jacobian(model, d, file.sensors[s].position, x, v);
-    const Eigen::VectorXd dx = J * b;
+    Eigen::VectorXd dx = J * b;
+    if (centroid) {  // every sensor's offset at this place, weighted by its measurement information
+      Eigen::MatrixXd information = Eigen::MatrixXd::Zero(d, d);
+      Eigen::VectorXd weighted = Eigen::VectorXd::Zero(d);
+      for (std::size_t u = 0; u < S; ++u) {
+        const Eigen::MatrixXd W = measurement_information(file.sensors[u], model, x);
+        information += W;
+        weighted += W * (registration_jacobian(model, d, file.sensors[u].position, x, v) * bias_of(u));
+      }
+      dx -= information.ldlt().solve(weighted);
+    }
     for (int i = 0; i < d; ++i) t.state[i][r] -= dx[i];
     if (az >= 0) {  // the reported velocity is rotated by Δθ too: rotate it back
-      const double c = std::cos(b[az]), sn = std::sin(b[az]);
+      const double angle = b[az] - (centroid ? mean_azimuth : 0.0);
+      const double c = std::cos(angle), sn = std::sin(angle);
       t.state[d + 0][r] = c * v[0] + sn * v[1];
       t.state[d + 1][r] = -sn * v[0] + c * v[1];
     }
@@ -399,8 +447,13 @@ AssociationRecord associate_with_registration(
       const std::size_t n = tracks_of[file.sensors[s].id].size();
       if (n > most) most = n, m.reference_sensor = static_cast<int32_t>(s);
     }
+    bool found = o.reference_sensor < 0;
     for (std::size_t s = 0; s < file.sensors.size(); ++s)
-      if (file.sensors[s].id == o.reference_sensor) m.reference_sensor = static_cast<int32_t>(s);
+      if (file.sensors[s].id == o.reference_sensor)
+        m.reference_sensor = static_cast<int32_t>(s), found = true;
+    if (!found)
+      throw InputError("--reference-sensor: expected a /sensors id of the file, found " +
+                       std::to_string(o.reference_sensor));
   }
   auto fit = [&](const RegistrationObservations& obs, RegistrationEstimate& est) {
     if (obs.size() == 0) return false;

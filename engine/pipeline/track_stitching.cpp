@@ -40,15 +40,16 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   if (!o.enabled || S != static_cast<int32_t>(file.sensors.size()) || rec.num_tuples() == 0) return summary;
   const TrackTable& t = file.tracks;
   const std::size_t K = rec.num_tuples();
-  if (rec.target.empty()) {
-    rec.target.resize(K);
-    std::iota(rec.target.begin(), rec.target.end(), 0);
+  std::vector<int32_t> target = rec.target;
+  if (target.empty()) {  // every tuple its own target
+    target.resize(K);
+    std::iota(target.begin(), target.end(), 0);
   }
   // (sensor id, track) -> target number.
   std::map<std::pair<int32_t, int32_t>, int32_t> target_of;
   for (std::size_t k = 0; k < K; ++k)
     for (int32_t s = 0; s < S; ++s)
-      if (rec.tuples[k * S + s] >= 0) target_of[{file.sensors[s].id, rec.tuples[k * S + s]}] = rec.target[k];
+      if (rec.tuples[k * S + s] >= 0) target_of[{file.sensors[s].id, rec.tuples[k * S + s]}] = target[k];
   std::map<int32_t, Group> by_target;
   for (std::size_t r = 0; r < t.size(); ++r) {
     const auto it = target_of.find({t.sensor[r], t.track[r]});
@@ -125,10 +126,11 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   if (summary.stitches == 0) return summary;
   std::map<int32_t, int32_t> renumber;
   for (std::size_t g = 0; g < groups.size(); ++g) renumber[groups[g]->target] = groups[find(g)]->target;
-  for (auto& target : rec.target) {
-    const auto it = renumber.find(target);
-    if (it != renumber.end()) target = it->second;
+  for (auto& number : target) {
+    const auto it = renumber.find(number);
+    if (it != renumber.end()) number = it->second;
   }
+  rec.target = std::move(target);
   return summary;
 }
 

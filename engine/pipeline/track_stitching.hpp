@@ -20,9 +20,9 @@
 // Of the unambiguous pairs each group keeps its earliest successor and its latest predecessor, and
 // a pair kept by both is a *stitch* (a mutual match, as in track-continuity tests at a handover
 // between radars). Stitches are chained (G₁ → G₂ → G₃ is one target), and the later groups take
-// the earliest group's target number. The tuples are unchanged; only `target` changes (and is filled when it
-// was empty). Complexity: O(G log G + C·D³) for G groups and C candidate pairs (a sweep over groups sorted by
-// start time).
+// the earliest group's target number. The tuples are unchanged; only `target` changes (filled
+// when it was empty and a stitch was made). Complexity: O(G log G + C·D³) for G groups and C
+// candidate pairs (a sweep over groups sorted by start time).
 #pragma once
 
 #include <cstdint>

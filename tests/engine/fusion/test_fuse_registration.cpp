@@ -41,7 +41,9 @@ Matrix4d p1() {
 // The registration's covariance of (o_x, o_y).
 Matrix2d offset_covariance() { return (Matrix2d() << 2500.0, 400.0, 400.0, 1600.0).finished(); }
 
-TrackFile translated_file(bool applied, const std::string& association) {
+// `named`: the association named sensor 0 as its reference (fuse estimates in its frame); else
+// the stage chose it, and fuse estimates in the sensors' average frame.
+TrackFile translated_file(bool applied, const std::string& association, bool named = true) {
   TrackFile f;
   f.sensors.resize(2);
   f.sensors[0].id = 0, f.sensors[1].id = 7;
@@ -75,18 +77,22 @@ TrackFile translated_file(bool applied, const std::string& association) {
   r.pair_observations.assign(4, 11);
   r.applied = applied;
   r.association = association;
+  r.options_json = named ? R"({"reference_sensor": 0})" : R"({"reference_sensor": -1})";
   f.registration = r;
   return f;
 }
 
 // The naive (information-weighted) fusion of the two reports at time index i, sensor 1's report
-// corrected by +o and its position covariance widened by V when `corrected`.
-Vector4d hand_fused(const TrackFile& f, int i, bool corrected, Matrix4d* P = nullptr) {
+// corrected by +o and its position covariance widened by V when `corrected`. In the average frame
+// (`average`; a translation weighs both sensors alike) the frame is the midpoint: sensor 0's report
+// moves by −o/2 and sensor 1's by +o/2 (the widening stays sensor 1's V).
+Vector4d hand_fused(const TrackFile& f, int i, bool corrected, Matrix4d* P = nullptr, bool average = false) {
   Vector4d x0, x1;
   for (int c = 0; c < 4; ++c) x0[c] = f.tracks.state[c][2 * i], x1[c] = f.tracks.state[c][2 * i + 1];
   Matrix4d P1 = p1();
   if (corrected) {
-    x1.head<2>() += kOffset;
+    x1.head<2>() += average ? Vector2d(0.5 * kOffset) : kOffset;
+    if (average) x0.head<2>() -= 0.5 * kOffset;
     P1.topLeftCorner<2, 2>() += offset_covariance();
   }
   const Matrix4d Y = p0().inverse() + P1.inverse();
@@ -95,12 +101,12 @@ Vector4d hand_fused(const TrackFile& f, int i, bool corrected, Matrix4d* P = nul
   return Pf * (p0().inverse() * x0 + P1.inverse() * x1);
 }
 
-void expect_fused(const FusedTrackRecord& rec, const TrackFile& f, bool corrected) {
+void expect_fused(const FusedTrackRecord& rec, const TrackFile& f, bool corrected, bool average = false) {
   ASSERT_EQ(rec.size(), 11u);
   for (int i = 0; i <= 10; ++i) {
     ASSERT_DOUBLE_EQ(rec.t[i], i);
     Matrix4d P;
-    const Vector4d want = hand_fused(f, i, corrected, &P);
+    const Vector4d want = hand_fused(f, i, corrected, &P, average);
     for (int c = 0; c < 4; ++c)
       EXPECT_NEAR(rec.state[c][i], want[c], 1e-6) << "t " << i << " component " << c;
     for (int r = 0; r < 4; ++r)
@@ -121,6 +127,16 @@ TEST(FuseRegistration, AKnownTranslationIsCorrectedBeforeFusing) {
   EXPECT_GT((u.head<2>() - truth_at(5).head<2>()).norm(), 100.0);
 }
 
+TEST(FuseRegistration, AReferenceTheStageChoseGivesTheSensorsAverageFrame) {
+  // The same file, the reference chosen by the stage: neither sensor is known to be right, so the
+  // fused track lies at the midpoint of the two frames, o/2 from the truth.
+  TrackFile f = translated_file(true, "default", false);
+  const TrackFuserSummary s = fuse_track_file(f, "", "", {});
+  EXPECT_TRUE(s.registered);
+  EXPECT_NE(s.registration.find("average frame"), std::string::npos) << s.registration;
+  expect_fused(f.fused.back(), f, true, true);
+}
+
 TEST(FuseRegistration, ReportsAsRecordedWhenOffForeignOrNotApplied) {
   for (int which = 0; which < 3; ++which) {
     TrackFile f = translated_file(which != 2, which == 1 ? "other" : "default");
@@ -130,6 +146,19 @@ TEST(FuseRegistration, ReportsAsRecordedWhenOffForeignOrNotApplied) {
     EXPECT_FALSE(s.registered) << which;
     expect_fused(f.fused.back(), f, false);
     EXPECT_FALSE(nlohmann::json::parse(f.fused.back().options_json).at("registration").get<bool>());
+  }
+}
+
+TEST(FuseRegistration, AReferenceSensorNotInTheFileIsAnInputError) {
+  const TrackFile f = translated_file(true, "default");
+  AssociatorOptions o;
+  o.registration.reference_sensor = 99;  // /sensors ids are 0 and 7
+  try {
+    make_associator(o)->associate(f);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--reference-sensor"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("99"), std::string::npos) << e.what();
   }
 }
 
