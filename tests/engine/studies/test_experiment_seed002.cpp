@@ -1,5 +1,6 @@
-// The seed 002 study at a small scale: deterministic for 1 and 2 threads, finite curves, and the
-// qualitative claims the paper makes that hold by construction of the IMM.
+// The seed 002 study at a small scale: deterministic for 1 and 2 threads; the curves' first point
+// (every filter's two-point start) and the ratios recomputed by hand; the paper's qualitative claim
+// on the circle.
 #include <gtest/gtest.h>
 #include <oneapi/tbb/global_control.h>
 
@@ -8,11 +9,12 @@
 
 #include "engine/studies/seed002/experiment_seed002.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/filters/imm.hpp"
 
 namespace trackassoc {
 namespace {
 
-TEST(Seed002, SmallStudyIsDeterministicAndSane) {
+TEST(Seed002, SmallStudyIsDeterministicAndAgreesWithHandNumbers) {
   Seed002Options o;
   o.runs = 16;
   auto run = [&](int threads) {
@@ -21,23 +23,42 @@ TEST(Seed002, SmallStudyIsDeterministicAndSane) {
   };
   const Seed002Result a = run(1), b = run(2);
   ASSERT_EQ(a.motions.size(), 4u);
+  // The truth's acceleration magnitude at t = 1 s: step 0 (its step starts at 40 s), circle
+  // 300 m/s × 0.1 rad/s = 30 m/s², ca |(10, −5)| = √125 m/s², cv 0.
+  const double accel_at_1s[4] = {0.0, 30.0, std::sqrt(125.0), 0.0};
+  const double p_cs0 = ImmOptions::seed002().initial_probabilities[0];
   for (std::size_t m = 0; m < 4; ++m) {
-    EXPECT_EQ(a.motions[m].rmse_imm, b.motions[m].rmse_imm);
-    EXPECT_EQ(a.motions[m].rmse_cs_parallel, b.motions[m].rmse_cs_parallel);
-    EXPECT_EQ(a.motions[m].t.size(), 100u);
+    SCOPED_TRACE(a.motions[m].name);
+    const Seed002Motion& mo = a.motions[m];
+    EXPECT_EQ(mo.rmse_imm, b.motions[m].rmse_imm);
+    EXPECT_EQ(mo.rmse_cs_parallel, b.motions[m].rmse_cs_parallel);
+    // Scans every 1 s; the curves start at the second plot (t = 1 s) and end at 100 s.
+    ASSERT_EQ(mo.t.size(), 100u);
+    for (std::size_t k = 0; k < mo.t.size(); ++k) EXPECT_DOUBLE_EQ(mo.t[k], k + 1.0);
+    // At t = 1 s every filter holds the same two-point start (position = the second plot,
+    // velocity = the difference of the two, acceleration 0): the three curves agree bit for bit,
+    // the acceleration error is the truth's acceleration, and the IMM's probabilities are its
+    // initial ones.
     for (int q = 0; q < 3; ++q) {
-      EXPECT_TRUE(std::isfinite(a.motions[m].ratio[q]));
-      EXPECT_GT(a.motions[m].ratio[q], 0.0);
+      EXPECT_EQ(mo.rmse_imm[q][0], mo.rmse_cs_parallel[q][0]) << q;
+      EXPECT_EQ(mo.rmse_ca[q][0], mo.rmse_cs_parallel[q][0]) << q;
     }
-    // Position RMSE stays at the level of the measurement error (30–60 m cross-range, 50 m range).
-    for (double e : a.motions[m].rmse_imm[0]) EXPECT_LT(e, 200.0);
+    EXPECT_NEAR(mo.rmse_imm[2][0], accel_at_1s[m], 1e-9);
+    EXPECT_EQ(mo.imm_prob_cs[0], p_cs0);
+    // The ratios and means recomputed from the curves (scans 2..100: indices 1..99).
+    for (int q = 0; q < 3; ++q) {
+      double si = 0.0, sp = 0.0, sc = 0.0;
+      for (std::size_t k = 1; k < mo.t.size(); ++k)
+        si += mo.rmse_imm[q][k], sp += mo.rmse_cs_parallel[q][k], sc += mo.rmse_ca[q][k];
+      EXPECT_DOUBLE_EQ(mo.ratio[q], si / sp) << q;
+      EXPECT_DOUBLE_EQ(mo.mean_imm[q], si / 99.0) << q;
+      EXPECT_DOUBLE_EQ(mo.mean_cs_parallel[q], sp / 99.0) << q;
+      EXPECT_DOUBLE_EQ(mo.mean_ca[q], sc / 99.0) << q;
+    }
+    double p = 0.0;
+    for (double x : mo.imm_prob_cs) p += x;
+    EXPECT_NEAR(mo.mean_prob_cs, p / static_cast<double>(mo.imm_prob_cs.size()), 1e-12);
   }
-  // The IMM's model probabilities are probabilities.
-  for (const auto& m : a.motions)
-    for (double p : m.imm_prob_cs) {
-      EXPECT_GE(p, 0.0);
-      EXPECT_LE(p, 1.0);
-    }
   // The circle (30 m/s² throughout) is where mixing in the CA model helps most: ratio < 1.
   EXPECT_LT(a.motions[1].ratio[0], 1.0);
 }
