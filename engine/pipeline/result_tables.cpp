@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 #include <ostream>
+#include <ranges>
 #include <sstream>
 
 #include "engine/pipeline/associator.hpp"
@@ -210,6 +211,8 @@ ResultTableSummary registration_table(const std::string& path, const TrackFile& 
   ResultTableSummary summary{s, "/registration", {}};
   std::vector<std::string> header{"sensor"};
   std::vector<std::vector<double>> columns;  // one per CSV column, s values each
+  std::vector<double> ids;                   // the rows' sensor ids: /registration/sensor
+  for (const std::size_t i : std::views::iota(std::size_t{0}, s)) ids.push_back(file.sensors[i].id);
   for (const std::string& name : reg.children()) {
     if (reg.is_group(name)) {
       summary.skipped.push_back(name + " (a group)");
@@ -228,6 +231,10 @@ ResultTableSummary registration_table(const std::string& path, const TrackFile& 
       summary.skipped.push_back(name + " (not numeric)");
       continue;
     }
+    if (name == "sensor" && shape.size() == 1) {  // the id column itself, not a second "sensor"
+      ids = v;
+      continue;
+    }
     // Columns NAME (S), NAME_j (S × k), NAME_j_l (S × k × m, e.g. each sensor's covariance).
     const std::size_t m = shape.size() == 3 ? shape[2] : 1, k = (shape.size() >= 2 ? shape[1] : 1) * m;
     for (std::size_t j = 0; j < k; ++j) {
@@ -242,7 +249,7 @@ ResultTableSummary registration_table(const std::string& path, const TrackFile& 
   }
   csv.header(header);
   for (std::size_t i = 0; i < s; ++i) {
-    csv.number(file.sensors[i].id);
+    csv.number(ids[i]);
     for (const auto& col : columns) csv.number(col[i]);
     csv.end();
   }

@@ -96,6 +96,15 @@ TEST(ResultTables, RegistrationOneRowPerSensor) {
   EXPECT_EQ(out.str(), "sensor,bias,offset_0,offset_1\n10,0.5,1,2\n20,-1,3,4\n30,2,5,6\n");
   ASSERT_EQ(s.skipped.size(), 1u);
   EXPECT_NE(s.skipped[0].find("junk"), std::string::npos);
+  // /registration/sensor (written by associate) labels the rows, in its own order, and is not a
+  // second "sensor" column (was: "sensor,...,sensor" with the /sensors ids beside).
+  test::damage_file(path, [&](hid_t h) {
+    const int32_t ids[] = {30, 10, 20};
+    test::put_dataset(h, "/registration/sensor", H5T_STD_I32LE, H5T_NATIVE_INT32, {3}, ids);
+  });
+  std::ostringstream labelled;
+  export_result_table(path, f, ResultTable::kRegistration, "", labelled);
+  EXPECT_EQ(labelled.str(), "sensor,bias,offset_0,offset_1\n30,0.5,1,2\n10,-1,3,4\n20,2,5,6\n");
 }
 
 TEST(ResultTables, NamePicksTheGroup) {
