@@ -39,7 +39,8 @@
 //         "covariance_scale": 1.0,          > 0, reported covariance = scale x the tracker's own
 //         "recycle_after": 0.0,             s, >= 0: > 0 reuses a track number this long after its track ends
 //         "swap_distance": 0.0 },           m, >= 0: > 0 swaps two local tracks whose targets pass this close
-//       "tracker": {                        optional: this sensor's own local tracker (Scenario::sensor_trackers),
+//       "tracker": {                        optional: this sensor's own local tracker
+//       (Scenario::sensor_trackers),
 //         "filter": "ab",                   as the top-level "tracker"; a key left out is the top-level
 //         "process_noise": 5.0 } } ],       "tracker"'s. Absent: the sensor runs the top-level tracker
 //     "targets": [ {                        scripted targets; ids unique (default: index)

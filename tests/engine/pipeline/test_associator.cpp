@@ -50,7 +50,8 @@ void expect_same_tuples(const AssociationRecord& got, const AssociationRecord& w
 std::map<std::pair<int32_t, int32_t>, int32_t> track_truth(const TrackFile& file) {
   std::map<std::pair<int32_t, int32_t>, int32_t> out;
   for (std::size_t r = 0; r < file.tracks.size(); ++r) {
-    const auto [it, fresh] = out.emplace(std::pair{file.tracks.sensor[r], file.tracks.track[r]}, file.tracks.truth[r]);
+    const auto [it, fresh] =
+        out.emplace(std::pair{file.tracks.sensor[r], file.tracks.track[r]}, file.tracks.truth[r]);
     EXPECT_TRUE(fresh || it->second == file.tracks.truth[r]) << "track of two targets at row " << r;
   }
   return out;

@@ -160,7 +160,6 @@ TEST(SensorTrackers, TrackFileRecordsTheScenarioWithItsTrackers) {
   EXPECT_EQ(parse_scenario_json(f.scenario_json), sc);
 }
 
-
 // Median position error of `sensor`'s reports of true targets.
 double median_error(const std::vector<TargetTrajectory>& truth, const TrackTable& t, int32_t sensor) {
   std::vector<double> e;

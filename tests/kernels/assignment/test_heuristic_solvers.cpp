@@ -55,7 +55,8 @@ void expect_valid_heuristic(const CostTensor3& b, const Solution3& s) {
   EXPECT_EQ(s.summary.termination, Termination::kHeuristic);
   EXPECT_DOUBLE_EQ(s.summary.objective, assignment_cost(b, s.tuples));
   const std::array<int32_t, 3> n{b.n1, b.n2, b.n3};
-  std::array<std::vector<int>, 3> uses{std::vector<int>(n[0]), std::vector<int>(n[1]), std::vector<int>(n[2])};
+  std::array<std::vector<int>, 3> uses{std::vector<int>(n[0]), std::vector<int>(n[1]),
+                                       std::vector<int>(n[2])};
   double by_hand = 0.0;
   int misses = 0;
   for (const Tuple3& t : s.tuples) {
