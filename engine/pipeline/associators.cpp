@@ -62,14 +62,13 @@ class SparseSDAssociator final : public TrackAssociator {
     // Fragments: on the reports the association used (corrected when the registration applied).
     if (o_.stitching.enabled) {
       const auto ts = std::chrono::steady_clock::now();
-      if (reg.applied)
-        out.summary.stitching = stitch_fragments(registered_file(file, reg.estimate, model_for(file, ro.fit)),
-                                                 out.record, o_.stitching);
-      else
-        out.summary.stitching = stitch_fragments(file, out.record, o_.stitching);
-      out.summary.stages.push_back({"stitching", seconds_since(ts), peak_rss_mib(), 0.0});
-      out.record.runtime_s += seconds_since(ts);
+      out.summary.stitching =
+          stitch_fragments(reg.registered ? *reg.registered : file, out.record, o_.stitching);
+      const double seconds = seconds_since(ts);
+      out.summary.stages.push_back({"stitching", seconds, peak_rss_mib(), 0.0});
+      out.record.runtime_s += seconds;
     }
+    reg.registered.reset();  // the corrected copy is not needed past here
     apply_name(o_, out.record);
     if (reg.fitted) {
       out.registration = reg.to_record(file, out.record.name, ro);

@@ -64,8 +64,8 @@ Eigen::MatrixXd measurement_information(const Sensor& s, const RegistrationOptio
   return P.inverse();
 }
 
-}  // namespace
-
+// The registration model for `file`: `fit`, or a translation and a clock offset when the file says
+// the sensor positions are unknown (/sensors attr unknown).
 RegistrationOptions model_for(const TrackFile& file, const RegistrationOptions& fit) {
   RegistrationOptions o = fit;
   if (positions_unknown(file)) {
@@ -74,6 +74,8 @@ RegistrationOptions model_for(const TrackFile& file, const RegistrationOptions& 
   }
   return o;
 }
+
+}  // namespace
 
 void RegistrationStageOptions::validate() const {
   require(max_rounds >= 2 && max_rounds <= 20, "registration.max_rounds", "expected 2..20");
@@ -470,8 +472,10 @@ AssociationRecord associate_with_registration(
   if (!o.reassociate) return rec;
   const AssociationRecord recorded = rec;
   const RegistrationEstimate tested = res.estimate;
+  std::optional<TrackFile> corrected;  // the reports of the latest association
   for (int32_t round = 2; round <= o.max_rounds; ++round) {
-    AssociationRecord next = associate(registered_file(file, res.estimate, model));
+    corrected = registered_file(file, res.estimate, model);
+    AssociationRecord next = associate(*corrected);
     res.rounds = round;
     const bool same = next.tuples == rec.tuples && next.target == rec.target;
     rec = std::move(next);
@@ -484,7 +488,10 @@ AssociationRecord associate_with_registration(
   // A registration error shows as true pairs split apart: the corrected reports must link more
   // local tracks than the reports as recorded, or the association of step 1 stands.
   res.applied = linked_members(rec) > linked_members(recorded);
-  if (res.applied) return rec;
+  if (res.applied) {
+    res.registered = std::move(corrected);
+    return rec;
+  }
   // Not applied: the estimate reported is the one tested in step 3 (as over MPI ranks).
   res.estimate = tested;
   res.wald = res.estimate.wald(res.wald_dof);

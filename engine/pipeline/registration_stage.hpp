@@ -35,6 +35,7 @@
 #include <cstdint>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,9 @@ struct RegistrationStageResult {
   double wald = 0.0;
   int32_t wald_dof = 0;
   RegistrationEstimate estimate;  // rows in /sensors order
+  // When applied: the corrected reports the returned association used (later stages, such as
+  // fragment stitching, work on them).
+  std::optional<TrackFile> registered;
   RegistrationRecord to_record(const TrackFile& file, const std::string& association,
                                const RegistrationStageOptions& options) const;
 };
@@ -82,10 +86,6 @@ RegistrationObservations registration_observations(const TrackFile& file, const 
 // each other's nearest to it are the seeds, whose observations these are.
 RegistrationObservations pattern_observations(const TrackFile& file, int32_t reference,
                                               const RegistrationStageOptions& options);
-
-// The registration model for `file`: `fit`, or a translation and a clock offset when the file says
-// the sensor positions are unknown (/sensors attr unknown).
-RegistrationOptions model_for(const TrackFile& file, const RegistrationOptions& fit);
 
 // The frame the corrected reports are put in. The registration is relative: only the sensors'
 // biases against each other are observable.
