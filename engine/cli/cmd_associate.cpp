@@ -188,8 +188,9 @@ void register_associate(CLI::App& app) {
   cmd->add_flag(
       "--no-split", args->no_split,
       "Default pipeline: keep every recorded (sensor, track) key as one track (default: a key that "
-      "pauses and then jumps where its own motion cannot take it, a recycled track number, is split "
-      "into new local tracks before the association; /tracks/source_track keeps the recorded number; "
+      "pauses and then jumps where its own motion cannot take it, a recycled track number, and two keys "
+      "of one sensor that jump at one scan where each continues the other, a swap at a crossing, are "
+      "split into new local tracks before the association; /tracks/source_track keeps the recorded number; "
       "engine/pipeline/track_hygiene.hpp)");
   cmd->add_flag("--no-stitch", args->no_stitch,
                 "Default pipeline: keep output targets that never coexist apart (default: a target whose "
@@ -275,6 +276,9 @@ void register_associate(CLI::App& app) {
     if (split.cuts > 0)
       std::cout << "split " << split.cuts << " recycled track number(s) into new local tracks (" << split.gaps
                 << " gaps tested; /tracks/source_track keeps the recorded numbers)\n";
+    if (split.swaps > 0)
+      std::cout << "split " << split.swaps << " pair(s) of local tracks that swapped targets at a crossing "
+                << "into new local tracks (/tracks/source_track keeps the recorded numbers)\n";
     if (!args->plot.empty()) {
       report::write_association_map(args->plot, report::picture_format(args->plot, args->svg), file,
                                     outcome.record,

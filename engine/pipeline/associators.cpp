@@ -235,7 +235,7 @@ void AssociatorOptions::validate() const {
 
 TrackSplitSummary split_recorded_keys(TrackFile& file, const AssociatorOptions& options) {
   if (!options.split.enabled || choose_association_path(options) != AssociationPath::kSparseSD) return {};
-  return split_recycled_tracks(file, options.split);
+  return split_tracks(file, options.split);
 }
 
 AssociationPath choose_association_path(const AssociatorOptions& o) {

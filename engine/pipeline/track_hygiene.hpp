@@ -13,8 +13,21 @@
 // The rows after a cut get a new track number (one above the sensor's largest, in order of cuts
 // by sensor, key and time), and TrackFile::source_track keeps the recorded number of every row.
 // A key without gaps, or whose gaps its motion explains, is left as it is.
-// Swaps at crossings (no gap, a change point in the pair statistics) are not split here.
-// Complexity: O(rows · log rows + cuts · D³).
+//
+// Swaps at crossings: two local tracks of one sensor whose targets pass close to each other may
+// exchange targets (track swap, or track coalescence followed by a swap; Blackman & Popoli 1999
+// §9.5), so each key follows one target and then the other. Their reports show it as a pair of
+// jumps at one scan that the other key explains: for keys A and B of one sensor, with consecutive
+// reports a₀ → a₁ and b₀ → b₁ whose intervals overlap in time, the own continuations
+// m²(a₀ → a₁) + m²(b₀ → b₁) (the statistic above, with the same allowance) exceed χ²_2D(p) while the
+// crossed ones m²(a₀ → b₁) + m²(b₀ → a₁) stay within it and below the own sum. Only reports whose
+// own continuation exceeds χ²_D(jump_probability) are candidates (a jump), so the test is
+// O(jumps × concurrent jumps). A candidate pair is taken in order of the crossed sum, each report
+// transition at most once; both keys are cut there (their rows from a₁ and b₁ on get new
+// numbers), and the association's segment pass (engine/pipeline/track_segments.hpp) joins each
+// piece to the target it follows. A manoeuvre or a lagging tracker makes a key jump alone, with
+// no partner that explains it, so it is not cut. Swaps are cut before recycled numbers.
+// Complexity: O(rows · (log rows + D³) + jumps · concurrent jumps · D³), rows in parallel.
 #pragma once
 
 #include <cstdint>
@@ -29,12 +42,16 @@ struct TrackSplitOptions {
   double min_gap_s = 10.0;           // s, shorter pauses are never cut
   double gap_factor = 3.0;           // a gap is longer than this many median report intervals
   double manoeuvre_sigma = 3.0;      // σ_a [m/s²] of the allowance
-  double gate_probability = 0.9999;  // of χ²_D
+  double gate_probability = 0.9999;  // of χ²_D (recycled numbers) and χ²_2D (swaps)
+  bool swaps = true;                 // split swaps at crossings too
+  double jump_probability = 0.99;    // a swap candidate's own continuation exceeds χ²_D of it
   void validate() const;
 };
 
 struct TrackSplitSummary {
-  int32_t gaps = 0, cuts = 0;  // gaps tested, and cut
+  int32_t gaps = 0, cuts = 0;  // recycled numbers: gaps tested, and cut
+  int32_t swaps = 0;           // swaps: pairs of keys cut where they exchanged targets
+  bool any() const { return cuts > 0 || swaps > 0; }
 };
 
 // m² of report `after` against report `before` predicted to its time by constant velocity with
@@ -46,5 +63,12 @@ double continuation_statistic(const TrackTable& tracks, std::size_t before, std:
 // Splits the recycled keys of file.tracks in place and fills file.source_track (when any key is
 // cut; left as it was otherwise). Returns what it did.
 TrackSplitSummary split_recycled_tracks(TrackFile& file, const TrackSplitOptions& options);
+
+// Splits the keys of file.tracks that swapped targets at a crossing (the rule above), in place,
+// and fills file.source_track when any key is cut. Returns the number of swaps (pairs of keys cut).
+int32_t split_swapped_tracks(TrackFile& file, const TrackSplitOptions& options);
+
+// Both, as the default association does it: swaps (when options.swaps), then recycled numbers.
+TrackSplitSummary split_tracks(TrackFile& file, const TrackSplitOptions& options);
 
 }  // namespace trackassoc

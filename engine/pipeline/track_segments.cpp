@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/track_hygiene.hpp"
 #include "kernels/assignment/clusters.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/core/error.hpp"
@@ -70,6 +71,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 struct SegmentGraph {
   const SparseSDProblem& p;
   std::vector<double> first, last;                             // report interval per node
+  std::vector<std::size_t> first_row, last_row;                // their rows in the track table
   std::vector<std::vector<std::pair<int32_t, double>>> links;  // gated-in neighbours, link cost
   std::unordered_map<uint64_t, double> link_of;                // (min node, max node) → link cost
 
@@ -92,10 +94,12 @@ struct SegmentGraph {
 };
 
 SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks) {
-  SegmentGraph g{p, {}, {}, {}, {}};
+  SegmentGraph g{p, {}, {}, {}, {}, {}, {}};
   const int32_t N = p.nodes(), S = p.S();
   g.first.assign(N, kInf);
   g.last.assign(N, -kInf);
+  g.first_row.assign(N, 0);
+  g.last_row.assign(N, 0);
   std::unordered_map<int32_t, int32_t> sensor_index;
   for (int32_t s = 0; s < S; ++s) sensor_index[p.sensor_ids[s]] = s;
   for (std::size_t r = 0; r < tracks.size(); ++r) {
@@ -103,8 +107,8 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks) {
     if (it == sensor_index.end()) continue;
     const int32_t u = g.node(it->second, tracks.track[r]);
     if (u < 0) continue;
-    g.first[u] = std::min(g.first[u], tracks.t[r]);
-    g.last[u] = std::max(g.last[u], tracks.t[r]);
+    if (tracks.t[r] < g.first[u]) g.first[u] = tracks.t[r], g.first_row[u] = r;
+    if (tracks.t[r] > g.last[u]) g.last[u] = tracks.t[r], g.last_row[u] = r;
   }
   g.links.resize(N);
   for (int32_t a = 0; a < S; ++a)
@@ -244,6 +248,103 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
   return static_cast<int32_t>(joins.size());
 }
 
+// The kinematic test (d) of a merge: the continuation statistic of engine/pipeline/track_hygiene.hpp
+// with its manoeuvre allowance and gate.
+struct MergeGate {
+  double q = 0.0, threshold = 0.0;
+};
+
+// Cost of merging targets a and b into one, +inf unless, on every sensor, each member of one
+// follows or precedes each member of the other (a), and on at least one sensor they both hold,
+// each such earlier member's last report continues to the later one's first by constant velocity
+// (d), every member of each is linked with common
+// reports to a member of the other on another sensor (b), and no two members on different sensors
+// were tested and failed the gate (c): the targets' tracks are then one target's fragments that the
+// one-per-sensor assignment put into two tuples (both keys of a swap cut on two sensors, say).
+double merge_cost(const SegmentGraph& g, const TrackTable& tracks, const Target& a, const Target& b,
+                  const OverlapRule& rule, const MergeGate& gate) {
+  const std::size_t S = a.members.size();
+  bool continued = false;
+  for (std::size_t s = 0; s < S; ++s)
+    for (int32_t u : a.members[s])
+      for (int32_t m : b.members[s]) {
+        if (!rule.allows(g, u, m, static_cast<int32_t>(s))) return kInf;  // (a)
+        const bool u_first = g.first[u] <= g.first[m];
+        const double m2 = continuation_statistic(tracks, u_first ? g.last_row[u] : g.last_row[m],
+                                                 u_first ? g.first_row[m] : g.first_row[u], gate.q);
+        if (m2 > gate.threshold) return kInf;  // (d)
+        continued = true;
+      }
+  if (!continued) return kInf;  // (d)
+  double cost = 0.0;
+  std::unordered_map<int32_t, bool> evidence;  // (b): per member of a and of b
+  for (std::size_t s = 0; s < S; ++s)
+    for (int32_t u : a.members[s]) evidence[u] = false;
+  for (std::size_t s = 0; s < S; ++s)
+    for (int32_t m : b.members[s]) evidence[m] = false;
+  for (std::size_t s = 0; s < S; ++s)
+    for (int32_t u : a.members[s])
+      for (std::size_t r = 0; r < S; ++r) {
+        if (r == s) continue;
+        for (int32_t m : b.members[r]) {
+          const double* c = g.link(u, m);
+          if (!c) {
+            if (g.p.coexist(u, m)) return kInf;  // (c)
+            continue;
+          }
+          cost += *c;
+          if (g.overlap_s(u, m) > 0.0) evidence[u] = evidence[m] = true;
+        }
+      }
+  for (const auto& [u, linked] : evidence)
+    if (!linked) return kInf;  // (b)
+  return cost;
+}
+
+// One round of merges: every pair of targets linked by a gated-in pair of members is a candidate;
+// the cheapest are taken first, each target in at most one merge per round (the merged target's
+// tuple is the earlier one's; the other's is dropped). Returns the merges made.
+int32_t merge_round(const SegmentGraph& g, const TrackTable& tracks, std::vector<Target>& targets,
+                    std::vector<int32_t>& target_of, std::vector<uint8_t>& dissolved, const OverlapRule& rule,
+                    const MergeGate& gate) {
+  struct Candidate {
+    double cost;
+    int32_t a, b;
+  };
+  std::vector<Candidate> cand;
+  for (int32_t a = 0; a < static_cast<int32_t>(targets.size()); ++a) {
+    if (dissolved[a]) continue;
+    std::vector<int32_t> seen;
+    for (const auto& m : targets[a].members)
+      for (int32_t u : m)
+        for (const auto& [v, c] : g.links[u]) {
+          const int32_t b = target_of[v];
+          if (b <= a || dissolved[b] || std::find(seen.begin(), seen.end(), b) != seen.end()) continue;
+          seen.push_back(b);
+          const double cost = merge_cost(g, tracks, targets[a], targets[b], rule, gate);
+          if (std::isfinite(cost)) cand.push_back({cost, a, b});
+        }
+  }
+  std::stable_sort(cand.begin(), cand.end(),
+                   [](const Candidate& x, const Candidate& y) { return x.cost < y.cost; });
+  std::vector<uint8_t> used(targets.size(), 0);
+  int32_t merges = 0;
+  for (const Candidate& c : cand) {
+    if (used[c.a] || used[c.b]) continue;
+    used[c.a] = used[c.b] = 1;
+    Target& keep = targets[c.a];
+    for (std::size_t s = 0; s < keep.members.size(); ++s)
+      for (int32_t u : targets[c.b].members[s]) {
+        keep.members[s].push_back(u);
+        target_of[u] = c.a;
+      }
+    keep.grew = true;
+    dissolved[c.b] = 1;
+    ++merges;
+  }
+  return merges;
+}
+
 // The tuple cost of a set of nodes: Σ of the link costs of its linked pairs.
 double tuple_cost(const SegmentGraph& g, const std::vector<int32_t>& nodes) {
   double c = 0.0;
@@ -288,12 +389,19 @@ AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable
   SegmentSummary sum;
   sum.targets = static_cast<int32_t>(targets.size());
   const OverlapRule rule = make_overlap_rule(p, options);
+  std::vector<uint8_t> dissolved(targets.size(), 0);  // merged into another target
+  const TrackSplitOptions split;                      // the continuation test's allowance and gate
+  const MergeGate merge_gate{split.manoeuvre_sigma * split.manoeuvre_sigma,
+                             chi_square_quantile(split.gate_probability, tracks.dim())};
   if (options.enabled)
     while (true) {
       ++sum.rounds;
       const int32_t j = join_round(g, targets, target_of, rule, &sum.duplicates);
       sum.joined += j;
-      if (j == 0) break;
+      if (j > 0) continue;
+      const int32_t m = merge_round(g, tracks, targets, target_of, dissolved, rule, merge_gate);
+      sum.targets_merged += m;
+      if (m == 0) break;
     }
 
   AssociationRecord out = record;
@@ -319,9 +427,10 @@ AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable
   };
   std::vector<int32_t> target_of_tuple(K, -1);
   for (std::size_t t = 0; t < targets.size(); ++t)
-    target_of_tuple[targets[t].tuple] = static_cast<int32_t>(t);
+    target_of_tuple[targets[t].tuple] = dissolved[t] ? -2 : static_cast<int32_t>(t);
   for (std::size_t k = 0; k < K; ++k) {
     const int32_t ti = target_of_tuple[k];
+    if (ti == -2) continue;  // its target merged into an earlier one, which writes its members
     if (ti < 0) {
       // A tuple of one (or none): dropped when its track joined a target.
       std::vector<int32_t> nodes;

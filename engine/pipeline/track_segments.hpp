@@ -41,6 +41,13 @@
 //     and each candidate at most one target: two segments that overlap each other never join
 //     one target on one sensor in the same round, and (a) keeps it so in later rounds unless the
 //     later one is a duplicate of the earlier (a listed sensor).
+//   * when a round joins nothing, targets merge: two targets whose members on each sensor follow
+//     each other (a), every member of each linked over common reports to a member of the other on
+//     another sensor (b), and none tested and failed (c), are one target's fragments that the one-per-sensor
+//     assignment put into two tuples (a target seen by two sensors that each broke its track at about the
+//     same time, e.g. both keys of a swap cut, engine/pipeline/track_hygiene.hpp). Candidates are taken
+//     cheapest first (Σ of the link costs between them), each target in one merge per round; then
+//     the rounds of joins go on.
 // A track joins at most one target, so the pass only adds links; it never undoes the assignment.
 //
 // Output (the record's tuples, over the file's sensor columns): each target's segments are cut
@@ -88,6 +95,7 @@ struct SegmentSummary {
   int32_t duplicates = 0;      // of which duplicates (a) of a segment on their sensor
   int32_t rounds = 0;          // rounds run (the last one joins nothing)
   int32_t targets_joined = 0;  // targets that gained at least one segment
+  int32_t targets_merged = 0;  // targets merged into another (the merge rule above)
 };
 
 // Throws InputError (naming segments.duplicate_sensors) when a listed sensor is not among
