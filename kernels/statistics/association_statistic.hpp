@@ -100,6 +100,17 @@ struct AlignmentOptions {
   // filter read off its own covariance), times this factor²; â is the track's own velocity
   // change between its neighbouring reports. See the .cpp.
   double lag_inflation = 0.5;  // measured: tests/kernels/statistics/test_gate_calibration.cpp
+  // Look-ahead lag (kTwoSided only; 0 = off): a filter that lags a turn is still turning after
+  // it, so the velocity change the track still makes over the next τ, Δv_τ, is its velocity lag
+  // now (a low-process-noise tracker lags for minutes after a turn, longer than â lasts): the
+  // report's velocity variance gains (h·|Δv_τ|)² and its position variance (h·|Δv_τ|·τ)², h this
+  // factor.
+  double lag_look_ahead = 1.1;
+  // Both lag terms count a velocity change only beyond this many times its noise variance,
+  // |Δv|² − margin·tr(P_v,i + P_v,j) (an unbiased |Δv|² at margin 1 for independent errors): noisy
+  // velocities of a steady track then widen nothing, which would blur neighbours in dense traffic.
+  // Measured on the recorded family, recorded_10k and the gate calibration (docs/status.md).
+  double lag_noise_margin = 1.5;
   // Reference-point σ_r [m] per position axis (0 = off: point targets, the default). Two sensors
   // tracking an extended target follow different points of it (the centroid of the returns each
   // sees from its own aspect: the near side of a hull for a lidar, the strongest scatterers for a
