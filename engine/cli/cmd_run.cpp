@@ -1,4 +1,4 @@
-// trackassoc run: the main job (engine/pipeline/run_job.hpp). Simulates a scenario (default:
+// trackassoc run: the main job (engine/jobs/run_job.hpp). Simulates a scenario (default:
 // `recorded_formation`), associates with the default pipeline, the same with the exact solver and
 // with seed 000's gate, and every 3-D solver that suits the size, evaluates, prints a table
 // (correct, false, missed, false tuples, time), and writes trackassoc-run.h5, the recording as a
@@ -11,7 +11,7 @@
 #include "engine/cli/common.hpp"
 #include "engine/cli/hopfield_flags.hpp"
 #include "engine/cli/table.hpp"
-#include "engine/pipeline/run_job.hpp"
+#include "engine/jobs/run_job.hpp"
 #include "engine/report/figure.hpp"
 
 namespace trackassoc::cli {

@@ -1,4 +1,4 @@
-#include "engine/pipeline/run_job.hpp"
+#include "engine/jobs/run_job.hpp"
 
 #include <algorithm>
 #include <memory>
