@@ -4,15 +4,15 @@
 // local tracks left unassociated out.
 //
 // Paths (one implementation each, engine/pipeline/associators.cpp, wrapping the existing pipelines):
-//   sparse S-D  engine/pipeline/sparse_sd_pipeline.hpp  the default: every sensor, gated candidates,
-//                                              an S-D assignment with dummies per component
-//   dense S-D   engine/pipeline/pipeline_sd.hpp         --sd, chnn-pseudo, two or more than three --sensors
-//   dense 3-D   engine/pipeline/pipeline.hpp            a 3-D solver (engine/solvers/solver_registry.hpp),
-//   n1·n2·n3 tensor sparse 3-D  engine/pipeline/sparse_pipeline.hpp     the same with --sparse: per connected
-//   component fusion      engine/fusion/fuzzy_pipeline.hpp      seed 001's fusion centre (fuzzy, ftaa); side
-//   output:
-//                                              the system tracks (/system_tracks/<name>/)
-//   siamese     engine/pipeline/siamese_track_file.hpp  seed 003's Siamese BiLSTM on two sensors
+//   sparse S-D   engine/pipeline/sparse_sd_pipeline.hpp: the default; every sensor, gated candidates,
+//                an S-D assignment with dummies per connected component
+//   dense S-D    engine/pipeline/pipeline_sd.hpp: --sd, chnn-pseudo, two or more than three --sensors
+//   dense 3-D    engine/pipeline/pipeline.hpp: a 3-D solver (engine/solvers/solver_registry.hpp) on
+//                the n1·n2·n3 tensor
+//   sparse 3-D   engine/pipeline/sparse_pipeline.hpp: the same with --sparse, per connected component
+//   fusion       engine/fusion/fuzzy_pipeline.hpp: seed 001's fusion centre (fuzzy, ftaa); side
+//                output: the system tracks (/system_tracks/<name>/)
+//   siamese      engine/pipeline/siamese_track_file.hpp: seed 003's Siamese BiLSTM on two sensors
 // make_associator holds the rules that pick the path (choose_association_path), so a new path is
 // one implementation plus one line there.
 //

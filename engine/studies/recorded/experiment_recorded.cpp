@@ -16,13 +16,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "engine/cli/table.hpp"
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/registration_stage.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/workflow.hpp"
+#include "engine/report/text_table.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "engine/studies/experiments.hpp"
 #include "engine/studies/seed000/experiment_schedules.hpp"
@@ -239,8 +239,8 @@ std::string recorded_summary_table(const std::vector<RecordedRow>& rows, const R
     s.times.push_back(r.time_s);
     ++s.n;
   }
-  cli::TextTable t({"scenario", "method", "targets", "correct %", "false %", "missed %", "false tuples",
-                    "median time [ms]", "default's speed-up"});
+  report::TextTable t({"scenario", "method", "targets", "correct %", "false %", "missed %", "false tuples",
+                       "median time [ms]", "default's speed-up"});
   for (const auto& sc : o.scenarios) {
     double default_ms = std::numeric_limits<double>::quiet_NaN();
     for (const auto& m : methods) {
