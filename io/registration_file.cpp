@@ -1,6 +1,7 @@
 // /registration: see io/registration_file.hpp.
 #include "io/registration_file.hpp"
 
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "io/hdf5_wrapper.hpp"
@@ -89,7 +90,11 @@ std::optional<RegistrationRecord> read_registration(const h5::Group& root, const
   if (g.has_attribute("observations"))
     r.observations = static_cast<int64_t>(g.read_unsigned_attribute("observations"));
   if (g.has_attribute("association")) r.association = g.read_string_attribute("association");
-  if (g.has_attribute("options")) r.options_json = g.read_string_attribute("options");
+  if (g.has_attribute("options")) {
+    r.options_json = g.read_string_attribute("options");
+    const nlohmann::json stage = nlohmann::json::parse(r.options_json, nullptr, false);
+    r.reference_named = stage.is_object() && stage.value("reference_sensor", -1) >= 0;
+  }
   std::vector<hsize_t> dims;
   const std::vector<int64_t> ids = g.read_integers("sensor", 1, dims);
   r.sensor.assign(ids.begin(), ids.end());

@@ -116,8 +116,8 @@ void register_run(CLI::App& app) {
       table.add({r.name, percent(r.metrics.correct_rate), percent(r.metrics.false_rate),
                  percent(r.metrics.missed_rate),
                  std::to_string(r.metrics.false_tuples) + " of " + std::to_string(r.metrics.linked_tuples),
-                 fmt(1e3 * r.runtime_s, "%.3f"), fmt(r.objective, "%.6g"), fmt(r.lower_bound, "%.6g"),
-                 percent(r.gap), r.termination});
+                 fmt(1e3 * r.summary.runtime_s, "%.3f"), fmt(r.summary.objective, "%.6g"),
+                 fmt(r.summary.lower_bound, "%.6g"), percent(r.summary.gap), r.summary.termination});
     table.print(std::cout);
     std::cout
         << "\ncorrect / false / missed: of the targets tracked by >= 2 sensors (trackassoc evaluate's rule); "

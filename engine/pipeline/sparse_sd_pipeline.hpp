@@ -40,6 +40,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -108,9 +109,12 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
 const std::vector<std::string>& sparse_sd_solver_names();
 void require_sparse_sd_solver(const std::string& name);
 
+// What the solve did besides the record: the counts the record's options attribute stores and
+// AssociationSummary (engine/pipeline/associator.hpp) reports.
 struct SparseSDSolveReport {
   int32_t components = 0, fallback_components = 0;
   std::size_t largest_component_entries = 0;
+  int64_t candidate_pairs = 0, gated_pairs = 0;  // index output before the gate, and gated in
 };
 
 // Solves every component in parallel and returns the record for /associations/<solver>/: the
@@ -121,10 +125,22 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
                                               const SparseSDOptions& options,
                                               SparseSDSolveReport* report = nullptr);
 
-// build + solve: the entry point of `associate` without --solver (and of `experiment recorded`).
+// What associate_sparse_sd did besides the record, typed (the association interface reads these,
+// never the record's options attribute).
+struct SparseSDReport {
+  SparseSDSolveReport solve;
+  std::vector<int32_t> sensor_ids;         // the problem's sensors (SparseSDProblem::sensor_ids)
+  std::vector<int32_t> empty_sensor_ids;   // chosen sensors without local tracks (tuple column -1)
+  std::optional<SegmentSummary> segments;  // the segment pass, when options.segments.enabled
+  std::vector<StageReport> stages;         // alignment, candidates, statistics, components, solve, segments
+};
+
+// build + solve (+ segments): the default path of the association interface
+// (engine/pipeline/associator.hpp, which `associate` and `experiment recorded` call). The record's
+// options attribute is written here, once, from the typed values: the request, the solve's counts,
+// and (only when present, so other records are unchanged) empty_sensors and the segment counts.
 AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& solver,
                                       const nlohmann::json& solver_options, uint64_t seed,
-                                      const SparseSDOptions& options,
-                                      std::vector<StageReport>* stages = nullptr);
+                                      const SparseSDOptions& options, SparseSDReport* report = nullptr);
 
 }  // namespace trackassoc
