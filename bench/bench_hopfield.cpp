@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "kernels/core/parallel.hpp"
+#include "kernels/core/stopwatch.hpp"
 #include "kernels/hopfield/hopfield.hpp"
 #include "kernels/hopfield/hopfield_continuous.hpp"
 #include "kernels/hopfield/hopfield_diagonal.hpp"
@@ -38,7 +39,7 @@ double stream_copy_seconds(std::vector<float>& a, std::vector<float>& b) {
       std::memcpy(b.data() + s, a.data() + s, (e - s) * sizeof(float));
     }
   });
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return seconds_since(t0);
 }
 
 void measure_copy_bandwidth() {
@@ -85,7 +86,7 @@ void run_with_floor(benchmark::State& state, std::size_t neurons, int threads, S
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
     sweep();
-    total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    total += seconds_since(t0);
   }
   const double floor_s = kFloorBytesPerNeuron * neurons / g_copy_bandwidth[std::min(threads, 2)];
   state.counters["neurons/s"] =
@@ -185,7 +186,7 @@ void BM_AsyncWorkingSweep(benchmark::State& state) {
       rng.shuffle(std::span<uint32_t>(order));
       flips = async_sweep(net, order);
     }
-    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double dt = seconds_since(t0);
     state.SetIterationTime(dt);
     total += dt;
   }

@@ -13,6 +13,7 @@
 
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/workflow.hpp"
+#include "engine/solvers/chnn_pseudo_solver.hpp"
 #include "kernels/assignment/sd/lagrangian_sd.hpp"
 
 namespace trackassoc::bench {
@@ -66,7 +67,8 @@ void BM_ChnnPseudo(benchmark::State& state) {
   const SDProblem& p = problem(4);
   const nlohmann::json options{{"gated", state.range(0) == 1}};
   ChnnPseudoResult raw;
-  for (auto _ : state) benchmark::DoNotOptimize(solve_chnn_sd(p, options, 1, &raw).tuples.data());
+  for (auto _ : state)
+    benchmark::DoNotOptimize(solve_chnn_sd(sd_problem_view(p), options, 1, &raw).tuples.data());
   state.counters["neurons"] = static_cast<double>(raw.neurons);
   state.counters["steps"] = static_cast<double>(raw.steps);
 }

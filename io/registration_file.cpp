@@ -1,6 +1,7 @@
 // /registration: see io/registration_file.hpp.
 #include "io/registration_file.hpp"
 
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "io/hdf5_wrapper.hpp"
@@ -89,7 +90,13 @@ std::optional<RegistrationRecord> read_registration(const h5::Group& root, const
   if (g.has_attribute("observations"))
     r.observations = static_cast<int64_t>(g.read_unsigned_attribute("observations"));
   if (g.has_attribute("association")) r.association = g.read_string_attribute("association");
-  if (g.has_attribute("options")) r.options_json = g.read_string_attribute("options");
+  if (g.has_attribute("options")) {
+    r.options_json = g.read_string_attribute("options");
+    // Lenient: a missing, unparsable or non-integer entry reads as "chosen by the stage".
+    const nlohmann::json stage = nlohmann::json::parse(r.options_json, nullptr, false);
+    const auto it = stage.is_object() ? stage.find("reference_sensor") : stage.end();
+    r.reference_named = it != stage.end() && it->is_number_integer() && it->get<int64_t>() >= 0;
+  }
   std::vector<hsize_t> dims;
   const std::vector<int64_t> ids = g.read_integers("sensor", 1, dims);
   r.sensor.assign(ids.begin(), ids.end());

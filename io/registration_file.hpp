@@ -50,7 +50,10 @@ struct RegistrationRecord {
   double wald = 0.0;
   int64_t observations = 0;
   std::string association;  // the /associations group
-  std::string options_json = "{}";
+  // The association named reference_sensor (--reference-sensor, a sensor the user trusts); false:
+  // the stage chose it. Stored in `options` (its reference_sensor >= 0), read from there.
+  bool reference_named = false;
+  std::string options_json = "{}";  // the stage's options (RegistrationStageOptions::to_json)
 };
 
 // Throws InputError (naming `file` and the dataset) when the record's shapes do not match S sensors.

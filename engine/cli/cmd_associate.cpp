@@ -30,101 +30,16 @@
 namespace trackassoc::cli {
 namespace {
 
-// The registration line(s): per sensor its estimates ± standard errors (angles in degrees).
-void print_registration(const RegistrationRecord& r) {
-  const std::size_t k = r.parameters.size();
-  std::cout << "registration (reference sensor " << r.reference_sensor << ", Wald " << fmt(r.wald, "%.1f")
-            << " on " << r.wald_dof << " dof, " << r.observations << " observations): "
-            << (r.applied ? "applied, " + std::to_string(r.rounds) + " associations"
-                : r.rounds == 1
-                    ? std::string("not significant, reports left as recorded")
-                    : std::string("the corrected reports linked no more tracks, reports left as recorded"))
-            << "\n";
-  for (std::size_t s = 0; s < r.sensor.size(); ++s) {
-    if (r.sensor[s] == r.reference_sensor) continue;
-    std::cout << "  sensor " << r.sensor[s] << ":";
-    for (std::size_t j = 0; j < k; ++j) {
-      const bool angle = r.parameters[j].find("azimuth") == 0 || r.parameters[j].find("elevation") == 0;
-      const double f = angle ? 180.0 / 3.14159265358979323846 : 1.0;
-      std::cout << (j ? ", " : " ") << r.parameters[j] << " " << fmt(f * r.estimate[s * k + j], "%.4g")
-                << " +- " << fmt(f * r.standard_error[s * k + j], "%.2g")
-                << (angle                               ? " deg"
-                    : r.parameters[j] == "clock_offset" ? " s"
-                                                        : " m");
-    }
-    std::cout << "\n";
-  }
-}
-
-// The lines `associate` prints for `out` (the association, then the sparse S-D stages, then the
-// unassociated local tracks per sensor).
-void print_outcome(const AssociationOutcome& out, const TrackFile& file, const std::string& solver,
-                   const std::string& output) {
-  const AssociationSummary& s = out.summary;
-  const AssociationRecord& rec = out.record;
-  std::string dims;
-  for (int32_t n : s.track_counts) dims += (dims.empty() ? "" : "x") + std::to_string(n);
-  std::string what, result = "objective " + fmt(rec.objective) + ", ";
-  switch (s.path) {
-    case AssociationPath::kSparseSD:
-      what = "the tracks of " + std::to_string(file.sensors.size()) + " sensors (sparse S-D, " +
-             std::to_string(s.components) + " components)";
-      break;
-    case AssociationPath::kDenseSD:
-      what = dims + " tracks of " + std::to_string(s.sensor_ids.size()) + " sensors (S-D)";
-      result += "lower bound " + fmt(rec.lower_bound) + ", ";
-      break;
-    case AssociationPath::kDense3D:
-      what = dims + " tracks";
-      break;
-    case AssociationPath::kSparse3D:
-      what = dims + " tracks (sparse: " + std::to_string(s.components) + " components)";
-      break;
-    case AssociationPath::kFusionCentre:
-      what = std::to_string(s.local_tracks) + " local tracks (" + std::to_string(s.packets) + " packets)";
-      result = std::to_string(s.system_tracks) + " system tracks, ";
-      break;
-    case AssociationPath::kSiamese:
-      what = dims + " tracks of sensors " + std::to_string(s.sensor_ids[0]) + " and " +
-             std::to_string(s.sensor_ids[1]);
-      result.clear();
-      if (s.points_outside_domain > 0)
-        std::cerr << "note: " << s.points_outside_domain << " of " << s.points
-                  << " points lie outside the model's training domain (the shipped model: the 100 x 100 km "
-                     "area +-30 km, times 0-50 s); its probabilities there are extrapolations (see "
-                     "--options time_origin)\n";
-      break;
-  }
-  std::cout << "associated " << what << " with '" << solver << "': " << result << rec.num_tuples()
-            << " tuples, " << fmt(1e3 * s.runtime_s, "%.2f") << " ms -> " << output << "\n";
-  if (s.path == AssociationPath::kSparseSD) {
-    std::cout << "stages:";
-    for (const auto& st : s.stages)
-      std::cout << " " << st.name << " " << fmt(1e3 * st.seconds, "%.1f") << " ms;";
-    std::cout << " candidate pairs " << s.candidate_pairs << ", gated " << s.gated_pairs
-              << ", fallback components " << s.fallback_components;
-    const auto info = nlohmann::json::parse(rec.options_json);
-    if (info.contains("segments_joined"))
-      std::cout << ", segments joined " << info["segments_joined"].get<int64_t>() << " (to "
-                << info["segment_targets_joined"].get<int64_t>() << " targets; duplicates "
-                << info.value("segment_duplicates_joined", int64_t{0}) << ")";
-    if (s.stitching.stitches > 0)
-      std::cout << ", fragments stitched " << s.stitching.stitches << " (" << s.stitching.candidates
-                << " gated continuations of " << s.stitching.groups << " targets)";
-    std::cout << "\n";
-  }
-  if (!s.empty_sensors.empty()) {
-    std::cout << "sensors with no local tracks:";
-    for (std::size_t i = 0; i < s.empty_sensors.size(); ++i)
-      std::cout << (i ? ", " : " ") << s.empty_sensors[i];
-    std::cout << " (associated around; their column of the tuples is -1)\n";
-  }
-  if (out.registration) print_registration(*out.registration);
-  std::cout << "unassociated local tracks:";
-  for (std::size_t i = 0; i < out.unassociated.size(); ++i)
-    std::cout << (i ? ", " : " ") << "sensor " << out.unassociated[i].sensor_id << " "
-              << out.unassociated[i].tracks.size();
-  std::cout << "\n";
+// What `associate` prints: the summary's full report (engine/pipeline/associator.hpp), its first
+// line with the output file; siamese's note on points outside the model's domain to stderr.
+void print_outcome(const AssociationSummary& s, const std::string& output) {
+  if (s.path == AssociationPath::kSiamese && s.points_outside_domain > 0)
+    std::cerr << "note: " << s.points_outside_domain << " of " << s.points
+              << " points lie outside the model's training domain (the shipped model: the 100 x 100 km "
+                 "area +-30 km, times 0-50 s); its probabilities there are extrapolations (see "
+                 "--options time_origin)\n";
+  const std::string brief = s.BriefReport(), full = s.FullReport();  // full starts with brief
+  std::cout << brief << " -> " << output << full.substr(brief.size());
 }
 
 }  // namespace
@@ -269,16 +184,11 @@ void register_associate(CLI::App& app) {
     const auto associator = make_associator(request);  // every check before the file is read
     TrackFile file = read_track_file(args->input);
     const TrackSplitSummary split = split_recorded_keys(file, request);
-    const AssociationOutcome outcome = associator->associate(file);
+    AssociationOutcome outcome = associator->associate(file);
+    outcome.summary.split = split;
     store_outcome(file, outcome);
     write_track_file(args->output, file);
-    print_outcome(outcome, file, request.solver, args->output);
-    if (split.cuts > 0)
-      std::cout << "split " << split.cuts << " recycled track number(s) into new local tracks (" << split.gaps
-                << " gaps tested; /tracks/source_track keeps the recorded numbers)\n";
-    if (split.swaps > 0)
-      std::cout << "split " << split.swaps << " pair(s) of local tracks that swapped targets at a crossing "
-                << "into new local tracks (/tracks/source_track keeps the recorded numbers)\n";
+    print_outcome(outcome.summary, args->output);
     if (!args->plot.empty()) {
       report::write_association_map(args->plot, report::picture_format(args->plot, args->svg), file,
                                     outcome.record,

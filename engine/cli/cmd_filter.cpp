@@ -1,9 +1,9 @@
 // trackassoc filter --input F.h5 --filter cv|ca|ab|cs|cs-nn|imm --output G.h5: /measurements to
-// /tracks with the chosen filter bank (engine/pipeline/local_filtering.hpp).
+// /tracks with the chosen filter bank (engine/tracking/local_filtering.hpp).
 #include <iostream>
 
 #include "engine/cli/common.hpp"
-#include "engine/pipeline/local_filtering.hpp"
+#include "engine/tracking/local_filtering.hpp"
 
 namespace trackassoc::cli {
 

@@ -1,4 +1,4 @@
-// trackassoc run: the main job (engine/pipeline/run_job.hpp). Simulates a scenario (default:
+// trackassoc run: the main job (engine/jobs/run_job.hpp). Simulates a scenario (default:
 // `recorded_formation`), associates with the default pipeline, the same with the exact solver and
 // with seed 000's gate, and every 3-D solver that suits the size, evaluates, prints a table
 // (correct, false, missed, false tuples, time), and writes trackassoc-run.h5, the recording as a
@@ -11,7 +11,7 @@
 #include "engine/cli/common.hpp"
 #include "engine/cli/hopfield_flags.hpp"
 #include "engine/cli/table.hpp"
-#include "engine/pipeline/run_job.hpp"
+#include "engine/jobs/run_job.hpp"
 #include "engine/report/figure.hpp"
 
 namespace trackassoc::cli {
@@ -116,8 +116,8 @@ void register_run(CLI::App& app) {
       table.add({r.name, percent(r.metrics.correct_rate), percent(r.metrics.false_rate),
                  percent(r.metrics.missed_rate),
                  std::to_string(r.metrics.false_tuples) + " of " + std::to_string(r.metrics.linked_tuples),
-                 fmt(1e3 * r.runtime_s, "%.3f"), fmt(r.objective, "%.6g"), fmt(r.lower_bound, "%.6g"),
-                 percent(r.gap), r.termination});
+                 fmt(1e3 * r.summary.runtime_s, "%.3f"), fmt(r.summary.objective, "%.6g"),
+                 fmt(r.summary.lower_bound, "%.6g"), percent(r.summary.gap), r.summary.termination});
     table.print(std::cout);
     std::cout
         << "\ncorrect / false / missed: of the targets tracked by >= 2 sensors (trackassoc evaluate's rule); "

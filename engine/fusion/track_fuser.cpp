@@ -407,8 +407,7 @@ TrackFuserSummary fuse_track_file(TrackFile& file, const std::string& associatio
     const RecordedRegistration r = recorded_registration(file, path, *reg);
     // A reference the user named (a sensor they trust) gives its frame; one chosen by the stage
     // (the sensor with the most tracks) the sensors' information-weighted average.
-    const nlohmann::json stage = nlohmann::json::parse(reg->options_json, nullptr, false);
-    const bool named = stage.is_object() && stage.value("reference_sensor", -1) >= 0;
+    const bool named = reg->reference_named;
     registered = registered_file(file, r.estimate, r.model,
                                  named ? RegistrationFrame::kReference : RegistrationFrame::kCentroid)
                      .tracks;

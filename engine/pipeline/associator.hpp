@@ -4,15 +4,15 @@
 // local tracks left unassociated out.
 //
 // Paths (one implementation each, engine/pipeline/associators.cpp, wrapping the existing pipelines):
-//   sparse S-D  engine/pipeline/sparse_sd_pipeline.hpp  the default: every sensor, gated candidates,
-//                                              an S-D assignment with dummies per component
-//   dense S-D   engine/pipeline/pipeline_sd.hpp         --sd, chnn-pseudo, two or more than three --sensors
-//   dense 3-D   engine/pipeline/pipeline.hpp            a 3-D solver (engine/solvers/solver_registry.hpp),
-//   n1·n2·n3 tensor sparse 3-D  engine/pipeline/sparse_pipeline.hpp     the same with --sparse: per connected
-//   component fusion      engine/fusion/fuzzy_pipeline.hpp      seed 001's fusion centre (fuzzy, ftaa); side
-//   output:
-//                                              the system tracks (/system_tracks/<name>/)
-//   siamese     engine/pipeline/siamese_track_file.hpp  seed 003's Siamese BiLSTM on two sensors
+//   sparse S-D   engine/pipeline/sparse_sd_pipeline.hpp: the default; every sensor, gated candidates,
+//                an S-D assignment with dummies per connected component
+//   dense S-D    engine/pipeline/pipeline_sd.hpp: --sd, chnn-pseudo, two or more than three --sensors
+//   dense 3-D    engine/pipeline/pipeline.hpp: a 3-D solver (engine/solvers/solver_registry.hpp) on
+//                the n1·n2·n3 tensor
+//   sparse 3-D   engine/pipeline/sparse_pipeline.hpp: the same with --sparse, per connected component
+//   fusion       engine/fusion/fuzzy_pipeline.hpp: seed 001's fusion centre (fuzzy, ftaa); side
+//                output: the system tracks (/system_tracks/<name>/)
+//   siamese      engine/pipeline/siamese_track_file.hpp: seed 003's Siamese BiLSTM on two sensors
 // make_associator holds the rules that pick the path (choose_association_path), so a new path is
 // one implementation plus one line there.
 //
@@ -24,7 +24,9 @@
 // it and no target of two or more tracks does (it is alone in its tuple, or in none).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -55,7 +57,16 @@ struct AssociatorOptions {
   uint64_t seed = 1;
   std::string name;           // /associations group; empty = the solver name
   std::string siamese_model;  // --solver siamese: model file (io/siamese_model_file.hpp)
-  SegmentOptions segments;    // the default (sparse S-D) path: track segments joined to targets
+  // The sparse paths (the default and --sparse): the candidate bound's widening (≥ 1,
+  // kernels/statistics/scan_candidates.hpp), and the largest dense sub-tensor of a component,
+  // Π(n_s + 1) entries: the default path solves a larger component by sequential LAP merging,
+  // --sparse refuses it (SparseSDOptions, SparsePipelineOptions).
+  double radius_scale = 1.0;
+  std::size_t max_component_entries = std::size_t{1} << 24;
+  // --sparse: the cost of a missing index in a component's sub-tensor (+inf: padded, every track
+  // assigned; finite: the solvers' dummy index; engine/pipeline/sparse_pipeline.hpp). ≥ 0.
+  float miss_cost = std::numeric_limits<float>::infinity();
+  SegmentOptions segments;  // the default (sparse S-D) path: track segments joined to targets
   // The default (sparse S-D) path: joint registration and association (engine/pipeline/
   // registration_stage.hpp); over MPI ranks it estimates but does not re-associate.
   RegistrationStageOptions registration;
@@ -69,8 +80,8 @@ struct AssociatorOptions {
   // call; the others run serve_sd_components, engine/pipeline/sparse_sd_sharded.hpp, or
   // serve_sparse_components, engine/pipeline/sparse_3d_sharded.hpp). Null: this process.
   distributed::Communicator* ranks = nullptr;
-  // Throws InputError when more than one of sd, three_d, sparse is set, or solver_options is not
-  // a JSON object.
+  // Throws InputError when more than one of sd, three_d, sparse is set, solver_options is not a
+  // JSON object, or radius_scale, max_component_entries or miss_cost is out of its range.
   void validate() const;
 };
 
@@ -79,20 +90,46 @@ struct UnassociatedTracks {
   std::vector<int32_t> tracks;  // its /tracks/track numbers in no tuple of two or more, ascending
 };
 
-// What `associate` reports besides the record (objective, lower bound, gap, termination and
-// runtime_s are the record's).
+// What an association did, typed, after ceres::Solver::Summary: the result, the stage times, the
+// counts of each stage, and the termination. Every path fills path, solver, sensor_ids, the result
+// and runtime_s; the rest is filled by the paths that have it (the comments say which), and is
+// zero or empty otherwise. BriefReport() is one line, FullReport() that line and one line per
+// stage result (what `associate` prints).
 struct AssociationSummary {
   AssociationPath path = AssociationPath::kSparseSD;
+  std::string solver;
   std::vector<int32_t> sensor_ids;    // the sensors associated, in the path's order
   std::vector<int32_t> track_counts;  // the problem's local tracks per sensor (3-D and S-D paths)
-  double runtime_s = 0.0;             // the record's run time; the fusion centre's wall time for fuzzy/FTAA
-  std::vector<StageReport> stages;    // sparse S-D: alignment, candidates, statistics, components, solve
-  int32_t components = 0;             // sparse paths: connected components
+  int32_t file_sensors = 0;           // the file's /sensors (the tuples' columns)
+  // The result (the record's): tuples, objective, Lagrangian lower bound (NaN: none), relative gap
+  // and termination.
+  int64_t tuples = 0;
+  double objective = 0.0, lower_bound = 0.0, gap = 0.0;
+  std::string termination;
+  double runtime_s = 0.0;           // the record's run time; the fusion centre's wall time for fuzzy/FTAA
+  // Sparse paths: alignment, candidates, statistics, components, solve; sparse S-D then segments,
+  // stitching and registration (the kept association's stages, and the stage's own time).
+  std::vector<StageReport> stages;
+  int32_t components = 0;           // sparse paths: connected components
   int64_t candidate_pairs = 0, gated_pairs = 0, fallback_components = 0;  // sparse S-D
-  TrackStitchSummary stitching;        // sparse S-D: groups that never coexist, joined (track_stitching.hpp)
+  std::optional<SegmentSummary> segments;  // sparse S-D with segments: the segment pass (track_segments.hpp)
+  TrackStitchSummary stitching;  // sparse S-D: groups that never coexist, joined (track_stitching.hpp)
+  // Sparse S-D with registration, when fitted: the estimate (AssociationOutcome::registration's copy).
+  std::optional<RegistrationRecord> registration;
+  // Sparse S-D: recycled track numbers split before the association. split_recorded_keys runs on
+  // the file before the associator does, so its caller sets this (split = split_recorded_keys(...)).
+  TrackSplitSummary split;
   std::vector<int32_t> empty_sensors;  // sparse S-D: chosen sensors without local tracks (column -1)
+  std::vector<int64_t> unassociated;   // per sensor_ids: local tracks in no tuple of two or more
   int64_t local_tracks = 0, packets = 0, system_tracks = 0;  // fusion centre
   int64_t points = 0, points_outside_domain = 0;             // siamese
+
+  // "associated <what> with '<solver>': <result>, <n> tuples (<termination>), <t> ms".
+  std::string BriefReport() const;
+  // BriefReport(), then a line per stage result: the sparse S-D stages and counts, the empty
+  // sensors, the registration (and a line per sensor), the unassociated local tracks, the split.
+  // Every line ends in '\n'.
+  std::string FullReport() const;
 };
 
 struct AssociationOutcome {

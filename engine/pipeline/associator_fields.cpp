@@ -79,6 +79,14 @@ const OptionFields<AssociatorOptions>& associator_option_fields() {
       field("seed", &O::seed, "[0, 2^64-1]", "random seed; results are bit-identical for any thread count"),
       field("name", &O::name, "", "the association's name (default: the solver name)"),
       field("model", &O::siamese_model, "", "solver siamese: the model file (train-siamese)"),
+      field("radius_scale", &O::radius_scale, ">= 1",
+            "sparse paths: widens the candidate search bound (1 = the gate's own bound)"),
+      field("max_component_entries", &O::max_component_entries, ">= 1",
+            "sparse paths: the largest dense sub-tensor of a component, prod(n_s + 1) entries (default: "
+            "LAP merging above it; --sparse: refused)"),
+      field("miss_cost", &O::miss_cost, ">= 0",
+            "sparse=True: the cost of a missing track in a component's sub-tensor (default +inf: every "
+            "track assigned)"),
       field("segments", path(&O::segments, &SegmentOptions::enabled), "",
             "default pipeline: join the segments of a target on one sensor (False = --no-segments)"),
       field("segment_overlap", path(&O::segments, &SegmentOptions::max_overlap_s), ">= 0",

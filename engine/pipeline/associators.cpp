@@ -2,6 +2,7 @@
 // wrapper of its pipeline's entry points, and the factory with the path-choosing rules.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <set>
 #include <utility>
@@ -26,9 +27,20 @@ void apply_name(const AssociatorOptions& o, AssociationRecord& rec) {
 }
 std::string group_name(const AssociatorOptions& o) { return o.name.empty() ? o.solver : o.name; }
 
-// Fills the outcome's unassociated tracks from its record and summary.sensor_ids.
-AssociationOutcome finish(const TrackFile& file, AssociationOutcome out) {
+// Fills the outcome's unassociated tracks from its record and summary.sensor_ids, and the
+// summary's fields every path has: the solver, the file's sensors, the record's result.
+AssociationOutcome finish(const TrackFile& file, const AssociatorOptions& o, AssociationOutcome out) {
   out.unassociated = unassociated_tracks(file, out.summary.sensor_ids, out.record);
+  AssociationSummary& s = out.summary;
+  const AssociationRecord& rec = out.record;
+  s.solver = o.solver;
+  s.file_sensors = static_cast<int32_t>(file.sensors.size());
+  s.tuples = static_cast<int64_t>(rec.num_tuples());
+  s.objective = rec.objective;
+  s.lower_bound = rec.lower_bound;
+  s.gap = rec.gap;
+  s.termination = rec.termination;
+  for (const UnassociatedTracks& u : out.unassociated) s.unassociated.push_back(std::ssize(u.tracks));
   return out;
 }
 
@@ -46,49 +58,54 @@ class SparseSDAssociator final : public TrackAssociator {
   AssociationOutcome associate(const TrackFile& file) const override {
     SparseSDOptions so;
     so.pipeline = o_.pipeline;
+    so.radius_scale = o_.radius_scale;
+    so.max_component_entries = o_.max_component_entries;
     so.segments = o_.segments;
     so.ranks = o_.ranks;
     AssociationOutcome out;
     RegistrationStageOptions ro = o_.registration;
     ro.reassociate = ro.reassociate && (!o_.ranks || o_.ranks->size() == 1);  // servers solve once
     RegistrationStageResult reg;
+    std::vector<SparseSDReport> reports;  // one per association the registration stage ran
     const auto t0 = std::chrono::steady_clock::now();
     out.record = associate_with_registration(
         file, ro,
         [&](const TrackFile& f) {
-          return associate_sparse_sd(f, o_.solver, o_.solver_options, o_.seed, so, &out.summary.stages);
+          return associate_sparse_sd(f, o_.solver, o_.solver_options, o_.seed, so, &reports.emplace_back());
         },
         &reg);
+    // The association returned: the last one when the registration applied, else the first.
+    SparseSDReport& kept = reg.applied ? reports.back() : reports.front();
+    AssociationSummary& s = out.summary;
+    s.stages = std::move(kept.stages);
     // Fragments: on the reports the association used (corrected when the registration applied).
     if (o_.stitching.enabled) {
       const auto ts = std::chrono::steady_clock::now();
-      out.summary.stitching =
-          stitch_fragments(reg.registered ? *reg.registered : file, out.record, o_.stitching);
+      s.stitching = stitch_fragments(reg.registered ? *reg.registered : file, out.record, o_.stitching);
       const double seconds = seconds_since(ts);
-      out.summary.stages.push_back({"stitching", seconds, peak_rss_mib(), 0.0});
+      s.stages.push_back({"stitching", seconds, peak_rss_mib(), 0.0});
       out.record.runtime_s += seconds;
     }
     reg.registered.reset();  // the corrected copy is not needed past here
     apply_name(o_, out.record);
     if (reg.fitted) {
       out.registration = reg.to_record(file, out.record.name, ro);
-      // The stages are the last association's; the registration is everything else.
+      s.registration = out.registration;
+      // The stages are the kept association's; the registration is everything else.
       const double total = seconds_since(t0);
-      out.summary.stages.push_back(
-          {"registration", std::max(0.0, total - out.record.runtime_s), peak_rss_mib(), 0.0});
+      s.stages.push_back({"registration", std::max(0.0, total - out.record.runtime_s), peak_rss_mib(), 0.0});
       out.record.runtime_s = total;
     }
-    AssociationSummary& s = out.summary;
     s.path = path();
     s.sensor_ids = select_sd_sensors(file, o_.pipeline).ids;
     s.runtime_s = out.record.runtime_s;
-    const auto info = nlohmann::json::parse(out.record.options_json);  // the solve report's counts
-    s.components = info.value("components", 0);
-    s.candidate_pairs = info.value("candidate_pairs", int64_t{0});
-    s.gated_pairs = info.value("gated_pairs", int64_t{0});
-    s.fallback_components = info.value("fallback_components", int64_t{0});
-    if (info.contains("empty_sensors")) s.empty_sensors = info["empty_sensors"].get<std::vector<int32_t>>();
-    return finish(file, std::move(out));
+    s.components = kept.solve.components;
+    s.candidate_pairs = kept.solve.candidate_pairs;
+    s.gated_pairs = kept.solve.gated_pairs;
+    s.fallback_components = kept.solve.fallback_components;
+    s.segments = kept.segments;
+    s.empty_sensors = std::move(kept.empty_sensor_ids);
+    return finish(file, o_, std::move(out));
   }
 
  private:
@@ -108,7 +125,7 @@ class DenseSDAssociator final : public TrackAssociator {
     out.summary.sensor_ids = problem.sensor_ids;
     out.summary.track_counts = track_counts(problem.aligned);
     out.summary.runtime_s = out.record.runtime_s;
-    return finish(file, std::move(out));
+    return finish(file, o_, std::move(out));
   }
 
  private:
@@ -122,6 +139,9 @@ class ThreeSensorAssociator final : public TrackAssociator {
       : o_(o), sparse_(sparse), prepared_(std::move(prepared)) {
     find_solver(o.solver);  // an unknown name fails before anything is read
     sparse_options_.pipeline = o.pipeline;
+    sparse_options_.radius_scale = o.radius_scale;
+    sparse_options_.miss_cost = o.miss_cost;
+    sparse_options_.max_component_entries = o.max_component_entries;
     if (sparse) sparse_options_.ranks = o.ranks;  // --sparse: the components shared over MPI ranks
   }
   AssociationPath path() const override {
@@ -136,7 +156,9 @@ class ThreeSensorAssociator final : public TrackAssociator {
       if (!p)
         p = std::make_shared<SparseAssociationProblem>(
             build_sparse_association_problem(file, sparse_options_));
-      out.record = solve_sparse_association(*p, o_.solver, o_.solver_options, o_.seed, sparse_options_);
+      s.stages = p->stages;  // the problem's (built here or shared), then the solve
+      out.record =
+          solve_sparse_association(*p, o_.solver, o_.solver_options, o_.seed, sparse_options_, &s.stages);
       s.sensor_ids.assign(p->sensor_ids.begin(), p->sensor_ids.end());
       s.track_counts = track_counts(p->aligned);
       s.components = p->components.count;
@@ -152,7 +174,7 @@ class ThreeSensorAssociator final : public TrackAssociator {
     }
     apply_name(o_, out.record);
     s.runtime_s = out.record.runtime_s;
-    return finish(file, std::move(out));
+    return finish(file, o_, std::move(out));
   }
 
  private:
@@ -182,7 +204,7 @@ class FusionCentreAssociator final : public TrackAssociator {
     s.local_tracks = static_cast<int64_t>(res.packets.num_local());
     s.packets = static_cast<int64_t>(res.packets.size());
     s.system_tracks = res.fusion.num_system_tracks;
-    return finish(file, std::move(out));
+    return finish(file, o_, std::move(out));
   }
 
  private:
@@ -210,7 +232,7 @@ class SiameseAssociator final : public TrackAssociator {
     s.runtime_s = out.record.runtime_s;
     s.points = res.points;
     s.points_outside_domain = res.points_outside_domain;
-    return finish(file, std::move(out));
+    return finish(file, o_, std::move(out));
   }
 
  private:
@@ -227,6 +249,14 @@ void AssociatorOptions::validate() const {
   if (solver.empty()) throw InputError("--solver: expected a solver name, got an empty string");
   if (!solver_options.is_object())
     throw InputError("--options: expected a JSON object, got '" + solver_options.dump().substr(0, 200) + "'");
+  if (!(radius_scale >= 1.0) || !std::isfinite(radius_scale))
+    throw InputError("AssociatorOptions.radius_scale: expected a finite number >= 1, got " +
+                     std::to_string(radius_scale));
+  if (max_component_entries < 1)
+    throw InputError("AssociatorOptions.max_component_entries: expected >= 1, got 0");
+  if (std::isnan(miss_cost) || miss_cost < 0.f)
+    throw InputError("AssociatorOptions.miss_cost: expected >= 0 (+inf: every track assigned), got " +
+                     std::to_string(miss_cost));
   segments.validate();
   stitching.validate();
   if (!segments.enabled && !segments.duplicate_sensors.empty())
@@ -238,8 +268,9 @@ TrackSplitSummary split_recorded_keys(TrackFile& file, const AssociatorOptions& 
   return split_tracks(file, options.split);
 }
 
-AssociationPath choose_association_path(const AssociatorOptions& o) {
-  o.validate();
+namespace {
+
+AssociationPath path_of(const AssociatorOptions& o) {
   const bool explicit_pipeline = o.sd || o.three_d || o.sparse;
   const bool fusion = o.solver == "fuzzy" || o.solver == "ftaa";
   const bool special = fusion || o.solver == "siamese";
@@ -262,6 +293,16 @@ AssociationPath choose_association_path(const AssociatorOptions& o) {
   if (o.solver == "siamese") return AssociationPath::kSiamese;  // two sensors' plot sequences (seed 003)
   find_solver(o.solver);  // fail on an unknown name before reading anything
   return o.sparse ? AssociationPath::kSparse3D : AssociationPath::kDense3D;
+}
+
+}  // namespace
+
+AssociationPath choose_association_path(const AssociatorOptions& o) {
+  o.validate();
+  const AssociationPath path = path_of(o);
+  if (path != AssociationPath::kSparse3D && std::isfinite(o.miss_cost))
+    throw InputError("miss_cost: applies to the sparse three-sensor path (--sparse) only");
+  return path;
 }
 
 std::unique_ptr<TrackAssociator> make_associator(AssociationPath path, const AssociatorOptions& o) {

@@ -197,6 +197,14 @@ double dense_gated_lambda(const AssociationProblem& p, int q, int32_t a, int32_t
 
 }  // namespace
 
+std::string record_options_json(const nlohmann::json& solver_options, const nlohmann::json& pipeline_json,
+                                const nlohmann::json& extra) {
+  nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
+                         {"pipeline", pipeline_json}};
+  opts.update(extra);
+  return opts.dump();
+}
+
 AssociationRecord record_from_summary(const std::string& solver, int32_t num_sensors, uint64_t seed,
                                       const nlohmann::json& solver_options,
                                       const nlohmann::json& pipeline_json, const SolverSummary& summary,
@@ -206,10 +214,7 @@ AssociationRecord record_from_summary(const std::string& solver, int32_t num_sen
   rec.num_sensors = num_sensors;
   rec.solver = solver;
   rec.seed = seed;
-  nlohmann::json opts = {{"solver", solver_options.is_null() ? nlohmann::json::object() : solver_options},
-                         {"pipeline", pipeline_json}};
-  opts.update(extra);
-  rec.options_json = opts.dump();
+  rec.options_json = record_options_json(solver_options, pipeline_json, extra);
   rec.objective = summary.objective;
   rec.lower_bound = summary.lower_bound;
   rec.gap = summary.gap;

@@ -80,6 +80,11 @@ AssociationRecord record_from_summary(const std::string& solver, int32_t num_sen
                                       double runtime_s,
                                       const nlohmann::json& extra = nlohmann::json::object());
 
+// The options attribute of such a record: {"solver": solver_options (null: {}), "pipeline":
+// pipeline_json} with `extra` merged in, dumped (keys sorted).
+std::string record_options_json(const nlohmann::json& solver_options, const nlohmann::json& pipeline_json,
+                                const nlohmann::json& extra = nlohmann::json::object());
+
 // Runs solver `solver` (engine/solvers/solver_registry.hpp) with `solver_options`, decodes the tuples and
 // returns the record for /associations/<name>/.
 AssociationRecord solve_association(const AssociationProblem& problem, const std::string& solver,

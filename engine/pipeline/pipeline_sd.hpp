@@ -3,9 +3,10 @@
 //   per sensor → S-D solver → tuples (/associations/<name>/).
 //
 // Common times and alignment are those of the 3-D pipeline (engine/pipeline/pipeline.hpp): a uniform grid
-// with step common_period (default: the largest scan period of the chosen sensors) over the
-// interval where all of them report; each track's latest estimate is predicted to a grid time by a
-// CV model. Sensors with different periods and offsets are handled by that prediction.
+// with step common_period (default: the largest scan period of the chosen sensors), by default over
+// the union of the sensors' report spans with each track moved to a grid time from its nearest
+// report on either side (two-sided alignment; PipelineOptions::paper(): the intersection, each
+// track's latest estimate predicted forward by a CV model).
 //
 // Cost of a tuple with the set P of real members (in the chosen sensor order):
 //   Σ over the links of P of (λ_ab − γ_ab),   γ_ab = χ²-quantile(gate probability, dof_ab),
@@ -18,11 +19,8 @@
 //
 // Solvers (sd_solver_names()): lr, lr+ls (kernels/assignment/sd/lagrangian_sd.hpp, options as for the 3-D
 // lr), exact (kernels/assignment/sd/assignment_sd.hpp; options time_limit_s, max_nodes; started from lr+ls),
-// and chnn-pseudo (seed 004's CHNN with pseudo-tracks, kernels/hopfield/chnn_pseudo.hpp; options A, B, C, D,
-// dt, tau, u0, max_steps, tolerance, noise, leftover_passes (−1 = S − 2, 0 = the paper's single pass), gated
-// (Eq. 12, default true), lambda_margin (λ = (1 + margin)·γ, default 0.1), and reference (a sensor position;
-// default: the sensor with the most tracks)). Every solver's tuples are scored on the same tensor, so
-// objectives compare.
+// and chnn-pseudo (seed 004's CHNN with pseudo-tracks, engine/solvers/chnn_pseudo_solver.hpp, on
+// sd_problem_view). Every solver's tuples are scored on the same tensor, so objectives compare.
 #pragma once
 
 #include <cstdint>
@@ -31,9 +29,8 @@
 #include <vector>
 
 #include "engine/pipeline/pipeline.hpp"
-#include "engine/solvers/option_fields.hpp"
+#include "engine/solvers/solver_registry.hpp"
 #include "kernels/assignment/sd/assignment_sd.hpp"
-#include "kernels/hopfield/chnn_pseudo.hpp"
 
 namespace trackassoc {
 
@@ -69,23 +66,9 @@ const std::vector<std::string>& sd_solver_names();
 // Throws InputError listing the S-D solvers when `name` is not one.
 void require_sd_solver(const std::string& name);
 
-// Seed 004's inputs from the problem: distances λ (gated: +inf outside the gate, Eq. 12), and
-// pseudo-track costs (1 + margin)·γ; sensors reordered so that `reference` comes first.
-PseudoTrackInput pseudo_track_input(const SDProblem& p, bool gated, double lambda_margin, int32_t reference);
-
-// The options of chnn-pseudo (header comment): the network's, and how its inputs are built.
-struct ChnnPseudoSolverOptions {
-  ChnnPseudoOptions network;  // seed: the run's seed, not an option
-  bool gated = true;
-  double lambda_margin = 0.1;
-  int32_t reference = 0;  // solve_chnn_sd's default: the sensor with the most tracks
-};
-const OptionFields<ChnnPseudoSolverOptions>& chnn_pseudo_option_fields();
-
-// The chnn-pseudo solver alone; `raw`, when given, receives the network's own result (neurons,
-// Euler steps, convergence).
-SolutionSD solve_chnn_sd(const SDProblem& p, const nlohmann::json& options, uint64_t seed,
-                         ChnnPseudoResult* raw = nullptr);
+// What a whole-problem S-D solver sees of `p` (engine/solvers/solver_registry.hpp); it refers to
+// p's pair statistics, gates and tensor, so `p` must outlive it.
+SDProblemView sd_problem_view(const SDProblem& p);
 
 // Runs a tensor S-D solver (capabilities.sd_tensor: lr, lr+ls, exact) on `tensor` alone; throws
 // InputError for others.

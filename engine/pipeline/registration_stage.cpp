@@ -130,6 +130,7 @@ RegistrationRecord RegistrationStageResult::to_record(const TrackFile& file, con
   r.wald_dof = wald_dof;
   r.observations = static_cast<int64_t>(estimate.summary.observations);
   r.association = association;
+  r.reference_named = options.reference_sensor >= 0;
   r.options_json = options.to_json().dump();
   return r;
 }

@@ -2,8 +2,10 @@
 // recorded track sets too large for the dense n1·n2·n3 tensor.
 //
 //   local tracks → common times → alignment                       (as engine/pipeline/pipeline.hpp)
-//   → candidate pairs from a grid over time-averaged positions   (kernels/statistics/sparse_candidates.hpp)
-//   → λ on candidate pairs only, chi-square gate                  (same statistic kernel)
+//   → candidate pairs from the gate's lossless index              (candidate_pairs_for_gate,
+//     kernels/statistics/scan_candidates.hpp: a per-scan index for the calibrated gate, the grid over
+//     time-averaged positions of kernels/statistics/sparse_candidates.hpp for the χ² sum)
+//   → λ on candidate pairs only, the gate of options.pipeline      (kernels/statistics/sparse_candidates.hpp)
 //   → connected components of the gated pair graph                (kernels/assignment/clusters.hpp)
 //   → per component, in parallel (TBB): a small dense sub-tensor, any registered solver
 //   → decoding into the same AssociationRecord as the dense pipeline.
@@ -28,8 +30,8 @@
 // the matrices the cost form uses, at least 1e3), computed over the whole problem, not per component.
 //
 // Components whose sub-tensor exceeds `max_component_entries` are refused with an InputError
-// (no sparse-capable solver is registered yet); the message gives the component size and the fix
-// (a tighter gate).
+// (no sparse-capable 3-D solver is registered); the message gives the component size and the fixes
+// (a tighter gate, or a larger limit: AssociatorOptions::max_component_entries).
 #pragma once
 
 #include <array>

@@ -49,6 +49,25 @@ void require_some_overlap(const SparseSDProblem& p) {
                    ") exist at a common time, so there is nothing to associate");
 }
 
+// The record's options attribute beside the request ("solver", "pipeline"): the solve's counts,
+// and empty_sensors and the segment counts only when there are any (issue 30, track_segments.hpp).
+nlohmann::json record_info(const SparseSDSolveReport& rep, const std::vector<int32_t>& empty_sensors,
+                           const SegmentSummary* segments) {
+  nlohmann::json info = {{"formulation", "sparse S-D with dummies"},
+                         {"components", rep.components},
+                         {"fallback_components", rep.fallback_components},
+                         {"candidate_pairs", rep.candidate_pairs},
+                         {"gated_pairs", rep.gated_pairs}};
+  if (!empty_sensors.empty()) info["empty_sensors"] = empty_sensors;
+  if (segments) {
+    info["segments_joined"] = segments->joined;
+    info["segment_duplicates_joined"] = segments->duplicates;
+    info["segment_targets_joined"] = segments->targets_joined;
+    info["segment_rounds"] = segments->rounds;
+  }
+  return info;
+}
+
 }  // namespace
 
 void SparseSDOptions::validate() const {
@@ -261,20 +280,14 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
   summary.message = std::to_string(C) + " components, " + std::to_string(rep.fallback_components) +
                     " by sequential LAP merging";
   summary.wall_time_s = seconds_since(t0);
+  for (std::size_t slot = 0; slot < p.pairs.size(); ++slot) {
+    rep.candidate_pairs += static_cast<int64_t>(p.candidate_pairs[slot]);
+    rep.gated_pairs += static_cast<int64_t>(p.pairs[slot].size());
+  }
   if (report) *report = rep;
 
-  std::size_t candidates = 0, gated = 0;
-  for (std::size_t slot = 0; slot < p.pairs.size(); ++slot) {
-    candidates += p.candidate_pairs[slot];
-    gated += p.pairs[slot].size();
-  }
   AssociationRecord rec = record_from_summary(solver, p.file_sensors, seed, solver_options, options.to_json(),
-                                              summary, summary.wall_time_s,
-                                              {{"formulation", "sparse S-D with dummies"},
-                                               {"components", C},
-                                               {"fallback_components", rep.fallback_components},
-                                               {"candidate_pairs", candidates},
-                                               {"gated_pairs", gated}});
+                                              summary, summary.wall_time_s, record_info(rep, {}, nullptr));
   rec.num_sensors = p.file_sensors;
   // Tuples in a deterministic order: by their nodes, sorted (so by their smallest node first).
   std::vector<std::pair<std::vector<int32_t>, double>> tuples;
@@ -298,37 +311,32 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
 
 AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& solver,
                                       const nlohmann::json& solver_options, uint64_t seed,
-                                      const SparseSDOptions& options, std::vector<StageReport>* stages) {
+                                      const SparseSDOptions& options, SparseSDReport* report) {
   require_sparse_sd_solver(solver);
   const SparseSDProblem p = build_sparse_sd_problem(file, options);
   if (options.segments.enabled) check_duplicate_sensors(options.segments, p.sensor_ids);
   const auto t0 = std::chrono::steady_clock::now();
-  AssociationRecord rec = solve_sparse_sd_association(p, solver, solver_options, seed, options);
-  if (!p.empty_sensor_ids.empty()) {  // only then: the records of other files are unchanged
-    nlohmann::json info = nlohmann::json::parse(rec.options_json);
-    info["empty_sensors"] = p.empty_sensor_ids;
-    rec.options_json = info.dump();
-  }
+  SparseSDReport rep;
+  AssociationRecord rec = solve_sparse_sd_association(p, solver, solver_options, seed, options, &rep.solve);
   const double solve_s = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
   if (options.segments.enabled) {
-    SegmentSummary seg;
-    rec = join_track_segments(p, file.tracks, rec, options.segments, &seg);
-    nlohmann::json info = nlohmann::json::parse(rec.options_json);
-    info["segments_joined"] = seg.joined;
-    info["segment_duplicates_joined"] = seg.duplicates;
-    info["segment_targets_joined"] = seg.targets_joined;
-    info["segment_rounds"] = seg.rounds;
-    rec.options_json = info.dump();
+    rep.segments.emplace();
+    rec = join_track_segments(p, file.tracks, rec, options.segments, &*rep.segments);
   }
-  if (stages) {
-    *stages = p.stages;
-    stages->push_back({"solve", solve_s, peak_rss_mib(), 0.0});
-    if (options.segments.enabled) stages->push_back({"segments", seconds_since(t1), peak_rss_mib(), 0.0});
-  }
+  if (!p.empty_sensor_ids.empty() || rep.segments)  // the attribute of the solve, with these added
+    rec.options_json = record_options_json(
+        solver_options, options.to_json(),
+        record_info(rep.solve, p.empty_sensor_ids, rep.segments ? &*rep.segments : nullptr));
+  rep.stages = p.stages;
+  rep.stages.push_back({"solve", solve_s, peak_rss_mib(), 0.0});
+  if (options.segments.enabled) rep.stages.push_back({"segments", seconds_since(t1), peak_rss_mib(), 0.0});
   double total = 0.0;
   for (const auto& s : p.stages) total += s.seconds;
   rec.runtime_s = total + seconds_since(t0);
+  rep.sensor_ids = p.sensor_ids;
+  rep.empty_sensor_ids = p.empty_sensor_ids;
+  if (report) *report = std::move(rep);
   return rec;
 }
 

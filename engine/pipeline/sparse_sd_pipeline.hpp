@@ -2,11 +2,12 @@
 // candidates, and an S-D assignment with dummies per connected component (docs/design.md §4.3; issue 20).
 //
 //   local tracks of S ≥ 2 sensors → common times over the union of their reports
-//   → two-sided alignment (nearest report on either side) kernels/statistics/association_statistic.hpp → for
-//   every pair of sensors: candidate pairs from a per-scan index kernels/statistics/scan_candidates.hpp → the
-//   sequential statistic on candidates, the calibrated gate    (SequentialGate) → connected components of the
-//   gated pair graph                   kernels/assignment/clusters.hpp → per component, in parallel (TBB):
-//   the S-D assignment with a dummy per sensor over the
+//   → two-sided alignment (nearest report on either side)  kernels/statistics/association_statistic.hpp
+//   → for every pair of sensors: candidate pairs from a per-scan index
+//                                                           kernels/statistics/scan_candidates.hpp
+//   → the sequential statistic on candidates, the calibrated gate (SequentialGate)
+//   → connected components of the gated pair graph         kernels/assignment/clusters.hpp
+//   → per component, in parallel (TBB): the S-D assignment with a dummy per sensor over the
 //     component's tracks (a dense sub-tensor; lr+ls, lr or exact), or, for a component whose
 //     sub-tensor exceeds the budget, sequential LAP merging
 //   → tuples over all sensors of the file (−1 = no track), every local track in exactly one tuple
@@ -39,6 +40,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -107,9 +109,12 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
 const std::vector<std::string>& sparse_sd_solver_names();
 void require_sparse_sd_solver(const std::string& name);
 
+// What the solve did besides the record: the counts the record's options attribute stores and
+// AssociationSummary (engine/pipeline/associator.hpp) reports.
 struct SparseSDSolveReport {
   int32_t components = 0, fallback_components = 0;
   std::size_t largest_component_entries = 0;
+  int64_t candidate_pairs = 0, gated_pairs = 0;  // index output before the gate, and gated in
 };
 
 // Solves every component in parallel and returns the record for /associations/<solver>/: the
@@ -120,10 +125,22 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
                                               const SparseSDOptions& options,
                                               SparseSDSolveReport* report = nullptr);
 
-// build + solve: the entry point of `associate` without --solver (and of `experiment recorded`).
+// What associate_sparse_sd did besides the record, typed (the association interface reads these,
+// never the record's options attribute).
+struct SparseSDReport {
+  SparseSDSolveReport solve;
+  std::vector<int32_t> sensor_ids;         // the problem's sensors (SparseSDProblem::sensor_ids)
+  std::vector<int32_t> empty_sensor_ids;   // chosen sensors without local tracks (tuple column -1)
+  std::optional<SegmentSummary> segments;  // the segment pass, when options.segments.enabled
+  std::vector<StageReport> stages;         // alignment, candidates, statistics, components, solve, segments
+};
+
+// build + solve (+ segments): the default path of the association interface
+// (engine/pipeline/associator.hpp, which `associate` and `experiment recorded` call). The record's
+// options attribute is written here, once, from the typed values: the request, the solve's counts,
+// and (only when present, so other records are unchanged) empty_sensors and the segment counts.
 AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& solver,
                                       const nlohmann::json& solver_options, uint64_t seed,
-                                      const SparseSDOptions& options,
-                                      std::vector<StageReport>* stages = nullptr);
+                                      const SparseSDOptions& options, SparseSDReport* report = nullptr);
 
 }  // namespace trackassoc

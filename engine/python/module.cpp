@@ -76,9 +76,10 @@ PyAssociation associate(const py::object& tracks, const py::object& sensors, con
     // Track hygiene as `associate` does it: a recycled track number becomes new local tracks, and the
     // association's `tracks` is then the split file (source_track keeps the recorded numbers).
     TrackFile split = *file;
-    if (split_recorded_keys(split, request).any())
-      file = std::make_shared<const TrackFile>(std::move(split));
+    const TrackSplitSummary cuts = split_recorded_keys(split, request);
+    if (cuts.any()) file = std::make_shared<const TrackFile>(std::move(split));
     result.outcome = associator->associate(*file);
+    result.outcome.summary.split = cuts;
   }
   result.input = file;
   return result;

@@ -240,6 +240,21 @@ void bind_results(py::module_& m) {
             return PyTrackFile{a.input, "tracks"};
           },
           "The TrackFile that was associated.")
+      .def(
+          "brief_report",
+          [](const PyAssociation& a) {
+            if (!a.computed)
+              throw InputError("brief_report: a stored association has no summary (read back)");
+            return a.outcome.summary.BriefReport();
+          },
+          "One line: what was associated, the result, tuples, termination, time (AssociationSummary).")
+      .def(
+          "full_report",
+          [](const PyAssociation& a) {
+            if (!a.computed) throw InputError("full_report: a stored association has no summary (read back)");
+            return a.outcome.summary.FullReport();
+          },
+          "brief_report() and a line per stage result, as `trackassoc associate` prints it.")
       .def("__len__", [](const PyAssociation& a) { return a.outcome.record.num_tuples(); })
       .def("__repr__", [](const PyAssociation& a) {
         return "<trackassoc.Association '" + a.outcome.record.name +

@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "engine/pipeline/pipeline_sd.hpp"
+#include "engine/solvers/chnn_pseudo_solver.hpp"
 #include "engine/solvers/hopfield_json.hpp"
 #include "engine/solvers/relaxation_solvers.hpp"
 #include "kernels/assignment/assignment_canonical.hpp"
@@ -56,7 +56,7 @@ SolverEntry chnn_pseudo_entry() {
   SolverEntry e =
       solver_entry("chnn-pseudo", "continuous Hopfield network with pseudo-tracks (seed 004), S-D only");
   e.capabilities.sd = true;
-  e.solve_sd = [](const SDProblem& p, const nlohmann::json& o, uint64_t seed) {
+  e.solve_sd = [](const SDProblemView& p, const nlohmann::json& o, uint64_t seed) {
     return solve_chnn_sd(p, o, seed);
   };
   e.options_help = [] { return chnn_pseudo_option_fields().help(ChnnPseudoSolverOptions{}); };

@@ -4,7 +4,7 @@
 //
 // An entry turns (cost tensor, options as JSON, seed) into a solution: a 3-D CostTensor3 into a
 // Solution3 (`solve`), and/or the S-D formulation with a dummy per sensor into a SolutionSD
-// (`solve_sd_tensor` on the cost tensor alone, `solve_sd` on the whole SDProblem). A 3-D solver
+// (`solve_sd_tensor` on the cost tensor alone, `solve_sd` on the whole problem, SDProblemView). A 3-D solver
 // and an S-D solver of the same name (lr, lr+ls, exact) are one entry with both. Each solver
 // parses its JSON into its own XxxOptions, whose validate() names the bad field; unknown keys are
 // an InputError. The same JSON is recorded in /associations/<name>/ attrs "options".
@@ -20,6 +20,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -29,10 +30,19 @@
 #include "kernels/assignment/assignment_types.hpp"
 #include "kernels/assignment/sd/assignment_sd.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/statistics/association_statistic.hpp"
 
 namespace trackassoc {
 
-struct SDProblem;  // engine/pipeline/pipeline_sd.hpp
+// What a whole-problem S-D solver (`solve_sd`: chnn-pseudo) sees of the S-D problem that
+// engine/pipeline/pipeline_sd.hpp builds (sd_problem_view there), in tensor order.
+struct SDProblemView {
+  std::vector<int32_t> tracks;           // local tracks per sensor
+  std::span<const PairStatistic> pairs;  // pairs[a·S + b] for a < b
+  std::span<const double> gate;          // γ at the pair's largest dof, per pair slot
+  const CostTensorSD* tensor = nullptr;  // the S-D cost tensor the tuples are scored on
+  int32_t S() const { return static_cast<int32_t>(tracks.size()); }
+};
 
 struct SolverCapabilities {
   bool tensor3 = false;     // solves the 3-D cost tensor (`solve`)
@@ -53,7 +63,7 @@ struct SolverEntry {
   std::function<Solution3(const CostTensor3&, const nlohmann::json& options, uint64_t seed)> solve;
   SolverCapabilities capabilities;
   std::function<SolutionSD(const CostTensorSD&, const nlohmann::json& options)> solve_sd_tensor;
-  std::function<SolutionSD(const SDProblem&, const nlohmann::json& options, uint64_t seed)> solve_sd;
+  std::function<SolutionSD(const SDProblemView&, const nlohmann::json& options, uint64_t seed)> solve_sd;
   // Its options, one line per field (key, default, range, doc), from the fields' one declaration
   // (engine/solvers/option_fields.hpp): `trackassoc solvers` prints it.
   std::function<std::string()> options_help;

@@ -69,6 +69,20 @@ def test_recycled_numbers_are_split_as_the_cli_splits_them(simulated):
     assert kept.registration is None
 
 
+def test_full_report_is_what_the_cli_prints(simulated, tmp_path):
+    """recorded_recycled (split keys, a registration estimate): the module's full_report() holds the
+    lines `trackassoc associate` prints, but for the times (the first line and the stages')."""
+    path = simulated("recorded_recycled")
+    ours = trackassoc.associate(trackassoc.read(path))
+    printed = run_cli("associate", "--input", path, "--output", tmp_path / "cli.h5").stdout
+    report = ours.full_report()
+    assert report.startswith(ours.brief_report() + "\n")
+    assert printed.startswith(ours.brief_report().rsplit(", ", 1)[0])  # all but the time
+    untimed = lambda text: [line for line in text.splitlines()[1:] if not line.startswith("stages:")]
+    assert untimed(report) == untimed(printed)
+    assert any(line.startswith("split ") for line in untimed(report))  # the split summary is carried
+
+
 def test_arrays_give_the_files_tuples(simulated):
     """The same track set as a dict of arrays (with the file's /sensors) and as a structured array."""
     f = trackassoc.read(simulated("recorded_3s"))

@@ -1,5 +1,5 @@
 // The Autoferry benchmark end to end (issue 17 item 3): detections (io/autoferry.hpp) → local
-// tracks per sensor (engine/pipeline/local_tracking.hpp) → association (engine/pipeline/associator.hpp, the
+// tracks per sensor (engine/tracking/local_tracking.hpp) → association (engine/pipeline/associator.hpp, the
 // default pipeline) → scoring against the GNSS truth.
 //
 // Local trackers (lidar, radar; EO/IR bearings are not tracked). Every parameter has a physical
@@ -50,7 +50,7 @@
 #include <vector>
 
 #include "engine/pipeline/associator.hpp"
-#include "engine/pipeline/local_tracking.hpp"
+#include "engine/tracking/local_tracking.hpp"
 #include "io/autoferry.hpp"
 #include "io/track_file.hpp"
 

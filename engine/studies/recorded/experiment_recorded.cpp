@@ -16,13 +16,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "engine/cli/table.hpp"
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline.hpp"
-#include "engine/pipeline/registration_stage.hpp"
-#include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/workflow.hpp"
+#include "engine/report/text_table.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "engine/studies/experiments.hpp"
 #include "engine/studies/seed000/experiment_schedules.hpp"
@@ -61,38 +59,36 @@ RecordedRow score(const std::string& scenario, const std::string& method, int32_
   return r;
 }
 
+// Every method through the association interface (engine/pipeline/associator.hpp).
 AssociationRecord associate_method(const TrackFile& file, const std::string& method, uint64_t seed,
                                    double& time_s) {
   const auto t0 = std::chrono::steady_clock::now();
-  AssociationRecord rec;
+  AssociatorOptions request;  // "default": `associate`'s default request (registration, segments, stitching)
+  request.seed = seed;
   if (method == "3d-nogate" || method == "3d-exact") {
     // The three-sensor all-pairs tensor, solved exactly: with the calibrated gate (3d-exact), or
     // with no gate on the summed statistic (3d-nogate, the reference of the dense cases).
-    PipelineOptions po;
+    request.three_d = true;
+    request.solver = "exact";
+    request.solver_options = {{"time_limit_s", 10.0}};
     if (method == "3d-nogate") {
-      po.statistic.gate = GateMethod::kChiSquareSum;
-      po.statistic.gate_probability = 1.0;
+      request.pipeline.statistic.gate = GateMethod::kChiSquareSum;
+      request.pipeline.statistic.gate_probability = 1.0;
     }
-    const AssociationProblem p = build_association_problem(file, po);
-    rec = solve_association(p, "exact", {{"time_limit_s", 10.0}}, seed, po);
-  } else {
-    SparseSDOptions so;
-    std::string solver = method == "exact" ? "exact" : "lr+ls";
-    nlohmann::json options = nlohmann::json::object();
-    if (method == "exact") options["time_limit_s"] = 5.0;
+  } else if (method != "default") {  // the default path as recorded: no registration, no stitching
+    request.registration.enabled = false;
+    request.stitching.enabled = false;
+    if (method == "exact") {
+      request.solver = "exact";
+      request.solver_options = {{"time_limit_s", 5.0}};
+    }
     if (method == "chi2-sum") {  // the gate and alignment of seed 000, before issue 20
-      so.pipeline.statistic.gate = GateMethod::kChiSquareSum;
-      so.pipeline.alignment.method = AlignmentMethod::kForward;
-      so.pipeline.alignment.process_noise = 1.0;
-    }
-    if (method == "default") {  // `associate`'s default request: registration, segments, stitching
-      AssociatorOptions request;
-      request.seed = seed;
-      rec = make_associator(request)->associate(file).record;
-    } else {
-      rec = associate_sparse_sd(file, solver, options, seed, so);
+      request.pipeline.statistic.gate = GateMethod::kChiSquareSum;
+      request.pipeline.alignment.method = AlignmentMethod::kForward;
+      request.pipeline.alignment.process_noise = 1.0;
     }
   }
+  AssociationRecord rec = make_associator(request)->associate(file).record;
   time_s = seconds_since(t0);
   rec.name = method;
   return rec;
@@ -239,8 +235,8 @@ std::string recorded_summary_table(const std::vector<RecordedRow>& rows, const R
     s.times.push_back(r.time_s);
     ++s.n;
   }
-  cli::TextTable t({"scenario", "method", "targets", "correct %", "false %", "missed %", "false tuples",
-                    "median time [ms]", "default's speed-up"});
+  report::TextTable t({"scenario", "method", "targets", "correct %", "false %", "missed %", "false tuples",
+                       "median time [ms]", "default's speed-up"});
   for (const auto& sc : o.scenarios) {
     double default_ms = std::numeric_limits<double>::quiet_NaN();
     for (const auto& m : methods) {

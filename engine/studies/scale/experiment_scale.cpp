@@ -16,6 +16,7 @@
 #include <set>
 #include <sstream>
 
+#include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
@@ -215,13 +216,22 @@ ScaleRow run_one_size(const ScaleExperimentOptions& o, int32_t n) {
   SparsePipelineOptions so;
   so.pipeline = PipelineOptions::paper();  // the scale study of the χ²(n·D) index (sparse_candidates.hpp)
   so.pipeline.statistic.gate_probability = o.gate_probability;
-  std::vector<StageReport> stages;
+  // The problem built here (its candidate and component counts are columns of the row), solved
+  // through the association interface as `run`'s sparse rows are.
+  AssociatorOptions request;
+  request.sparse = true;
+  request.solver = o.solver;
+  request.solver_options = o.solver_options;
+  request.seed = o.seed;
+  request.pipeline = so.pipeline;
   const auto t0 = std::chrono::steady_clock::now();
-  const SparseAssociationProblem p = build_sparse_association_problem(file, so);
-  stages = p.stages;
-  const AssociationRecord rec = solve_sparse_association(p, o.solver, o.solver_options, o.seed, so, &stages);
+  const auto sp =
+      std::make_shared<const SparseAssociationProblem>(build_sparse_association_problem(file, so));
+  const SparseAssociationProblem& p = *sp;
+  const AssociationOutcome out = make_three_sensor_associator(request, {nullptr, sp})->associate(file);
+  const AssociationRecord& rec = out.record;
   row.total_s = seconds_since(t0);
-  for (const auto& s : stages) {
+  for (const auto& s : out.summary.stages) {
     row.stage.push_back(s.name);
     row.stage_s.push_back(s.seconds);
     row.stage_peak_mib.push_back(s.peak_rss_mib);
@@ -242,8 +252,13 @@ ScaleRow run_one_size(const ScaleExperimentOptions& o, int32_t n) {
   if (n <= o.dense_max) {
     row.dense_run = true;
     const auto t1 = std::chrono::steady_clock::now();
-    const AssociationProblem dp = build_association_problem(file, so.pipeline);
-    const AssociationRecord drec = solve_association(dp, o.solver, o.solver_options, o.seed, so.pipeline);
+    const auto dense =
+        std::make_shared<const AssociationProblem>(build_association_problem(file, so.pipeline));
+    const AssociationProblem& dp = *dense;
+    request.sparse = false;
+    request.three_d = true;
+    const AssociationRecord drec =
+        make_three_sensor_associator(request, {dense, nullptr})->associate(file).record;
     row.dense_total_s = seconds_since(t1);
     row.dense_peak_mib = peak_rss_mib();
     row.dense_correct_rate = evaluate_association(file.tracks, file.sensors, drec).correct_rate;

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "engine/distributed/sharding.hpp"
+#include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/workflow.hpp"
@@ -78,14 +79,20 @@ std::vector<Seed000Row> seed000_run(const Seed000ExperimentOptions& o, const Sce
   std::vector<Seed000Row> rows;
   const SimulationResult sim = simulate(sc, o.seed, run);
   const TrackFile file = simulation_to_track_file(sc, sim);
-  // The statistics do not depend on the cost form: computed once, the tensor per form.
-  AssociationProblem p = build_association_problem(file, seed000_pipeline(o, correlated, o.forms.front()));
+  // The statistics do not depend on the cost form: computed once, the tensor per form, and every
+  // solver through the association interface on that one problem (as `run`'s 3-D rows).
+  const auto p = std::make_shared<AssociationProblem>(
+      build_association_problem(file, seed000_pipeline(o, correlated, o.forms.front())));
+  AssociatorOptions request;
+  request.three_d = true;
+  request.seed = o.seed + static_cast<uint64_t>(run);
   for (const auto& form : o.forms) {
-    const PipelineOptions po = seed000_pipeline(o, correlated, form);
-    if (form != o.forms.front()) set_cost_tensor(p, po.cost);
+    request.pipeline = seed000_pipeline(o, correlated, form);
+    if (form != o.forms.front()) set_cost_tensor(*p, request.pipeline.cost);
     for (const auto& name : o.solvers) {
-      const uint64_t seed = o.seed + static_cast<uint64_t>(run);
-      const AssociationRecord rec = solve_association(p, name, nlohmann::json::object(), seed, po);
+      request.solver = name;
+      const AssociationRecord rec =
+          make_three_sensor_associator(request, {p, nullptr})->associate(file).record;
       const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
       Seed000Row row;
       row.targets = targets;

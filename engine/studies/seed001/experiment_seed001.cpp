@@ -7,10 +7,10 @@
 #include <numbers>
 #include <ostream>
 
-#include "engine/cli/table.hpp"
 #include "engine/distributed/sharding.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/workflow.hpp"
+#include "engine/report/text_table.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/stopwatch.hpp"
@@ -378,31 +378,32 @@ std::string reason(const Seed001Options& o, const Seed001Result& r, bool ftaa) {
   const double* paper = ftaa ? Seed001Paper::ftaa_rmse : Seed001Paper::proposed_rmse;
   const double ratio = 0.5 * (m.mean_rmse[0] / paper[0] + m.mean_rmse[1] / paper[1]);
   std::string s = std::string(enum_name(o.bearing_reading)) + ", " + (ftaa ? "FTAA" : "proposed") +
-                  ": ours/paper " + cli::fmt(ratio, "%.2f") + "; ";
+                  ": ours/paper " + report::fmt(ratio, "%.2f") + "; ";
   if (o.bearing_reading == BearingReading::kLiteral) {
     const double cross = o.design_range * std::numbers::pi / 180.0;  // node 1's cross-range σ
-    const std::string plots = "node 1's 1° plots (" + cli::fmt(cross, "%.0f") + " m cross-range σ at " +
-                              cli::fmt(o.design_range / 1000.0, "%.0f") + " km, often beyond the " +
-                              cli::fmt(o.fuzzy.gate, "%.0f") + " m gate; " +
-                              cli::fmt(std::sqrt(2.0) * cross / o.packet_period, "%.0f") +
+    const std::string plots = "node 1's 1° plots (" + report::fmt(cross, "%.0f") + " m cross-range σ at " +
+                              report::fmt(o.design_range / 1000.0, "%.0f") + " km, often beyond the " +
+                              report::fmt(o.fuzzy.gate, "%.0f") + " m gate; " +
+                              report::fmt(std::sqrt(2.0) * cross / o.packet_period, "%.0f") +
                               " m/s σ on the two-plot velocity)";
     if (ftaa)
       return s + plots + " never make firm pairs: no tuple holds all 4 nodes (correct " +
-             cli::percent(m.correct_rate) + ", " + cli::fmt(m.system_tracks_per_run, "%.1f") +
+             report::percent(m.correct_rate) + ", " + report::fmt(m.system_tracks_per_run, "%.1f") +
              " system tracks/run) and node 1's packets output its own plot";
     return s + plots + " miss the gate and start new system tracks (" +
-           cli::fmt(m.system_tracks_per_run, "%.1f") +
+           report::fmt(m.system_tracks_per_run, "%.1f") +
            "/run), output at node 1's plot; the model (every plot in its target's one system track) gives " +
-           cli::fmt(r.model.proposed_rmse, "%.0f") + " m";
+           report::fmt(r.model.proposed_rmse, "%.0f") + " m";
   }
   if (ftaa)
-    return s + "plot-noise model " + cli::fmt(r.model.ftaa_rmse, "%.0f") +
+    return s + "plot-noise model " + report::fmt(r.model.ftaa_rmse, "%.0f") +
            " m: FTAA outputs the unweighted mean of the 4 nodes' plots predicted up to 3 s with velocities "
            "differenced over 4 s; the rest is the sensor geometry (not given in the paper)";
-  return s + "plot-noise model " + cli::fmt(r.model.proposed_rmse, "%.0f") +
-         " m: α-β with Kalata gains (σ_w " + cli::fmt(r.smoother.process_noise, "%.2g") + " m/s², σ_v " +
-         cli::fmt(r.smoother.measurement_noise, "%.0f") + " m, steady α " +
-         cli::fmt(r.model.steady_gains.alpha, "%.3f") + ", β " + cli::fmt(r.model.steady_gains.beta, "%.4f") +
+  return s + "plot-noise model " + report::fmt(r.model.proposed_rmse, "%.0f") +
+         " m: α-β with Kalata gains (σ_w " + report::fmt(r.smoother.process_noise, "%.2g") + " m/s², σ_v " +
+         report::fmt(r.smoother.measurement_noise, "%.0f") + " m, steady α " +
+         report::fmt(r.model.steady_gains.alpha, "%.3f") + ", β " +
+         report::fmt(r.model.steady_gains.beta, "%.4f") +
          ") after its least-squares start; the paper gives neither its gains (σ_w is ours: the RMSE grows "
          "with it, --smoother-process-noise) nor the sensor geometry";
 }
@@ -432,17 +433,18 @@ void run_seed001_study(const Seed001Options& o, const std::string& output, std::
       << " m; FTAA m >= " << o.ftaa.association_quality << ", D >= " << o.ftaa.separation_quality << "\n"
       << "sigma_theta1: erratum 0.1 deg (default; the reliabilities 1.0/0.8/1.0/0.6 follow sigma_r, so "
          "node 1 = node 3 needs 0.1 deg), literal 1 deg as printed\n\n";
-  cli::TextTable t({"reading", "method", "RMSE S1 [m]", "paper", "RMSE S2 [m]", "paper", "model [m]",
-                    "time/assoc [us]", "paper [us]", "correct", "sys tracks/run"});
+  report::TextTable t({"reading", "method", "RMSE S1 [m]", "paper", "RMSE S2 [m]", "paper", "model [m]",
+                       "time/assoc [us]", "paper [us]", "correct", "sys tracks/run"});
   auto row = [&](const Seed001Options& oo, const Seed001Result& rr, bool ftaa) {
     const Seed001MethodResult& m = ftaa ? rr.ftaa : rr.fuzzy;
     const double* paper_rmse = ftaa ? Seed001Paper::ftaa_rmse : Seed001Paper::proposed_rmse;
     const double paper_time = ftaa ? Seed001Paper::ftaa_time_s : Seed001Paper::proposed_time_s;
-    t.add({enum_name(oo.bearing_reading), ftaa ? "FTAA" : "proposed", cli::fmt(m.mean_rmse[0], "%.1f"),
-           cli::fmt(paper_rmse[0], "%.1f"), cli::fmt(m.mean_rmse[1], "%.1f"), cli::fmt(paper_rmse[1], "%.1f"),
-           cli::fmt(ftaa ? rr.model.ftaa_rmse : rr.model.proposed_rmse, "%.0f"),
-           cli::fmt(1e6 * m.time_per_association_s, "%.2f"), cli::fmt(1e6 * paper_time, "%.0f"),
-           cli::percent(m.correct_rate), cli::fmt(m.system_tracks_per_run, "%.2f")});
+    t.add({enum_name(oo.bearing_reading), ftaa ? "FTAA" : "proposed", report::fmt(m.mean_rmse[0], "%.1f"),
+           report::fmt(paper_rmse[0], "%.1f"), report::fmt(m.mean_rmse[1], "%.1f"),
+           report::fmt(paper_rmse[1], "%.1f"),
+           report::fmt(ftaa ? rr.model.ftaa_rmse : rr.model.proposed_rmse, "%.0f"),
+           report::fmt(1e6 * m.time_per_association_s, "%.2f"), report::fmt(1e6 * paper_time, "%.0f"),
+           report::percent(m.correct_rate), report::fmt(m.system_tracks_per_run, "%.2f")});
   };
   row(o1, r1, true);
   row(o1, r1, false);
@@ -451,15 +453,15 @@ void run_seed001_study(const Seed001Options& o, const std::string& output, std::
   t.print(out);
   out << "\nWhy ours differs from the paper (model = the plot-noise model of "
          "engine/studies/seed001/experiment_seed001.hpp, nominal range "
-      << cli::fmt(o.design_range / 1000.0, "%.0f") << " km):\n";
+      << report::fmt(o.design_range / 1000.0, "%.0f") << " km):\n";
   for (const auto* p : {&o1, &o2})
     for (bool ftaa : {true, false}) out << "  " << reason(*p, p == &o1 ? r1 : r2, ftaa) << "\n";
   out << "  times: the paper's are MATLAB 2009 wall times per association (its Table 2 has the proposed\n"
          "  method slower, contradicting its text); ours are C++ per decision.\n"
       << "proposed / FTAA RMSE (" << enum_name(o1.bearing_reading)
-      << "): " << cli::fmt(r1.fuzzy.mean_rmse[0] / r1.ftaa.mean_rmse[0], "%.2f") << " (S1), "
-      << cli::fmt(r1.fuzzy.mean_rmse[1] / r1.ftaa.mean_rmse[1], "%.2f") << " (S2); paper: 0.34, 0.36.\n"
-      << "wall time " << cli::fmt(r.wall_time_s, "%.2f") << " s; " << enum_name(o.bearing_reading)
+      << "): " << report::fmt(r1.fuzzy.mean_rmse[0] / r1.ftaa.mean_rmse[0], "%.2f") << " (S1), "
+      << report::fmt(r1.fuzzy.mean_rmse[1] / r1.ftaa.mean_rmse[1], "%.2f") << " (S2); paper: 0.34, 0.36.\n"
+      << "wall time " << report::fmt(r.wall_time_s, "%.2f") << " s; " << enum_name(o.bearing_reading)
       << " reading -> " << output << "\n";
 }
 

@@ -7,8 +7,8 @@
 #include <iostream>
 #include <memory>
 
-#include "engine/cli/table.hpp"
 #include "engine/distributed/sharding.hpp"
+#include "engine/report/text_table.hpp"
 #include "engine/simulation/simulation_truth.hpp"
 #include "engine/studies/experiments.hpp"
 #include "io/atomic_file.hpp"
@@ -250,7 +250,7 @@ std::vector<Seed002Motion> run_seed002_motions(const Seed002Options& o,
       [&](int64_t i) {
         const Seed002Models& m = settings[i / 4];
         return "seed002 " + std::string(kMotions[i % 4]) + " (" + std::to_string(o.runs) +
-               " runs) of a_max " + cli::fmt(m.cs_a_max, "%g") + ", σ_CA " + cli::fmt(m.ca_sigma, "%g");
+               " runs) of a_max " + report::fmt(m.cs_a_max, "%g") + ", σ_CA " + report::fmt(m.ca_sigma, "%g");
       },
       encode_motion, decode_motion);
 }
@@ -325,7 +325,7 @@ void write_seed002(const std::string& path, const Seed002Result& res) {
 }
 
 void print_seed002(const Seed002Result& res, std::ostream& os) {
-  using cli::fmt;
+  using report::fmt;
   os << "seed002: IMM {CS-parallel + network (a_max=" << fmt(res.options.models.cs_a_max, "%g")
      << " m/s²), CA σ=" << fmt(res.options.models.ca_sigma, "%g") << " m/s²} vs CS-parallel, "
      << res.options.runs << " Monte Carlo runs, seed " << res.options.seed << " ("
@@ -334,7 +334,8 @@ void print_seed002(const Seed002Result& res, std::ostream& os) {
      << ", mean squared error = " << fmt(res.network_mse, "%.3g") << " (paper: 2.6e-5)\n\n"
      << "Error-compression ratio IMM / CS-parallel (mean RMSE over scans 2..100):\n";
   const char* labels[4] = {"acceleration step", "circle", "constant acceleration", "constant velocity"};
-  cli::TextTable t({"motion", "position", "velocity", "acceleration", "paper pos", "paper vel", "paper acc"});
+  report::TextTable t(
+      {"motion", "position", "velocity", "acceleration", "paper pos", "paper vel", "paper acc"});
   for (std::size_t m = 0; m < res.motions.size(); ++m) {
     const auto& mo = res.motions[m];
     t.add({labels[m], fmt(mo.ratio[0], "%.4f"), fmt(mo.ratio[1], "%.4f"), fmt(mo.ratio[2], "%.4f"),
@@ -343,7 +344,7 @@ void print_seed002(const Seed002Result& res, std::ostream& os) {
   }
   t.print(os);
   os << "\nMean RMSE over scans 2..100 (IMM | CS-parallel | CA model alone):\n";
-  cli::TextTable r({"motion", "pos [m]", "vel [m/s]", "acc [m/s²]", "mean μ(CS)", "mean y (F2)"});
+  report::TextTable r({"motion", "pos [m]", "vel [m/s]", "acc [m/s²]", "mean μ(CS)", "mean y (F2)"});
   for (std::size_t m = 0; m < res.motions.size(); ++m) {
     const auto& mo = res.motions[m];
     std::string cells[3];

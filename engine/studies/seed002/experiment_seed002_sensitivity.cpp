@@ -13,7 +13,7 @@
 #include <ostream>
 #include <string>
 
-#include "engine/cli/table.hpp"
+#include "engine/report/text_table.hpp"
 #include "engine/studies/seed002/experiment_seed002.hpp"
 #include "io/hdf5_wrapper.hpp"
 
@@ -82,7 +82,7 @@ unsigned seed002_losing_motions(const Seed002SensitivityRow& row) {
 }
 
 std::string seed002_difference_reasons(const Seed002SensitivityRow& row) {
-  using cli::fmt;
+  using report::fmt;
   const unsigned match = seed002_matching_motions(row);
   std::string out;
   for (std::size_t m = 0; m < row.motions.size(); ++m) {
@@ -111,7 +111,7 @@ std::string seed002_difference_reasons(const Seed002SensitivityRow& row) {
 }
 
 void print_seed002_sensitivity(const Seed002Result& res, std::ostream& os) {
-  using cli::fmt;
+  using report::fmt;
   if (res.sensitivity.empty()) return;
   os << "\nSensitivity (" << res.sensitivity.size() << " settings × 4 motions × " << res.options.runs
      << " runs, same seeds as above, " << fmt(res.sensitivity_wall_time_s, "%.2f")
@@ -119,8 +119,8 @@ void print_seed002_sensitivity(const Seed002Result& res, std::ostream& os) {
   auto cell = [](const std::array<double, 3>& r) {
     return fmt(r[0], "%.2f") + "/" + fmt(r[1], "%.2f") + "/" + fmt(r[2], "%.2f");
   };
-  cli::TextTable t({"a_max", "σ_CA", "step", "circle", "ca", "cv", "within ×" + fmt(kSeed002Match, "%.2f"),
-                    "IMM ≥ CS-par on"});
+  report::TextTable t({"a_max", "σ_CA", "step", "circle", "ca", "cv", "within ×" + fmt(kSeed002Match, "%.2f"),
+                       "IMM ≥ CS-par on"});
   t.add({"paper", "5", cell(kSeed002PaperTable1[0]), cell(kSeed002PaperTable1[1]),
          cell(kSeed002PaperTable1[2]), cell(kSeed002PaperTable1[3]), "", ""});
   for (const auto& row : res.sensitivity) {

@@ -9,10 +9,10 @@
 #include <ostream>
 #include <tuple>
 
-#include "engine/cli/table.hpp"
 #include "engine/distributed/sharding.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/siamese_pipeline.hpp"
+#include "engine/report/text_table.hpp"
 #include "io/atomic_file.hpp"
 #include "io/hdf5_wrapper.hpp"
 #include "io/siamese_model_file.hpp"
@@ -218,7 +218,7 @@ nlohmann::json print_pair_test_metrics(const std::string& data, const SiameseMod
   const PairEvaluation s = evaluate_pairs(model, d.radar1, d.radar2, d.test, o.probability_threshold);
   // The weighted test needs the radars that made the data set's plots (its generator JSON).
   const PairEvaluation w = weighted_test_pairs(d, seed003_scene_of(d.generator_json, o.scenario, data));
-  cli::TextTable t(
+  report::TextTable t(
       {"test pairs (" + std::to_string(d.test.size()) + ")", "accuracy %", "recall %", "precision %"});
   t.add({"TTCSN (ours)", pct(s.accuracy()), pct(s.recall()), pct(s.precision())});
   t.add({"weighted test (ours)", pct(w.accuracy()), pct(w.recall()), pct(w.precision())});
@@ -239,7 +239,7 @@ void print_density_tables(const Seed003ExperimentResult& r, std::ostream& out) {
   for (const std::string what : {"accuracy", "recall", "precision", "time"}) {
     std::vector<std::string> head{what + (what == "time" ? " [ms]" : " [%]")};
     for (int d : r.densities) head.push_back("n=" + std::to_string(d));
-    cli::TextTable t(head);
+    report::TextTable t(head);
     for (const auto& c : r.methods) {
       std::vector<std::string> row{c.method};
       for (std::size_t d = 0; d < r.densities.size(); ++d) {

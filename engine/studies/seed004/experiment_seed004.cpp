@@ -7,11 +7,12 @@
 #include <set>
 #include <sstream>
 
-#include "engine/cli/table.hpp"
 #include "engine/distributed/sharding.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/workflow.hpp"
+#include "engine/report/text_table.hpp"
+#include "engine/solvers/chnn_pseudo_solver.hpp"
 #include "engine/studies/experiments.hpp"
 #include "engine/studies/seed000/experiment_schedules.hpp"
 #include "io/atomic_file.hpp"
@@ -74,7 +75,7 @@ std::vector<Seed004Row> seed004_run(const Seed004ExperimentOptions& o, const std
       ChnnPseudoResult raw;
       nlohmann::json opts{{"gated", solver != "chnn-eq7"}};
       if (solver == "chnn-eq12-single") opts["leftover_passes"] = 0;
-      sol = solve_chnn_sd(problem, opts, o.seed + run, &raw);
+      sol = solve_chnn_sd(sd_problem_view(problem), opts, o.seed + run, &raw);
       row.steps = raw.steps;
       row.neurons = raw.neurons;
       row.converged = raw.converged;
@@ -186,17 +187,17 @@ std::map<std::pair<std::string, std::string>, Mean> means(const std::vector<Seed
 
 std::string seed004_summary_table(const std::vector<Seed004Row>& rows, const Seed004ExperimentOptions& o) {
   const auto m = means(rows);
-  cli::TextTable table({"scenario", "targets", "solver", "correct", "time [ms]", "Euler steps", "neurons",
-                        "converged/proven", "paper"});
+  report::TextTable table({"scenario", "targets", "solver", "correct", "time [ms]", "Euler steps", "neurons",
+                           "converged/proven", "paper"});
   for (const auto& sc : o.scenarios)
     for (const auto& solver : o.solvers) {
       auto it = m.find({sc, solver});
       if (it == m.end()) continue;
       const Mean& x = it->second;
       const bool chnn = solver.rfind("chnn", 0) == 0;
-      table.add({sc, std::to_string(x.targets), solver, cli::fmt(100 * x.rate, "%.1f") + " %",
-                 cli::fmt(1e3 * x.wall, "%.2f"), chnn ? cli::fmt(x.steps, "%.0f") : "-",
-                 chnn ? cli::fmt(x.neurons, "%.0f") : "-",
+      table.add({sc, std::to_string(x.targets), solver, report::fmt(100 * x.rate, "%.1f") + " %",
+                 report::fmt(1e3 * x.wall, "%.2f"), chnn ? report::fmt(x.steps, "%.0f") : "-",
+                 chnn ? report::fmt(x.neurons, "%.0f") : "-",
                  std::to_string(x.converged) + "/" + std::to_string(x.n),
                  solver.rfind("chnn-eq12", 0) == 0 && sc == "seed004_25" ? "~90 %" : "-"});
     }

@@ -77,6 +77,7 @@ TrackFile translated_file(bool applied, const std::string& association, bool nam
   r.pair_observations.assign(4, 11);
   r.applied = applied;
   r.association = association;
+  r.reference_named = named;
   r.options_json = named ? R"({"reference_sensor": 0})" : R"({"reference_sensor": -1})";
   f.registration = r;
   return f;

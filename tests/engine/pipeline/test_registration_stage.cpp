@@ -103,6 +103,24 @@ TEST(RegistrationStage, RegistrationIsWrittenToTheFileAndReadBack) {
   EXPECT_EQ(back.registration->estimate, out.registration->estimate);
   EXPECT_EQ(back.registration->parameters, out.registration->parameters);
   EXPECT_EQ(back.registration->association, out.record.name);
+  // The reference was named (0), so `fuse` estimates in its frame: the typed flag survives the file.
+  EXPECT_TRUE(out.registration->reference_named);
+  EXPECT_TRUE(back.registration->reference_named);
+  // Chosen by the stage (-1): stored and read back as not named.
+  TrackFile chosen = file;
+  store_outcome(chosen, run_default(file, true, -1));
+  const std::string chosen_path = path + ".chosen.h5";
+  write_track_file(chosen_path, chosen);
+  const TrackFile chosen_back = read_track_file_in_process(chosen_path);
+  std::filesystem::remove(chosen_path);
+  ASSERT_TRUE(chosen_back.registration.has_value());
+  EXPECT_FALSE(chosen_back.registration->reference_named);
+  // A stored options attribute whose reference_sensor is not an integer reads as not named.
+  chosen.registration->options_json = R"({"reference_sensor": "0"})";
+  write_track_file(chosen_path, chosen);
+  const TrackFile odd_back = read_track_file_in_process(chosen_path);
+  std::filesystem::remove(chosen_path);
+  EXPECT_FALSE(odd_back.registration->reference_named);
   const h5::File f = h5::File::open_read_only(path);
   const h5::Group g = f.root().open_group("registration");
   std::vector<hsize_t> dims;

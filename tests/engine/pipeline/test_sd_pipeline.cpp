@@ -15,6 +15,7 @@
 #include "io/track_file.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
+#include "kernels/hopfield/chnn_pseudo.hpp"
 #include "tests/support/cli_runner.hpp"
 #include "tests/support/solver_test_support.hpp"
 

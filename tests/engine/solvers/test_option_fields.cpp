@@ -12,6 +12,7 @@
 #include "engine/fusion/fuzzy_pipeline.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/siamese_track_file.hpp"
+#include "engine/solvers/chnn_pseudo_solver.hpp"
 #include "engine/solvers/hopfield_json.hpp"
 #include "engine/solvers/relaxation_solvers.hpp"
 #include "engine/studies/seed001/experiment_seed001.hpp"

@@ -1,4 +1,4 @@
-// GNN tracker (kernels/filters/gnn_tracker.hpp) and local tracking (engine/pipeline/local_tracking.hpp) on
+// GNN tracker (kernels/filters/gnn_tracker.hpp) and local tracking (engine/tracking/local_tracking.hpp) on
 // noise-free synthetic scans whose answer is worked out by hand in each test.
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <numeric>
 #include <set>
 
-#include "engine/pipeline/local_tracking.hpp"
+#include "engine/tracking/local_tracking.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
 #include "kernels/filters/gnn_tracker.hpp"

@@ -1,4 +1,4 @@
-#include "engine/pipeline/run_job.hpp"
+#include "engine/jobs/run_job.hpp"
 
 #include <algorithm>
 #include <memory>
@@ -89,8 +89,7 @@ RunJobResult run_main_job(const RunJobOptions& o, const std::function<void(const
     const AssociationRecord& rec = out.record;
     const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
     file.metrics.push_back(to_metrics_record(rec.name, m));
-    job.rows.push_back(
-        {rec.name, m, rec.runtime_s, rec.objective, rec.lower_bound, rec.gap, rec.termination});
+    job.rows.push_back({rec.name, m, out.summary});
     store_outcome(file, out);
   };
   AssociatorOptions request;
@@ -144,8 +143,10 @@ RunJobResult run_main_job(const RunJobOptions& o, const std::function<void(const
     request.solver_options =
         o.solver_options.contains(entry.name) ? o.solver_options[entry.name] : nlohmann::json::object();
     AssociationOutcome out = make_three_sensor_associator(request, prepared)->associate(file);
-    if (prepared.dense)
+    if (prepared.dense) {
       out.record.runtime_s += prepared.dense->statistics_time_s + prepared.dense->tensor_time_s;
+      out.summary.runtime_s = out.record.runtime_s;
+    }
     add_row(out);
   }
   return job;
@@ -166,8 +167,8 @@ void write_run_outputs(const RunJobResult& job, const std::string& output, const
           "trackassoc run, " + job.scenario_name + ": the '" + first + "' association");
   std::vector<report::SummaryRow> rows;
   for (const RunRow& r : job.rows)
-    rows.push_back({r.name, r.metrics.correct_rate, r.metrics.false_rate, r.metrics.missed_rate, r.runtime_s,
-                    r.name == "default"});
+    rows.push_back({r.name, r.metrics.correct_rate, r.metrics.false_rate, r.metrics.missed_rate,
+                    r.summary.runtime_s, r.name == "default"});
   report::write_summary_chart(run_summary_path(plot), format,
                               "trackassoc run, " + job.scenario_name + ": every solver on the same recording",
                               rows);

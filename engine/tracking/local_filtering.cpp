@@ -1,5 +1,5 @@
 // trackassoc filter (see local_filtering.hpp).
-#include "engine/pipeline/local_filtering.hpp"
+#include "engine/tracking/local_filtering.hpp"
 
 #include "engine/simulation/simulation_tracker.hpp"
 #include "io/scenario_json.hpp"

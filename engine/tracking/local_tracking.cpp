@@ -1,5 +1,5 @@
 // Local tracking from detections (see local_tracking.hpp).
-#include "engine/pipeline/local_tracking.hpp"
+#include "engine/tracking/local_tracking.hpp"
 
 #include <algorithm>
 #include <chrono>

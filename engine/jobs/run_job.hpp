@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "io/track_file.hpp"
@@ -49,9 +50,9 @@ void check_run_solver_options(const nlohmann::json& solver_options, const std::v
 struct RunRow {
   std::string name;  // the /associations and /metrics group
   AssociationMetrics metrics;
-  double runtime_s = 0.0;  // statistics + cost + solve
-  double objective = 0.0, lower_bound = 0.0, gap = 0.0;
-  std::string termination;
+  // The association's summary; its runtime_s is statistics + cost + solve (the 3-D rows share one
+  // problem, whose build time is added to each).
+  AssociationSummary summary;
 };
 
 struct RunJobResult {

@@ -1,0 +1,155 @@
+// AssociationSummary's reports (engine/pipeline/associator.hpp): on a hand-made file whose
+// components, gated pairs, tuples and unassociated tracks are known from its construction, the
+// brief and full reports state those numbers; the record's options attribute holds the same counts
+// as the typed summary; and no file of the association path parses options_json back.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+
+#include "engine/pipeline/associator.hpp"
+#include "engine/report/text_table.hpp"
+#include "kernels/core/error.hpp"
+
+namespace trackassoc {
+namespace {
+
+using Eigen::Matrix4d;
+using Eigen::Vector4d;
+
+// Three sensors (ids 0, 1, 2) report three targets 50 km apart every second over 0-20 s, each
+// exactly at the truth; sensor 2 also holds a fourth track 500 km away from everything. So the
+// gated pair graph has 3 components of 3 tracks (one per target, 3 gated pairs each) and the lone
+// track's: 4 components, 9 gated pairs, 4 tuples, and only sensor 2's lone track unassociated.
+TrackFile three_targets_and_a_stray() {
+  TrackFile f;
+  f.sensors.resize(3);
+  for (int s = 0; s < 3; ++s) f.sensors[s].id = s;
+  f.recording.sensors_unknown = "position";
+  f.tracks = TrackTable(StateLayout::kXY_VXVY);
+  const Matrix4d P = Vector4d(400.0, 400.0, 25.0, 25.0).asDiagonal();
+  for (int i = 0; i <= 20; ++i) {
+    const double t = i;
+    for (int target = 0; target < 3; ++target) {
+      const Vector4d x(50000.0 * target + 100.0 * t, 2000.0 - 50.0 * t, 100.0, -50.0);
+      for (int s = 0; s < 3; ++s) f.tracks.push_back(s, 10 + target, t, x, P, target);
+    }
+    f.tracks.push_back(2, 99, t, Vector4d(500000.0, 500000.0 + 10.0 * t, 0.0, 10.0), P, 3);
+  }
+  return f;
+}
+
+TEST(AssociationSummary, ReportsStateTheHandCountedNumbersOfTheDefaultPath) {
+  const TrackFile file = three_targets_and_a_stray();
+  const AssociationOutcome out = make_associator(AssociatorOptions{})->associate(file);
+  const AssociationSummary& s = out.summary;
+  EXPECT_EQ(s.path, AssociationPath::kSparseSD);
+  EXPECT_EQ(s.components, 4);
+  EXPECT_EQ(s.gated_pairs, 9);
+  EXPECT_EQ(s.tuples, 4);
+  EXPECT_EQ(s.fallback_components, 0);
+  EXPECT_EQ(s.unassociated, (std::vector<int64_t>{0, 0, 1}));
+  const std::string brief = s.BriefReport(), full = s.FullReport();
+  EXPECT_EQ(brief.find('\n'), std::string::npos) << brief;
+  EXPECT_EQ(
+      brief.rfind("associated the tracks of 3 sensors (sparse S-D, 4 components) with 'lr+ls': objective " +
+                      report::fmt(out.record.objective) + ", 4 tuples (" + out.record.termination + "), ",
+                  0),
+      0u)
+      << brief;
+  // The full report: the brief line first, then the stages with the counts, then the rest.
+  ASSERT_EQ(full.rfind(brief + "\n", 0), 0u) << full;
+  EXPECT_NE(full.find("gated 9, fallback components 0, segments joined 0 (to 0 targets; duplicates 0)\n"),
+            std::string::npos)
+      << full;
+  for (const char* stage : {" alignment ", " candidates ", " statistics ", " components ", " solve ",
+                            " segments ", " stitching "})
+    EXPECT_NE(full.find(stage), std::string::npos) << stage << " in " << full;
+  // Exact reports: the registration (reference: sensor 2, the most tracks) is not significant.
+  EXPECT_NE(full.find("registration (reference sensor 2, "), std::string::npos) << full;
+  EXPECT_NE(full.find("not significant, reports left as recorded\n"), std::string::npos) << full;
+  const std::string last = "unassociated local tracks: sensor 0 0, sensor 1 0, sensor 2 1\n";
+  ASSERT_GE(full.size(), last.size());
+  EXPECT_EQ(full.substr(full.size() - last.size()), last) << full;
+  // The split line appears once a caller sets the split summary (split_recorded_keys).
+  AssociationSummary split = s;
+  split.split = {5, 2};
+  EXPECT_NE(split.FullReport().find("split 2 recycled track number(s) into new local tracks (5 gaps tested;"),
+            std::string::npos);
+}
+
+TEST(AssociationSummary, TheStoredOptionsHoldTheSummarysCounts) {
+  const TrackFile file = three_targets_and_a_stray();
+  const AssociationOutcome out = make_associator(AssociatorOptions{})->associate(file);
+  const nlohmann::json stored = nlohmann::json::parse(out.record.options_json);
+  EXPECT_EQ(stored.at("components").get<int32_t>(), out.summary.components);
+  EXPECT_EQ(stored.at("gated_pairs").get<int64_t>(), out.summary.gated_pairs);
+  EXPECT_EQ(stored.at("candidate_pairs").get<int64_t>(), out.summary.candidate_pairs);
+  EXPECT_EQ(stored.at("fallback_components").get<int64_t>(), out.summary.fallback_components);
+  ASSERT_TRUE(out.summary.segments.has_value());
+  EXPECT_EQ(stored.at("segments_joined").get<int32_t>(), out.summary.segments->joined);
+  EXPECT_FALSE(stored.contains("empty_sensors"));  // every sensor has tracks
+}
+
+TEST(AssociationSummary, TheDense3DReportCountsTheTracksOfEachSensor) {
+  AssociatorOptions o;
+  o.solver = "greedy";
+  o.three_d = true;
+  const AssociationOutcome out = make_associator(o)->associate(three_targets_and_a_stray());
+  const std::string brief = out.summary.BriefReport();
+  // 3, 3 and 4 local tracks; the three targets' tuples and the stray alone.
+  EXPECT_EQ(brief.rfind("associated 3x3x4 tracks with 'greedy': objective ", 0), 0u) << brief;
+  EXPECT_NE(brief.find(", 4 tuples ("), std::string::npos) << brief;
+  EXPECT_EQ(out.summary.FullReport(),
+            brief + "\nunassociated local tracks: sensor 0 0, sensor 1 0, sensor 2 1\n");
+}
+
+TEST(AssociationSummary, TheSparsePathOptionsAreAssociatorOptionsFields) {
+  // The default path: a target's component of one track per sensor is a sub-tensor of
+  // (1 + 1)^3 = 8 entries, the stray's (1 + 1) = 2. Below 8, the three targets' components are
+  // solved by sequential LAP merging (fallback), the stray's is not.
+  AssociatorOptions o;
+  o.max_component_entries = 7;
+  EXPECT_EQ(make_associator(o)->associate(three_targets_and_a_stray()).summary.fallback_components, 3);
+  o.max_component_entries = 8;
+  EXPECT_EQ(make_associator(o)->associate(three_targets_and_a_stray()).summary.fallback_components, 0);
+  // --sparse with a finite miss cost (the solvers' dummy index): the same four components.
+  o.solver = "greedy";
+  o.sparse = true;
+  o.miss_cost = 5.0f;
+  EXPECT_EQ(make_associator(o)->associate(three_targets_and_a_stray()).summary.components, 4);
+  o.radius_scale = 0.5;  // below 1 would lose gated pairs: refused by the request's validation
+  EXPECT_THROW(make_associator(o), InputError);
+  o.radius_scale = 1.0;
+  o.sparse = false;  // the dense tensor has no miss cost: refused, not ignored
+  EXPECT_THROW(make_associator(o), InputError);
+}
+
+// The association path carries its counts in typed fields: no file of it reads options_json back.
+TEST(AssociationSummary, NoFileOfTheAssociationPathParsesTheOptionsAttribute) {
+  const std::filesystem::path root = TRACKASSOC_SOURCE_DIR;
+  std::vector<std::filesystem::path> files{root / "engine/cli/cmd_associate.cpp",
+                                           root / "engine/cli/cmd_run.cpp", root / "engine/python/module.cpp",
+                                           root / "engine/jobs/run_job.cpp",
+                                           root / "engine/studies/recorded/experiment_recorded.cpp"};
+  for (const auto& e : std::filesystem::directory_iterator(root / "engine/pipeline"))
+    files.push_back(e.path());
+  const std::regex parse(R"(parse\([^;]*options_json)");
+  int read = 0;
+  for (const auto& path : files) {
+    std::ifstream in(path);
+    ASSERT_TRUE(in) << path;
+    std::stringstream text;
+    text << in.rdbuf();
+    EXPECT_FALSE(std::regex_search(text.str(), parse)) << path << " parses options_json";
+    ++read;
+  }
+  EXPECT_GT(read, 20);
+}
+
+}  // namespace
+}  // namespace trackassoc
