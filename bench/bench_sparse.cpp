@@ -22,7 +22,7 @@ namespace {
 
 struct Fixture {
   TrackFile file;
-  std::array<AlignedTracks, 3> aligned;
+  std::vector<AlignedTracks> aligned;
   CandidatePairs c12;
   std::unique_ptr<SparseAssociationProblem> problem;
 };

@@ -80,7 +80,7 @@ class SparseSDAssociator final : public TrackAssociator {
     }
     AssociationSummary& s = out.summary;
     s.path = path();
-    s.sensor_ids = select_sd_sensors(file, o_.pipeline).ids;
+    s.sensor_ids = select_sensors(file, o_.pipeline, SensorRule::kTwoOrMore).ids;
     s.runtime_s = out.record.runtime_s;
     const auto info = nlohmann::json::parse(out.record.options_json);  // the solve report's counts
     s.components = info.value("components", 0);

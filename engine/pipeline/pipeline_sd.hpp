@@ -2,10 +2,8 @@
 //   local tracks → common times → alignment → pairwise statistics λ → S-D cost tensor with a dummy
 //   per sensor → S-D solver → tuples (/associations/<name>/).
 //
-// Common times and alignment are those of the 3-D pipeline (engine/pipeline/pipeline.hpp): a uniform grid
-// with step common_period (default: the largest scan period of the chosen sensors) over the
-// interval where all of them report; each track's latest estimate is predicted to a grid time by a
-// CV model. Sensors with different periods and offsets are handled by that prediction.
+// Sensors, common times and alignment are the front end's (engine/pipeline/front_end.hpp,
+// SensorRule::kTwoOrMore); the pair statistics are computed on every pair of tracks.
 //
 // Cost of a tuple with the set P of real members (in the chosen sensor order):
 //   Σ over the links of P of (λ_ab − γ_ab),   γ_ab = χ²-quantile(gate probability, dof_ab),
@@ -37,28 +35,15 @@
 
 namespace trackassoc {
 
-struct SDProblem {
-  std::vector<int32_t> sensor_ids;      // the chosen sensors, in tensor order
-  std::vector<int32_t> sensor_columns;  // their columns in /sensors order
-  int32_t file_sensors = 0;             // columns of the output tuples
-  std::vector<double> common_times;
-  std::vector<AlignedTracks> aligned;
+// The front end's S aligned sensors (engine/pipeline/front_end.hpp), their pair statistics on
+// every pair (the dense pair source) and the S-D tensor.
+struct SDProblem : AlignedSensors {
   std::vector<PairStatistic> pairs;      // pairs[a·S + b] for a < b
   std::vector<std::vector<float>> link;  // λ − γ per pair entry, +inf outside the gate; same indexing
   std::vector<double> gate;              // γ at the pair's largest dof, per pair slot
   CostTensorSD tensor;
   double statistics_time_s = 0.0, tensor_time_s = 0.0;
-  int32_t S() const { return static_cast<int32_t>(sensor_ids.size()); }
 };
-
-// The sensors of an S-D association: options.sensors, or every sensor of the file; their /sensors
-// columns; the common-time period (options.common_period, or the largest scan period of them).
-// Throws InputError on unknown ids or fewer than 2 sensors. Shared by the dense and sparse S-D.
-struct SDSensorSelection {
-  std::vector<int32_t> ids, columns;
-  double period = 0.0;
-};
-SDSensorSelection select_sd_sensors(const TrackFile& file, const PipelineOptions& options);
 
 // options.sensors: empty = every sensor of the file, else ≥ 2 ids. Throws InputError on unknown
 // ids, fewer than 2 sensors, a gate probability of 1, or a tensor over the memory budget.

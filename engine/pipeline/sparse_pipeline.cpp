@@ -57,24 +57,14 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   options.validate();
   const PipelineOptions& po = options.pipeline;
   SparseAssociationProblem p;
-  const SensorSelection sel = select_sensors(file, po);
-  p.num_sensors = sel.num_sensors;
-  p.sensor_ids = sel.ids;
-  p.sensor_columns = sel.columns;
-  const double period = sel.period;
-
   auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, std::size_t bytes) {
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), static_cast<double>(bytes) / kMiB});
   };
 
   auto t0 = std::chrono::steady_clock::now();
-  p.common_times =
-      common_time_grid(file.tracks, p.sensor_ids, period, po.span_union);  // as the dense pipeline
+  static_cast<AlignedSensors&>(p) = align_sensors(file, po, SensorRule::kThree);  // as the dense pipeline
   std::size_t bytes = 0;
-  for (int d = 0; d < 3; ++d) {
-    p.aligned[d] = align_tracks(file.tracks, p.sensor_ids[d], p.common_times, po.alignment);
-    bytes += aligned_bytes(p.aligned[d]);
-  }
+  for (int d = 0; d < 3; ++d) bytes += aligned_bytes(p.aligned[d]);
   stage("alignment", t0, bytes);
 
   // Candidate pairs 1-2, 2-3, 1-3. The 1-3 pairs are needed by the all-pairs cost and, in both
@@ -115,8 +105,6 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   stage("statistics", t0, bytes);
 
   t0 = std::chrono::steady_clock::now();
-  p.offset[0] = 0;
-  for (int d = 0; d < 3; ++d) p.offset[d + 1] = p.offset[d] + p.aligned[d].n_tracks();
   std::vector<int32_t> u, v;
   u.reserve(p.s12.size() + p.s23.size() + p.s13.size());
   v.reserve(u.capacity());
@@ -256,7 +244,7 @@ struct SparseDecoder {
   }
   EmitTuple emit() const {
     return [this](const std::array<int32_t, 3>& t, double cost) {
-      append_output_row(p.num_sensors, p.sensor_columns, p.aligned, t, {true, true, true}, cost, rows, costs);
+      append_output_row(p, t, cost, rows, costs);
     };
   }
   // A tuple kept whole costs what the dense tensor holds for it (float).
@@ -362,7 +350,7 @@ AssociationRecord sparse_record_from_solutions(const SparseAssociationProblem& p
 
   AssociationRecord rec;
   rec.name = solver;
-  rec.num_sensors = p.num_sensors;
+  rec.num_sensors = p.file_sensors;
   rec.solver = solver;
   rec.seed = seed;
   rec.options_json = nlohmann::json({{"pipeline", options.to_json()}}).dump();

@@ -72,15 +72,11 @@ struct StageReport {
   double data_mib = 0.0;      // bytes held by the stage's output
 };
 
-struct SparseAssociationProblem {
-  std::array<int32_t, 3> sensor_ids{};
-  std::array<int32_t, 3> sensor_columns{};
-  int32_t num_sensors = 0;
-  std::vector<double> common_times;
-  std::array<AlignedTracks, 3> aligned;
+// The front end's three aligned sensors (engine/pipeline/front_end.hpp; node of (sensor d, track
+// i) = offset[d] + i), the gated pairs of the candidate index, and their connected components.
+struct SparseAssociationProblem : AlignedSensors {
   std::array<std::size_t, 3> candidate_pairs{};  // index output before the gate: 12, 23, 13
   SparsePairStatistic s12, s23, s13;             // in-gate pairs only
-  std::array<int32_t, 4> offset{};               // node of (sensor d, track i) = offset[d] + i
   Components components;
   double gated_pair_cost = 0.0;     // G used in every sub-tensor
   std::vector<StageReport> stages;  // alignment, candidates, statistics, clusters

@@ -95,30 +95,6 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   options.validate();
   const PipelineOptions& po = options.pipeline;
   SparseSDProblem p;
-  p.file_sensors = static_cast<int32_t>(file.sensors.size());
-  p.dim = file.tracks.dim();
-  SDSensorSelection sel = select_sd_sensors(file, po);
-  // A sensor with no local tracks (down, or it saw nothing) is associated around: it takes no part
-  // in the problem, and its column of the tuples stays -1 (issue 30). Any number of sensors: a
-  // tuple holds only the sensors of its component (sd_tuple_cost has no cap).
-  const std::set<int32_t> reporting(file.tracks.sensor.begin(), file.tracks.sensor.end());
-  for (std::size_t k = 0; k < sel.ids.size(); ++k)
-    if (reporting.count(sel.ids[k])) {
-      p.sensor_ids.push_back(sel.ids[k]);
-      p.sensor_columns.push_back(sel.columns[k]);
-    } else {
-      p.empty_sensor_ids.push_back(sel.ids[k]);
-    }
-  if (p.sensor_ids.size() < 2) {
-    std::string empty;
-    for (int32_t id : p.empty_sensor_ids) empty += (empty.empty() ? "" : ", ") + std::to_string(id);
-    throw InputError("/tracks: association needs the local tracks of at least 2 sensors; sensor" +
-                     std::string(p.empty_sensor_ids.size() > 1 ? "s " : " ") + empty + " of " +
-                     std::to_string(sel.ids.size()) + " ha" + (p.empty_sensor_ids.size() > 1 ? "ve" : "s") +
-                     " none");
-  }
-  const double period = sel.period;
-  const int32_t S = p.S();
   auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, double bytes) {
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), bytes / kMiB});
   };
@@ -138,28 +114,14 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   };
 
   auto t0 = std::chrono::steady_clock::now();
-  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period, po.span_union);
-  p.offset.assign(1, 0);
+  static_cast<AlignedSensors&>(p) = align_sensors(file, po, SensorRule::kTwoOrMore, EmptySensors::kLeaveOut);
   double bytes = 0;
-  for (int32_t s = 0; s < S; ++s) {
-    p.aligned.push_back(align_tracks(file.tracks, p.sensor_ids[s], p.common_times, po.alignment));
-    const AlignedTracks& x = p.aligned.back();
-    p.offset.push_back(p.offset.back() + x.n_tracks());
+  for (const AlignedTracks& x : p.aligned)
     bytes += static_cast<double>(x.state.size() + x.cov.size()) * sizeof(double) + x.valid.size();
-    for (int32_t i = 0; i < x.n_tracks(); ++i) {
-      int32_t first = -1, last = -1;
-      for (int32_t k = 0; k < x.n_times; ++k)
-        if (x.valid[static_cast<std::size_t>(i) * x.n_times + k]) {
-          if (first < 0) first = k;
-          last = k;
-        }
-      p.first_valid.push_back(first);
-      p.last_valid.push_back(last);
-    }
-  }
   stage("alignment", t0, bytes);
   held += bytes;
   require_some_overlap(p);
+  const int32_t S = p.S();
 
   const std::size_t slots = static_cast<std::size_t>(S) * S;
   p.pairs.resize(slots);

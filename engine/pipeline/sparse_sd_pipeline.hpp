@@ -67,16 +67,10 @@ struct SparseSDOptions {
   nlohmann::json to_json() const;
 };
 
-struct SparseSDProblem {
-  std::vector<int32_t> sensor_ids;        // the chosen sensors with local tracks, in their order
-  std::vector<int32_t> empty_sensor_ids;  // the chosen sensors without any (their tuple column is -1)
-  std::vector<int32_t> sensor_columns;    // their columns in /sensors order
-  int32_t file_sensors = 0;               // columns of the output tuples
-  int32_t dim = 4;                        // state dimension D
-  std::vector<double> common_times;
-  std::vector<AlignedTracks> aligned;
-  std::vector<int32_t> first_valid, last_valid;  // per node: first and last valid common time (−1: never)
-  std::vector<int32_t> offset;                   // node of (sensor s, track i) = offset[s] + i
+// The front end's aligned sensors (engine/pipeline/front_end.hpp; a chosen sensor without local
+// tracks is left out: empty_sensor_ids), the gated pairs of the per-scan candidate index with
+// their link costs, and their connected components.
+struct SparseSDProblem : AlignedSensors {
   // Gated-in pairs of every sensor pair a < b, slot a·S + b, with their link cost.
   std::vector<SparsePairStatistic> pairs;
   std::vector<std::vector<double>> link;
@@ -84,17 +78,6 @@ struct SparseSDProblem {
   Components components;
   std::vector<StageReport> stages;  // alignment, candidates, statistics, components
   double bytes_held = 0.0;          // the input and the problem [bytes], counted against the memory budget
-  int32_t S() const { return static_cast<int32_t>(sensor_ids.size()); }
-  int32_t nodes() const { return offset.empty() ? 0 : offset.back(); }
-  int32_t sensor_of(int32_t node) const {  // the s with offset[s] <= node < offset[s + 1]
-    return static_cast<int32_t>(std::upper_bound(offset.begin(), offset.end(), node) - offset.begin()) - 1;
-  }
-  // Nodes u and v have common valid times, so the gate tested them (a pair that never coexists
-  // carries no evidence either way).
-  bool coexist(int32_t u, int32_t v) const {
-    if (first_valid[u] < 0 || first_valid[v] < 0) return false;
-    return std::max(first_valid[u], first_valid[v]) <= std::min(last_valid[u], last_valid[v]);
-  }
 };
 
 // Throws InputError on unknown sensor ids, fewer than 2 sensors with local tracks (a sensor without
