@@ -4,7 +4,7 @@
 //   sensors → common time grid → alignment   (→ registration, engine/pipeline/registration_stage.hpp,
 //                                              which re-runs the whole association on corrected reports)
 //
-// and then the pair source computes the pair statistics on it.
+// and then the pair source (engine/pipeline/pair_source.hpp) computes the pair statistics on it.
 // The dense 3-D (pipeline.hpp), dense S-D (pipeline_sd.hpp), sparse 3-D (sparse_pipeline.hpp) and
 // sparse S-D (sparse_sd_pipeline.hpp) problems are each an AlignedSensors plus what their pair
 // source and solver add.

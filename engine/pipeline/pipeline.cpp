@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/pipeline/pair_source.hpp"
 #include "engine/pipeline/tuple_decoding.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
@@ -61,9 +62,9 @@ AssociationProblem build_association_problem(const TrackFile& file, const Pipeli
   AssociationProblem p;
   const auto t0 = std::chrono::steady_clock::now();
   static_cast<AlignedSensors&>(p) = align_sensors(file, options, SensorRule::kThree);
-  p.s12 = independent_sequential_statistic(p.aligned[0], p.aligned[1], options.statistic);
-  p.s23 = independent_sequential_statistic(p.aligned[1], p.aligned[2], options.statistic);
-  p.s13 = independent_sequential_statistic(p.aligned[0], p.aligned[2], options.statistic);
+  p.s12 = all_pairs_statistic(p, 0, 1, options.statistic);  // the dense pair source (pair_source.hpp)
+  p.s23 = all_pairs_statistic(p, 1, 2, options.statistic);
+  p.s13 = all_pairs_statistic(p, 0, 2, options.statistic);
   p.statistics_time_s = seconds_since(t0);
 
   set_cost_tensor(p, options.cost);

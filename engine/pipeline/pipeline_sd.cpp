@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "engine/pipeline/pair_source.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
@@ -136,8 +137,7 @@ SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
-      PairStatistic& st = p.pairs[slot] =
-          independent_sequential_statistic(p.aligned[a], p.aligned[b], options.statistic);
+      PairStatistic& st = p.pairs[slot] = all_pairs_statistic(p, a, b, options.statistic);
       // The link cost (λ − G(n))/f of kernels/statistics/association_statistic.hpp: ≤ 0 inside the gate.
       const SequentialGate gate(file.tracks.dim(), options.statistic,
                                 static_cast<int32_t>(p.common_times.size()));

@@ -9,13 +9,14 @@
 #include <map>
 #include <numeric>
 
+#include "engine/pipeline/pair_source.hpp"
+#include "engine/pipeline/partition.hpp"
 #include "engine/pipeline/sparse_3d_sharded.hpp"
 #include "engine/pipeline/tuple_decoding.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
 #include "kernels/core/stopwatch.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
 
 namespace trackassoc {
 namespace {
@@ -73,10 +74,11 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   const std::array<std::pair<int, int>, 3> sensor_pairs{{{0, 1}, {1, 2}, {0, 2}}};
   std::array<CandidatePairs, 3> cand;
   bytes = 0;
-  for (int q = 0; q < 3; ++q) {
-    cand[q] = candidate_pairs_for_gate(p.aligned[sensor_pairs[q].first], p.aligned[sensor_pairs[q].second],
-                                       po.statistic, options.radius_scale);
-    p.candidate_pairs[q] = cand[q].size();
+  for (int q = 0; q < 3; ++q) {  // the default path's index (pair_source.hpp): the same gated pairs
+    IndexedCandidates c =
+        indexed_candidates(p, sensor_pairs[q].first, sensor_pairs[q].second, po.statistic, options.radius_scale);
+    p.candidate_pairs[q] = c.found;
+    cand[q] = std::move(c.pairs);
     bytes += cand[q].size() * 2 * sizeof(int32_t);
   }
   stage("candidates", t0, bytes);
@@ -85,10 +87,7 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   std::array<SparsePairStatistic*, 3> out{&p.s12, &p.s23, &p.s13};
   bytes = 0;
   for (int q = 0; q < 3; ++q) {
-    *out[q] = keep_in_gate(sparse_sequential_statistic(
-        p.aligned[sensor_pairs[q].first], p.aligned[sensor_pairs[q].second], cand[q], po.statistic));
-    CandidatePairs().a.swap(cand[q].a);
-    CandidatePairs().b.swap(cand[q].b);
+    *out[q] = gated_candidate_statistic(p, sensor_pairs[q].first, sensor_pairs[q].second, cand[q], po.statistic);
     bytes += out[q]->bytes();
   }
   // G, the dense rule over the matrices the cost form uses (kernels/statistics/cost_tensor.hpp).
@@ -105,17 +104,8 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   stage("statistics", t0, bytes);
 
   t0 = std::chrono::steady_clock::now();
-  std::vector<int32_t> u, v;
-  u.reserve(p.s12.size() + p.s23.size() + p.s13.size());
-  v.reserve(u.capacity());
-  for (int q = 0; q < 3; ++q) {
-    const auto [da, db] = sensor_pairs[q];
-    for (std::size_t e = 0; e < out[q]->size(); ++e) {
-      u.push_back(p.offset[da] + out[q]->a[e]);
-      v.push_back(p.offset[db] + out[q]->b[e]);
-    }
-  }
-  p.components = connected_components(p.offset[3], u, v);
+  const GatedPairs gated[3] = {{0, 1, &p.s12}, {1, 2, &p.s23}, {0, 2, &p.s13}};
+  p.components = gated_pair_components(p, gated);
   stage("clusters", t0,
         (p.components.label.size() + p.components.nodes.size()) * sizeof(int32_t) +
             p.components.begin.size() * sizeof(int64_t));

@@ -1,10 +1,10 @@
 // The sparse association pipeline for three sensors (docs/design.md §4.3, "Sparse form"): the path for
 // recorded track sets too large for the dense n1·n2·n3 tensor.
 //
-//   local tracks → common times → alignment                       (as engine/pipeline/pipeline.hpp)
-//   → candidate pairs from a grid over time-averaged positions   (kernels/statistics/sparse_candidates.hpp)
-//   → λ on candidate pairs only, chi-square gate                  (same statistic kernel)
-//   → connected components of the gated pair graph                (kernels/assignment/clusters.hpp)
+//   local tracks → sensors, common times, alignment        (the front end, engine/pipeline/front_end.hpp)
+//   → the default path's per-scan candidate index, λ on the candidates, the gate
+//                                                          (the pair source, engine/pipeline/pair_source.hpp)
+//   → connected components of the gated pair graph         (the partition, engine/pipeline/partition.hpp)
 //   → per component, in parallel (TBB): a small dense sub-tensor, any registered solver
 //   → decoding into the same AssociationRecord as the dense pipeline.
 // Under MPI (options.ranks, more than one rank) the components are solved on the ranks and decoded

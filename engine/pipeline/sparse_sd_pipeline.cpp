@@ -8,6 +8,8 @@
 #include <map>
 #include <set>
 
+#include "engine/pipeline/pair_source.hpp"
+#include "engine/pipeline/partition.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_components.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
@@ -19,7 +21,6 @@
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/random.hpp"
 #include "kernels/core/stopwatch.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
 
 namespace trackassoc {
 namespace {
@@ -133,9 +134,9 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
-      cand[slot] = candidate_pairs_for_gate(p.aligned[a], p.aligned[b], po.statistic, options.radius_scale);
-      p.candidate_pairs[slot] = cand[slot].size();
-      cand[slot] = prune_by_position_bound(p.aligned[a], p.aligned[b], cand[slot], po.statistic);
+      IndexedCandidates c = indexed_candidates(p, a, b, po.statistic, options.radius_scale);
+      p.candidate_pairs[slot] = c.found;
+      cand[slot] = std::move(c.pairs);
       bytes += cand[slot].size() * 2.0 * sizeof(int32_t);
       require_held(bytes, "the candidate pairs of " + pair_name(a, b) + " (" +
                               std::to_string(p.candidate_pairs[slot]) + " found, " +
@@ -146,7 +147,8 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
 
   t0 = std::chrono::steady_clock::now();
   const SequentialGate gate(p.dim, po.statistic, static_cast<int32_t>(p.common_times.size()));
-  std::vector<int32_t> u, v;
+  std::vector<GatedPairs> gated;
+  std::size_t gated_pairs = 0;
   bytes = 0;
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
@@ -157,18 +159,14 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       require_held(bytes + n * (21.0 + 8.0 + 8.0), "the statistics of the " +
                                                        std::to_string(cand[slot].size()) +
                                                        " candidate pairs of " + pair_name(a, b));
-      p.pairs[slot] =
-          keep_in_gate(sparse_sequential_statistic(p.aligned[a], p.aligned[b], cand[slot], po.statistic));
-      CandidatePairs().a.swap(cand[slot].a);
-      CandidatePairs().b.swap(cand[slot].b);
+      p.pairs[slot] = gated_candidate_statistic(p, a, b, cand[slot], po.statistic);
       const SparsePairStatistic& st = p.pairs[slot];
+      gated.push_back({a, b, &st});
+      gated_pairs += st.size();
       auto& link = p.link[slot];
       link.resize(st.size());
-      for (std::size_t q = 0; q < st.size(); ++q) {
-        link[q] = gate.link_cost(st.lambda[q], st.dof[q] / p.dim);
-        u.push_back(p.offset[a] + st.a[q]);
-        v.push_back(p.offset[b] + st.b[q]);
-      }
+      for (std::size_t q = 0; q < st.size(); ++q) link[q] = gate.link_cost(st.lambda[q], st.dof[q] / p.dim);
+      // The link costs, and the two nodes of each gated pair that the partition's edges take.
       bytes += static_cast<double>(st.bytes() + link.size() * sizeof(double)) + 8.0 * link.size();
       held -= n * 2 * sizeof(int32_t);  // the candidates, freed above
     }
@@ -179,9 +177,9 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   // connected_components: a union-find and the members by component (int32 per node, a few times).
   require_held(4.0 * sizeof(int32_t) * p.nodes(),
                "the connected components of " + std::to_string(p.nodes()) + " local tracks");
-  p.components = connected_components(p.nodes(), u, v);
+  p.components = gated_pair_components(p, gated);
   stage("components", t0, static_cast<double>(p.components.nodes.size() * sizeof(int32_t)));
-  held -= 8.0 * static_cast<double>(u.size());  // u, v are freed on return
+  held -= 8.0 * static_cast<double>(gated_pairs);  // the edges, freed on return
   p.bytes_held = held + static_cast<double>(p.components.nodes.size() * sizeof(int32_t));
   return p;
 }

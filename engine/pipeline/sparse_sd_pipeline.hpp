@@ -1,12 +1,13 @@
 // The default association pipeline for recorded track sets: every sensor, sparse gated
 // candidates, and an S-D assignment with dummies per connected component (docs/design.md §4.3; issue 20).
 //
-//   local tracks of S ≥ 2 sensors → common times over the union of their reports
-//   → two-sided alignment (nearest report on either side) kernels/statistics/association_statistic.hpp → for
-//   every pair of sensors: candidate pairs from a per-scan index kernels/statistics/scan_candidates.hpp → the
-//   sequential statistic on candidates, the calibrated gate    (SequentialGate) → connected components of the
-//   gated pair graph                   kernels/assignment/clusters.hpp → per component, in parallel (TBB):
-//   the S-D assignment with a dummy per sensor over the
+//   local tracks of S ≥ 2 sensors → common times over the union of their reports → two-sided
+//     alignment (nearest report on either side)       (the front end, engine/pipeline/front_end.hpp)
+//   → for every pair of sensors: candidate pairs from a per-scan index, the sequential statistic
+//     on the candidates, the calibrated gate (SequentialGate)
+//                                                     (the pair source, engine/pipeline/pair_source.hpp)
+//   → connected components of the gated pair graph   (the partition, engine/pipeline/partition.hpp)
+//   → per component, in parallel (TBB): the S-D assignment with a dummy per sensor over the
 //     component's tracks (a dense sub-tensor; lr+ls, lr or exact), or, for a component whose
 //     sub-tensor exceeds the budget, sequential LAP merging
 //   → tuples over all sensors of the file (−1 = no track), every local track in exactly one tuple
