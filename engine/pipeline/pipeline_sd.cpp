@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "engine/pipeline/pair_source.hpp"
+#include "engine/pipeline/tuple_cost.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
@@ -33,14 +34,20 @@ void fill_tensor(SDProblem& p, CostForm form) {
         present.clear();
         for (int32_t s = 0; s < S; ++s)
           if (idx[s] < n[s]) present.push_back(s);
-        double v = 0.0;
-        const std::size_t m = present.size();
-        for (std::size_t x = 0; x + 1 < m && std::isfinite(v); ++x)
-          for (std::size_t y = x + 1; y < (form == CostForm::kChain ? x + 2 : m); ++y) {
-            const int32_t a = present[x], bb = present[y];
-            v += p.link[static_cast<std::size_t>(a) * S + bb]
-                       [static_cast<std::size_t>(idx[a]) * n[bb] + idx[bb]];
-          }
+        // The one S-D tuple cost rule (engine/pipeline/tuple_cost.hpp); the link is +inf
+        // (kForbidden) for a pair that is not gated in.
+        const double v = sd_tuple_cost(
+            present.size(), form == CostForm::kAllPairs,
+            [&](std::size_t x, std::size_t y) {
+              const int32_t a = present[x], bb = present[y];
+              const float l =
+                  p.link[static_cast<std::size_t>(a) * S + bb][static_cast<std::size_t>(idx[a]) * n[bb] + idx[bb]];
+              return l == kForbidden ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(l);
+            },
+            [&](std::size_t x, std::size_t y) {
+              const int32_t a = present[x], bb = present[y];
+              return p.coexist(p.offset[a] + idx[a], p.offset[bb] + idx[bb]);
+            });
         c.cost[base + r] = static_cast<float>(v);
         for (int32_t s = S - 1; s > 0; --s) {  // odometer over sensors 1 … S−1
           if (++idx[s] <= n[s]) break;

@@ -5,14 +5,15 @@
 // Sensors, common times and alignment are the front end's (engine/pipeline/front_end.hpp,
 // SensorRule::kTwoOrMore); the pair statistics are computed on every pair of tracks.
 //
-// Cost of a tuple with the set P of real members (in the chosen sensor order):
-//   Σ over the links of P of (λ_ab − γ_ab),   γ_ab = χ²-quantile(gate probability, dof_ab),
-// the links being consecutive members of P (chain form, seed 000 Eq. 3 in S dimensions; a dummy
-// is skipped) or every pair of P (all-pairs form); a link outside the gate makes the tuple +∞
-// (forbidden), and a tuple of one track costs 0. So the gate γ is the cost of not linking two
-// tracks: a link pays off when its λ is below the gate (the generalised-likelihood-ratio cost of
-// the S-D assignment literature, with the chi-square gate as the miss cost). A target seen by 3 of
-// 4 sensors is grouped as (i, j, k, dummy). The gate probability must be below 1.
+// Cost of a tuple (engine/pipeline/tuple_cost.hpp, the rule of the default path too): Σ over its
+// linked pairs (consecutive members, chain form, seed 000 Eq. 3 in S dimensions, a dummy skipped;
+// or every pair, all-pairs form) of the link cost (λ_ab − G(n_ab))/f of SequentialGate, ≤ 0 inside
+// the gate; +∞ (forbidden) when two members coexist and fail the gate or the members are not
+// connected through gated-in pairs; a pair that never coexists carries no evidence either way. A
+// tuple of one track costs 0. So the gate is the cost of not linking two tracks: a link pays off
+// when its λ is below the gate (the generalised-likelihood-ratio cost of the S-D assignment
+// literature, with the gate as the miss cost). A target seen by 3 of 4 sensors is grouped as
+// (i, j, k, dummy). The gate probability must be below 1.
 //
 // Solvers (sd_solver_names()): lr, lr+ls (kernels/assignment/sd/lagrangian_sd.hpp, options as for the 3-D
 // lr), exact (kernels/assignment/sd/assignment_sd.hpp; options time_limit_s, max_nodes; started from lr+ls),
