@@ -163,7 +163,8 @@ void BM_SparseProblemDefaults(benchmark::State& state) {
 void BM_DefaultPathProblem(benchmark::State& state) {
   SparseSDOptions o;
   o.pipeline.statistic.gate_probability = 0.999;
-  build_problems(state, 1, [&](const TrackFile& file) { return build_sparse_sd_problem(file, o); });  // 0·S + 1
+  build_problems(state, 1,
+                 [&](const TrackFile& file) { return build_sparse_sd_problem(file, o); });  // 0·S + 1
 }
 
 void BM_SparseSolve(benchmark::State& state) {

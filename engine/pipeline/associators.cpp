@@ -246,7 +246,8 @@ AssociationPath choose_association_path(const AssociatorOptions& o) {
   const std::size_t n_sensors = o.pipeline.sensors.size();
   const auto& sparse_sd = sparse_sd_solver_names();
   // --sensors selects sensors, never the method: any number of them stays on the default path.
-  if (!explicit_pipeline && !special && std::find(sparse_sd.begin(), sparse_sd.end(), o.solver) != sparse_sd.end())
+  if (!explicit_pipeline && !special &&
+      std::find(sparse_sd.begin(), sparse_sd.end(), o.solver) != sparse_sd.end())
     return AssociationPath::kSparseSD;
   if (fusion) {  // not a 3-D tensor solver (seed 001)
     if (o.sparse)

@@ -23,8 +23,8 @@ IndexedCandidates indexed_candidates(const AlignedSensors& sensors, int32_t a, i
 
 SparsePairStatistic gated_candidate_statistic(const AlignedSensors& sensors, int32_t a, int32_t b,
                                               CandidatePairs& candidates, const StatisticOptions& statistic) {
-  SparsePairStatistic s =
-      keep_in_gate(sparse_sequential_statistic(sensors.aligned[a], sensors.aligned[b], candidates, statistic));
+  SparsePairStatistic s = keep_in_gate(
+      sparse_sequential_statistic(sensors.aligned[a], sensors.aligned[b], candidates, statistic));
   CandidatePairs().a.swap(candidates.a);
   CandidatePairs().b.swap(candidates.b);
   return s;

@@ -77,8 +77,8 @@ void set_cost_tensor(AssociationProblem& p, const CostTensorOptions& cost) {
   p.tensor_time_s = seconds_since(t1);
 }
 
-void append_output_row(const AlignedSensors& sensors, const Tuple3& t, double cost, std::vector<int32_t>& rows,
-                       std::vector<double>& costs) {
+void append_output_row(const AlignedSensors& sensors, const Tuple3& t, double cost,
+                       std::vector<int32_t>& rows, std::vector<double>& costs) {
   std::vector<int32_t> row(sensors.file_sensors, kNoTrack);
   bool any = false;
   for (int d = 0; d < 3; ++d)

@@ -86,7 +86,7 @@ AssociationRecord solve_association(const AssociationProblem& problem, const std
 // Appends one output row (local track numbers in /sensors columns, −1 = none) holding the members
 // of tuple t, with its cost; nothing when no member is present. Shared by the dense and sparse
 // decodings.
-void append_output_row(const AlignedSensors& sensors, const Tuple3& t, double cost, std::vector<int32_t>& rows,
-                       std::vector<double>& costs);
+void append_output_row(const AlignedSensors& sensors, const Tuple3& t, double cost,
+                       std::vector<int32_t>& rows, std::vector<double>& costs);
 
 }  // namespace trackassoc

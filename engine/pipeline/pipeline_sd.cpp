@@ -40,8 +40,8 @@ void fill_tensor(SDProblem& p, CostForm form) {
             present.size(), form == CostForm::kAllPairs,
             [&](std::size_t x, std::size_t y) {
               const int32_t a = present[x], bb = present[y];
-              const float l =
-                  p.link[static_cast<std::size_t>(a) * S + bb][static_cast<std::size_t>(idx[a]) * n[bb] + idx[bb]];
+              const float l = p.link[static_cast<std::size_t>(a) * S + bb]
+                                    [static_cast<std::size_t>(idx[a]) * n[bb] + idx[bb]];
               return l == kForbidden ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(l);
             },
             [&](std::size_t x, std::size_t y) {

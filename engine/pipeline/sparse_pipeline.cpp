@@ -75,8 +75,8 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   std::array<CandidatePairs, 3> cand;
   bytes = 0;
   for (int q = 0; q < 3; ++q) {  // the default path's index (pair_source.hpp): the same gated pairs
-    IndexedCandidates c =
-        indexed_candidates(p, sensor_pairs[q].first, sensor_pairs[q].second, po.statistic, options.radius_scale);
+    IndexedCandidates c = indexed_candidates(p, sensor_pairs[q].first, sensor_pairs[q].second, po.statistic,
+                                             options.radius_scale);
     p.candidate_pairs[q] = c.found;
     cand[q] = std::move(c.pairs);
     bytes += cand[q].size() * 2 * sizeof(int32_t);
@@ -87,7 +87,8 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   std::array<SparsePairStatistic*, 3> out{&p.s12, &p.s23, &p.s13};
   bytes = 0;
   for (int q = 0; q < 3; ++q) {
-    *out[q] = gated_candidate_statistic(p, sensor_pairs[q].first, sensor_pairs[q].second, cand[q], po.statistic);
+    *out[q] =
+        gated_candidate_statistic(p, sensor_pairs[q].first, sensor_pairs[q].second, cand[q], po.statistic);
     bytes += out[q]->bytes();
   }
   // G, the dense rule over the matrices the cost form uses (kernels/statistics/cost_tensor.hpp).
@@ -233,9 +234,8 @@ struct SparseDecoder {
     };
   }
   EmitTuple emit() const {
-    return [this](const std::array<int32_t, 3>& t, double cost) {
-      append_output_row(p, t, cost, rows, costs);
-    };
+    return
+        [this](const std::array<int32_t, 3>& t, double cost) { append_output_row(p, t, cost, rows, costs); };
   }
   // A tuple kept whole costs what the dense tensor holds for it (float).
   void split(const std::array<int32_t, 3>& t, std::array<std::vector<int32_t>, 3>& left_over) const {

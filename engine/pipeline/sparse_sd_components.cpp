@@ -24,8 +24,12 @@ double component_tuple_cost(const SDComponentView& v, const std::vector<std::pai
                             bool all_pairs) {
   return sd_tuple_cost(
       m.size(), all_pairs,
-      [&](std::size_t x, std::size_t y) { return v.link_cost(m[x].first, m[x].second, m[y].first, m[y].second); },
-      [&](std::size_t x, std::size_t y) { return v.overlap(m[x].first, m[x].second, m[y].first, m[y].second); });
+      [&](std::size_t x, std::size_t y) {
+        return v.link_cost(m[x].first, m[x].second, m[y].first, m[y].second);
+      },
+      [&](std::size_t x, std::size_t y) {
+        return v.overlap(m[x].first, m[x].second, m[y].first, m[y].second);
+      });
 }
 
 SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::string& solver,
