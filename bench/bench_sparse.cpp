@@ -3,7 +3,8 @@
 //   statistic   — λ on candidate pairs (ours) vs the dense all-pairs statistic (peer, n ≤ 10³);
 //   problem     — alignment + candidates + λ + components, end to end;
 //   solve       — components solved in parallel with the registry's "pairwise" solver.
-//   problem, defaults — the same problem with `associate --sparse`'s default options (n ≤ 10³).
+//   problem, defaults — the same problem with `associate --sparse`'s default options (n ≤ 10³),
+//                       and the default path's problem with those options (the same pair source).
 // Track sets: engine/studies/scale/experiment_scale.hpp's synthetic_recorded_tracks at the experiment's
 // default density (100 targets per 100 km², 3-D) and options (PipelineOptions::paper()). Args: {n, threads}.
 #include <benchmark/benchmark.h>
@@ -14,6 +15,7 @@
 
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/studies/scale/experiment_scale.hpp"
 #include "kernels/statistics/sparse_candidates.hpp"
 
@@ -22,7 +24,7 @@ namespace {
 
 struct Fixture {
   TrackFile file;
-  std::array<AlignedTracks, 3> aligned;
+  std::vector<AlignedTracks> aligned;
   CandidatePairs c12;
   std::unique_ptr<SparseAssociationProblem> problem;
 };
@@ -129,21 +131,40 @@ void BM_SparseProblem(benchmark::State& state) {
       benchmark::Counter(3.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// The same problem with `associate --sparse`'s default options (calibrated gate): shows the
-// candidate count and time those options cost at this density (counter: candidate pairs 1–2).
-void BM_SparseProblemDefaults(benchmark::State& state) {
+// Builds a sparse problem per iteration; counters: the candidate pairs of sensors 1–2 (its slot
+// `slot12`) and the last iteration's stage times.
+template <class Build>
+void build_problems(benchmark::State& state, std::size_t slot12, Build build) {
   const Fixture& f = fixture(static_cast<int32_t>(state.range(0)));
   std::unique_ptr<tbb::global_control> gc;
   set_threads(state, gc);
-  SparsePipelineOptions o;
-  o.pipeline.statistic.gate_probability = 0.999;
   std::size_t candidates = 0;
+  std::vector<StageReport> stages;
   for (auto _ : state) {
-    const SparseAssociationProblem p = build_sparse_association_problem(f.file, o);
-    candidates = p.candidate_pairs[0];
+    const auto p = build(f.file);
+    candidates = p.candidate_pairs[slot12];
+    stages = p.stages;
     benchmark::DoNotOptimize(p.components.count);
   }
   state.counters["candidates_12"] = static_cast<double>(candidates);
+  for (const StageReport& s : stages) state.counters[s.name + "_s"] = s.seconds;
+}
+
+// The same problem with `associate --sparse`'s default options (calibrated gate): shows the
+// candidate count and time those options cost at this density (counter: candidate pairs 1–2).
+void BM_SparseProblemDefaults(benchmark::State& state) {
+  SparsePipelineOptions o;
+  o.pipeline.statistic.gate_probability = 0.999;
+  build_problems(state, 0, [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
+}
+
+// The default (sparse S-D) path's problem with the same options on the same tracks: the index and
+// pair source that `--sparse` shares (engine/pipeline/pair_source.hpp).
+void BM_DefaultPathProblem(benchmark::State& state) {
+  SparseSDOptions o;
+  o.pipeline.statistic.gate_probability = 0.999;
+  build_problems(state, 1,
+                 [&](const TrackFile& file) { return build_sparse_sd_problem(file, o); });  // 0·S + 1
 }
 
 void BM_SparseSolve(benchmark::State& state) {
@@ -172,6 +193,7 @@ BENCHMARK(BM_SparseStatistic)->Apply([](auto* b) { sizes(b, 10000); });
 BENCHMARK(BM_DenseStatistic)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_SparseProblem)->Apply([](auto* b) { sizes(b, 10000); });
 BENCHMARK(BM_SparseProblemDefaults)->Apply([](auto* b) { sizes(b, 1000); });
+BENCHMARK(BM_DefaultPathProblem)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_SparseSolve)->Apply([](auto* b) { sizes(b, 10000); });
 
 }  // namespace

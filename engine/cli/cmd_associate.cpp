@@ -82,9 +82,12 @@ void register_associate(CLI::App& app) {
       "Draw the recording as a map with the association: tracks coloured by output target, "
       "unassociated in grey, wrong links in red and missed targets dashed where truth exists (PNG)");
   cmd->add_flag("--svg", args->svg, "--plots as SVG (a .png name becomes .svg)");
-  cmd->add_flag("--sd", args->sd,
-                "S-D formulation with a dummy per sensor (any number of sensors; solvers " +
-                    list_names(sd_solver_names(), ", ") + "). Implied by more than three --sensors");
+  cmd->add_flag(
+      "--sd", args->sd,
+      "S-D formulation with a dummy per sensor as one dense tensor (any number of sensors; solvers " +
+          list_names(sd_solver_names(), ", ") +
+          "): the default path's tuple cost on the whole problem, not per component. --sensors never implies "
+          "it");
   cmd->add_flag(
       "--3d", args->three_d,
       "The three-sensor cost-tensor pipeline (seed 000 Eq. 3) for any solver, e.g. --solver lr --3d");

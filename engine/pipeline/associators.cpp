@@ -97,7 +97,7 @@ class SparseSDAssociator final : public TrackAssociator {
       out.record.runtime_s = total;
     }
     s.path = path();
-    s.sensor_ids = select_sd_sensors(file, o_.pipeline).ids;
+    s.sensor_ids = select_sensors(file, o_.pipeline, SensorRule::kTwoOrMore).ids;
     s.runtime_s = out.record.runtime_s;
     s.components = kept.solve.components;
     s.candidate_pairs = kept.solve.candidate_pairs;
@@ -276,7 +276,8 @@ AssociationPath path_of(const AssociatorOptions& o) {
   const bool special = fusion || o.solver == "siamese";
   const std::size_t n_sensors = o.pipeline.sensors.size();
   const auto& sparse_sd = sparse_sd_solver_names();
-  if (!explicit_pipeline && !special && n_sensors != 3 &&
+  // --sensors selects sensors, never the method: any number of them stays on the default path.
+  if (!explicit_pipeline && !special &&
       std::find(sparse_sd.begin(), sparse_sd.end(), o.solver) != sparse_sd.end())
     return AssociationPath::kSparseSD;
   if (fusion) {  // not a 3-D tensor solver (seed 001)

@@ -3,20 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
-#include <map>
-#include <set>
 
+#include "engine/pipeline/pair_source.hpp"
 #include "engine/pipeline/tuple_decoding.hpp"
 #include "engine/solvers/solver_registry.hpp"
-#include "io/memory_budget.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
-namespace {}  // namespace
-
 void PipelineOptions::validate() const {
   require(sensors.empty() || sensors.size() >= 2, "PipelineOptions.sensors",
           "expected no sensor ids or at least 2, got " + std::to_string(sensors.size()));
@@ -62,102 +57,14 @@ nlohmann::json PipelineOptions::to_json() const {
           {"gated_pair_cost", cost.gated_pair_cost}};
 }
 
-std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const int32_t> sensor_ids,
-                                     double period, bool span_union) {
-  const std::size_t S = sensor_ids.size();
-  std::vector<double> first(S, std::numeric_limits<double>::infinity()),
-      last(S, -std::numeric_limits<double>::infinity());
-  for (std::size_t r = 0; r < tracks.size(); ++r)
-    for (std::size_t d = 0; d < S; ++d)
-      if (tracks.sensor[r] == sensor_ids[d]) {
-        first[d] = std::min(first[d], tracks.t[r]);
-        last[d] = std::max(last[d], tracks.t[r]);
-      }
-  for (std::size_t d = 0; d < S; ++d)
-    if (!std::isfinite(first[d]))
-      throw InputError("/tracks: sensor " + std::to_string(sensor_ids[d]) +
-                       " has no local tracks; the default pipeline (no --3d, --sd or --sparse, solver " +
-                       "lr+ls, lr or exact) associates around such a sensor");
-  const double start = span_union ? *std::min_element(first.begin(), first.end())
-                                  : *std::max_element(first.begin(), first.end()) + period;
-  const double end =
-      span_union ? *std::max_element(last.begin(), last.end()) : *std::min_element(last.begin(), last.end());
-  // The grid and the tracks aligned to it (per track and time: state, covariance, flag) are
-  // allocated by the caller: check them against the memory budget before the first push_back.
-  const double points = std::floor((end - start) / period) + 1.0;
-  std::set<std::pair<int32_t, int32_t>> local_tracks;
-  for (std::size_t r = 0; r < tracks.size(); ++r)
-    if (std::find(sensor_ids.begin(), sensor_ids.end(), tracks.sensor[r]) != sensor_ids.end())
-      local_tracks.emplace(tracks.sensor[r], tracks.track[r]);
-  const std::size_t D = static_cast<std::size_t>(tracks.dim());
-  char what[200];
-  std::snprintf(what, sizeof what,
-                "the common time grid (%.4g times of period %g s over [%g, %g] s, %zu local tracks aligned "
-                "to it; see --common-period)",
-                points, period, start, end, local_tracks.size());
-  require_memory(bytes_of(points * static_cast<double>(1 + local_tracks.size()), 8 * (1 + D + D * D)), what);
-  std::vector<double> grid;
-  const double eps = 1e-9 * std::max(1.0, std::fabs(end));
-  for (int64_t k = 0;; ++k) {
-    const double t = start + static_cast<double>(k) * period;
-    if (t > end + eps) break;
-    grid.push_back(t);
-  }
-  if (grid.empty()) {
-    std::string ids;
-    for (std::size_t d = 0; d < S; ++d) ids += (d ? ", " : "") + std::to_string(sensor_ids[d]);
-    throw InputError("/tracks: sensors " + ids + " never report at a common time (common interval [" +
-                     std::to_string(start) + ", " + std::to_string(end) + "] s with period " +
-                     std::to_string(period) + " s)");
-  }
-  return grid;
-}
-
-SensorSelection select_sensors(const TrackFile& file, const PipelineOptions& options) {
-  SensorSelection sel;
-  sel.num_sensors = static_cast<int32_t>(file.sensors.size());
-  if (sel.num_sensors < 3)
-    throw InputError("/sensors: three-sensor association needs at least 3 sensors, the file has " +
-                     std::to_string(sel.num_sensors));
-  std::map<int32_t, int32_t> column;
-  for (int32_t s = 0; s < sel.num_sensors; ++s) column[file.sensors[s].id] = s;
-  if (!options.sensors.empty() && options.sensors.size() != 3)
-    throw InputError("--sensors: the 3-D pipeline takes exactly 3 sensor ids, got " +
-                     std::to_string(options.sensors.size()) + "; " + std::to_string(options.sensors.size()) +
-                     " sensors use the S-D formulation (associate --sd, engine/pipeline/pipeline_sd.hpp)");
-  if (options.sensors.empty() && sel.num_sensors > 3)
-    throw InputError("/sensors: the file has " + std::to_string(sel.num_sensors) +
-                     " sensors and the 3-D pipeline takes three; give --sensors A,B,C, or associate them "
-                     "all with the default pipeline (no --solver, or --solver lr+ls|lr|exact)");
-  sel.period = options.common_period;
-  for (int d = 0; d < 3; ++d) {
-    sel.ids[d] = options.sensors.empty() ? file.sensors[d].id : options.sensors[d];
-    auto it = column.find(sel.ids[d]);
-    if (it == column.end())
-      throw InputError("--sensors: sensor id " + std::to_string(sel.ids[d]) + " is not in /sensors/id");
-    sel.columns[d] = it->second;
-    if (options.common_period == 0.0) sel.period = std::max(sel.period, file.sensors[it->second].period);
-  }
-  require(sel.period > 0.0, "PipelineOptions.common_period", "the sensors' periods are not positive");
-  return sel;
-}
-
 AssociationProblem build_association_problem(const TrackFile& file, const PipelineOptions& options) {
   options.validate();
   AssociationProblem p;
-  const SensorSelection sel = select_sensors(file, options);
-  p.num_sensors = sel.num_sensors;
-  p.sensor_ids = sel.ids;
-  p.sensor_columns = sel.columns;
-  const double period = sel.period;
-
   const auto t0 = std::chrono::steady_clock::now();
-  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period, options.span_union);
-  for (int d = 0; d < 3; ++d)
-    p.aligned[d] = align_tracks(file.tracks, p.sensor_ids[d], p.common_times, options.alignment);
-  p.s12 = independent_sequential_statistic(p.aligned[0], p.aligned[1], options.statistic);
-  p.s23 = independent_sequential_statistic(p.aligned[1], p.aligned[2], options.statistic);
-  p.s13 = independent_sequential_statistic(p.aligned[0], p.aligned[2], options.statistic);
+  static_cast<AlignedSensors&>(p) = align_sensors(file, options, SensorRule::kThree);
+  p.s12 = all_pairs_statistic(p, 0, 1, options.statistic);  // the dense pair source (pair_source.hpp)
+  p.s23 = all_pairs_statistic(p, 1, 2, options.statistic);
+  p.s13 = all_pairs_statistic(p, 0, 2, options.statistic);
   p.statistics_time_s = seconds_since(t0);
 
   set_cost_tensor(p, options.cost);
@@ -170,15 +77,13 @@ void set_cost_tensor(AssociationProblem& p, const CostTensorOptions& cost) {
   p.tensor_time_s = seconds_since(t1);
 }
 
-void append_output_row(int32_t num_sensors, const std::array<int32_t, 3>& columns,
-                       const std::array<AlignedTracks, 3>& aligned, const Tuple3& t,
-                       std::array<bool, 3> members, double cost, std::vector<int32_t>& rows,
-                       std::vector<double>& costs) {
-  std::vector<int32_t> row(num_sensors, kNoTrack);
+void append_output_row(const AlignedSensors& sensors, const Tuple3& t, double cost,
+                       std::vector<int32_t>& rows, std::vector<double>& costs) {
+  std::vector<int32_t> row(sensors.file_sensors, kNoTrack);
   bool any = false;
   for (int d = 0; d < 3; ++d)
-    if (members[d] && t[d] >= 0) {
-      row[columns[d]] = aligned[d].track[t[d]];
+    if (t[d] >= 0) {
+      row[sensors.sensor_columns[d]] = sensors.aligned[d].track[t[d]];
       any = true;
     }
   if (!any) return;
@@ -231,7 +136,7 @@ AssociationRecord solve_association(const AssociationProblem& p, const std::stri
   Solution3 solution = entry.solve(p.tensor, solver_options, seed);
   const double solve_time = seconds_since(t0);
 
-  AssociationRecord rec = record_from_summary(solver, p.num_sensors, seed, solver_options, options.to_json(),
+  AssociationRecord rec = record_from_summary(solver, p.file_sensors, seed, solver_options, options.to_json(),
                                               solution.summary, solve_time);
   rec.energy_rows = solution.energy_rows;
   rec.energy_cols = solution.energy_cols;
@@ -243,8 +148,7 @@ AssociationRecord solve_association(const AssociationProblem& p, const std::stri
   const bool all_pairs = options.cost.form == CostForm::kAllPairs;
   const GatedLambda lambda = [&](int q, int32_t a, int32_t b) { return dense_gated_lambda(p, q, a, b); };
   const EmitTuple emit = [&](const std::array<int32_t, 3>& t, double cost) {
-    append_output_row(p.num_sensors, p.sensor_columns, p.aligned, t, {true, true, true}, cost, rec.tuples,
-                      rec.cost);
+    append_output_row(p, t, cost, rec.tuples, rec.cost);
   };
   std::array<std::vector<char>, 3> seen;
   for (int d = 0; d < 3; ++d) seen[d].assign(p.aligned[d].n_tracks(), 0);

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/pipeline/front_end.hpp"
 #include "io/track_file.hpp"
 #include "kernels/statistics/association_statistic.hpp"
 #include "kernels/statistics/cost_tensor.hpp"
@@ -50,13 +51,9 @@ struct PipelineOptions {
   static PipelineOptions paper();
 };
 
-// Everything the solver stage needs, kept so that several solvers can share one tensor.
-struct AssociationProblem {
-  std::array<int32_t, 3> sensor_ids{};
-  std::array<int32_t, 3> sensor_columns{};  // column of each sensor in /sensors order
-  int32_t num_sensors = 0;                  // S of the output tuples
-  std::vector<double> common_times;
-  std::array<AlignedTracks, 3> aligned;
+// Everything the solver stage needs, kept so that several solvers can share one tensor: the front
+// end's three aligned sensors (engine/pipeline/front_end.hpp), their pair statistics and the tensor.
+struct AssociationProblem : AlignedSensors {
   PairStatistic s12, s23, s13;
   CostTensor3 tensor;
   double statistics_time_s = 0.0, tensor_time_s = 0.0;
@@ -91,27 +88,10 @@ AssociationRecord solve_association(const AssociationProblem& problem, const std
                                     const nlohmann::json& solver_options, uint64_t seed,
                                     const PipelineOptions& options);
 
-// The three sensors of an association: their /sensors ids and columns, and the common-time period
-// (options.common_period, or the largest scan period of the three). Throws InputError when the file
-// has fewer than three sensors or a chosen id is unknown. Shared by the dense and sparse pipelines.
-struct SensorSelection {
-  int32_t num_sensors = 0;  // S of the output tuples
-  std::array<int32_t, 3> ids{};
-  std::array<int32_t, 3> columns{};
-  double period = 0.0;
-};
-SensorSelection select_sensors(const TrackFile& file, const PipelineOptions& options);
-
 // Appends one output row (local track numbers in /sensors columns, −1 = none) holding the members
 // of tuple t, with its cost; nothing when no member is present. Shared by the dense and sparse
 // decodings.
-void append_output_row(int32_t num_sensors, const std::array<int32_t, 3>& columns,
-                       const std::array<AlignedTracks, 3>& aligned, const Tuple3& t,
-                       std::array<bool, 3> members, double cost, std::vector<int32_t>& rows,
-                       std::vector<double>& costs);
-
-// Common time grid (exposed for tests): see the header comment.
-std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const int32_t> sensor_ids,
-                                     double period, bool span_union = false);
+void append_output_row(const AlignedSensors& sensors, const Tuple3& t, double cost,
+                       std::vector<int32_t>& rows, std::vector<double>& costs);
 
 }  // namespace trackassoc

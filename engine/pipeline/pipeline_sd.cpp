@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 
+#include "engine/pipeline/pair_source.hpp"
+#include "engine/pipeline/tuple_cost.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
@@ -33,14 +34,20 @@ void fill_tensor(SDProblem& p, CostForm form) {
         present.clear();
         for (int32_t s = 0; s < S; ++s)
           if (idx[s] < n[s]) present.push_back(s);
-        double v = 0.0;
-        const std::size_t m = present.size();
-        for (std::size_t x = 0; x + 1 < m && std::isfinite(v); ++x)
-          for (std::size_t y = x + 1; y < (form == CostForm::kChain ? x + 2 : m); ++y) {
-            const int32_t a = present[x], bb = present[y];
-            v += p.link[static_cast<std::size_t>(a) * S + bb]
-                       [static_cast<std::size_t>(idx[a]) * n[bb] + idx[bb]];
-          }
+        // The one S-D tuple cost rule (engine/pipeline/tuple_cost.hpp); the link is +inf
+        // (kForbidden) for a pair that is not gated in.
+        const double v = sd_tuple_cost(
+            present.size(), form == CostForm::kAllPairs,
+            [&](std::size_t x, std::size_t y) {
+              const int32_t a = present[x], bb = present[y];
+              const float l = p.link[static_cast<std::size_t>(a) * S + bb]
+                                    [static_cast<std::size_t>(idx[a]) * n[bb] + idx[bb]];
+              return l == kForbidden ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(l);
+            },
+            [&](std::size_t x, std::size_t y) {
+              const int32_t a = present[x], bb = present[y];
+              return p.coexist(p.offset[a] + idx[a], p.offset[bb] + idx[bb]);
+            });
         c.cost[base + r] = static_cast<float>(v);
         for (int32_t s = S - 1; s > 0; --s) {  // odometer over sensors 1 … S−1
           if (++idx[s] <= n[s]) break;
@@ -66,54 +73,22 @@ void require_sd_solver(const std::string& name) {
   throw InputError("--solver: '" + name + "' is not an S-D solver; S-D solvers:" + known);
 }
 
-SDSensorSelection select_sd_sensors(const TrackFile& file, const PipelineOptions& options) {
-  SDSensorSelection sel;
-  std::map<int32_t, int32_t> column;
-  for (int32_t s = 0; s < static_cast<int32_t>(file.sensors.size()); ++s) column[file.sensors[s].id] = s;
-  if (options.sensors.empty())
-    for (const auto& s : file.sensors) sel.ids.push_back(s.id);
-  else
-    sel.ids = options.sensors;
-  if (sel.ids.size() < 2)
-    throw InputError("/sensors: association needs at least 2 sensors, the file has " +
-                     std::to_string(sel.ids.size()));
-  sel.period = options.common_period;
-  for (int32_t id : sel.ids) {
-    auto it = column.find(id);
-    if (it == column.end())
-      throw InputError("--sensors: sensor id " + std::to_string(id) + " is not in /sensors/id");
-    sel.columns.push_back(it->second);
-    if (options.common_period == 0.0) sel.period = std::max(sel.period, file.sensors[it->second].period);
-  }
-  require(sel.period > 0.0, "PipelineOptions.common_period", "the sensors' periods are not positive");
-  return sel;
-}
-
 SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options) {
   options.validate();
   require(options.statistic.gate_probability < 1.0, "--gate",
           "the S-D formulation uses the gate as the cost of not linking two tracks; it needs a gate "
           "probability below 1");
   SDProblem p;
-  SDSensorSelection sel = select_sd_sensors(file, options);
-  p.file_sensors = static_cast<int32_t>(file.sensors.size());
-  p.sensor_ids = std::move(sel.ids);
-  p.sensor_columns = std::move(sel.columns);
-  const int32_t S = p.S();
-  const double period = sel.period;
-
   const auto t0 = std::chrono::steady_clock::now();
-  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period, options.span_union);
-  for (int32_t s = 0; s < S; ++s)
-    p.aligned.push_back(align_tracks(file.tracks, p.sensor_ids[s], p.common_times, options.alignment));
+  static_cast<AlignedSensors&>(p) = align_sensors(file, options, SensorRule::kTwoOrMore);
+  const int32_t S = p.S();
   p.pairs.resize(static_cast<std::size_t>(S) * S);
   p.link.resize(p.pairs.size());
   p.gate.assign(p.pairs.size(), 0.0);
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
-      PairStatistic& st = p.pairs[slot] =
-          independent_sequential_statistic(p.aligned[a], p.aligned[b], options.statistic);
+      PairStatistic& st = p.pairs[slot] = all_pairs_statistic(p, a, b, options.statistic);
       // The link cost (λ − G(n))/f of kernels/statistics/association_statistic.hpp: ≤ 0 inside the gate.
       const SequentialGate gate(file.tracks.dim(), options.statistic,
                                 static_cast<int32_t>(p.common_times.size()));

@@ -2,20 +2,20 @@
 //   local tracks → common times → alignment → pairwise statistics λ → S-D cost tensor with a dummy
 //   per sensor → S-D solver → tuples (/associations/<name>/).
 //
-// Common times and alignment are those of the 3-D pipeline (engine/pipeline/pipeline.hpp): a uniform grid
-// with step common_period (default: the largest scan period of the chosen sensors), by default over
-// the union of the sensors' report spans with each track moved to a grid time from its nearest
-// report on either side (two-sided alignment; PipelineOptions::paper(): the intersection, each
-// track's latest estimate predicted forward by a CV model).
+// Sensors, common times and alignment are the front end's (engine/pipeline/front_end.hpp,
+// SensorRule::kTwoOrMore: by default the union of
+// the report spans and two-sided alignment; PipelineOptions::paper(): the intersection and forward
+// prediction); the pair statistics are computed on every pair of tracks.
 //
-// Cost of a tuple with the set P of real members (in the chosen sensor order):
-//   Σ over the links of P of (λ_ab − γ_ab),   γ_ab = χ²-quantile(gate probability, dof_ab),
-// the links being consecutive members of P (chain form, seed 000 Eq. 3 in S dimensions; a dummy
-// is skipped) or every pair of P (all-pairs form); a link outside the gate makes the tuple +∞
-// (forbidden), and a tuple of one track costs 0. So the gate γ is the cost of not linking two
-// tracks: a link pays off when its λ is below the gate (the generalised-likelihood-ratio cost of
-// the S-D assignment literature, with the chi-square gate as the miss cost). A target seen by 3 of
-// 4 sensors is grouped as (i, j, k, dummy). The gate probability must be below 1.
+// Cost of a tuple (engine/pipeline/tuple_cost.hpp, the rule of the default path too): Σ over its
+// linked pairs (consecutive members, chain form, seed 000 Eq. 3 in S dimensions, a dummy skipped;
+// or every pair, all-pairs form) of the link cost (λ_ab − G(n_ab))/f of SequentialGate, ≤ 0 inside
+// the gate; +∞ (forbidden) when two members coexist and fail the gate or the members are not
+// connected through gated-in pairs; a pair that never coexists carries no evidence either way. A
+// tuple of one track costs 0. So the gate is the cost of not linking two tracks: a link pays off
+// when its λ is below the gate (the generalised-likelihood-ratio cost of the S-D assignment
+// literature, with the gate as the miss cost). A target seen by 3 of 4 sensors is grouped as
+// (i, j, k, dummy). The gate probability must be below 1.
 //
 // Solvers (sd_solver_names()): lr, lr+ls (kernels/assignment/sd/lagrangian_sd.hpp, options as for the 3-D
 // lr), exact (kernels/assignment/sd/assignment_sd.hpp; options time_limit_s, max_nodes; started from lr+ls),
@@ -34,28 +34,15 @@
 
 namespace trackassoc {
 
-struct SDProblem {
-  std::vector<int32_t> sensor_ids;      // the chosen sensors, in tensor order
-  std::vector<int32_t> sensor_columns;  // their columns in /sensors order
-  int32_t file_sensors = 0;             // columns of the output tuples
-  std::vector<double> common_times;
-  std::vector<AlignedTracks> aligned;
+// The front end's S aligned sensors (engine/pipeline/front_end.hpp), their pair statistics on
+// every pair (the dense pair source) and the S-D tensor.
+struct SDProblem : AlignedSensors {
   std::vector<PairStatistic> pairs;      // pairs[a·S + b] for a < b
   std::vector<std::vector<float>> link;  // λ − γ per pair entry, +inf outside the gate; same indexing
   std::vector<double> gate;              // γ at the pair's largest dof, per pair slot
   CostTensorSD tensor;
   double statistics_time_s = 0.0, tensor_time_s = 0.0;
-  int32_t S() const { return static_cast<int32_t>(sensor_ids.size()); }
 };
-
-// The sensors of an S-D association: options.sensors, or every sensor of the file; their /sensors
-// columns; the common-time period (options.common_period, or the largest scan period of them).
-// Throws InputError on unknown ids or fewer than 2 sensors. Shared by the dense and sparse S-D.
-struct SDSensorSelection {
-  std::vector<int32_t> ids, columns;
-  double period = 0.0;
-};
-SDSensorSelection select_sd_sensors(const TrackFile& file, const PipelineOptions& options);
 
 // options.sensors: empty = every sensor of the file, else ≥ 2 ids. Throws InputError on unknown
 // ids, fewer than 2 sensors, a gate probability of 1, or a tensor over the memory budget.

@@ -9,13 +9,14 @@
 #include <map>
 #include <numeric>
 
+#include "engine/pipeline/pair_source.hpp"
+#include "engine/pipeline/partition.hpp"
 #include "engine/pipeline/sparse_3d_sharded.hpp"
 #include "engine/pipeline/tuple_decoding.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
 #include "kernels/core/stopwatch.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
 
 namespace trackassoc {
 namespace {
@@ -57,24 +58,14 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   options.validate();
   const PipelineOptions& po = options.pipeline;
   SparseAssociationProblem p;
-  const SensorSelection sel = select_sensors(file, po);
-  p.num_sensors = sel.num_sensors;
-  p.sensor_ids = sel.ids;
-  p.sensor_columns = sel.columns;
-  const double period = sel.period;
-
   auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, std::size_t bytes) {
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), static_cast<double>(bytes) / kMiB});
   };
 
   auto t0 = std::chrono::steady_clock::now();
-  p.common_times =
-      common_time_grid(file.tracks, p.sensor_ids, period, po.span_union);  // as the dense pipeline
+  static_cast<AlignedSensors&>(p) = align_sensors(file, po, SensorRule::kThree);  // as the dense pipeline
   std::size_t bytes = 0;
-  for (int d = 0; d < 3; ++d) {
-    p.aligned[d] = align_tracks(file.tracks, p.sensor_ids[d], p.common_times, po.alignment);
-    bytes += aligned_bytes(p.aligned[d]);
-  }
+  for (int d = 0; d < 3; ++d) bytes += aligned_bytes(p.aligned[d]);
   stage("alignment", t0, bytes);
 
   // Candidate pairs 1-2, 2-3, 1-3. The 1-3 pairs are needed by the all-pairs cost and, in both
@@ -83,10 +74,11 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   const std::array<std::pair<int, int>, 3> sensor_pairs{{{0, 1}, {1, 2}, {0, 2}}};
   std::array<CandidatePairs, 3> cand;
   bytes = 0;
-  for (int q = 0; q < 3; ++q) {
-    cand[q] = candidate_pairs_for_gate(p.aligned[sensor_pairs[q].first], p.aligned[sensor_pairs[q].second],
-                                       po.statistic, options.radius_scale);
-    p.candidate_pairs[q] = cand[q].size();
+  for (int q = 0; q < 3; ++q) {  // the default path's index (pair_source.hpp): the same gated pairs
+    IndexedCandidates c = indexed_candidates(p, sensor_pairs[q].first, sensor_pairs[q].second, po.statistic,
+                                             options.radius_scale);
+    p.candidate_pairs[q] = c.found;
+    cand[q] = std::move(c.pairs);
     bytes += cand[q].size() * 2 * sizeof(int32_t);
   }
   stage("candidates", t0, bytes);
@@ -95,10 +87,8 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   std::array<SparsePairStatistic*, 3> out{&p.s12, &p.s23, &p.s13};
   bytes = 0;
   for (int q = 0; q < 3; ++q) {
-    *out[q] = keep_in_gate(sparse_sequential_statistic(
-        p.aligned[sensor_pairs[q].first], p.aligned[sensor_pairs[q].second], cand[q], po.statistic));
-    CandidatePairs().a.swap(cand[q].a);
-    CandidatePairs().b.swap(cand[q].b);
+    *out[q] =
+        gated_candidate_statistic(p, sensor_pairs[q].first, sensor_pairs[q].second, cand[q], po.statistic);
     bytes += out[q]->bytes();
   }
   // G, the dense rule over the matrices the cost form uses (kernels/statistics/cost_tensor.hpp).
@@ -115,19 +105,8 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   stage("statistics", t0, bytes);
 
   t0 = std::chrono::steady_clock::now();
-  p.offset[0] = 0;
-  for (int d = 0; d < 3; ++d) p.offset[d + 1] = p.offset[d] + p.aligned[d].n_tracks();
-  std::vector<int32_t> u, v;
-  u.reserve(p.s12.size() + p.s23.size() + p.s13.size());
-  v.reserve(u.capacity());
-  for (int q = 0; q < 3; ++q) {
-    const auto [da, db] = sensor_pairs[q];
-    for (std::size_t e = 0; e < out[q]->size(); ++e) {
-      u.push_back(p.offset[da] + out[q]->a[e]);
-      v.push_back(p.offset[db] + out[q]->b[e]);
-    }
-  }
-  p.components = connected_components(p.offset[3], u, v);
+  const GatedPairs gated[3] = {{0, 1, &p.s12}, {1, 2, &p.s23}, {0, 2, &p.s13}};
+  p.components = gated_pair_components(p, gated);
   stage("clusters", t0,
         (p.components.label.size() + p.components.nodes.size()) * sizeof(int32_t) +
             p.components.begin.size() * sizeof(int64_t));
@@ -255,9 +234,8 @@ struct SparseDecoder {
     };
   }
   EmitTuple emit() const {
-    return [this](const std::array<int32_t, 3>& t, double cost) {
-      append_output_row(p.num_sensors, p.sensor_columns, p.aligned, t, {true, true, true}, cost, rows, costs);
-    };
+    return
+        [this](const std::array<int32_t, 3>& t, double cost) { append_output_row(p, t, cost, rows, costs); };
   }
   // A tuple kept whole costs what the dense tensor holds for it (float).
   void split(const std::array<int32_t, 3>& t, std::array<std::vector<int32_t>, 3>& left_over) const {
@@ -362,7 +340,7 @@ AssociationRecord sparse_record_from_solutions(const SparseAssociationProblem& p
 
   AssociationRecord rec;
   rec.name = solver;
-  rec.num_sensors = p.num_sensors;
+  rec.num_sensors = p.file_sensors;
   rec.solver = solver;
   rec.seed = seed;
   rec.options_json = nlohmann::json({{"pipeline", options.to_json()}}).dump();

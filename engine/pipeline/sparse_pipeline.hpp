@@ -1,12 +1,10 @@
 // The sparse association pipeline for three sensors (docs/design.md §4.3, "Sparse form"): the path for
 // recorded track sets too large for the dense n1·n2·n3 tensor.
 //
-//   local tracks → common times → alignment                       (as engine/pipeline/pipeline.hpp)
-//   → candidate pairs from the gate's lossless index              (candidate_pairs_for_gate,
-//     kernels/statistics/scan_candidates.hpp: a per-scan index for the calibrated gate, the grid over
-//     time-averaged positions of kernels/statistics/sparse_candidates.hpp for the χ² sum)
-//   → λ on candidate pairs only, the gate of options.pipeline      (kernels/statistics/sparse_candidates.hpp)
-//   → connected components of the gated pair graph                (kernels/assignment/clusters.hpp)
+//   local tracks → sensors, common times, alignment        (the front end, engine/pipeline/front_end.hpp)
+//   → the default path's per-scan candidate index, λ on the candidates, the gate
+//                                                          (the pair source, engine/pipeline/pair_source.hpp)
+//   → connected components of the gated pair graph         (the partition, engine/pipeline/partition.hpp)
 //   → per component, in parallel (TBB): a small dense sub-tensor, any registered solver
 //   → decoding into the same AssociationRecord as the dense pipeline.
 // Under MPI (options.ranks, more than one rank) the components are solved on the ranks and decoded
@@ -74,15 +72,11 @@ struct StageReport {
   double data_mib = 0.0;      // bytes held by the stage's output
 };
 
-struct SparseAssociationProblem {
-  std::array<int32_t, 3> sensor_ids{};
-  std::array<int32_t, 3> sensor_columns{};
-  int32_t num_sensors = 0;
-  std::vector<double> common_times;
-  std::array<AlignedTracks, 3> aligned;
+// The front end's three aligned sensors (engine/pipeline/front_end.hpp; node of (sensor d, track
+// i) = offset[d] + i), the gated pairs of the candidate index, and their connected components.
+struct SparseAssociationProblem : AlignedSensors {
   std::array<std::size_t, 3> candidate_pairs{};  // index output before the gate: 12, 23, 13
   SparsePairStatistic s12, s23, s13;             // in-gate pairs only
-  std::array<int32_t, 4> offset{};               // node of (sensor d, track i) = offset[d] + i
   Components components;
   double gated_pair_cost = 0.0;     // G used in every sub-tensor
   std::vector<StageReport> stages;  // alignment, candidates, statistics, clusters

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "engine/pipeline/pipeline_sd.hpp"
+#include "engine/pipeline/tuple_cost.hpp"
 #include "io/memory_budget.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/assignment/lap_sparse.hpp"
@@ -17,44 +18,18 @@ namespace {
 
 constexpr double kNotLinked = std::numeric_limits<double>::quiet_NaN();
 
-// Cost of the tuple with members (sensor, component index) — see the header: +inf when two
-// members overlap in time without a gated pair, or the members are not connected by gated pairs.
-double sd_tuple_cost(const SDComponentView& v, const std::vector<std::pair<int32_t, int32_t>>& m,
-                     bool all_pairs) {
-  const std::size_t k = m.size();
-  if (k <= 1) return 0.0;
-  double cost = 0.0;
-  // Connectivity through gated pairs: union-find over the k members (one per sensor, so k <= S;
-  // no cap on S: the buffer is on the stack up to 32 members).
-  int32_t stack_parent[32];
-  std::vector<int32_t> heap_parent;
-  int32_t* parent = stack_parent;
-  if (k > 32) {
-    heap_parent.resize(k);
-    parent = heap_parent.data();
-  }
-  for (std::size_t x = 0; x < k; ++x) parent[x] = static_cast<int32_t>(x);
-  auto root = [&](int32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  std::size_t groups = k;
-  for (std::size_t x = 0; x < k; ++x)
-    for (std::size_t y = x + 1; y < k; ++y) {
-      const double l = v.link_cost(m[x].first, m[x].second, m[y].first, m[y].second);
-      if (std::isnan(l)) {
-        if (v.overlap(m[x].first, m[x].second, m[y].first, m[y].second))
-          return std::numeric_limits<double>::infinity();
-        continue;  // never together: no evidence either way
-      }
-      const int32_t rx = root(static_cast<int32_t>(x)), ry = root(static_cast<int32_t>(y));
-      if (rx != ry) {
-        parent[rx] = ry;
-        --groups;
-      }
-      if (all_pairs || y == x + 1) cost += l;
-    }
-  return groups == 1 ? cost : std::numeric_limits<double>::infinity();
+// Cost of the tuple with members (sensor, component index): the rule of
+// engine/pipeline/tuple_cost.hpp.
+double component_tuple_cost(const SDComponentView& v, const std::vector<std::pair<int32_t, int32_t>>& m,
+                            bool all_pairs) {
+  return sd_tuple_cost(
+      m.size(), all_pairs,
+      [&](std::size_t x, std::size_t y) {
+        return v.link_cost(m[x].first, m[x].second, m[y].first, m[y].second);
+      },
+      [&](std::size_t x, std::size_t y) {
+        return v.overlap(m[x].first, m[x].second, m[y].first, m[y].second);
+      });
 }
 
 SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::string& solver,
@@ -77,7 +52,7 @@ SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::
     members.clear();
     for (int32_t s = 0; s < S; ++s)
       if (idx[s] < n[s]) members.emplace_back(s, idx[s]);
-    const double c = sd_tuple_cost(v, members, all_pairs);
+    const double c = component_tuple_cost(v, members, all_pairs);
     t.cost[e] = std::isfinite(c) ? static_cast<float>(c) : std::numeric_limits<float>::infinity();
   }
   const SolutionSD sol = solve_sd_tensor(t, solver, options);
@@ -96,7 +71,7 @@ SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::
     }
     if (tuple.empty()) continue;
     r.tuples.push_back(std::move(tuple));
-    r.costs.push_back(sd_tuple_cost(v, chosen, all_pairs));
+    r.costs.push_back(component_tuple_cost(v, chosen, all_pairs));
   }
   for (int32_t s = 0; s < S; ++s)  // a solver that dropped a track: it stays alone
     for (int32_t i = 0; i < n[s]; ++i)
@@ -113,7 +88,7 @@ SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::
 // Sequential LAP merging for a component too large for its dense sub-tensor (see the header).
 // Sensor s's tracks join the groups of the sensors before it by one rectangular LAP. A track j can
 // lower a group's cost only when it has a gated pair with one of the group's members (otherwise
-// sd_tuple_cost is +inf: not connected, or overlapping without a gated pair), so the LAP's finite
+// the tuple cost is +inf: not connected, or overlapping without a gated pair), so the LAP's finite
 // entries are found through the members' gated pairs: memory O(gated pairs), never the groups ×
 // tracks matrix (7.2 GB at 30 000 × 30 000; issue 30). The LAP gets the same finite entries as
 // the dense matrix gave, so the same solution.
@@ -138,11 +113,11 @@ SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool a
               i, [&](int32_t j, double) { partners.push_back(j); });
         std::sort(partners.begin(), partners.end());
         partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
-        const double before = sd_tuple_cost(v, groups[g], all_pairs);
+        const double before = component_tuple_cost(v, groups[g], all_pairs);
         for (const int32_t j : partners) {
           m = groups[g];
           m.emplace_back(s, j);
-          const double c = sd_tuple_cost(v, m, all_pairs) - before;
+          const double c = component_tuple_cost(v, m, all_pairs) - before;
           if (std::isfinite(c) && c < 0.0) gain[g].emplace_back(j, c);
         }
       }
@@ -182,7 +157,7 @@ SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool a
     }
   }
   for (const auto& g : groups) {
-    r.costs.push_back(sd_tuple_cost(v, g, all_pairs));
+    r.costs.push_back(component_tuple_cost(v, g, all_pairs));
     r.objective += r.costs.back();
     std::vector<int32_t> tuple;
     for (const auto& [s, i] : g) tuple.push_back(v.node[s][i]);

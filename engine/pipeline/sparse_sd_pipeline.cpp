@@ -8,6 +8,8 @@
 #include <map>
 #include <set>
 
+#include "engine/pipeline/pair_source.hpp"
+#include "engine/pipeline/partition.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_components.hpp"
 #include "engine/pipeline/sparse_sd_sharded.hpp"
@@ -19,7 +21,6 @@
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/random.hpp"
 #include "kernels/core/stopwatch.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
 
 namespace trackassoc {
 namespace {
@@ -114,30 +115,6 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   options.validate();
   const PipelineOptions& po = options.pipeline;
   SparseSDProblem p;
-  p.file_sensors = static_cast<int32_t>(file.sensors.size());
-  p.dim = file.tracks.dim();
-  SDSensorSelection sel = select_sd_sensors(file, po);
-  // A sensor with no local tracks (down, or it saw nothing) is associated around: it takes no part
-  // in the problem, and its column of the tuples stays -1 (issue 30). Any number of sensors: a
-  // tuple holds only the sensors of its component (sd_tuple_cost has no cap).
-  const std::set<int32_t> reporting(file.tracks.sensor.begin(), file.tracks.sensor.end());
-  for (std::size_t k = 0; k < sel.ids.size(); ++k)
-    if (reporting.count(sel.ids[k])) {
-      p.sensor_ids.push_back(sel.ids[k]);
-      p.sensor_columns.push_back(sel.columns[k]);
-    } else {
-      p.empty_sensor_ids.push_back(sel.ids[k]);
-    }
-  if (p.sensor_ids.size() < 2) {
-    std::string empty;
-    for (int32_t id : p.empty_sensor_ids) empty += (empty.empty() ? "" : ", ") + std::to_string(id);
-    throw InputError("/tracks: association needs the local tracks of at least 2 sensors; sensor" +
-                     std::string(p.empty_sensor_ids.size() > 1 ? "s " : " ") + empty + " of " +
-                     std::to_string(sel.ids.size()) + " ha" + (p.empty_sensor_ids.size() > 1 ? "ve" : "s") +
-                     " none");
-  }
-  const double period = sel.period;
-  const int32_t S = p.S();
   auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, double bytes) {
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), bytes / kMiB});
   };
@@ -157,28 +134,14 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   };
 
   auto t0 = std::chrono::steady_clock::now();
-  p.common_times = common_time_grid(file.tracks, p.sensor_ids, period, po.span_union);
-  p.offset.assign(1, 0);
+  static_cast<AlignedSensors&>(p) = align_sensors(file, po, SensorRule::kTwoOrMore, EmptySensors::kLeaveOut);
   double bytes = 0;
-  for (int32_t s = 0; s < S; ++s) {
-    p.aligned.push_back(align_tracks(file.tracks, p.sensor_ids[s], p.common_times, po.alignment));
-    const AlignedTracks& x = p.aligned.back();
-    p.offset.push_back(p.offset.back() + x.n_tracks());
+  for (const AlignedTracks& x : p.aligned)
     bytes += static_cast<double>(x.state.size() + x.cov.size()) * sizeof(double) + x.valid.size();
-    for (int32_t i = 0; i < x.n_tracks(); ++i) {
-      int32_t first = -1, last = -1;
-      for (int32_t k = 0; k < x.n_times; ++k)
-        if (x.valid[static_cast<std::size_t>(i) * x.n_times + k]) {
-          if (first < 0) first = k;
-          last = k;
-        }
-      p.first_valid.push_back(first);
-      p.last_valid.push_back(last);
-    }
-  }
   stage("alignment", t0, bytes);
   held += bytes;
   require_some_overlap(p);
+  const int32_t S = p.S();
 
   const std::size_t slots = static_cast<std::size_t>(S) * S;
   p.pairs.resize(slots);
@@ -190,9 +153,9 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
-      cand[slot] = candidate_pairs_for_gate(p.aligned[a], p.aligned[b], po.statistic, options.radius_scale);
-      p.candidate_pairs[slot] = cand[slot].size();
-      cand[slot] = prune_by_position_bound(p.aligned[a], p.aligned[b], cand[slot], po.statistic);
+      IndexedCandidates c = indexed_candidates(p, a, b, po.statistic, options.radius_scale);
+      p.candidate_pairs[slot] = c.found;
+      cand[slot] = std::move(c.pairs);
       bytes += cand[slot].size() * 2.0 * sizeof(int32_t);
       require_held(bytes, "the candidate pairs of " + pair_name(a, b) + " (" +
                               std::to_string(p.candidate_pairs[slot]) + " found, " +
@@ -203,7 +166,8 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
 
   t0 = std::chrono::steady_clock::now();
   const SequentialGate gate(p.dim, po.statistic, static_cast<int32_t>(p.common_times.size()));
-  std::vector<int32_t> u, v;
+  std::vector<GatedPairs> gated;
+  std::size_t gated_pairs = 0;
   bytes = 0;
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
@@ -214,18 +178,14 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       require_held(bytes + n * (21.0 + 8.0 + 8.0), "the statistics of the " +
                                                        std::to_string(cand[slot].size()) +
                                                        " candidate pairs of " + pair_name(a, b));
-      p.pairs[slot] =
-          keep_in_gate(sparse_sequential_statistic(p.aligned[a], p.aligned[b], cand[slot], po.statistic));
-      CandidatePairs().a.swap(cand[slot].a);
-      CandidatePairs().b.swap(cand[slot].b);
+      p.pairs[slot] = gated_candidate_statistic(p, a, b, cand[slot], po.statistic);
       const SparsePairStatistic& st = p.pairs[slot];
+      gated.push_back({a, b, &st});
+      gated_pairs += st.size();
       auto& link = p.link[slot];
       link.resize(st.size());
-      for (std::size_t q = 0; q < st.size(); ++q) {
-        link[q] = gate.link_cost(st.lambda[q], st.dof[q] / p.dim);
-        u.push_back(p.offset[a] + st.a[q]);
-        v.push_back(p.offset[b] + st.b[q]);
-      }
+      for (std::size_t q = 0; q < st.size(); ++q) link[q] = gate.link_cost(st.lambda[q], st.dof[q] / p.dim);
+      // The link costs, and the two nodes of each gated pair that the partition's edges take.
       bytes += static_cast<double>(st.bytes() + link.size() * sizeof(double)) + 8.0 * link.size();
       held -= n * 2 * sizeof(int32_t);  // the candidates, freed above
     }
@@ -236,9 +196,9 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   // connected_components: a union-find and the members by component (int32 per node, a few times).
   require_held(4.0 * sizeof(int32_t) * p.nodes(),
                "the connected components of " + std::to_string(p.nodes()) + " local tracks");
-  p.components = connected_components(p.nodes(), u, v);
+  p.components = gated_pair_components(p, gated);
   stage("components", t0, static_cast<double>(p.components.nodes.size() * sizeof(int32_t)));
-  held -= 8.0 * static_cast<double>(u.size());  // u, v are freed on return
+  held -= 8.0 * static_cast<double>(gated_pairs);  // the edges, freed on return
   p.bytes_held = held + static_cast<double>(p.components.nodes.size() * sizeof(int32_t));
   return p;
 }

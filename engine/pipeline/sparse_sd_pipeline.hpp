@@ -1,12 +1,12 @@
 // The default association pipeline for recorded track sets: every sensor, sparse gated
 // candidates, and an S-D assignment with dummies per connected component (docs/design.md §4.3; issue 20).
 //
-//   local tracks of S ≥ 2 sensors → common times over the union of their reports
-//   → two-sided alignment (nearest report on either side)  kernels/statistics/association_statistic.hpp
-//   → for every pair of sensors: candidate pairs from a per-scan index
-//                                                           kernels/statistics/scan_candidates.hpp
-//   → the sequential statistic on candidates, the calibrated gate (SequentialGate)
-//   → connected components of the gated pair graph         kernels/assignment/clusters.hpp
+//   local tracks of S ≥ 2 sensors → common times over the union of their reports → two-sided
+//     alignment (nearest report on either side)       (the front end, engine/pipeline/front_end.hpp)
+//   → for every pair of sensors: candidate pairs from a per-scan index, the sequential statistic
+//     on the candidates, the calibrated gate (SequentialGate)
+//                                                     (the pair source, engine/pipeline/pair_source.hpp)
+//   → connected components of the gated pair graph   (the partition, engine/pipeline/partition.hpp)
 //   → per component, in parallel (TBB): the S-D assignment with a dummy per sensor over the
 //     component's tracks (a dense sub-tensor; lr+ls, lr or exact), or, for a component whose
 //     sub-tensor exceeds the budget, sequential LAP merging
@@ -69,16 +69,10 @@ struct SparseSDOptions {
   nlohmann::json to_json() const;
 };
 
-struct SparseSDProblem {
-  std::vector<int32_t> sensor_ids;        // the chosen sensors with local tracks, in their order
-  std::vector<int32_t> empty_sensor_ids;  // the chosen sensors without any (their tuple column is -1)
-  std::vector<int32_t> sensor_columns;    // their columns in /sensors order
-  int32_t file_sensors = 0;               // columns of the output tuples
-  int32_t dim = 4;                        // state dimension D
-  std::vector<double> common_times;
-  std::vector<AlignedTracks> aligned;
-  std::vector<int32_t> first_valid, last_valid;  // per node: first and last valid common time (−1: never)
-  std::vector<int32_t> offset;                   // node of (sensor s, track i) = offset[s] + i
+// The front end's aligned sensors (engine/pipeline/front_end.hpp; a chosen sensor without local
+// tracks is left out: empty_sensor_ids), the gated pairs of the per-scan candidate index with
+// their link costs, and their connected components.
+struct SparseSDProblem : AlignedSensors {
   // Gated-in pairs of every sensor pair a < b, slot a·S + b, with their link cost.
   std::vector<SparsePairStatistic> pairs;
   std::vector<std::vector<double>> link;
@@ -86,17 +80,6 @@ struct SparseSDProblem {
   Components components;
   std::vector<StageReport> stages;  // alignment, candidates, statistics, components
   double bytes_held = 0.0;          // the input and the problem [bytes], counted against the memory budget
-  int32_t S() const { return static_cast<int32_t>(sensor_ids.size()); }
-  int32_t nodes() const { return offset.empty() ? 0 : offset.back(); }
-  int32_t sensor_of(int32_t node) const {  // the s with offset[s] <= node < offset[s + 1]
-    return static_cast<int32_t>(std::upper_bound(offset.begin(), offset.end(), node) - offset.begin()) - 1;
-  }
-  // Nodes u and v have common valid times, so the gate tested them (a pair that never coexists
-  // carries no evidence either way).
-  bool coexist(int32_t u, int32_t v) const {
-    if (first_valid[u] < 0 || first_valid[v] < 0) return false;
-    return std::max(first_valid[u], first_valid[v]) <= std::min(last_valid[u], last_valid[v]);
-  }
 };
 
 // Throws InputError on unknown sensor ids, fewer than 2 sensors with local tracks (a sensor without

@@ -38,7 +38,7 @@ namespace {
 
 // Distinct local tracks of each selected sensor: the dense tensor's n1, n2, n3.
 std::array<std::size_t, 3> dense_track_counts(const TrackFile& file, const PipelineOptions& options) {
-  const SensorSelection sel = select_sensors(file, options);
+  const SensorSelection sel = select_sensors(file, options, SensorRule::kThree);
   std::set<int32_t> tracks[3];
   for (std::size_t r = 0; r < file.tracks.size(); ++r)
     for (int d = 0; d < 3; ++d)

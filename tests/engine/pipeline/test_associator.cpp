@@ -135,6 +135,30 @@ TEST(Associator, SparseSDTuplesAreTheFilesTargets) {
   expect_unassociated(file, out);
 }
 
+// --sensors selects sensors without changing the method (issue 28): naming all three sensors of a
+// three-sensor file gives the default's association, not the 3-D tensor's.
+TEST(Associator, NamingEverySensorKeepsTheDefaultPath) {
+  Scenario sc = load_scenario("seed004");  // four_sensor_file's scenario on its first three sensors
+  sc.targets.resize(5);
+  sc.sensors.resize(3);
+  sc.duration = 80.0;
+  const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
+  const AssociationOutcome by_default = make_associator(request("lr+ls"))->associate(file);
+  AssociatorOptions o = request("lr+ls");
+  o.pipeline.sensors = {file.sensors[0].id, file.sensors[1].id, file.sensors[2].id};
+  const auto a = make_associator(o);
+  ASSERT_EQ(a->path(), AssociationPath::kSparseSD);
+  const AssociationOutcome named = a->associate(file);
+  EXPECT_EQ(named.record.num_sensors, 3);
+  EXPECT_EQ(named.record.tuples, by_default.record.tuples);
+  EXPECT_EQ(named.record.cost, by_default.record.cost);
+  EXPECT_EQ(named.record.objective, by_default.record.objective);
+  // The 5 targets seen by all three sensors: 5 tuples of 3 tracks, whose S-D cost (a sum of link
+  // costs λ − G(n) ≤ 0 inside the gate) is negative; the 3-D tensor's objective is a sum of λ ≥ 0.
+  EXPECT_EQ(named.record.num_tuples(), 5u);
+  EXPECT_LT(named.record.objective, 0.0);
+}
+
 TEST(Associator, DenseSDIsSolveSDAssociation) {
   const TrackFile& file = four_sensor_file();
   AssociatorOptions o = request("lr");
@@ -293,7 +317,8 @@ TEST(Associator, FactoryChoosesThePathsOfAssociate) {
   EXPECT_EQ(path_of("lr+ls", false, false, false), P::kSparseSD);
   EXPECT_EQ(path_of("exact", false, false, false, {1, 2, 3, 4}), P::kSparseSD);
   EXPECT_EQ(path_of("lr", false, false, false, {1, 2}), P::kSparseSD);
-  EXPECT_EQ(path_of("lr+ls", false, false, false, {1, 2, 3}), P::kDense3D);  // three --sensors: 3-D
+  EXPECT_EQ(path_of("lr+ls", false, false, false, {1, 2, 3}), P::kSparseSD);  // --sensors: not the method
+  EXPECT_EQ(path_of("lr+ls", false, true, false, {1, 2, 3}), P::kDense3D);
   EXPECT_EQ(path_of("exact", false, true, false), P::kDense3D);
   EXPECT_EQ(path_of("greedy", false, false, false), P::kDense3D);
   EXPECT_EQ(path_of("greedy", false, false, true), P::kSparse3D);

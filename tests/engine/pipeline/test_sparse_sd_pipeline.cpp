@@ -17,6 +17,7 @@
 #include <set>
 
 #include "engine/pipeline/metrics.hpp"
+#include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
@@ -309,6 +310,36 @@ TEST(SparseSDPipeline, ASensorWithOneReportIsAssociatedOrLeftAlone) {
   const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
   EXPECT_GE(m.correct_rate, 0.95);
   EXPECT_EQ(m.false_tuples, 0);
+}
+
+// The dense S-D tensor takes the default path's rule (engine/pipeline/tuple_cost.hpp): sensor 0
+// reports only before t = 20 s and sensor 2 only after t = 40 s (more than the 10 s alignment
+// reaches past a report), so their tracks never coexist;
+// the tuple of a target's three tracks costs link(0,1) + link(1,2), joined through sensor 1,
+// where the dense S-D path used to forbid it.
+TEST(SparseSD, DenseSDJoinsTracksThatNeverCoexistThroughASensorThatSawBoth) {
+  TrackFile file = simulate_file("recorded_sync");
+  file.tracks = keep_rows(file.tracks, [&](std::size_t r) {
+    const int32_t s = file.tracks.sensor[r];
+    return s == 1 || (s == 0 && file.tracks.t[r] < 20.0) || (s == 2 && file.tracks.t[r] > 40.0);
+  });
+  const SDProblem p = build_sd_problem(file, PipelineOptions{});
+  ASSERT_EQ(p.S(), 3);
+  int joined = 0;
+  for (int32_t i = 0; i < p.aligned[0].n_tracks(); ++i)
+    for (int32_t j = 0; j < p.aligned[1].n_tracks(); ++j)
+      for (int32_t k = 0; k < p.aligned[2].n_tracks(); ++k) {
+        const int32_t target = p.aligned[0].truth[i];
+        if (target < 0 || p.aligned[1].truth[j] != target || p.aligned[2].truth[k] != target) continue;
+        ASSERT_FALSE(p.coexist(p.offset[0] + i, p.offset[2] + k));
+        const float l01 = p.link[1][static_cast<std::size_t>(i) * p.aligned[1].n_tracks() + j];
+        const float l12 = p.link[5][static_cast<std::size_t>(j) * p.aligned[2].n_tracks() + k];
+        if (std::isinf(l01) || std::isinf(l12)) continue;  // a true pair outside the gate
+        const int32_t t[3] = {i, j, k};
+        EXPECT_EQ(p.tensor.at(t), static_cast<float>(static_cast<double>(l01) + static_cast<double>(l12)));
+        ++joined;
+      }
+  EXPECT_GE(joined, 10);  // recorded_sync: 25 targets, almost all gated in on both pairs
 }
 
 class SparseSDCli : public CliFixture {};

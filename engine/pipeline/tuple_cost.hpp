@@ -1,0 +1,62 @@
+// The S-D tuple cost (docs/design.md §4.3), the one rule of both S-D paths: the dense S-D tensor
+// (engine/pipeline/pipeline_sd.hpp) and the default path's components
+// (engine/pipeline/sparse_sd_components.hpp).
+//
+// A tuple with k real members (one per sensor, in sensor order) costs the sum of the link costs
+// λ − G(n) of its linked pairs: every pair (all-pairs form) or consecutive members (chain form).
+// It is forbidden (+inf) when
+//   * two members coexist (common valid times, so the gate tested them) and fail the gate, or
+//   * its members are not connected through gated-in pairs.
+// A pair that never coexists carries no evidence either way (neither in the gate nor out): it
+// neither forbids the tuple nor links it, so a target seen by sensor A early and sensor C late
+// joins through a sensor B that saw both. A tuple of one track costs 0.
+// Complexity: O(k²) link look-ups and a union-find over the k members.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace trackassoc {
+
+// link(x, y) for members x < y: the link cost of the pair, NaN when it is not a gated-in pair;
+// coexist(x, y): the two members have common valid times.
+template <class Link, class Coexist>
+double sd_tuple_cost(std::size_t k, bool all_pairs, Link link, Coexist coexist) {
+  if (k <= 1) return 0.0;
+  double cost = 0.0;
+  // Connectivity through gated pairs: union-find over the k members (no cap on k: the buffer is
+  // on the stack up to 32 members).
+  int32_t stack_parent[32];
+  std::vector<int32_t> heap_parent;
+  int32_t* parent = stack_parent;
+  if (k > 32) {
+    heap_parent.resize(k);
+    parent = heap_parent.data();
+  }
+  for (std::size_t x = 0; x < k; ++x) parent[x] = static_cast<int32_t>(x);
+  auto root = [&](int32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::size_t groups = k;
+  for (std::size_t x = 0; x < k; ++x)
+    for (std::size_t y = x + 1; y < k; ++y) {
+      const double l = link(x, y);
+      if (std::isnan(l)) {
+        if (coexist(x, y)) return std::numeric_limits<double>::infinity();
+        continue;  // never together: no evidence either way
+      }
+      const int32_t rx = root(static_cast<int32_t>(x)), ry = root(static_cast<int32_t>(y));
+      if (rx != ry) {
+        parent[rx] = ry;
+        --groups;
+      }
+      if (all_pairs || y == x + 1) cost += l;
+    }
+  return groups == 1 ? cost : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace trackassoc

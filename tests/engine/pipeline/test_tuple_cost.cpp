@@ -1,0 +1,50 @@
+// The one S-D tuple cost rule (engine/pipeline/tuple_cost.hpp), on hand-made link costs: the sum of
+// the linked pairs' costs; +inf for a coexisting pair outside the gate or members not connected
+// through gated pairs; a pair that never coexists neither forbids nor links.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "engine/pipeline/tuple_cost.hpp"
+
+namespace trackassoc {
+namespace {
+
+constexpr double kNone = std::numeric_limits<double>::quiet_NaN();  // not a gated pair
+
+// Members 0, 1, 2 with link[x][y] (x < y) and coexist[x][y].
+double cost3(const double (&link)[3][3], const bool (&coexist)[3][3], bool all_pairs) {
+  return sd_tuple_cost(
+      3, all_pairs, [&](std::size_t x, std::size_t y) { return link[x][y]; },
+      [&](std::size_t x, std::size_t y) { return coexist[x][y]; });
+}
+
+TEST(TupleCost, SumsTheLinkedPairsOfItsForm) {
+  const double link[3][3] = {{0, -2.0, -4.0}, {0, 0, -3.0}, {0, 0, 0}};
+  const bool together[3][3] = {{false, true, true}, {false, false, true}, {false, false, false}};
+  EXPECT_DOUBLE_EQ(cost3(link, together, true), -9.0);   // -2 - 3 - 4
+  EXPECT_DOUBLE_EQ(cost3(link, together, false), -5.0);  // chain: -2 - 3
+  EXPECT_DOUBLE_EQ(sd_tuple_cost(
+                       1, true, [](std::size_t, std::size_t) { return kNone; },
+                       [](std::size_t, std::size_t) { return true; }),
+                   0.0);  // one track
+}
+
+TEST(TupleCost, NeverCoexistingPairIsNeutralACoexistingOneOutsideTheGateForbids) {
+  // A early, B throughout, C late: A–C never coexist and have no gated pair.
+  const double link[3][3] = {{0, -2.0, kNone}, {0, 0, -3.0}, {0, 0, 0}};
+  bool together[3][3] = {{false, true, false}, {false, false, true}, {false, false, false}};
+  EXPECT_DOUBLE_EQ(cost3(link, together, true), -5.0);  // joined through B
+  together[0][2] = true;                                // A–C coexist and fail the gate
+  EXPECT_TRUE(std::isinf(cost3(link, together, true)));
+}
+
+TEST(TupleCost, MembersNotConnectedThroughGatedPairsAreForbidden) {
+  const double link[3][3] = {{0, -2.0, kNone}, {0, 0, kNone}, {0, 0, 0}};
+  const bool apart[3][3] = {};  // C never coexists with A or B: C is not connected
+  EXPECT_TRUE(std::isinf(cost3(link, apart, true)));
+}
+
+}  // namespace
+}  // namespace trackassoc
