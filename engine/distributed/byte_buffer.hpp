@@ -64,6 +64,8 @@ class ByteReader {
   template <class T>
   std::vector<T> get_vector() {
     const auto n = get<uint64_t>();
+    if (n > remaining() / sizeof(T))
+      throw std::runtime_error("distributed message shorter than its content (a bug)");
     std::vector<T> v(n);
     if (n) std::memcpy(v.data(), take(n * sizeof(T)), n * sizeof(T));
     return v;
@@ -75,6 +77,7 @@ class ByteReader {
     return v;
   }
   bool done() const { return pos_ == size_; }
+  std::size_t remaining() const { return size_ - pos_; }
 
  private:
   const uint8_t* take(std::size_t n) {
