@@ -93,8 +93,7 @@ std::vector<int64_t> items_over(int n, int64_t items) {
   return over_ranks(n, [&](distributed::Communicator& comm) {
     return distributed::sharded_items<int64_t>(
         comm, items, [](int64_t i) { return std::vector<int64_t>(i % 3, 10 * i); },
-        [](int64_t i) { return "item " + std::to_string(i); },
-        [](ByteWriter& w, const int64_t& x) { w.put(x); }, [](ByteReader& r) { return r.get<int64_t>(); });
+        [](int64_t i) { return "item " + std::to_string(i); });
   });
 }
 
@@ -109,9 +108,7 @@ TEST(Sharding, ParallelItemsComeBackInTheOrderOfOneProcess) {
     return over_ranks(n, [&](distributed::Communicator& comm) {
       return distributed::sharded_items<int64_t>(
           comm, 23, [](int64_t i) { return std::vector<int64_t>(i % 3, 10 * i); },
-          [](int64_t i) { return "item " + std::to_string(i); },
-          [](ByteWriter& w, const int64_t& x) { w.put(x); }, [](ByteReader& r) { return r.get<int64_t>(); },
-          parallel);
+          [](int64_t i) { return "item " + std::to_string(i); }, parallel);
     });
   };
   const auto one = over(1, false);
@@ -129,8 +126,7 @@ TEST(Sharding, AFailingParallelItemIsNamedFirstInItemOrder) {
           if (i == 3 || i == 5) throw InputError("run " + std::to_string(i) + " bad");
           return {1};
         },
-        [](int64_t i) { return "run " + std::to_string(i); }, [](ByteWriter& w, const int& x) { w.put(x); },
-        [](ByteReader& r) { return r.get<int>(); }, /*parallel=*/true);
+        [](int64_t i) { return "run " + std::to_string(i); }, /*parallel=*/true);
   };
   EXPECT_THROW(run(1), distributed::SilentExit);
   try {
@@ -153,8 +149,7 @@ TEST(Sharding, AFailingRankIsNamedWithItsShard) {
           if (i == 4) throw InputError("scenario: bad");
           return {1};
         },
-        [](int64_t i) { return "run " + std::to_string(i); }, [](ByteWriter& w, const int& x) { w.put(x); },
-        [](ByteReader& r) { return r.get<int>(); });
+        [](int64_t i) { return "run " + std::to_string(i); });
   };
   EXPECT_TRUE(run(2).empty());
   try {
