@@ -1,5 +1,6 @@
-// Codecs declared once (engine/distributed/codec.hpp): every declared field travels, and a buffer
-// of the wrong length is refused naming the codec.
+// Codecs declared once (engine/distributed/codec.hpp): every declared field travels, a buffer of
+// the wrong length is refused naming the codec, and the codecs the engine declares round-trip
+// the values they carry (the S-D link matrices, dense and sparse, through their gated entries).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -11,6 +12,8 @@
 #include <vector>
 
 #include "engine/distributed/codec.hpp"
+#include "engine/pipeline/sparse_pipeline.hpp"
+#include "engine/pipeline/sparse_sd_components.hpp"
 
 namespace trackassoc {
 namespace {
@@ -141,6 +144,58 @@ TEST(Codec, AWrongLengthIsRefusedNamingTheCodec) {
   const uint64_t n = uint64_t{1} << 60;
   std::memcpy(huge_count.data() + 15, &n, 8);  // the string's length
   EXPECT_THROW(kEverything.from_bytes(huge_count), std::runtime_error);
+}
+
+TEST(Codec, TheEngineCodecsRoundTripWhatTheyCarry) {
+  SDComponentView v;
+  v.S = 3;
+  v.tracks = {{0, 1}, {0}, {0, 1, 2}};
+  v.node = {{4, 9}, {2}, {1, 3, 5}};
+  v.first = {{0, 2}, {1}, {0, -1, 3}};
+  v.last = {{5, 8}, {9}, {4, -1, 7}};
+  v.bytes_held = 1e9;  // the holder's own: stays behind
+  v.link.resize(9);
+  v.link[0 * 3 + 1] = SDLinkMatrix::from_entries(2, 1, {{1, 0, 2.5}});
+  v.link[0 * 3 + 2] = SDLinkMatrix::from_entries(2, 3, {{0, 2, -1.0}, {1, 0, 0.5}});
+  // A matrix over kDenseEntries is stored sparse (CSR); it travels and comes back sparse.
+  v.link[1 * 3 + 2] = SDLinkMatrix::from_entries(1, 70000, {{0, 69999, 3.0}, {0, 5, 4.0}});
+  ASSERT_TRUE(v.link[5].sparse);
+  const SDComponentView w = distributed::codec_of<SDComponentView>().from_bytes(
+      distributed::codec_of<SDComponentView>().to_bytes(v));
+  EXPECT_EQ(w.S, 3);
+  EXPECT_EQ(w.tracks, v.tracks);
+  EXPECT_EQ(w.node, v.node);
+  EXPECT_EQ(w.first, v.first);
+  EXPECT_EQ(w.last, v.last);
+  EXPECT_EQ(w.bytes_held, 0.0);
+  EXPECT_EQ(w.link_cost(0, 1, 1, 0), 2.5);
+  EXPECT_EQ(w.link_cost(2, 2, 0, 0), -1.0);
+  EXPECT_EQ(w.link_cost(0, 1, 2, 0), 0.5);
+  EXPECT_TRUE(std::isnan(w.link_cost(0, 0, 2, 0)));
+  EXPECT_TRUE(w.link[5].sparse);
+  EXPECT_EQ(w.link[5].at(0, 69999), 3.0);
+  EXPECT_EQ(w.link[5].at(0, 5), 4.0);
+  EXPECT_TRUE(std::isnan(w.link[5].at(0, 6)));
+  // Gated entries outside their matrix are refused.
+  SDLinkMatrix::Gated g{2, 2, {4}, {1.0}};
+  EXPECT_THROW(SDLinkMatrix::from_gated(g), std::runtime_error);
+
+  SparseComponentSolution s;
+  s.tuples = {{0, 1, 2}, {2, 0, 1}};
+  s.summary.termination = Termination::kGapTolerance;
+  s.summary.feasible = true;
+  s.summary.objective = -12.5;
+  s.summary.iterations = 77;
+  s.summary.message = "stopped at the gap";
+  const auto& sc = distributed::codec_of<SparseComponentSolution>();
+  const SparseComponentSolution t = sc.from_bytes(sc.to_bytes(s));
+  EXPECT_EQ(t.tuples, s.tuples);
+  EXPECT_EQ(t.summary.termination, Termination::kGapTolerance);
+  EXPECT_TRUE(t.summary.feasible);
+  EXPECT_EQ(t.summary.objective, -12.5);
+  EXPECT_TRUE(std::isnan(t.summary.lower_bound));
+  EXPECT_EQ(t.summary.iterations, 77);
+  EXPECT_EQ(t.summary.message, "stopped at the gap");
 }
 
 }  // namespace
