@@ -57,7 +57,7 @@ Everything sample() {
   x.d = -0.0;
   x.flag = true;
   x.colour = Colour::kBlue;
-  x.text = std::string("seed\0004 row", 12);  // an embedded NUL travels too
+  x.text = std::string("seed") + '\0' + "004 row";  // 12 characters: an embedded NUL travels too
   x.floats = {1.5f, std::numeric_limits<float>::infinity(), -2.25f};
   x.nested = {{1, 2}, {}, {3}};
   x.triple = {1e300, -1e-300, 7.0};
@@ -84,6 +84,8 @@ TEST(Codec, EveryDeclaredFieldRoundTrips) {
   EXPECT_EQ(y.colour, Colour::kBlue);
   EXPECT_EQ(y.text.size(), 12u);
   EXPECT_EQ(y.text, x.text);
+  EXPECT_EQ(y.text[4], '\0');
+  EXPECT_EQ(y.text.substr(5), "004 row");
   EXPECT_EQ(y.floats, x.floats);
   EXPECT_EQ(y.nested, (std::vector<std::vector<int32_t>>{{1, 2}, {}, {3}}));
   EXPECT_EQ(y.triple, x.triple);
