@@ -19,9 +19,9 @@
 #include "engine/distributed/communicator.hpp"
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
-#include "engine/pipeline/sparse_3d_sharded.hpp"
+#include "engine/pipeline/sparse_pipeline.hpp"
+#include "engine/pipeline/sparse_sd_components.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
-#include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/pipeline/track_hygiene.hpp"
 #include "engine/report/association_map.hpp"
 #include "engine/solvers/solver_registry.hpp"
@@ -169,8 +169,8 @@ void register_associate(CLI::App& app) {
     merge_hopfield_flags(args->hopfield, request.solver, request.solver_options);
     // More than one MPI rank (docs/design.md §8): the components of the default path and of --sparse are
     // shared out; rank 0 reads, builds, writes and prints, the other ranks only solve what it sends
-    // them (engine/pipeline/sparse_sd_sharded.hpp, sparse_3d_sharded.hpp). Everything above is the
-    // same on every rank.
+    // them (serve_sd_components, serve_sparse_components; engine/distributed/shard_items.hpp).
+    // Everything above is the same on every rank.
     if (comm.size() > 1) {
       const AssociationPath path = choose_association_path(request);
       if (path != AssociationPath::kSparseSD && path != AssociationPath::kSparse3D)

@@ -33,11 +33,6 @@ class ByteWriter {
     const auto* p = reinterpret_cast<const uint8_t*>(v.data());
     bytes_.insert(bytes_.end(), p, p + v.size() * sizeof(T));
   }
-  template <class T>
-  void put_nested(const std::vector<std::vector<T>>& v) {
-    put<uint64_t>(v.size());
-    for (const auto& x : v) put(x);
-  }
   Bytes& bytes() { return bytes_; }
   Bytes take() { return std::move(bytes_); }
 
@@ -64,17 +59,14 @@ class ByteReader {
   template <class T>
   std::vector<T> get_vector() {
     const auto n = get<uint64_t>();
+    if (n > remaining() / sizeof(T))
+      throw std::runtime_error("distributed message shorter than its content (a bug)");
     std::vector<T> v(n);
     if (n) std::memcpy(v.data(), take(n * sizeof(T)), n * sizeof(T));
     return v;
   }
-  template <class T>
-  std::vector<std::vector<T>> get_nested() {
-    std::vector<std::vector<T>> v(get<uint64_t>());
-    for (auto& x : v) x = get_vector<T>();
-    return v;
-  }
   bool done() const { return pos_ == size_; }
+  std::size_t remaining() const { return size_ - pos_; }
 
  private:
   const uint8_t* take(std::size_t n) {

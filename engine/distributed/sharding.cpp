@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <numeric>
 #include <stdexcept>
 
+#include "engine/distributed/shard_items.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/stopwatch.hpp"
@@ -232,6 +234,27 @@ std::vector<double> cost_share_per_rank(const std::vector<double>& cost, const s
   }
   for (double& l : load) l = total > 0 ? l / total : 0.0;
   return load;
+}
+
+void print_item_shard_stats(const char* what, const ItemShardStats& stats) {
+  if (!std::getenv("TRACKASSOC_MPI_STATS")) return;
+  const int N = stats.ranks;
+  const std::vector<double> share = cost_share_per_rank(stats.cost, stats.rank_of, N);
+  std::vector<int> count(N, 0);
+  for (int32_t r : stats.rank_of) ++count[r];
+  double total = 0.0, largest = 0.0;
+  for (double c : stats.cost) total += c, largest = std::max(largest, c);
+  std::string per_rank;
+  for (int r = 0; r < N; ++r)
+    per_rank += (r ? ", " : "") + std::to_string(count[r]) + " (" + std::to_string(share[r]) + ")";
+  std::fprintf(
+      stderr,
+      "mpi: %d ranks, %zu %s (the largest %.3f of the estimated cost), per rank: items (share of cost): "
+      "%s; scattered %llu B, gathered %llu B; plan+encode %.3f s, rank 0 solve %.3f s, solve+gather "
+      "%.3f s\n",
+      N, stats.cost.size(), what, total > 0 ? largest / total : 0.0, per_rank.c_str(),
+      static_cast<unsigned long long>(stats.scattered), static_cast<unsigned long long>(stats.gathered),
+      stats.plan_s, stats.rank0_solve_s, stats.exchange_s);
 }
 
 }  // namespace trackassoc::distributed

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "engine/distributed/byte_buffer.hpp"
+#include "engine/distributed/codec.hpp"
 #include "engine/distributed/communicator.hpp"
 
 namespace trackassoc::distributed {
@@ -88,16 +89,15 @@ std::vector<double> cost_share_per_rank(const std::vector<double>& cost, const s
                                         int ranks);
 
 // The rows of items 0..items-1 computed over the ranks (owner_of_item), in item order on rank 0
-// (empty elsewhere). `run(i)` gives item i's rows, `describe(i)` names it in an error,
-// `encode`/`decode` move one row. With `parallel`, a rank runs its items at once over its TBB
+// (empty elsewhere). `run(i)` gives item i's rows, `describe(i)` names it in an error; a row
+// travels by its declared codec (engine/distributed/codec.hpp: wire_codec(Row), or its bytes when
+// it is trivially copyable). With `parallel`, a rank runs its items at once over its TBB
 // threads (solve_part_items: each item's rows kept apart, then taken in item order, the first
 // failing item named), for runs that share nothing; else one after the other.
 template <class Row>
 std::vector<Row> sharded_items(Communicator& comm, int64_t items,
                                const std::function<std::vector<Row>(int64_t)>& run,
-                               const std::function<std::string(int64_t)>& describe,
-                               const std::function<void(ByteWriter&, const Row&)>& encode,
-                               const std::function<Row(ByteReader&)>& decode, bool parallel = false) {
+                               const std::function<std::string(int64_t)>& describe, bool parallel = false) {
   const int N = comm.size();
   // The rows of this rank's items, mine[k] = its k-th; `shard` names the item being run.
   auto run_mine = [&](const std::vector<int64_t>& mine, std::string& shard) {
@@ -134,7 +134,7 @@ std::vector<Row> sharded_items(Communicator& comm, int64_t items,
     for (std::size_t k = 0; k < mine.size(); ++k) {
       w.put<int64_t>(mine[k]);
       w.put<uint64_t>(rows[k].size());
-      for (const auto& r : rows[k]) encode(w, r);
+      for (const auto& r : rows[k]) codec_detail::put_value(w, r);
     }
     return w.take();
   });
@@ -145,7 +145,7 @@ std::vector<Row> sharded_items(Communicator& comm, int64_t items,
     while (!rd.done()) {
       const auto i = rd.get<int64_t>();
       const auto n = rd.get<uint64_t>();
-      for (uint64_t k = 0; k < n; ++k) by_item.at(i).push_back(decode(rd));
+      for (uint64_t k = 0; k < n; ++k) codec_detail::get_value(rd, by_item.at(i).emplace_back());
     }
   }
   std::vector<Row> rows;

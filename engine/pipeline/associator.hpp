@@ -77,8 +77,8 @@ struct AssociatorOptions {
   // (engine/pipeline/track_stitching.hpp); the CLI's --no-stitch.
   TrackStitchOptions stitching;
   // The default (sparse S-D) path and --sparse: the MPI ranks that share its components (rank 0's
-  // call; the others run serve_sd_components, engine/pipeline/sparse_sd_sharded.hpp, or
-  // serve_sparse_components, engine/pipeline/sparse_3d_sharded.hpp). Null: this process.
+  // call; the others run serve_sd_components, engine/pipeline/sparse_sd_components.hpp, or
+  // serve_sparse_components, engine/pipeline/sparse_pipeline.hpp). Null: this process.
   distributed::Communicator* ranks = nullptr;
   // Throws InputError when more than one of sd, three_d, sparse is set, solver_options is not a
   // JSON object, or radius_scale, max_component_entries or miss_cost is out of its range.

@@ -47,7 +47,7 @@ namespace trackassoc {
 struct RegistrationStageOptions {
   bool enabled = true;
   // false: steps 1-3 only (the estimate is written, never applied): the default path over MPI
-  // ranks, whose servers solve one association (engine/pipeline/sparse_sd_sharded.hpp).
+  // ranks, whose servers solve one association (engine/pipeline/sparse_sd_components.hpp).
   bool reassociate = true;
   int32_t max_rounds = 4;                  // associations in all (≥ 2)
   double significance = 1e-6;              // Wald test level: apply when p < significance

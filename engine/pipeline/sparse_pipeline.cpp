@@ -9,9 +9,9 @@
 #include <map>
 #include <numeric>
 
+#include "engine/distributed/shard_items.hpp"
 #include "engine/pipeline/pair_source.hpp"
 #include "engine/pipeline/partition.hpp"
-#include "engine/pipeline/sparse_3d_sharded.hpp"
 #include "engine/pipeline/tuple_decoding.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
@@ -255,7 +255,73 @@ struct ComponentResult {
   SolverSummary summary;
 };
 
+// A component as it travels (engine/distributed/shard_items.hpp): its seed key and matrices; every
+// component of a part shares the solver and its options (JSON text).
+struct SparseShardItem {
+  uint64_t key = 0;
+  SparseComponentMatrices matrices;
+};
+struct SparseShardHeader {
+  std::string solver, options;
+};
+
+constexpr auto wire_codec(std::type_identity<SparseShardItem>) {
+  return distributed::codec<SparseShardItem>("sparse 3-D work", &SparseShardItem::key,
+                                             &SparseShardItem::matrices);
+}
+constexpr auto wire_codec(std::type_identity<SparseShardHeader>) {
+  return distributed::codec<SparseShardHeader>("sparse 3-D shard header", &SparseShardHeader::solver,
+                                               &SparseShardHeader::options);
+}
+
+constexpr distributed::ItemJob<SparseShardHeader, SparseShardItem, SparseComponentSolution> kSparseComponents{
+    "component", "tracks",
+    [](const SparseShardItem& x) {
+      const auto& t = x.matrices.tracks;
+      return static_cast<std::size_t>(t[0] + t[1] + t[2]);
+    },
+    [](const SparseShardHeader& h, const SparseShardItem& x) {
+      Solution3 sol = find_solver(h.solver).solve(sparse_component_tensor(x.matrices),
+                                                  nlohmann::json::parse(h.options), x.key);
+      return SparseComponentSolution{std::move(sol.tuples), sol.summary};
+    }};
+
 }  // namespace
+
+SparseComponentCosts sparse_component_costs(const SparseAssociationProblem& p,
+                                            const SparsePipelineOptions& options) {
+  SparseComponentCosts plan;
+  (void)sparse_component_work(p, options);  // an oversized component is refused as by one process
+  const bool pad = std::isinf(options.miss_cost);
+  for (int32_t c = 0; c < p.components.count; ++c) {
+    if (p.components.size(c) < 2) continue;
+    auto n = component_track_counts(p, c);
+    if (pad) n.fill(std::max({n[0], n[1], n[2]}));
+    plan.component.push_back(c);
+    plan.cost.push_back(static_cast<double>(n[0]) * n[1] * n[2]);
+  }
+  return plan;
+}
+
+std::vector<SparseComponentSolution> solve_sparse_components_sharded(
+    distributed::Communicator& comm, const SparseAssociationProblem& p, const std::string& solver,
+    const nlohmann::json& solver_options, uint64_t seed, const SparsePipelineOptions& options) {
+  const SparseComponentCosts plan = sparse_component_costs(p, options);
+  auto solved = distributed::shard_items(comm, kSparseComponents, "sparse 3-D components of 2+ tracks",
+                                         {solver, solver_options.dump()}, plan.component, plan.cost,
+                                         [&](std::size_t k) {
+                                           const auto c = static_cast<int32_t>(plan.component[k]);
+                                           return SparseShardItem{stream_key(seed, static_cast<uint64_t>(c)),
+                                                                  sparse_component_matrices(p, c, options)};
+                                         });
+  std::vector<SparseComponentSolution> results(p.components.count);
+  for (std::size_t k = 0; k < solved.size(); ++k) results[plan.component[k]] = std::move(solved[k]);
+  return results;
+}
+
+void serve_sparse_components(distributed::Communicator& comm) {
+  distributed::serve_items(comm, kSparseComponents);
+}
 
 AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, const std::string& solver,
                                            const nlohmann::json& solver_options, uint64_t seed,
@@ -264,7 +330,7 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
   const SolverEntry& entry = find_solver(solver);
   AssociationRecord rec;
   if (options.ranks && options.ranks->size() > 1) {
-    // The components shared out over the ranks (engine/pipeline/sparse_3d_sharded.hpp), decoded here.
+    // The components shared out over the ranks (solve_sparse_components_sharded), decoded here.
     options.validate();
     const auto t0 = std::chrono::steady_clock::now();
     const auto solutions =

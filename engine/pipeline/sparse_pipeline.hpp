@@ -8,7 +8,7 @@
 //   → per component, in parallel (TBB): a small dense sub-tensor, any registered solver
 //   → decoding into the same AssociationRecord as the dense pipeline.
 // Under MPI (options.ranks, more than one rank) the components are solved on the ranks and decoded
-// on rank 0 (engine/pipeline/sparse_3d_sharded.hpp), with the same record.
+// on rank 0 (solve_sparse_components_sharded below), with the same record.
 //
 // The common time grid, the alignment, the statistic, the cost forms, the gated-pair cost and
 // the decoding rules are those of engine/pipeline/pipeline.hpp, so that dense and sparse give identical
@@ -41,6 +41,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/distributed/codec.hpp"
+#include "engine/distributed/communicator.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "io/track_file.hpp"
 #include "kernels/assignment/clusters.hpp"
@@ -48,17 +50,13 @@
 
 namespace trackassoc {
 
-namespace distributed {
-class Communicator;
-}
-
 struct SparsePipelineOptions {
   PipelineOptions pipeline;   // sensors, common period, alignment, statistic (gate), cost form, G
   double radius_scale = 1.0;  // CandidateOptions::radius_scale
   float miss_cost = std::numeric_limits<float>::infinity();  // see the header comment
   std::size_t max_component_entries = std::size_t{1} << 24;  // 64 MiB of floats per sub-tensor
   // The MPI ranks that share the components (rank 0's call with a registered solver name; the
-  // others run serve_sparse_components, engine/pipeline/sparse_3d_sharded.hpp). Null: this process.
+  // others run serve_sparse_components, below). Null: this process.
   distributed::Communicator* ranks = nullptr;
   void validate() const;
   nlohmann::json to_json() const;
@@ -101,7 +99,7 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& probl
                                            uint64_t seed, const SparsePipelineOptions& options,
                                            std::vector<StageReport>* stages = nullptr);
 
-// The pieces of the solve, shared with the sharded form (engine/pipeline/sparse_3d_sharded.hpp).
+// The pieces of the solve, shared with the sharded form (solve_sparse_components_sharded below).
 // Component c as a self-contained sub-problem: the pair cost matrices (float(λ) in the gate,
 // float(G) otherwise and for phantoms; c13 only for the all-pairs cost), row-major over the local
 // indices, n the sub-tensor's dimensions (padded with phantoms when miss_cost = +inf). Throws the
@@ -134,6 +132,44 @@ AssociationRecord sparse_record_from_solutions(const SparseAssociationProblem& p
                                                const SparsePipelineOptions& options,
                                                std::chrono::steady_clock::time_point t0,
                                                std::vector<StageReport>* stages = nullptr);
+
+// The components of two or more tracks and their estimated cost, the entries of their dense
+// sub-tensor (padded when miss_cost = +inf), ascending; throws the InputError of an oversized one,
+// as one process does.
+struct SparseComponentCosts {
+  std::vector<int64_t> component;
+  std::vector<double> cost;
+};
+SparseComponentCosts sparse_component_costs(const SparseAssociationProblem& p,
+                                            const SparsePipelineOptions& options);
+// Rank 0: the components of two or more tracks over the ranks of `comm` (docs/design.md §8;
+// engine/distributed/shard_items.hpp), dealt by sparse_component_costs. Each rank gets per component
+// its pair cost matrices and seed key stream_key(seed, c), rebuilds the sub-tensor with the same
+// float arithmetic (sparse_component_tensor) and solves it; the solutions (indexed by component)
+// are those of one process, to decode with sparse_record_from_solutions. The other ranks run
+// serve_sparse_components at the same time.
+std::vector<SparseComponentSolution> solve_sparse_components_sharded(
+    distributed::Communicator& comm, const SparseAssociationProblem& p, const std::string& solver,
+    const nlohmann::json& solver_options, uint64_t seed, const SparsePipelineOptions& options);
+void serve_sparse_components(distributed::Communicator& comm);
+
+// How a component and its solution travel (engine/distributed/codec.hpp).
+constexpr auto wire_codec(std::type_identity<SparseComponentMatrices>) {
+  return distributed::codec<SparseComponentMatrices>(
+      "sparse 3-D component", &SparseComponentMatrices::tracks, &SparseComponentMatrices::n,
+      &SparseComponentMatrices::miss_cost, &SparseComponentMatrices::all_pairs, &SparseComponentMatrices::c12,
+      &SparseComponentMatrices::c23, &SparseComponentMatrices::c13);
+}
+constexpr auto wire_codec(std::type_identity<SolverSummary>) {
+  return distributed::codec<SolverSummary>(
+      "solver summary", &SolverSummary::termination, &SolverSummary::feasible, &SolverSummary::objective,
+      &SolverSummary::lower_bound, &SolverSummary::gap, &SolverSummary::abs_gap, &SolverSummary::iterations,
+      &SolverSummary::sweeps, &SolverSummary::wall_time_s, &SolverSummary::message);
+}
+constexpr auto wire_codec(std::type_identity<SparseComponentSolution>) {
+  return distributed::codec<SparseComponentSolution>(
+      "sparse 3-D component solution", &SparseComponentSolution::tuples, &SparseComponentSolution::summary);
+}
 
 // Component sizes: counts[d] = tracks of sensor d in component c.
 std::array<int32_t, 3> component_track_counts(const SparseAssociationProblem& p, int32_t c);

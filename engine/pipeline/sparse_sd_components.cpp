@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/distributed/shard_items.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/tuple_cost.hpp"
 #include "io/memory_budget.hpp"
@@ -322,80 +323,95 @@ double sd_component_cost(const SDComponentView& v, std::size_t max_entries) {
   return cost;
 }
 
-// The link matrices travel sparse: per slot, the gated-in entries (index, cost) only, since
-// most of a large component's n_a × n_b entries are NaN (no gated pair).
-void encode_sd_component_view(distributed::ByteWriter& w, const SDComponentView& v) {
-  w.put(v.S);
-  w.put_nested(v.tracks);
-  w.put_nested(v.node);
-  w.put_nested(v.first);
-  w.put_nested(v.last);
-  w.put<uint64_t>(v.link.size());
-  std::vector<uint64_t> index;
-  std::vector<double> cost;
-  for (const auto& m : v.link) {
-    index.clear();
-    cost.clear();
-    m.for_each([&](int32_t i, int32_t j, double c) {
-      index.push_back(static_cast<uint64_t>(i) * static_cast<uint64_t>(m.cols) + static_cast<uint64_t>(j));
-      cost.push_back(c);
-    });
-    w.put<uint64_t>(static_cast<uint64_t>(m.rows) * static_cast<uint64_t>(m.cols));
-    w.put(index);
-    w.put(cost);
-  }
+SDLinkMatrix::Gated SDLinkMatrix::gated(const SDLinkMatrix& m) {
+  Gated g;
+  g.rows = m.rows;
+  g.cols = m.cols;
+  m.for_each([&](int32_t i, int32_t j, double c) {
+    g.index.push_back(static_cast<uint64_t>(i) * static_cast<uint64_t>(m.cols) + static_cast<uint64_t>(j));
+    g.cost.push_back(c);
+  });
+  return g;
 }
 
-SDComponentView decode_sd_component_view(distributed::ByteReader& r) {
-  SDComponentView v;
-  v.S = r.get<int32_t>();
-  v.tracks = r.get_nested<int32_t>();
-  v.node = r.get_nested<int32_t>();
-  v.first = r.get_nested<int32_t>();
-  v.last = r.get_nested<int32_t>();
-  v.link.resize(r.get<uint64_t>());
+SDLinkMatrix SDLinkMatrix::from_gated(const Gated& g) {
+  const uint64_t size =
+      static_cast<uint64_t>(std::max(g.rows, 0)) * static_cast<uint64_t>(std::max(g.cols, 0));
+  if (g.rows < 0 || g.cols < 0 || g.index.size() != g.cost.size())
+    throw std::runtime_error("S-D link entries: " + std::to_string(g.index.size()) + " indices and " +
+                             std::to_string(g.cost.size()) + " costs for " + std::to_string(g.rows) + " x " +
+                             std::to_string(g.cols) + " (a bug)");
   std::vector<std::tuple<int32_t, int32_t, double>> entries;
-  for (std::size_t slot = 0; slot < v.link.size(); ++slot) {
-    const std::size_t a = slot / static_cast<std::size_t>(v.S), b = slot % static_cast<std::size_t>(v.S);
-    const auto rows = a < b ? static_cast<int32_t>(v.tracks.at(a).size()) : 0;
-    const auto cols = a < b ? static_cast<int32_t>(v.tracks.at(b).size()) : 0;
-    const uint64_t size = r.get<uint64_t>();
-    const auto index = r.get_vector<uint64_t>();
-    const auto cost = r.get_vector<double>();
-    if (size != static_cast<uint64_t>(rows) * static_cast<uint64_t>(cols) || index.size() != cost.size())
-      throw std::runtime_error("decode_sd_component_view: link matrix " + std::to_string(slot) +
-                               " has the wrong size");
-    entries.clear();
-    for (std::size_t k = 0; k < index.size(); ++k) {
-      if (index[k] >= size) throw std::runtime_error("decode_sd_component_view: link index out of range");
-      entries.emplace_back(static_cast<int32_t>(index[k] / cols), static_cast<int32_t>(index[k] % cols),
-                           cost[k]);
-    }
-    v.link[slot] = SDLinkMatrix::from_entries(rows, cols, entries);
+  entries.reserve(g.index.size());
+  for (std::size_t k = 0; k < g.index.size(); ++k) {
+    if (g.index[k] >= size)
+      throw std::runtime_error("S-D link entries: index " + std::to_string(g.index[k]) + " outside " +
+                               std::to_string(g.rows) + " x " + std::to_string(g.cols) + " (a bug)");
+    entries.emplace_back(static_cast<int32_t>(g.index[k] / g.cols), static_cast<int32_t>(g.index[k] % g.cols),
+                         g.cost[k]);
   }
-  return v;
+  return from_entries(g.rows, g.cols, std::move(entries));
 }
 
-void encode_sd_component_result(distributed::ByteWriter& w, const SDComponentResult& x) {
-  w.put_nested(x.tuples);
-  w.put(x.costs);
-  w.put(x.objective);
-  w.put(x.lower_bound);
-  w.put<uint8_t>(x.fallback);
-  w.put<uint8_t>(x.optimal);
-  w.put<uint64_t>(x.entries);
+namespace {
+
+// What every component of a part shares.
+struct SDShardHeader {
+  std::string solver, options;  // options: JSON text
+  bool all_pairs = false;
+  uint64_t max_entries = 0;
+};
+
+constexpr auto wire_codec(std::type_identity<SDShardHeader>) {
+  return distributed::codec<SDShardHeader>("S-D shard header", &SDShardHeader::solver,
+                                           &SDShardHeader::options, &SDShardHeader::all_pairs,
+                                           &SDShardHeader::max_entries);
 }
 
-SDComponentResult decode_sd_component_result(distributed::ByteReader& r) {
-  SDComponentResult x;
-  x.tuples = r.get_nested<int32_t>();
-  x.costs = r.get_vector<double>();
-  x.objective = r.get<double>();
-  x.lower_bound = r.get<double>();
-  x.fallback = r.get<uint8_t>() != 0;
-  x.optimal = r.get<uint8_t>() != 0;
-  x.entries = r.get<uint64_t>();
-  return x;
+constexpr distributed::ItemJob<SDShardHeader, SDComponentView, SDComponentResult> kSDComponents{
+    "component", "tracks",
+    [](const SDComponentView& v) {
+      std::size_t n = 0;
+      for (const auto& t : v.tracks) n += t.size();
+      return n;
+    },
+    [](const SDShardHeader& h, const SDComponentView& v) {
+      return solve_sd_component(v, h.solver, nlohmann::json::parse(h.options), h.all_pairs, h.max_entries);
+    }};
+
+}  // namespace
+
+SDComponentCosts sd_component_costs(const SparseSDProblem& p, std::size_t max_entries) {
+  SDComponentCosts out;
+  for (int32_t c = 0; c < p.components.count; ++c) {
+    if (p.components.size(c) < 2) continue;
+    SDComponentView counts;  // only the track counts, for the estimate
+    counts.S = p.S();
+    counts.tracks.assign(p.S(), {});
+    for (int32_t u : p.components.members(c)) counts.tracks[p.sensor_of(u)].push_back(0);
+    out.component.push_back(c);
+    out.cost.push_back(sd_component_cost(counts, max_entries));
+  }
+  return out;
 }
+
+std::vector<SDComponentResult> solve_sd_components_sharded(distributed::Communicator& comm,
+                                                           const SparseSDProblem& p,
+                                                           const std::string& solver,
+                                                           const nlohmann::json& solver_options,
+                                                           bool all_pairs, std::size_t max_entries) {
+  const SDComponentCosts plan = sd_component_costs(p, max_entries);
+  auto solved = distributed::shard_items(
+      comm, kSDComponents, "sparse S-D components of 2+ tracks",
+      {solver, solver_options.dump(), all_pairs, max_entries}, plan.component, plan.cost,
+      [&](std::size_t k) { return sd_component_view(p, static_cast<int32_t>(plan.component[k])); });
+  std::vector<SDComponentResult> results(p.components.count);
+  for (int32_t c = 0; c < p.components.count; ++c)
+    if (p.components.size(c) == 1) results[c] = single_track_component(p.components.members(c)[0]);
+  for (std::size_t k = 0; k < solved.size(); ++k) results[plan.component[k]] = std::move(solved[k]);
+  return results;
+}
+
+void serve_sd_components(distributed::Communicator& comm) { distributed::serve_items(comm, kSDComponents); }
 
 }  // namespace trackassoc

@@ -1,7 +1,7 @@
 // One connected component of the sparse S-D pipeline (engine/pipeline/sparse_sd_pipeline.hpp) as a
 // self-contained problem: its tracks by sensor, the link costs among them and when each track is
 // valid, so that it can be solved where its problem was not built (another MPI rank, docs/design.md §8;
-// engine/pipeline/sparse_sd_sharded.hpp). The formulation (tuple cost, what is allowed, the dense
+// solve_sd_components_sharded below). The formulation (tuple cost, what is allowed, the dense
 // sub-tensor and the sequential LAP merging fallback) is the header's; this file holds it.
 #pragma once
 
@@ -13,7 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "engine/distributed/byte_buffer.hpp"
+#include "engine/distributed/codec.hpp"
+#include "engine/distributed/communicator.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 
 namespace trackassoc {
@@ -59,6 +60,16 @@ struct SDLinkMatrix {
     return dense.size() * sizeof(double) + (row_start.size() + col.size()) * sizeof(int32_t) +
            cost.size() * sizeof(double);
   }
+  // The gated entries alone (index i·cols + j, by row, columns ascending): how the matrix travels
+  // to another rank, since most of a large component's n_a × n_b entries are NaN.
+  struct Gated {
+    int32_t rows = 0, cols = 0;
+    std::vector<uint64_t> index;
+    std::vector<double> cost;
+  };
+  static Gated gated(const SDLinkMatrix& m);
+  // Throws std::runtime_error on entries that do not fit rows × cols (a bug of the sender).
+  static SDLinkMatrix from_gated(const Gated& g);
 };
 
 // The tracks of one component, by sensor, and the link costs among them.
@@ -112,9 +123,46 @@ SDComponentResult single_track_component(int32_t u);
 // sub-tensor's entries, or for the merging fallback the LAP sizes Σ_s (groups × n_s).
 double sd_component_cost(const SDComponentView& v, std::size_t max_entries);
 
-void encode_sd_component_view(distributed::ByteWriter& w, const SDComponentView& v);
-SDComponentView decode_sd_component_view(distributed::ByteReader& r);
-void encode_sd_component_result(distributed::ByteWriter& w, const SDComponentResult& x);
-SDComponentResult decode_sd_component_result(distributed::ByteReader& r);
+// The components of two or more tracks over the ranks of `comm` (docs/design.md §8;
+// engine/distributed/shard_items.hpp): rank 0 deals them by sd_component_cost, sends each its view
+// and solves its own share; the results are those of solve_sd_components for any number of ranks
+// (the solvers are deterministic and get no rank-dependent input). The other ranks run
+// serve_sd_components at the same time.
+std::vector<SDComponentResult> solve_sd_components_sharded(distributed::Communicator& comm,
+                                                           const SparseSDProblem& p,
+                                                           const std::string& solver,
+                                                           const nlohmann::json& solver_options,
+                                                           bool all_pairs, std::size_t max_entries);
+void serve_sd_components(distributed::Communicator& comm);
+
+// The components of two or more tracks and their estimated cost (sd_component_cost), as dealt.
+struct SDComponentCosts {
+  std::vector<int64_t> component;
+  std::vector<double> cost;
+};
+SDComponentCosts sd_component_costs(const SparseSDProblem& p, std::size_t max_entries);
+
+// How components and results travel (engine/distributed/codec.hpp). A view's bytes_held is the
+// holding process's own and stays behind.
+constexpr auto wire_codec(std::type_identity<SDLinkMatrix::Gated>) {
+  return distributed::codec<SDLinkMatrix::Gated>("S-D link entries", &SDLinkMatrix::Gated::rows,
+                                                 &SDLinkMatrix::Gated::cols, &SDLinkMatrix::Gated::index,
+                                                 &SDLinkMatrix::Gated::cost);
+}
+constexpr auto wire_codec(std::type_identity<SDLinkMatrix>) {
+  return distributed::converted_codec<SDLinkMatrix, SDLinkMatrix::Gated>(
+      "S-D link matrix", &SDLinkMatrix::gated, &SDLinkMatrix::from_gated);
+}
+constexpr auto wire_codec(std::type_identity<SDComponentView>) {
+  return distributed::codec<SDComponentView>("S-D component", &SDComponentView::S, &SDComponentView::tracks,
+                                             &SDComponentView::node, &SDComponentView::first,
+                                             &SDComponentView::last, &SDComponentView::link);
+}
+constexpr auto wire_codec(std::type_identity<SDComponentResult>) {
+  return distributed::codec<SDComponentResult>("S-D component result", &SDComponentResult::tuples,
+                                               &SDComponentResult::costs, &SDComponentResult::objective,
+                                               &SDComponentResult::lower_bound, &SDComponentResult::fallback,
+                                               &SDComponentResult::optimal, &SDComponentResult::entries);
+}
 
 }  // namespace trackassoc

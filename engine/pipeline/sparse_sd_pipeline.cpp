@@ -12,7 +12,6 @@
 #include "engine/pipeline/partition.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_components.hpp"
-#include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "io/memory_budget.hpp"
 #include "kernels/assignment/lap.hpp"
@@ -211,7 +210,7 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
   const bool all_pairs = options.pipeline.cost.form == CostForm::kAllPairs;
   const int32_t C = p.components.count;
   // One process solves every component in parallel (TBB); more ranks share them out
-  // (engine/pipeline/sparse_sd_sharded.hpp), with the same results.
+  // (solve_sd_components_sharded, engine/pipeline/sparse_sd_components.hpp), with the same results.
   std::vector<SDComponentResult> results =
       options.ranks && options.ranks->size() > 1
           ? solve_sd_components_sharded(*options.ranks, p, solver, solver_options, all_pairs,

@@ -62,7 +62,7 @@ struct SparseSDOptions {
   // After the assignment, the segments of one target on one sensor joined to it
   // (engine/pipeline/track_segments.hpp); associate_sparse_sd runs it, solve_sparse_sd_association not.
   SegmentOptions segments;
-  // The ranks that share the components (docs/design.md §8; engine/pipeline/sparse_sd_sharded.hpp): null
+  // The ranks that share the components (docs/design.md §8; engine/pipeline/sparse_sd_components.hpp): null
   // or one rank solves them all here. On more ranks this is rank 0's call; the others serve.
   distributed::Communicator* ranks = nullptr;
   void validate() const;

@@ -161,26 +161,13 @@ ScheduleRow run_method(const Method& m, const ReferencedInstance& inst, uint64_t
 
 }  // namespace
 
-namespace {
-
-void encode_row(distributed::ByteWriter& w, const ScheduleRow& r) {
-  for (const auto* t : {&r.family, &r.instance, &r.method}) w.put(*t);
-  w.put(r.n);
-  for (double v : {r.objective, r.reference, r.gap, r.raw_validity, r.sweeps, r.wall_s}) w.put(v);
-  w.put<uint8_t>(r.valid);
+// A row as it travels between ranks (engine/distributed/codec.hpp).
+constexpr auto wire_codec(std::type_identity<ScheduleRow>) {
+  return distributed::codec<ScheduleRow>(
+      "schedules row", &ScheduleRow::family, &ScheduleRow::instance, &ScheduleRow::method, &ScheduleRow::n,
+      &ScheduleRow::objective, &ScheduleRow::reference, &ScheduleRow::gap, &ScheduleRow::raw_validity,
+      &ScheduleRow::sweeps, &ScheduleRow::wall_s, &ScheduleRow::valid);
 }
-
-ScheduleRow decode_row(distributed::ByteReader& rd) {
-  ScheduleRow r;
-  for (auto* t : {&r.family, &r.instance, &r.method}) *t = rd.get_string();
-  r.n = rd.get<int32_t>();
-  for (double* v : {&r.objective, &r.reference, &r.gap, &r.raw_validity, &r.sweeps, &r.wall_s})
-    *v = rd.get<double>();
-  r.valid = rd.get<uint8_t>() != 0;
-  return r;
-}
-
-}  // namespace
 
 // One item per instance, in the order one process visits them (tracking sizes × runs, then the
 // DecompLib files), dealt to the ranks round robin (docs/design.md §8): a tracking instance (and its
@@ -230,7 +217,7 @@ std::vector<ScheduleRow> run_schedules_experiment(const SchedulesExperimentOptio
         for (const Method& m : ms) rows.push_back(run_method(m, inst, o.seed));
         return rows;
       },
-      describe, encode_row, decode_row);
+      describe);
 }
 
 namespace {

@@ -110,33 +110,15 @@ std::vector<Seed000Row> seed000_run(const Seed000ExperimentOptions& o, const Sce
   return rows;
 }
 
-void encode_row(distributed::ByteWriter& w, const Seed000Row& r) {
-  w.put(r.targets);
-  w.put<uint8_t>(r.correlated);
-  w.put(r.form);
-  w.put(r.run);
-  w.put(r.solver);
-  w.put(r.correct_rate);
-  w.put(r.false_rate);
-  w.put(r.objective);
-  w.put(r.wall_s);
-}
-
-Seed000Row decode_row(distributed::ByteReader& rd) {
-  Seed000Row r;
-  r.targets = rd.get<int32_t>();
-  r.correlated = rd.get<uint8_t>() != 0;
-  r.form = rd.get_string();
-  r.run = rd.get<int32_t>();
-  r.solver = rd.get_string();
-  r.correct_rate = rd.get<double>();
-  r.false_rate = rd.get<double>();
-  r.objective = rd.get<double>();
-  r.wall_s = rd.get<double>();
-  return r;
-}
-
 }  // namespace
+
+// A row as it travels between ranks (engine/distributed/codec.hpp).
+constexpr auto wire_codec(std::type_identity<Seed000Row>) {
+  return distributed::codec<Seed000Row>("seed000 row", &Seed000Row::targets, &Seed000Row::correlated,
+                                        &Seed000Row::form, &Seed000Row::run, &Seed000Row::solver,
+                                        &Seed000Row::correct_rate, &Seed000Row::false_rate,
+                                        &Seed000Row::objective, &Seed000Row::wall_s);
+}
 
 std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& o, std::ostream* progress) {
   return run_seed000_experiment(o, progress, distributed::world());
@@ -172,8 +154,7 @@ std::vector<Seed000Row> run_seed000_experiment(const Seed000ExperimentOptions& o
         const Config& c = configs[i / o.runs];
         return "seed000 run " + std::to_string(i % o.runs) + " of " + std::to_string(c.targets) +
                " targets, " + (c.correlated ? "correlated" : "independent") + " errors";
-      },
-      encode_row, decode_row);
+      });
 }
 
 std::string seed000_summary_table(const std::vector<Seed000Row>& rows, const Seed000ExperimentOptions& o) {

@@ -248,22 +248,11 @@ RunOutcome seed001_run(const Seed001Options& o, const Seed001Setup& s, int run, 
   return out;
 }
 
-void encode_outcome(distributed::ByteWriter& w, const RunOutcome& r) {
-  for (const auto* v : {&r.se, &r.n})
-    for (const auto& method : *v)
-      for (const auto& target : method) w.put(target);
-  for (const auto* a : {&r.time_per_decision, &r.decisions, &r.system_tracks}) w.put(*a);
-  w.put(r.metrics);
-}
-
-RunOutcome decode_outcome(distributed::ByteReader& rd) {
-  RunOutcome r;
-  for (auto* v : {&r.se, &r.n})
-    for (auto& method : *v)
-      for (auto& target : method) target = rd.get_vector<double>();
-  for (auto* a : {&r.time_per_decision, &r.decisions, &r.system_tracks}) *a = rd.get<std::array<double, 2>>();
-  r.metrics = rd.get<std::array<AssociationMetrics, 2>>();
-  return r;
+// A run's outcome as it travels between ranks (engine/distributed/codec.hpp).
+constexpr auto wire_codec(std::type_identity<RunOutcome>) {
+  return distributed::codec<RunOutcome>("seed001 run outcome", &RunOutcome::se, &RunOutcome::n,
+                                        &RunOutcome::time_per_decision, &RunOutcome::decisions,
+                                        &RunOutcome::system_tracks, &RunOutcome::metrics);
 }
 
 // The result of one reading from its runs' outcomes, in run order (a deterministic reduction).
@@ -357,7 +346,7 @@ std::vector<Seed001Result> run_seed001_readings(const std::vector<Seed001Options
         return "seed001 run " + std::to_string(i - first[k]) + " of reading " +
                std::string(enum_name(readings[k].bearing_reading));
       },
-      encode_outcome, decode_outcome, /*parallel=*/true);
+      /*parallel=*/true);
   if (!comm.root()) return {};
   std::vector<Seed001Result> results;
   for (std::size_t k = 0; k < readings.size(); ++k) {

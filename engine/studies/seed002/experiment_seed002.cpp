@@ -205,34 +205,14 @@ void Seed002Options::validate() const {
             "expected at least one σ_CA and one a_max");
 }
 
-namespace {
-
-void encode_motion(distributed::ByteWriter& w, const Seed002Motion& m) {
-  w.put(m.name);
-  w.put(m.t);
-  for (const auto* q : {&m.rmse_imm, &m.rmse_cs_parallel, &m.rmse_ca})
-    for (const auto& v : *q) w.put(v);
-  w.put(m.imm_prob_cs);
-  w.put(m.f2_scale);
-  for (const auto& a : {m.ratio, m.mean_imm, m.mean_cs_parallel, m.mean_ca}) w.put(a);
-  w.put(m.mean_prob_cs);
+// A motion as it travels between ranks (engine/distributed/codec.hpp).
+constexpr auto wire_codec(std::type_identity<Seed002Motion>) {
+  return distributed::codec<Seed002Motion>(
+      "seed002 motion", &Seed002Motion::name, &Seed002Motion::t, &Seed002Motion::rmse_imm,
+      &Seed002Motion::rmse_cs_parallel, &Seed002Motion::rmse_ca, &Seed002Motion::imm_prob_cs,
+      &Seed002Motion::f2_scale, &Seed002Motion::ratio, &Seed002Motion::mean_imm,
+      &Seed002Motion::mean_cs_parallel, &Seed002Motion::mean_ca, &Seed002Motion::mean_prob_cs);
 }
-
-Seed002Motion decode_motion(distributed::ByteReader& rd) {
-  Seed002Motion m;
-  m.name = rd.get_string();
-  m.t = rd.get_vector<double>();
-  for (auto* q : {&m.rmse_imm, &m.rmse_cs_parallel, &m.rmse_ca})
-    for (auto& v : *q) v = rd.get_vector<double>();
-  m.imm_prob_cs = rd.get_vector<double>();
-  m.f2_scale = rd.get_vector<double>();
-  for (auto* a : {&m.ratio, &m.mean_imm, &m.mean_cs_parallel, &m.mean_ca})
-    *a = rd.get<std::array<double, 3>>();
-  m.mean_prob_cs = rd.get<double>();
-  return m;
-}
-
-}  // namespace
 
 // One item per (setting, motion), in the order one process visits them, dealt to the ranks round
 // robin (docs/design.md §8). A motion's runs stay together: they are the lanes of one filter bank and its
@@ -251,8 +231,7 @@ std::vector<Seed002Motion> run_seed002_motions(const Seed002Options& o,
         const Seed002Models& m = settings[i / 4];
         return "seed002 " + std::string(kMotions[i % 4]) + " (" + std::to_string(o.runs) +
                " runs) of a_max " + report::fmt(m.cs_a_max, "%g") + ", σ_CA " + report::fmt(m.ca_sigma, "%g");
-      },
-      encode_motion, decode_motion);
+      });
 }
 
 Seed002Result run_seed002(const Seed002Options& o) {

@@ -146,9 +146,7 @@ Seed003ExperimentResult run_seed003_experiment(const SiameseModel<float>& model,
       [&](int64_t i) {
         return "seed003 run " + std::to_string(i % o.runs) + " of density " +
                std::to_string(o.densities[i / o.runs]);
-      },
-      [](distributed::ByteWriter& w, const SceneScore& x) { w.put(x); },
-      [](distributed::ByteReader& rd) { return rd.get<SceneScore>(); });
+      });  // a SceneScore is plain numbers: it travels as its bytes (engine/distributed/codec.hpp)
   Seed003ExperimentResult r;
   r.densities = o.densities;
   if (!comm.root()) return r;

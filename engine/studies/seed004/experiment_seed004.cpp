@@ -97,37 +97,15 @@ std::vector<Seed004Row> seed004_run(const Seed004ExperimentOptions& o, const std
   return rows;
 }
 
-void encode_row(distributed::ByteWriter& w, const Seed004Row& r) {
-  w.put(r.scenario);
-  w.put(r.targets);
-  w.put(r.run);
-  w.put(r.solver);
-  w.put(r.correct_rate);
-  w.put(r.objective);
-  w.put(r.lower_bound);
-  w.put(r.wall_s);
-  w.put(r.steps);
-  w.put(r.neurons);
-  w.put<uint8_t>(r.converged);
-}
-
-Seed004Row decode_row(distributed::ByteReader& rd) {
-  Seed004Row r;
-  r.scenario = rd.get_string();
-  r.targets = rd.get<int32_t>();
-  r.run = rd.get<int32_t>();
-  r.solver = rd.get_string();
-  r.correct_rate = rd.get<double>();
-  r.objective = rd.get<double>();
-  r.lower_bound = rd.get<double>();
-  r.wall_s = rd.get<double>();
-  r.steps = rd.get<int64_t>();
-  r.neurons = rd.get<int64_t>();
-  r.converged = rd.get<uint8_t>() != 0;
-  return r;
-}
-
 }  // namespace
+
+// A row as it travels between ranks (engine/distributed/codec.hpp).
+constexpr auto wire_codec(std::type_identity<Seed004Row>) {
+  return distributed::codec<Seed004Row>("seed004 row", &Seed004Row::scenario, &Seed004Row::targets,
+                                        &Seed004Row::run, &Seed004Row::solver, &Seed004Row::correct_rate,
+                                        &Seed004Row::objective, &Seed004Row::lower_bound, &Seed004Row::wall_s,
+                                        &Seed004Row::steps, &Seed004Row::neurons, &Seed004Row::converged);
+}
 
 // The runs of every scenario, in the order of one process, sharded over the process's ranks
 // (docs/design.md §8; engine/distributed/sharding.hpp): a run draws from (seed, run) only.
@@ -149,8 +127,7 @@ std::vector<Seed004Row> run_seed004_experiment(const Seed004ExperimentOptions& o
       },
       [&](int64_t i) {
         return "seed004 run " + std::to_string(i % o.runs) + " of scenario " + o.scenarios[i / o.runs];
-      },
-      encode_row, decode_row);
+      });
   if (progress) *progress << "\n";
   return rows;
 }

@@ -1,5 +1,5 @@
-// The sharding layer of docs/design.md §8 (engine/distributed/) and the sharded sparse S-D solve
-// (engine/pipeline/sparse_sd_sharded.hpp), without MPI: the plain functions, and the collectives
+// The sharding layer of docs/design.md §8 (engine/distributed/) and the sharded component solves of
+// the default path and of --sparse, without MPI: the plain functions, and the collectives
 // over an in-process stand-in for N ranks (each "rank" run in turn, the gather through a shared
 // mailbox). The same code under mpirun is checked byte for byte by tests/mpi/ (MPI build only).
 #include <gtest/gtest.h>
@@ -10,10 +10,11 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "engine/distributed/shard_items.hpp"
 #include "engine/distributed/sharding.hpp"
-#include "engine/pipeline/sparse_3d_sharded.hpp"
+#include "engine/pipeline/sparse_pipeline.hpp"
+#include "engine/pipeline/sparse_sd_components.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
-#include "engine/pipeline/sparse_sd_sharded.hpp"
 #include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "engine/studies/seed000/experiment_seed000.hpp"
@@ -22,6 +23,7 @@
 #include "engine/studies/seed003/experiment_seed003.hpp"
 #include "io/siamese_model_file.hpp"
 #include "kernels/core/error.hpp"
+#include "tests/support/thread_ranks.hpp"
 
 namespace trackassoc {
 namespace {
@@ -66,13 +68,11 @@ TEST(ByteBuffer, RoundTripsValuesStringsAndVectors) {
   w.put<int32_t>(-7);
   w.put(std::string("seed000 run 3"));
   w.put(std::vector<double>{1.5, -0.0, 1e300});
-  w.put_nested(std::vector<std::vector<int32_t>>{{1, 2}, {}, {3}});
   const Bytes b = w.take();
   ByteReader r(b);
   EXPECT_EQ(r.get<int32_t>(), -7);
   EXPECT_EQ(r.get_string(), "seed000 run 3");
   EXPECT_EQ(r.get_vector<double>(), (std::vector<double>{1.5, -0.0, 1e300}));
-  EXPECT_EQ(r.get_nested<int32_t>(), (std::vector<std::vector<int32_t>>{{1, 2}, {}, {3}}));
   EXPECT_TRUE(r.done());
   EXPECT_THROW(r.get<int32_t>(), std::runtime_error);  // a short message is a bug, never silent
 }
@@ -93,8 +93,7 @@ std::vector<int64_t> items_over(int n, int64_t items) {
   return over_ranks(n, [&](distributed::Communicator& comm) {
     return distributed::sharded_items<int64_t>(
         comm, items, [](int64_t i) { return std::vector<int64_t>(i % 3, 10 * i); },
-        [](int64_t i) { return "item " + std::to_string(i); },
-        [](ByteWriter& w, const int64_t& x) { w.put(x); }, [](ByteReader& r) { return r.get<int64_t>(); });
+        [](int64_t i) { return "item " + std::to_string(i); });
   });
 }
 
@@ -109,9 +108,7 @@ TEST(Sharding, ParallelItemsComeBackInTheOrderOfOneProcess) {
     return over_ranks(n, [&](distributed::Communicator& comm) {
       return distributed::sharded_items<int64_t>(
           comm, 23, [](int64_t i) { return std::vector<int64_t>(i % 3, 10 * i); },
-          [](int64_t i) { return "item " + std::to_string(i); },
-          [](ByteWriter& w, const int64_t& x) { w.put(x); }, [](ByteReader& r) { return r.get<int64_t>(); },
-          parallel);
+          [](int64_t i) { return "item " + std::to_string(i); }, parallel);
     });
   };
   const auto one = over(1, false);
@@ -129,8 +126,7 @@ TEST(Sharding, AFailingParallelItemIsNamedFirstInItemOrder) {
           if (i == 3 || i == 5) throw InputError("run " + std::to_string(i) + " bad");
           return {1};
         },
-        [](int64_t i) { return "run " + std::to_string(i); }, [](ByteWriter& w, const int& x) { w.put(x); },
-        [](ByteReader& r) { return r.get<int>(); }, /*parallel=*/true);
+        [](int64_t i) { return "run " + std::to_string(i); }, /*parallel=*/true);
   };
   EXPECT_THROW(run(1), distributed::SilentExit);
   try {
@@ -153,8 +149,7 @@ TEST(Sharding, AFailingRankIsNamedWithItsShard) {
           if (i == 4) throw InputError("scenario: bad");
           return {1};
         },
-        [](int64_t i) { return "run " + std::to_string(i); }, [](ByteWriter& w, const int& x) { w.put(x); },
-        [](ByteReader& r) { return r.get<int>(); });
+        [](int64_t i) { return "run " + std::to_string(i); });
   };
   EXPECT_TRUE(run(2).empty());
   try {
@@ -277,43 +272,142 @@ TEST(Sharding, CheckOnRootAloneIsTheCheck) {
   EXPECT_NO_THROW(distributed::check_on_root(one, [] {}));
 }
 
-// The sparse S-D components planned for N ranks, encoded, solved part by part and merged, give
-// the results of one process, and so the same record.
-TEST(ShardedSparseSD, PartsSolvedApartMergeToTheSameRecord) {
+// A toy job for the generic item sharding: item k is a list of numbers, its result their sum and
+// its largest, solved with a header shared by the part (a scale).
+struct ToyHeader {
+  double scale = 1.0;
+  std::string tag;
+};
+struct ToyItem {
+  int64_t label = 0;
+  std::vector<double> values;
+};
+struct ToyResult {
+  double sum = 0.0, largest = 0.0;
+  std::string tag;
+};
+
+constexpr auto wire_codec(std::type_identity<ToyHeader>) {
+  return distributed::codec<ToyHeader>("toy header", &ToyHeader::scale, &ToyHeader::tag);
+}
+constexpr auto wire_codec(std::type_identity<ToyItem>) {
+  return distributed::codec<ToyItem>("toy item", &ToyItem::label, &ToyItem::values);
+}
+constexpr auto wire_codec(std::type_identity<ToyResult>) {
+  return distributed::codec<ToyResult>("toy result", &ToyResult::sum, &ToyResult::largest, &ToyResult::tag);
+}
+
+constexpr distributed::ItemJob<ToyHeader, ToyItem, ToyResult> kToyJob{
+    "item", "values", [](const ToyItem& x) { return x.values.size(); },
+    [](const ToyHeader& h, const ToyItem& x) {
+      if (x.label < 0) throw InputError("toy item " + std::to_string(x.label) + " is negative");
+      ToyResult r;
+      r.tag = h.tag + std::to_string(x.label);
+      for (double v : x.values) r.sum += h.scale * v, r.largest = std::max(r.largest, h.scale * v);
+      return r;
+    }};
+
+ToyItem toy_item(std::size_t k) {
+  ToyItem x;
+  x.label = static_cast<int64_t>(k) * 10;
+  for (std::size_t j = 0; j <= k % 4; ++j) x.values.push_back(0.5 * static_cast<double>(k + j));
+  return x;
+}
+
+TEST(ShardItems, ResultsAtNRanksAreThoseOfOneProcessInPlanOrder) {
+  const std::size_t n = 13;
+  std::vector<int64_t> id;
+  std::vector<double> cost;
+  for (std::size_t k = 0; k < n; ++k)
+    id.push_back(static_cast<int64_t>(100 + k)), cost.push_back(static_cast<double>(k % 5));
+  const ToyHeader header{2.0, "x"};
+  for (int ranks : {1, 2, 3, 5}) {
+    const auto results = testing::over_thread_ranks(ranks, [&](distributed::Communicator& comm) {
+      if (!comm.root()) {
+        distributed::serve_items(comm, kToyJob);
+        return std::vector<ToyResult>{};
+      }
+      return distributed::shard_items(comm, kToyJob, "toy items", header, id, cost, toy_item);
+    });
+    ASSERT_EQ(results.size(), n) << ranks << " ranks";
+    for (std::size_t k = 0; k < n; ++k) {
+      // Worked out here: 2 × 0.5 × Σ_{j ≤ k mod 4} (k + j), the largest term 2 × 0.5 × (k + k mod 4).
+      double sum = 0.0;
+      for (std::size_t j = 0; j <= k % 4; ++j) sum += static_cast<double>(k + j);
+      EXPECT_EQ(results[k].sum, sum) << ranks << " ranks, item " << k;
+      EXPECT_EQ(results[k].largest, static_cast<double>(k + k % 4));
+      EXPECT_EQ(results[k].tag, "x" + std::to_string(10 * k));
+    }
+  }
+}
+
+TEST(ShardItems, AFailingItemIsNamedWithItsRank) {
+  // Items 0..5 of equal cost over 2 ranks (LPT: even items to rank 0, odd to rank 1); item 3 fails.
+  const std::vector<int64_t> id{0, 1, 2, 3, 4, 5};
+  const std::vector<double> cost(6, 1.0);
+  auto item = [](std::size_t k) {
+    ToyItem x = toy_item(k);
+    if (k == 3) x.label = -7;
+    return x;
+  };
+  ASSERT_EQ(distributed::balance_by_cost(cost, 2)[3], 1);
+  std::vector<std::exception_ptr> failures;
+  try {
+    testing::over_thread_ranks(
+        2,
+        [&](distributed::Communicator& comm) {
+          if (!comm.root()) {
+            distributed::serve_items(comm, kToyJob);
+            return std::vector<ToyResult>{};
+          }
+          return distributed::shard_items(comm, kToyJob, "toy items", ToyHeader{}, id, cost, item);
+        },
+        &failures);
+    FAIL() << "rank 0 did not report";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "rank 1, item 3 (4 values): toy item -7 is negative");
+  }
+  ASSERT_TRUE(failures[1]);
+  try {
+    std::rethrow_exception(failures[1]);
+  } catch (const distributed::SilentExit& e) {
+    EXPECT_EQ(e.code(), 2);  // bad input stays bad input on the failing rank too
+  }
+}
+
+// The default path's components solved over N fake ranks give the results of one process, with
+// the merging fallback travelling too (a tiny tensor limit).
+TEST(ShardedSparseSD, ComponentsOverRanksAreThoseOfOneProcess) {
   for (const char* name : {"recorded_3s", "recorded_5s"}) {
     const Scenario sc = load_scenario(name);
     const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
     SparseSDOptions so;
     const SparseSDProblem p = build_sparse_sd_problem(file, so);
     const bool all_pairs = so.pipeline.cost.form == CostForm::kAllPairs;
-    const auto local =
-        solve_sd_components(p, "lr+ls", nlohmann::json::object(), all_pairs, so.max_component_entries);
-    for (int ranks : {1, 2, 3}) {
-      const ComponentShards plan = plan_component_shards(p, so.max_component_entries, ranks);
-      ASSERT_GT(plan.components.size(), 0u);
-      const auto parts = encode_component_parts(p, plan, ranks, "lr+ls", nlohmann::json::object(), all_pairs,
-                                                so.max_component_entries);
-      ASSERT_EQ(static_cast<int>(parts.size()), ranks);
-      std::vector<Bytes> solved;
-      for (const auto& part : parts) solved.push_back(solve_component_part(part));
-      const auto merged = merge_component_results(p, solved);
-      ASSERT_EQ(merged.size(), local.size());
-      for (std::size_t c = 0; c < local.size(); ++c) {
-        EXPECT_EQ(merged[c].tuples, local[c].tuples) << name << " component " << c;
-        EXPECT_EQ(merged[c].costs, local[c].costs);
-        EXPECT_EQ(merged[c].objective, local[c].objective);
-        EXPECT_EQ(merged[c].optimal, local[c].optimal);
+    for (std::size_t max_entries : {so.max_component_entries, std::size_t{4}}) {
+      const auto local = solve_sd_components(p, "lr+ls", nlohmann::json::object(), all_pairs, max_entries);
+      for (int ranks : {2, 3}) {
+        const auto merged = testing::over_thread_ranks(ranks, [&](distributed::Communicator& comm) {
+          if (!comm.root()) {
+            serve_sd_components(comm);
+            return std::vector<SDComponentResult>{};
+          }
+          return solve_sd_components_sharded(comm, p, "lr+ls", nlohmann::json::object(), all_pairs,
+                                             max_entries);
+        });
+        ASSERT_EQ(merged.size(), local.size());
+        int fallbacks = 0;
+        for (std::size_t c = 0; c < local.size(); ++c) {
+          EXPECT_EQ(merged[c].tuples, local[c].tuples) << name << " component " << c;
+          EXPECT_EQ(merged[c].costs, local[c].costs);
+          EXPECT_EQ(merged[c].objective, local[c].objective);
+          EXPECT_EQ(merged[c].fallback, local[c].fallback);
+          EXPECT_EQ(merged[c].optimal, local[c].optimal);
+          EXPECT_EQ(merged[c].entries, local[c].entries);
+          fallbacks += merged[c].fallback;
+        }
+        if (max_entries == 4) EXPECT_GT(fallbacks, 0) << name;  // the fallback was exercised
       }
-    }
-    // A tiny tensor limit sends components to the merging fallback, which must travel too.
-    const ComponentShards plan = plan_component_shards(p, 4, 2);
-    const auto parts = encode_component_parts(p, plan, 2, "lr+ls", nlohmann::json::object(), all_pairs, 4);
-    std::vector<Bytes> solved{solve_component_part(parts[1]), solve_component_part(parts[0])};
-    const auto merged = merge_component_results(p, solved);
-    const auto fallback = solve_sd_components(p, "lr+ls", nlohmann::json::object(), all_pairs, 4);
-    for (std::size_t c = 0; c < fallback.size(); ++c) {
-      EXPECT_EQ(merged[c].tuples, fallback[c].tuples);
-      EXPECT_EQ(merged[c].fallback, fallback[c].fallback);
     }
   }
 }
@@ -322,17 +416,21 @@ TEST(ShardedSparseSD, PlanBalancesTheEstimatedCost) {
   const Scenario sc = load_scenario("recorded_5s");
   const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
   const SparseSDProblem p = build_sparse_sd_problem(file, SparseSDOptions{});
-  const ComponentShards plan = plan_component_shards(p, SparseSDOptions{}.max_component_entries, 2);
+  const SDComponentCosts plan = sd_component_costs(p, SparseSDOptions{}.max_component_entries);
+  ASSERT_GT(plan.cost.size(), 1u);
   double total = 0, largest = 0;
-  for (double c : plan.cost) total += c, largest = std::max(largest, c);
+  for (std::size_t k = 0; k < plan.cost.size(); ++k) {
+    EXPECT_EQ(plan.cost[k], sd_component_view(p, static_cast<int32_t>(plan.component[k])).entries());
+    total += plan.cost[k], largest = std::max(largest, plan.cost[k]);
+  }
   // LPT: within max(largest task, 4/3 of the even share) of the best.
-  EXPECT_LE(distributed::makespan(plan.cost, plan.rank, 2), std::max(largest, total / 2) * 4.0 / 3.0 + 1e-9);
+  const auto rank = distributed::balance_by_cost(plan.cost, 2);
+  EXPECT_LE(distributed::makespan(plan.cost, rank, 2), std::max(largest, total / 2) * 4.0 / 3.0 + 1e-9);
 }
 
-// The sparse 3-D (--sparse) components planned for N ranks, encoded, solved part by part (in any
-// order) and decoded on "rank 0" give the record of one process, for both cost forms and a finite
-// miss cost.
-TEST(ShardedSparse3D, PartsSolvedApartDecodeToTheSameRecord) {
+// The --sparse (3-D) components over N fake ranks, decoded on rank 0, give the record of one
+// process, for both cost forms and a finite miss cost.
+TEST(ShardedSparse3D, ComponentsOverRanksDecodeToTheSameRecord) {
   for (const char* name : {"recorded_3s", "recorded_formation"})
     for (int variant = 0; variant < 3; ++variant) {
       const Scenario sc = load_scenario(name);
@@ -344,15 +442,14 @@ TEST(ShardedSparse3D, PartsSolvedApartDecodeToTheSameRecord) {
       for (const char* solver : {"lr", "exact"}) {
         const uint64_t seed = 11;
         const AssociationRecord one = solve_sparse_association(p, solver, nlohmann::json::object(), seed, so);
-        for (int ranks : {1, 2, 3}) {
-          const SparseComponentShards plan = plan_sparse_component_shards(p, so, ranks);
-          ASSERT_GT(plan.components.size(), 1u);
-          const auto parts =
-              encode_sparse_component_parts(p, plan, ranks, solver, nlohmann::json::object(), seed, so);
-          ASSERT_EQ(static_cast<int>(parts.size()), ranks);
-          std::vector<Bytes> solved;
-          for (int r = ranks - 1; r >= 0; --r) solved.push_back(solve_sparse_component_part(parts[r]));
-          const auto solutions = merge_sparse_component_results(p, solved);
+        for (int ranks : {2, 3}) {
+          const auto solutions = testing::over_thread_ranks(ranks, [&](distributed::Communicator& comm) {
+            if (!comm.root()) {
+              serve_sparse_components(comm);
+              return std::vector<SparseComponentSolution>{};
+            }
+            return solve_sparse_components_sharded(comm, p, solver, nlohmann::json::object(), seed, so);
+          });
           const AssociationRecord rec =
               sparse_record_from_solutions(p, solutions, solver, seed, so, std::chrono::steady_clock::now());
           const std::string what = std::string(name) + " " + solver + " variant " + std::to_string(variant) +
@@ -369,33 +466,27 @@ TEST(ShardedSparse3D, PartsSolvedApartDecodeToTheSameRecord) {
         }
       }
     }
-  // A component over the tensor limit is refused by the plan, as by one process.
-  const Scenario sc = load_scenario("recorded_formation");  // components of up to ~20 tracks
-  const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
-  SparsePipelineOptions tiny;
-  const SparseAssociationProblem p = build_sparse_association_problem(file, tiny);
-  const SparseComponentShards plan = plan_sparse_component_shards(p, tiny, 2);
-  const double largest = *std::max_element(plan.cost.begin(), plan.cost.end());
-  ASSERT_GT(largest, 1.0);
-  tiny.max_component_entries = static_cast<std::size_t>(largest) - 1;
-  EXPECT_THROW(plan_sparse_component_shards(p, tiny, 2), InputError);
-  EXPECT_THROW(solve_sparse_association(p, "lr", nlohmann::json::object(), 1, tiny), InputError);
 }
 
-TEST(ShardedSparse3D, PlanBalancesTheDenseSubTensorEntries) {
-  const Scenario sc = load_scenario("recorded_formation");
+TEST(ShardedSparse3D, PlanCountsTheDenseSubTensorEntriesAndRefusesAnOversizedComponent) {
+  const Scenario sc = load_scenario("recorded_formation");  // components of up to ~20 tracks
   const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
-  const SparsePipelineOptions so;
+  SparsePipelineOptions so;
   const SparseAssociationProblem p = build_sparse_association_problem(file, so);
-  const SparseComponentShards plan = plan_sparse_component_shards(p, so, 2);
+  const SparseComponentCosts plan = sparse_component_costs(p, so);
   double total = 0, largest = 0;
-  for (std::size_t k = 0; k < plan.components.size(); ++k) {
-    const auto m = sparse_component_matrices(p, plan.components[k], so);
+  for (std::size_t k = 0; k < plan.component.size(); ++k) {
+    const auto m = sparse_component_matrices(p, static_cast<int32_t>(plan.component[k]), so);
     EXPECT_EQ(plan.cost[k], static_cast<double>(m.n[0]) * m.n[1] * m.n[2]);
     total += plan.cost[k], largest = std::max(largest, plan.cost[k]);
   }
-  EXPECT_LE(distributed::makespan(plan.cost, plan.rank, 2), std::max(largest, total / 2) * 4.0 / 3.0 + 1e-9);
+  const auto rank = distributed::balance_by_cost(plan.cost, 2);
+  EXPECT_LE(distributed::makespan(plan.cost, rank, 2), std::max(largest, total / 2) * 4.0 / 3.0 + 1e-9);
+  // A component over the tensor limit is refused by the plan, as by one process.
+  ASSERT_GT(largest, 1.0);
+  so.max_component_entries = static_cast<std::size_t>(largest) - 1;
+  EXPECT_THROW(sparse_component_costs(p, so), InputError);
+  EXPECT_THROW(solve_sparse_association(p, "lr", nlohmann::json::object(), 1, so), InputError);
 }
-
 }  // namespace
 }  // namespace trackassoc

@@ -1,0 +1,165 @@
+// Work items planned by rank 0 and solved over the ranks (docs/design.md §8): the connected
+// components of the default (sparse S-D) path and of --sparse, or any work that only rank 0 can
+// build (it alone reads the input) but every rank can solve from what it is sent.
+//
+// A path declares its job once: the header every item of a part shares (the solver and its
+// options), the item (a component's self-contained problem) and its result, each with a declared
+// codec (engine/distributed/codec.hpp), and the solve. Then
+//   1. rank 0 plans: each item to a rank by its estimated cost, longest processing time first
+//      (balance_by_cost, engine/distributed/sharding.hpp);
+//   2. rank 0 builds the items (in parallel, TBB) and scatters each rank its part: the header,
+//      then (position, id, item) per item;
+//   3. every rank (rank 0 too) solves its part's items in parallel (TBB) and sends back
+//      (position, result) per item; the other ranks do this in serve_items;
+//   4. rank 0 returns the results in plan order, the order of one process.
+// A solve that reads nothing rank-dependent gives the results of one process for any N.
+// Failures follow engine/distributed/sharding.hpp: the part ("rank 1, 12 components (40
+// tracks): ...") or the item that failed ("rank 1, component 17 (12 tracks): ...") is named.
+// With TRACKASSOC_MPI_STATS set, rank 0 prints one line on stderr per sharded solve: items per
+// rank and their share of the estimated cost, bytes scattered and gathered, and the times.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "engine/distributed/codec.hpp"
+#include "engine/distributed/communicator.hpp"
+#include "engine/distributed/sharding.hpp"
+#include "kernels/core/stopwatch.hpp"
+
+namespace trackassoc::distributed {
+
+// A kind of work shared out item by item. Header, Item and Result travel by their codecs.
+template <class H, class I, class R>
+struct ItemJob {
+  using Header = H;
+  using Item = I;
+  using Result = R;
+  const char* noun;  // what an item is, in messages and the stats line: "component"
+  const char* unit;  // what an item's size counts: "tracks"
+  std::size_t (*size)(const I&);
+  R (*solve)(const H&, const I&);
+};
+
+// What rank 0 learned about a sharded solve (the TRACKASSOC_MPI_STATS line).
+struct ItemShardStats {
+  int ranks = 0;
+  std::vector<double> cost;
+  std::vector<int32_t> rank_of;
+  uint64_t scattered = 0, gathered = 0;
+  double plan_s = 0, rank0_solve_s = 0, exchange_s = 0;
+};
+// Prints the stats line on stderr when TRACKASSOC_MPI_STATS is set (engine/distributed/sharding.cpp).
+void print_item_shard_stats(const char* what, const ItemShardStats& stats);
+
+namespace item_detail {
+
+// A part solved: the header and items decoded, solved in parallel, (position, result) encoded.
+template <class Job>
+Bytes solve_part(const Job& job, const Bytes& part, std::string& shard, const Communicator& comm) {
+  ByteReader rd(part);
+  typename Job::Header header;
+  codec_detail::get_value(rd, header);
+  const auto n = static_cast<std::size_t>(rd.get<uint64_t>());
+  std::vector<uint64_t> position(n);
+  std::vector<int64_t> id(n);
+  std::vector<typename Job::Item> items(n);
+  std::size_t units = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    position[k] = rd.get<uint64_t>();
+    id[k] = rd.get<int64_t>();
+    codec_detail::get_value(rd, items[k]);
+    units += job.size(items[k]);
+  }
+  if (!rd.done()) throw std::runtime_error("distributed work part longer than its items (a bug)");
+  shard = std::to_string(n) + " " + job.noun + "s (" + std::to_string(units) + " " + job.unit + ")";
+  if (comm.size() > 1) inject_fault_for_tests(comm, shard);
+  std::vector<typename Job::Result> results(n);
+  solve_part_items(
+      n, [&](std::size_t k) { results[k] = job.solve(header, items[k]); },
+      [&](std::size_t k) {
+        return std::string(job.noun) + " " + std::to_string(id[k]) + " (" +
+               std::to_string(job.size(items[k])) + " " + job.unit + ")";
+      },
+      &shard);
+  ByteWriter w;
+  for (std::size_t k = 0; k < n; ++k) {
+    w.put<uint64_t>(position[k]);
+    codec_detail::put_value(w, results[k]);
+  }
+  return w.take();
+}
+
+}  // namespace item_detail
+
+// Rank 0: items 0..cost.size()-1, item k named by id[k] and built by make_item(k) (called in
+// parallel), solved over the ranks of `comm`; returns result k at k. The other ranks run
+// serve_items(comm, job) at the same time. `what` names the solve in the stats line.
+template <class Job>
+std::vector<typename Job::Result> shard_items(
+    Communicator& comm, const Job& job, const char* what, const typename Job::Header& header,
+    const std::vector<int64_t>& id, const std::vector<double>& cost,
+    const std::function<typename Job::Item(std::size_t k)>& make_item) {
+  if (id.size() != cost.size()) throw std::logic_error("shard_items: one id and one cost per item");
+  ItemShardStats stats;
+  stats.ranks = comm.size();
+  stats.cost = cost;
+  const auto t0 = std::chrono::steady_clock::now();
+  const uint64_t sent0 = comm.stats().bytes_sent, received0 = comm.stats().bytes_received;
+  stats.rank_of = balance_by_cost(cost, comm.size());
+  const auto parts = encode_planned_parts(
+      comm.size(), stats.rank_of,
+      [&](ByteWriter& w, uint64_t items) {
+        codec_detail::put_value(w, header);
+        w.put<uint64_t>(items);
+      },
+      [&](std::size_t k, ByteWriter& w) {
+        w.put<uint64_t>(k);
+        w.put<int64_t>(id[k]);
+        codec_detail::put_value(w, make_item(k));
+      });
+  stats.plan_s = seconds_since(t0);
+  const Bytes mine = scatter_work(comm, parts);
+  stats.scattered = comm.stats().bytes_sent - sent0;
+  const auto t1 = std::chrono::steady_clock::now();
+  const auto solved = gather_shards(comm, [&](std::string& shard) {
+    shard = std::string("its ") + job.noun + "s";
+    Bytes r = item_detail::solve_part(job, mine, shard, comm);
+    stats.rank0_solve_s = seconds_since(t1);
+    return r;
+  });
+  stats.exchange_s = seconds_since(t1);
+  stats.gathered = comm.stats().bytes_received - received0;
+  std::vector<typename Job::Result> results(cost.size());
+  std::vector<char> have(cost.size(), 0);
+  for (const auto& part : solved) {
+    ByteReader rd(part);
+    while (!rd.done()) {
+      const auto k = rd.get<uint64_t>();
+      codec_detail::get_value(rd, results.at(k));
+      have[k] = 1;
+    }
+  }
+  for (std::size_t k = 0; k < cost.size(); ++k)
+    if (!have[k])
+      throw std::logic_error(std::string(job.noun) + " " + std::to_string(id[k]) +
+                             " was solved by no rank (a bug)");
+  print_item_shard_stats(what, stats);
+  return results;
+}
+
+// Ranks other than 0: receive a part (or rank 0's failure: SilentExit), solve it, send it back.
+template <class Job>
+void serve_items(Communicator& comm, const Job& job) {
+  const Bytes mine = scatter_work(comm, {});
+  gather_shards(comm, [&](std::string& shard) {
+    shard = std::string("its ") + job.noun + "s";
+    return item_detail::solve_part(job, mine, shard, comm);
+  });
+}
+
+}  // namespace trackassoc::distributed
