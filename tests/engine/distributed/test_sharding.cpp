@@ -406,7 +406,9 @@ TEST(ShardedSparseSD, ComponentsOverRanksAreThoseOfOneProcess) {
           EXPECT_EQ(merged[c].entries, local[c].entries);
           fallbacks += merged[c].fallback;
         }
-        if (max_entries == 4) EXPECT_GT(fallbacks, 0) << name;  // the fallback was exercised
+        if (max_entries == 4) {
+          EXPECT_GT(fallbacks, 0) << name;  // the fallback was exercised
+        }
       }
     }
   }
