@@ -17,6 +17,7 @@
 #include "engine/cli/hopfield_flags.hpp"
 #include "engine/cli/table.hpp"
 #include "engine/distributed/communicator.hpp"
+#include "engine/distributed/shard_items.hpp"
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
@@ -188,6 +189,7 @@ void register_associate(CLI::App& app) {
     TrackFile file = read_track_file(args->input);
     const TrackSplitSummary split = split_recorded_keys(file, request);
     AssociationOutcome outcome = associator->associate(file);
+    distributed::end_items(comm);  // the other ranks' serve loop returns (no-op on one process)
     outcome.summary.split = split;
     store_outcome(file, outcome);
     write_track_file(args->output, file);

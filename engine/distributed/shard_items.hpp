@@ -126,12 +126,19 @@ std::vector<typename Job::Result> shard_items(
   const Bytes mine = scatter_work(comm, parts);
   stats.scattered = comm.stats().bytes_sent - sent0;
   const auto t1 = std::chrono::steady_clock::now();
-  const auto solved = gather_shards(comm, [&](std::string& shard) {
-    shard = std::string("its ") + job.noun + "s";
-    Bytes r = item_detail::solve_part(job, mine, shard, comm);
-    stats.rank0_solve_s = seconds_since(t1);
-    return r;
-  });
+  std::vector<Bytes> solved;
+  try {
+    solved = gather_shards(comm, [&](std::string& shard) {
+      shard = std::string("its ") + job.noun + "s";
+      Bytes r = item_detail::solve_part(job, mine, shard, comm);
+      stats.rank0_solve_s = seconds_since(t1);
+      return r;
+    });
+  } catch (...) {
+    comm.set_ranks_waiting(true);  // the others wait for the next round: release them (main.cpp)
+    throw;
+  }
+  comm.set_ranks_waiting(true);  // until the next round's scatter or end_items
   stats.exchange_s = seconds_since(t1);
   stats.gathered = comm.stats().bytes_received - received0;
   std::vector<typename Job::Result> results(cost.size());
@@ -152,14 +159,35 @@ std::vector<typename Job::Result> shard_items(
   return results;
 }
 
-// Ranks other than 0: receive a part (or rank 0's failure: SilentExit), solve it, send it back.
+// Ranks other than 0, round after round (rank 0 may shard several solves, e.g. the registration
+// stage's re-associations): receive a part, solve it, send it back; return at the empty part of
+// end_items. Rank 0's failure, or its release after a round that failed here or elsewhere
+// (release_waiting_ranks), ends this rank silently (SilentExit).
 template <class Job>
 void serve_items(Communicator& comm, const Job& job) {
-  const Bytes mine = scatter_work(comm, {});
-  gather_shards(comm, [&](std::string& shard) {
-    shard = std::string("its ") + job.noun + "s";
-    return item_detail::solve_part(job, mine, shard, comm);
-  });
+  while (true) {
+    const Bytes mine = scatter_work(comm, {});
+    if (mine.empty()) {
+      comm.set_exchange_open(false);
+      return;
+    }
+    try {
+      gather_shards(comm, [&](std::string& shard) {
+        shard = std::string("its ") + job.noun + "s";
+        return item_detail::solve_part(job, mine, shard, comm);
+      });
+    } catch (const SilentExit&) {
+      // This rank's part failed and rank 0 reports it: wait for its release like the others.
+    }
+  }
+}
+
+// Rank 0, after its last shard_items of a job: the other ranks' serve_items return. Nothing when
+// no round left them waiting (one process, or no solve was sharded).
+inline void end_items(Communicator& comm) {
+  if (!comm.root() || comm.size() == 1 || !comm.ranks_waiting()) return;
+  scatter_work(comm, std::vector<Bytes>(comm.size()));
+  comm.set_exchange_open(false);
 }
 
 }  // namespace trackassoc::distributed

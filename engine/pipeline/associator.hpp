@@ -68,7 +68,7 @@ struct AssociatorOptions {
   float miss_cost = std::numeric_limits<float>::infinity();
   SegmentOptions segments;  // the default (sparse S-D) path: track segments joined to targets
   // The default (sparse S-D) path: joint registration and association (engine/pipeline/
-  // registration_stage.hpp); over MPI ranks it estimates but does not re-associate.
+  // registration_stage.hpp); over MPI ranks every re-association is sharded as the first.
   RegistrationStageOptions registration;
   // The default (sparse S-D) path: recycled track numbers split before the association
   // (split_recorded_keys below, engine/pipeline/track_hygiene.hpp); the CLI's --no-split.

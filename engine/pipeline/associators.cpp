@@ -64,7 +64,6 @@ class SparseSDAssociator final : public TrackAssociator {
     so.ranks = o_.ranks;
     AssociationOutcome out;
     RegistrationStageOptions ro = o_.registration;
-    ro.reassociate = ro.reassociate && (!o_.ranks || o_.ranks->size() == 1);  // servers solve once
     RegistrationStageResult reg;
     std::vector<SparseSDReport> reports;  // one per association the registration stage ran
     const auto t0 = std::chrono::steady_clock::now();

@@ -80,6 +80,15 @@ case "$case_name" in
         [ "$(grep -c '^associated' "$sc-np$n.txt")" -eq 1 ] || fail "printed once, by rank 0"
       done
     done
+    # Registration errors: the registration stage re-associates on the corrected reports, every
+    # round's components sharded; the same output as one process, /registration included.
+    "$bin" simulate --scenario recorded_bias --seed 3 -o bias.h5 > /dev/null || fail "simulate recorded_bias"
+    "$bin" associate -i bias.h5 -o bias-one.h5 > bias-one.txt || fail "one process recorded_bias"
+    grep -q 'applied, [2-9][0-9]* associations' bias-one.txt || { cat bias-one.txt; fail "recorded_bias: registration not applied"; }
+    for n in 2 3; do
+      mpi "$n" "$bin" associate -i bias.h5 -o "bias-np$n.h5" > "bias-np$n.txt" || fail "$n ranks recorded_bias"
+      compare bias-one.h5 "bias-np$n.h5" || fail "recorded_bias: $n ranks differ"
+    done
     mpi 2 "$bin" associate -i recorded_5s.h5 -o exact-np2.h5 --solver exact --threads 2 > /dev/null || fail "exact"
     "$bin" associate -i recorded_5s.h5 -o exact-one.h5 --solver exact > /dev/null || fail "exact one"
     compare exact-one.h5 exact-np2.h5 || fail "exact: 2 ranks differ"

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/distributed/communicator.hpp"
+#include "engine/distributed/shard_items.hpp"
 
 namespace trackassoc::testing {
 
@@ -80,11 +81,13 @@ auto over_thread_ranks(int n, F f, std::vector<std::exception_ptr>* failures = n
   ThreadRank root(0, n, &shared);
   try {
     auto answer = f(root);
+    distributed::end_items(root);  // as `associate` does: the serving ranks' loop returns
     for (auto& x : threads) x.join();
     threads.clear();
     if (failures) *failures = errors;
     return answer;
   } catch (...) {
+    distributed::release_waiting_ranks(root, std::current_exception());  // as main.cpp does
     for (auto& x : threads) x.join();
     threads.clear();
     if (failures) *failures = errors;
