@@ -106,11 +106,11 @@ struct AssociationSummary {
   int64_t tuples = 0;
   double objective = 0.0, lower_bound = 0.0, gap = 0.0;
   std::string termination;
-  double runtime_s = 0.0;           // the record's run time; the fusion centre's wall time for fuzzy/FTAA
+  double runtime_s = 0.0;  // the record's run time; the fusion centre's wall time for fuzzy/FTAA
   // Sparse paths: alignment, candidates, statistics, components, solve; sparse S-D then segments,
   // stitching and registration (the kept association's stages, and the stage's own time).
   std::vector<StageReport> stages;
-  int32_t components = 0;           // sparse paths: connected components
+  int32_t components = 0;  // sparse paths: connected components
   int64_t candidate_pairs = 0, gated_pairs = 0, fallback_components = 0;  // sparse S-D
   std::optional<SegmentSummary> segments;  // sparse S-D with segments: the segment pass (track_segments.hpp)
   TrackStitchSummary stitching;  // sparse S-D: groups that never coexist, joined (track_stitching.hpp)
