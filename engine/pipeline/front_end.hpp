@@ -60,6 +60,13 @@ SensorSelection select_sensors(const TrackFile& file, const PipelineOptions& opt
 // left out of the problem with its tuple column −1 (the default path, issue 30).
 enum class EmptySensors { kRefuse, kLeaveOut };
 
+// Two tracks' valid common-time intervals [first, last] (first −1: never valid) share a time: the
+// pair was tested by the gate (AlignedSensors::coexist, SDComponentView::overlap).
+inline bool valid_intervals_meet(int32_t first_a, int32_t last_a, int32_t first_b, int32_t last_b) {
+  if (first_a < 0 || first_b < 0) return false;
+  return std::max(first_a, first_b) <= std::min(last_a, last_b);
+}
+
 // The front end's output: the chosen sensors' tracks aligned to the common times. Local track i of
 // sensor position s is node offset[s] + i.
 struct AlignedSensors {
@@ -81,8 +88,7 @@ struct AlignedSensors {
   // Nodes u and v have common valid times, so the gate tested them (a pair that never coexists
   // carries no evidence either way).
   bool coexist(int32_t u, int32_t v) const {
-    if (first_valid[u] < 0 || first_valid[v] < 0) return false;
-    return std::max(first_valid[u], first_valid[v]) <= std::min(last_valid[u], last_valid[v]);
+    return valid_intervals_meet(first_valid[u], last_valid[u], first_valid[v], last_valid[v]);
   }
 };
 

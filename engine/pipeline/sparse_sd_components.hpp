@@ -87,8 +87,7 @@ struct SDComponentView {
   }
   // The two tracks have common valid times, so the gate tested them (SparseSDProblem::coexist).
   bool overlap(int32_t a, int32_t i, int32_t b, int32_t j) const {
-    if (first[a][i] < 0 || first[b][j] < 0) return false;
-    return std::max(first[a][i], first[b][j]) <= std::min(last[a][i], last[b][j]);
+    return valid_intervals_meet(first[a][i], last[a][i], first[b][j], last[b][j]);
   }
   // Entries of the dense sub-tensor, Π(n_s + 1).
   double entries() const;
