@@ -87,12 +87,20 @@ std::string AssociationSummary::FullReport() const {
     for (const auto& st : stages) os << " " << st.name << " " << fmt(1e3 * st.seconds, "%.1f") << " ms;";
     os << " candidate pairs " << candidate_pairs << ", gated " << gated_pairs << ", fallback components "
        << fallback_components;
+    if (listed_components > 0)
+      os << ", components over listed tuples " << listed_components << " (largest " << largest_listed_tuples
+         << " tuples)";
+    os << ", largest component gap " << fmt(100.0 * largest_component_gap, "%.2f") << " %";
+    if (components_above_1pct_gap > 0) os << " (" << components_above_1pct_gap << " above 1 %)";
     if (segments)
       os << ", segments joined " << segments->joined << " (to " << segments->targets_joined
          << " targets; duplicates " << segments->duplicates << ")";
     if (stitching.stitches > 0)
       os << ", fragments stitched " << stitching.stitches << " (" << stitching.candidates
          << " gated continuations of " << stitching.groups << " targets)";
+    os << "\n";
+    os << "peak memory (resident, at the end of each stage):";
+    for (const auto& st : stages) os << " " << st.name << " " << fmt(st.peak_rss_mib, "%.0f") << " MiB;";
     os << "\n";
   }
   if (!empty_sensors.empty()) {

@@ -112,6 +112,10 @@ struct AssociationSummary {
   std::vector<StageReport> stages;
   int32_t components = 0;  // sparse paths: connected components
   int64_t candidate_pairs = 0, gated_pairs = 0, fallback_components = 0;  // sparse S-D
+  // Sparse S-D: components solved over their listed tuples (engine/pipeline/sparse_sd_tuples.hpp),
+  // the largest list, the largest per-component relative duality gap and the components above 1 %.
+  int64_t listed_components = 0, largest_listed_tuples = 0, components_above_1pct_gap = 0;
+  double largest_component_gap = 0.0;
   std::optional<SegmentSummary> segments;  // sparse S-D with segments: the segment pass (track_segments.hpp)
   TrackStitchSummary stitching;  // sparse S-D: groups that never coexist, joined (track_stitching.hpp)
   // Sparse S-D with registration, when fitted: the estimate (AssociationOutcome::registration's copy).

@@ -102,6 +102,10 @@ class SparseSDAssociator final : public TrackAssociator {
     s.candidate_pairs = kept.solve.candidate_pairs;
     s.gated_pairs = kept.solve.gated_pairs;
     s.fallback_components = kept.solve.fallback_components;
+    s.listed_components = kept.solve.listed_components;
+    s.largest_listed_tuples = static_cast<int64_t>(kept.solve.largest_listed_tuples);
+    s.largest_component_gap = kept.solve.largest_component_gap;
+    s.components_above_1pct_gap = kept.solve.components_above_1pct_gap;
     s.segments = kept.segments;
     s.empty_sensors = std::move(kept.empty_sensor_ids);
     return finish(file, o_, std::move(out));

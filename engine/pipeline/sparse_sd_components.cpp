@@ -8,6 +8,7 @@
 
 #include "engine/distributed/shard_items.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
+#include "engine/pipeline/sparse_sd_tuples.hpp"
 #include "engine/pipeline/tuple_cost.hpp"
 #include "io/memory_budget.hpp"
 #include "kernels/assignment/lap.hpp"
@@ -18,20 +19,6 @@ namespace trackassoc {
 namespace {
 
 constexpr double kNotLinked = std::numeric_limits<double>::quiet_NaN();
-
-// Cost of the tuple with members (sensor, component index): the rule of
-// engine/pipeline/tuple_cost.hpp.
-double component_tuple_cost(const SDComponentView& v, const std::vector<std::pair<int32_t, int32_t>>& m,
-                            bool all_pairs) {
-  return sd_tuple_cost(
-      m.size(), all_pairs,
-      [&](std::size_t x, std::size_t y) {
-        return v.link_cost(m[x].first, m[x].second, m[y].first, m[y].second);
-      },
-      [&](std::size_t x, std::size_t y) {
-        return v.overlap(m[x].first, m[x].second, m[y].first, m[y].second);
-      });
-}
 
 SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::string& solver,
                                            const nlohmann::json& options, bool all_pairs) {
@@ -53,7 +40,7 @@ SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::
     members.clear();
     for (int32_t s = 0; s < S; ++s)
       if (idx[s] < n[s]) members.emplace_back(s, idx[s]);
-    const double c = component_tuple_cost(v, members, all_pairs);
+    const double c = sd_component_tuple_cost(v, members, all_pairs);
     t.cost[e] = std::isfinite(c) ? static_cast<float>(c) : std::numeric_limits<float>::infinity();
   }
   const SolutionSD sol = solve_sd_tensor(t, solver, options);
@@ -72,7 +59,7 @@ SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::
     }
     if (tuple.empty()) continue;
     r.tuples.push_back(std::move(tuple));
-    r.costs.push_back(component_tuple_cost(v, chosen, all_pairs));
+    r.costs.push_back(sd_component_tuple_cost(v, chosen, all_pairs));
   }
   for (int32_t s = 0; s < S; ++s)  // a solver that dropped a track: it stays alone
     for (int32_t i = 0; i < n[s]; ++i)
@@ -85,6 +72,8 @@ SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::
   r.optimal = sol.summary.termination == Termination::kOptimal;
   return r;
 }
+
+}  // namespace
 
 // Sequential LAP merging for a component too large for its dense sub-tensor (see the header).
 // Sensor s's tracks join the groups of the sensors before it by one rectangular LAP. A track j can
@@ -114,11 +103,11 @@ SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool a
               i, [&](int32_t j, double) { partners.push_back(j); });
         std::sort(partners.begin(), partners.end());
         partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
-        const double before = component_tuple_cost(v, groups[g], all_pairs);
+        const double before = sd_component_tuple_cost(v, groups[g], all_pairs);
         for (const int32_t j : partners) {
           m = groups[g];
           m.emplace_back(s, j);
-          const double c = component_tuple_cost(v, m, all_pairs) - before;
+          const double c = sd_component_tuple_cost(v, m, all_pairs) - before;
           if (std::isfinite(c) && c < 0.0) gain[g].emplace_back(j, c);
         }
       }
@@ -158,7 +147,7 @@ SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool a
     }
   }
   for (const auto& g : groups) {
-    r.costs.push_back(component_tuple_cost(v, g, all_pairs));
+    r.costs.push_back(sd_component_tuple_cost(v, g, all_pairs));
     r.objective += r.costs.back();
     std::vector<int32_t> tuple;
     for (const auto& [s, i] : g) tuple.push_back(v.node[s][i]);
@@ -166,8 +155,6 @@ SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool a
   }
   return r;
 }
-
-}  // namespace
 
 SDLinkMatrix SDLinkMatrix::from_entries(int32_t rows, int32_t cols,
                                         std::vector<std::tuple<int32_t, int32_t, double>> entries) {
@@ -264,9 +251,17 @@ SDComponentResult solve_sd_component(const SDComponentView& v, const std::string
   const double held = v.bytes_held + static_cast<double>(v.link_bytes());
   const bool dense = entries <= static_cast<double>(max_entries) &&
                      bytes_of(held + entries * sizeof(float), 1) <= memory_budget_bytes();
-  SDComponentResult r = dense ? solve_dense_sd_component(v, solver, solver_options, all_pairs)
-                              : solve_sd_component_by_merging(v, all_pairs);
-  if (r.fallback) r.entries = static_cast<std::size_t>(std::min(entries, 1e18));
+  if (dense) return solve_dense_sd_component(v, solver, solver_options, all_pairs);
+  // Too large for the dense sub-tensor: the relaxation over its allowed tuples, when their list
+  // fits the budget beside what is held (engine/pipeline/sparse_sd_tuples.hpp); else the merging
+  // fallback, the last resort.
+  const double room = static_cast<double>(memory_budget_bytes()) - held;
+  SDComponentResult r;
+  if (std::optional<TupleListSD> list = list_component_tuples(v, all_pairs, room))
+    r = solve_sd_component_by_tuples(v, *list, all_pairs);
+  else
+    r = solve_sd_component_by_merging(v, all_pairs);
+  r.entries = static_cast<std::size_t>(std::min(entries, 1e18));
   return r;
 }
 

@@ -16,6 +16,7 @@
 #include "engine/distributed/codec.hpp"
 #include "engine/distributed/communicator.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/tuple_cost.hpp"
 
 namespace trackassoc {
 
@@ -95,6 +96,20 @@ struct SDComponentView {
   std::size_t link_bytes() const;
 };
 
+// The cost of the tuple with members (sensor, component index), by the rule of
+// engine/pipeline/tuple_cost.hpp (+inf: not allowed).
+inline double sd_component_tuple_cost(const SDComponentView& v,
+                                      const std::vector<std::pair<int32_t, int32_t>>& m, bool all_pairs) {
+  return sd_tuple_cost(
+      m.size(), all_pairs,
+      [&](std::size_t x, std::size_t y) {
+        return v.link_cost(m[x].first, m[x].second, m[y].first, m[y].second);
+      },
+      [&](std::size_t x, std::size_t y) {
+        return v.overlap(m[x].first, m[x].second, m[y].first, m[y].second);
+      });
+}
+
 SDComponentView sd_component_view(const SparseSDProblem& p, int32_t c);
 
 struct SDComponentResult {
@@ -103,13 +118,21 @@ struct SDComponentResult {
   double objective = 0.0, lower_bound = 0.0;
   bool fallback = false, optimal = false;
   std::size_t entries = 0;
+  // Solved over its listed tuples (engine/pipeline/sparse_sd_tuples.hpp): how many; 0 otherwise.
+  std::size_t listed_tuples = 0;
 };
 
 // The component's dense S-D assignment (`solver`, a sparse_sd_solver_names() name) when its
-// sub-tensor has at most `max_entries` entries, else sequential LAP merging. Deterministic.
+// sub-tensor has at most `max_entries` entries and fits the memory budget; else the relaxation over
+// its listed tuples (engine/pipeline/sparse_sd_tuples.hpp) when the list fits; else sequential LAP
+// merging. Deterministic.
 SDComponentResult solve_sd_component(const SDComponentView& v, const std::string& solver,
                                      const nlohmann::json& solver_options, bool all_pairs,
                                      std::size_t max_entries);
+
+// The last resort for a component whose listed tuples would not fit the memory budget: sequential
+// LAP merging (see engine/pipeline/sparse_sd_pipeline.hpp). fallback = true, lower bound NaN.
+SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool all_pairs);
 
 // Every component of `p` solved here, in parallel (TBB); a component of one track is its own tuple.
 std::vector<SDComponentResult> solve_sd_components(const SparseSDProblem& p, const std::string& solver,
@@ -158,10 +181,10 @@ constexpr auto wire_codec(std::type_identity<SDComponentView>) {
                                              &SDComponentView::last, &SDComponentView::link);
 }
 constexpr auto wire_codec(std::type_identity<SDComponentResult>) {
-  return distributed::codec<SDComponentResult>("S-D component result", &SDComponentResult::tuples,
-                                               &SDComponentResult::costs, &SDComponentResult::objective,
-                                               &SDComponentResult::lower_bound, &SDComponentResult::fallback,
-                                               &SDComponentResult::optimal, &SDComponentResult::entries);
+  return distributed::codec<SDComponentResult>(
+      "S-D component result", &SDComponentResult::tuples, &SDComponentResult::costs,
+      &SDComponentResult::objective, &SDComponentResult::lower_bound, &SDComponentResult::fallback,
+      &SDComponentResult::optimal, &SDComponentResult::entries, &SDComponentResult::listed_tuples);
 }
 
 }  // namespace trackassoc

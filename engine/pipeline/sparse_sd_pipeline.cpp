@@ -59,6 +59,10 @@ nlohmann::json record_info(const SparseSDSolveReport& rep, const std::vector<int
                          {"candidate_pairs", rep.candidate_pairs},
                          {"gated_pairs", rep.gated_pairs}};
   if (!empty_sensors.empty()) info["empty_sensors"] = empty_sensors;
+  if (rep.listed_components > 0) {  // only when there are any, so that other records are unchanged
+    info["listed_components"] = rep.listed_components;
+    info["largest_listed_tuples"] = rep.largest_listed_tuples;
+  }
   if (segments) {
     info["segments_joined"] = segments->joined;
     info["segment_duplicates_joined"] = segments->duplicates;
@@ -231,6 +235,13 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
     all_optimal = all_optimal && r.optimal;
     rep.fallback_components += r.fallback;
     rep.largest_component_entries = std::max(rep.largest_component_entries, r.entries);
+    rep.listed_components += r.listed_tuples > 0;
+    rep.largest_listed_tuples = std::max(rep.largest_listed_tuples, r.listed_tuples);
+    if (!r.fallback && std::isfinite(r.lower_bound)) {
+      const double gap = (r.objective - r.lower_bound) / std::max(std::abs(r.objective), 1e-9);
+      rep.largest_component_gap = std::max(rep.largest_component_gap, gap);
+      rep.components_above_1pct_gap += gap > 0.01;
+    }
   }
   if (std::isfinite(bound)) set_bound_and_gap(summary, bound);
   summary.termination =
@@ -238,6 +249,8 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
                   : (rep.fallback_components > 0 ? Termination::kHeuristic : Termination::kGapTolerance);
   summary.message = std::to_string(C) + " components, " + std::to_string(rep.fallback_components) +
                     " by sequential LAP merging";
+  if (rep.listed_components > 0)
+    summary.message += ", " + std::to_string(rep.listed_components) + " over their listed tuples";
   summary.wall_time_s = seconds_since(t0);
   for (std::size_t slot = 0; slot < p.pairs.size(); ++slot) {
     rep.candidate_pairs += static_cast<int64_t>(p.candidate_pairs[slot]);

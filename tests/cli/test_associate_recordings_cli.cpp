@@ -177,9 +177,10 @@ constexpr bool kAddressSanitizer = false;
 
 TEST_F(AssociateRecordings, AGiantComponentStaysWithinTheMemoryBudget) {
   // 3 sensors × 2500 targets 40 m apart on a line (σ 30 m): every track is gated with its
-  // neighbours', so the gated graph is one component of 7500 tracks, solved by the merging
-  // fallback. Before issue 30 its link matrices were dense (2500² doubles per sensor pair, 150 MB)
-  // and so was each merging LAP (2500 × 2500 and 5000 × 2500 doubles): far over a 96 MiB budget.
+  // neighbours', so the gated graph is one component of 7500 tracks, solved over its listed
+  // tuples (engine/pipeline/sparse_sd_tuples.hpp; by the merging fallback before issue 31). Before issue 30
+  // its link matrices were dense (2500² doubles per sensor pair, 150 MB) and so was each merging LAP (2500 ×
+  // 2500 and 5000 × 2500 doubles): far over a 96 MiB budget.
   const int n = 2500;
   std::string csv = "t,sensor,track,x,y,truth\n";
   csv.reserve(std::size_t{3} * n * 11 * 40);
@@ -203,7 +204,8 @@ TEST_F(AssociateRecordings, AGiantComponentStaysWithinTheMemoryBudget) {
   if (status == 2) {
     EXPECT_TRUE(has(err, "more than the memory budget of 96 MiB")) << err;
   } else {
-    EXPECT_TRUE(has(out, "fallback components 1")) << out;  // one giant component, by merging
+    // One giant component, over its listed tuples, with its bound.
+    EXPECT_TRUE(has(out, "fallback components 0, components over listed tuples 1")) << out;
     const TrackFile f = read_track_file(path("a.h5"));
     const auto truths = linked_truths(f, f.associations.at(0));
     EXPECT_GT(truths.size(), std::size_t(n) / 2);  // most targets found (40 m apart at σ 30 m)

@@ -139,4 +139,16 @@ inline double brute_force_sd(const CostTensorSD& c) {
   return best;
 }
 
+// A solution of the S-D problem c certified against its optimum: valid, its objective the cost of
+// its tuples, the bound at most the optimum, the objective within the reported gap of it.
+inline void expect_certified_sd(const CostTensorSD& c, const SolutionSD& s, double optimum) {
+  ASSERT_TRUE(s.summary.feasible);
+  EXPECT_TRUE(is_valid_assignment_sd(c, s.tuples));
+  const double tol = 1e-5 * std::max(1.0, std::abs(optimum));
+  EXPECT_NEAR(assignment_cost_sd(c, s.tuples), s.summary.objective, tol);
+  EXPECT_LE(s.summary.lower_bound, optimum + tol) << "invalid lower bound";
+  EXPECT_GE(s.summary.objective, optimum - tol);
+  EXPECT_LE(s.summary.objective - optimum, s.summary.abs_gap + tol);
+}
+
 }  // namespace trackassoc::testing_support

@@ -376,7 +376,7 @@ TEST(ShardItems, AFailingItemIsNamedWithItsRank) {
 }
 
 // The default path's components solved over N fake ranks give the results of one process, with
-// the merging fallback travelling too (a tiny tensor limit).
+// the listed-tuple solve travelling too (a tiny tensor limit).
 TEST(ShardedSparseSD, ComponentsOverRanksAreThoseOfOneProcess) {
   for (const char* name : {"recorded_3s", "recorded_5s"}) {
     const Scenario sc = load_scenario(name);
@@ -396,7 +396,7 @@ TEST(ShardedSparseSD, ComponentsOverRanksAreThoseOfOneProcess) {
                                              max_entries);
         });
         ASSERT_EQ(merged.size(), local.size());
-        int fallbacks = 0;
+        int listed = 0;
         for (std::size_t c = 0; c < local.size(); ++c) {
           EXPECT_EQ(merged[c].tuples, local[c].tuples) << name << " component " << c;
           EXPECT_EQ(merged[c].costs, local[c].costs);
@@ -404,10 +404,12 @@ TEST(ShardedSparseSD, ComponentsOverRanksAreThoseOfOneProcess) {
           EXPECT_EQ(merged[c].fallback, local[c].fallback);
           EXPECT_EQ(merged[c].optimal, local[c].optimal);
           EXPECT_EQ(merged[c].entries, local[c].entries);
-          fallbacks += merged[c].fallback;
+          EXPECT_EQ(merged[c].listed_tuples, local[c].listed_tuples);
+          EXPECT_EQ(merged[c].lower_bound, local[c].lower_bound);
+          listed += merged[c].listed_tuples > 0;
         }
         if (max_entries == 4) {
-          EXPECT_GT(fallbacks, 0) << name;  // the fallback was exercised
+          EXPECT_GT(listed, 0) << name;  // the solve over listed tuples was exercised
         }
       }
     }

@@ -63,7 +63,9 @@ TEST(AssociationSummary, ReportsStateTheHandCountedNumbersOfTheDefaultPath) {
       << brief;
   // The full report: the brief line first, then the stages with the counts, then the rest.
   ASSERT_EQ(full.rfind(brief + "\n", 0), 0u) << full;
-  EXPECT_NE(full.find("gated 9, fallback components 0, segments joined 0 (to 0 targets; duplicates 0)\n"),
+  // Each component is one tuple or two singletons, so lr+ls proves it optimal: gap 0.
+  EXPECT_NE(full.find("gated 9, fallback components 0, largest component gap 0.00 %, segments joined 0 (to 0 "
+                      "targets; duplicates 0)\n"),
             std::string::npos)
       << full;
   for (const char* stage : {" alignment ", " candidates ", " statistics ", " components ", " solve ",
@@ -111,12 +113,15 @@ TEST(AssociationSummary, TheDense3DReportCountsTheTracksOfEachSensor) {
 TEST(AssociationSummary, TheSparsePathOptionsAreAssociatorOptionsFields) {
   // The default path: a target's component of one track per sensor is a sub-tensor of
   // (1 + 1)^3 = 8 entries, the stray's (1 + 1) = 2. Below 8, the three targets' components are
-  // solved by sequential LAP merging (fallback), the stray's is not.
+  // solved over their listed tuples (engine/pipeline/sparse_sd_tuples.hpp), the stray's is not;
+  // none falls back to LAP merging.
   AssociatorOptions o;
   o.max_component_entries = 7;
-  EXPECT_EQ(make_associator(o)->associate(three_targets_and_a_stray()).summary.fallback_components, 3);
+  const AssociationSummary listed = make_associator(o)->associate(three_targets_and_a_stray()).summary;
+  EXPECT_EQ(listed.listed_components, 3);
+  EXPECT_EQ(listed.fallback_components, 0);
   o.max_component_entries = 8;
-  EXPECT_EQ(make_associator(o)->associate(three_targets_and_a_stray()).summary.fallback_components, 0);
+  EXPECT_EQ(make_associator(o)->associate(three_targets_and_a_stray()).summary.listed_components, 0);
   // --sparse with a finite miss cost (the solvers' dummy index): the same four components.
   o.solver = "greedy";
   o.sparse = true;

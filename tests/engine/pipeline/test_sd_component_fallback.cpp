@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/pipeline/sparse_sd_components.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/core/random.hpp"
 
 namespace trackassoc {
@@ -76,7 +77,7 @@ TEST(SDComponentFallback, PlantedTriplesAreFoundWithTheirHandCost) {
     set_link(v, 1, perm1[t], 2, perm2[t], -10.0);
   }
   for (const bool all_pairs : {true, false}) {
-    const SDComponentResult r = solve_sd_component(v, "lr+ls", nlohmann::json::object(), all_pairs, 0);
+    const SDComponentResult r = solve_sd_component_by_merging(v, all_pairs);
     EXPECT_TRUE(r.fallback);
     EXPECT_TRUE(std::isnan(r.lower_bound));  // the fallback proves nothing
     std::set<std::set<int32_t>> want;
@@ -99,7 +100,7 @@ TEST(SDComponentFallback, AnEarlyMergeThatBlocksTheOptimumIsTheHeuristicsKnownLo
   set_link(v, 0, 0, 1, 1, -4.0);
   set_link(v, 0, 0, 2, 0, -20.0);
   set_link(v, 1, 1, 2, 0, -1.0);
-  const SDComponentResult merged = solve_sd_component(v, "exact", nlohmann::json::object(), true, 0);
+  const SDComponentResult merged = solve_sd_component_by_merging(v, true);
   EXPECT_TRUE(merged.fallback);
   EXPECT_EQ(groups(merged), (std::set<std::set<int32_t>>{{0, 100}, {101, 200}}));
   EXPECT_DOUBLE_EQ(merged.objective, -6.0);
@@ -108,6 +109,24 @@ TEST(SDComponentFallback, AnEarlyMergeThatBlocksTheOptimumIsTheHeuristicsKnownLo
   EXPECT_TRUE(exact.optimal);
   EXPECT_EQ(groups(exact), (std::set<std::set<int32_t>>{{0, 101, 200}, {100}}));
   EXPECT_NEAR(exact.objective, -25.0, 1e-4);
+  // Too large for its tensor (max_entries 0): the relaxation over the listed tuples. By hand the
+  // list is the 4 singletons, the 4 gated pairs and {a0, b1, c0} ({a0, b0, c0} is forbidden): 9
+  // tuples; the optimum −25 and its bound.
+  const SDComponentResult listed = solve_sd_component(v, "exact", nlohmann::json::object(), true, 0);
+  EXPECT_FALSE(listed.fallback);
+  EXPECT_EQ(listed.listed_tuples, 9u);
+  EXPECT_EQ(groups(listed), (std::set<std::set<int32_t>>{{0, 101, 200}, {100}}));
+  EXPECT_NEAR(listed.objective, -25.0, 1e-9);
+  EXPECT_NEAR(listed.lower_bound, -25.0, 1e-9);
+  // A list that does not fit the memory budget: the merging fallback, reported. Budget: the link
+  // matrices and 100 bytes, room for the merging's 1 × 2 LAP (16 bytes) but not for the list's 4
+  // singletons (4 × (3 × 4 + 8 + 48) = 272 bytes, sparse_sd_tuples.cpp).
+  const std::size_t budget = memory_budget_bytes();
+  set_memory_budget_bytes(v.link_bytes() + 100);
+  const SDComponentResult squeezed = solve_sd_component(v, "exact", nlohmann::json::object(), true, 0);
+  set_memory_budget_bytes(budget);
+  EXPECT_TRUE(squeezed.fallback);
+  EXPECT_EQ(groups(squeezed), groups(merged));
 }
 
 TEST(SDComponentFallback, NeverBelowTheExactOptimumAndAlwaysAPartition) {
@@ -125,7 +144,7 @@ TEST(SDComponentFallback, NeverBelowTheExactOptimumAndAlwaysAPartition) {
           for (int32_t j = 0; j < n[b]; ++j)
             if (rng.uniform() < 0.6) set_link(v, a, i, b, j, -10.0 * rng.uniform());
     for (const bool all_pairs : {true, false}) {
-      const SDComponentResult merged = solve_sd_component(v, "exact", nlohmann::json::object(), all_pairs, 0);
+      const SDComponentResult merged = solve_sd_component_by_merging(v, all_pairs);
       const SDComponentResult exact =
           solve_sd_component(v, "exact", nlohmann::json::object(), all_pairs, 1u << 20);
       expect_partition(v, merged);

@@ -217,17 +217,22 @@ double brute_force_optimum(const TrackFile& file, const PipelineOptions& po,
   return best;
 }
 
+// recorded_formation's run with the tracks of targets 0..3 only (no false tracks).
+TrackFile formation_of_four(int run) {
+  TrackFile file = simulate_file("recorded_formation", run);
+  const std::vector<int32_t> keep{0, 1, 2, 3};
+  file.tracks = keep_rows(file.tracks, [&](std::size_t r) {
+    return std::find(keep.begin(), keep.end(), file.tracks.truth[r]) != keep.end();
+  });
+  return file;
+}
+
 TEST(SparseSDPipeline, EqualsTheBruteForceOptimumOverAllGroupings) {
   // A formation (3 members 400 m apart) and a fourth target: one component of ~12 tracks, with
   // partial lifetimes and unequal counts.
   for (int run = 0; run < 3; ++run) {
-    TrackFile file = simulate_file("recorded_formation", run);
-    // Keep the tracks of targets 0..3 only (and drop the false tracks).
-    const std::vector<int32_t> keep{0, 1, 2, 3};
-    file.tracks = keep_rows(file.tracks, [&](std::size_t r) {
-      return std::find(keep.begin(), keep.end(), file.tracks.truth[r]) != keep.end();
-    });
-    const double brute = brute_force_optimum(file, PipelineOptions{}, keep);
+    const TrackFile file = formation_of_four(run);
+    const double brute = brute_force_optimum(file, PipelineOptions{}, {0, 1, 2, 3});
     EXPECT_LT(brute, -10.0) << "run " << run << ": the instance links nothing";
     SparseSDOptions so;
     for (const char* solver : {"exact", "lr+ls"}) {
@@ -241,6 +246,29 @@ TEST(SparseSDPipeline, EqualsTheBruteForceOptimumOverAllGroupings) {
         EXPECT_GE(rec.objective, brute - 1e-3 * std::max(1.0, std::fabs(brute)));
       }
     }
+  }
+}
+
+// A component over max_component_entries is solved over its listed allowed tuples
+// (engine/pipeline/sparse_sd_tuples.hpp), not by LAP merging: its bound is valid against the brute
+// force, its objective within the reported gap, and the list holds every allowed tuple (the dense
+// path's optimum, solved by "exact" on the same instance, is reached or bounded).
+TEST(SparseSDPipeline, AComponentTooLargeForItsTensorIsSolvedOverItsListedTuplesWithABound) {
+  for (int run = 0; run < 3; ++run) {
+    const TrackFile file = formation_of_four(run);
+    const double brute = brute_force_optimum(file, PipelineOptions{}, {0, 1, 2, 3});
+    const double tol = 1e-3 * std::max(1.0, std::fabs(brute));
+    SparseSDOptions so;
+    so.max_component_entries = 1;  // every component of two or more tracks is "too large"
+    SparseSDReport rep;
+    const AssociationRecord rec = associate_sparse_sd(file, "lr+ls", nlohmann::json::object(), 1, so, &rep);
+    EXPECT_GE(rep.solve.listed_components, 1) << "run " << run;
+    EXPECT_EQ(rep.solve.fallback_components, 0) << "run " << run;
+    EXPECT_GT(rep.solve.largest_listed_tuples, 0u);
+    EXPECT_LE(rec.lower_bound, brute + tol) << "run " << run << ": invalid bound";
+    EXPECT_GE(rec.objective, brute - tol) << "run " << run;
+    EXPECT_LE(rec.objective - brute, rec.objective - rec.lower_bound + tol) << "run " << run;
+    EXPECT_LE(rep.solve.largest_component_gap, 0.01) << "run " << run;
   }
 }
 

@@ -37,16 +37,6 @@ CostTensorSD random_tensor(std::vector<int32_t> n, uint64_t seed) {
   return c;
 }
 
-void expect_certified_sd(const CostTensorSD& c, const SolutionSD& s, double optimum) {
-  ASSERT_TRUE(s.summary.feasible);
-  EXPECT_TRUE(is_valid_assignment_sd(c, s.tuples));
-  const double tol = 1e-5 * std::max(1.0, std::abs(optimum));
-  EXPECT_NEAR(assignment_cost_sd(c, s.tuples), s.summary.objective, tol);
-  EXPECT_LE(s.summary.lower_bound, optimum + tol) << "invalid lower bound";
-  EXPECT_GE(s.summary.objective, optimum - tol);
-  EXPECT_LE(s.summary.objective - optimum, s.summary.abs_gap + tol);
-}
-
 TEST(AssignmentSD, MatchDimensionHandExample) {
   // Two tuples, two indices. Tuple 0: index 0 at 1, index 1 at 5, none at 2. Tuple 1: 4, 1, none 9.
   // New tuple for index 0 at 3, index 1 at 3. Best: t0→0 (1) + t1→1 (1) = 2.
