@@ -255,7 +255,9 @@ SDComponentResult solve_sd_component(const SDComponentView& v, const std::string
   // Too large for the dense sub-tensor: the relaxation over its allowed tuples, when their list
   // fits the budget beside what is held (engine/pipeline/sparse_sd_tuples.hpp); else the merging
   // fallback, the last resort.
-  const double room = static_cast<double>(memory_budget_bytes()) - held;
+  // The room beside what is held, shared by the components listed at once (one per thread).
+  const double room = (static_cast<double>(memory_budget_bytes()) - held) /
+                      std::max(1, oneapi::tbb::this_task_arena::max_concurrency());
   SDComponentResult r;
   if (std::optional<TupleListSD> list = list_component_tuples(v, all_pairs, room))
     r = solve_sd_component_by_tuples(v, *list, all_pairs);

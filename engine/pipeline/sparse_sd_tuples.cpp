@@ -13,6 +13,8 @@ namespace {
 
 // Bytes per listed tuple besides its S indices and its cost: the hash set's node and bucket.
 constexpr double kHashBytesPerTuple = 48.0;
+// The list's vectors grow by doubling: up to twice their size is held while one is moved.
+constexpr double kGrowth = 2.0;
 
 }  // namespace
 
@@ -30,7 +32,11 @@ std::optional<TupleListSD> list_component_tuples(const SDComponentView& v, bool 
         adj[a][i].emplace_back(b, j);
         adj[b][j].emplace_back(a, i);
       });
-  const double per_tuple = static_cast<double>(S) * sizeof(int32_t) + sizeof(double) + kHashBytesPerTuple;
+  const double per_tuple =
+      kGrowth * (static_cast<double>(S) * sizeof(int32_t) + sizeof(double)) + kHashBytesPerTuple;
+  double tracks = 0.0;
+  for (int32_t s = 0; s < S; ++s) tracks += list.n[s];
+  const double max_tuples = kMaxListedTuplesPerTrack * tracks;
   auto row = [&](std::size_t t) { return list.tuples.data() + t * S; };
   struct Hash {
     const TupleListSD* l;
@@ -62,7 +68,8 @@ std::optional<TupleListSD> list_component_tuples(const SDComponentView& v, bool 
   std::vector<std::pair<int32_t, int32_t>> members;
   std::vector<int32_t> base(S);
   for (std::size_t t = 0; t < list.size(); ++t) {
-    if (static_cast<double>(list.size()) * per_tuple > max_bytes) return std::nullopt;
+    const auto listed = static_cast<double>(list.size());
+    if (listed * per_tuple > max_bytes || listed > max_tuples) return std::nullopt;
     std::copy_n(row(t), S, base.begin());  // row(t) moves as the list grows
     members.clear();
     for (int32_t s = 0; s < S; ++s)

@@ -13,8 +13,12 @@
 // neighbour (on another sensor, with no failed pair to any member): a connected set grows from any
 // of its members along a spanning tree, so every allowed tuple is listed, each once (a hash set over
 // the per-sensor indices). Memory: O(T·S) for T allowed tuples, checked against --memory-budget
-// as the list grows; a list that would not fit is abandoned, and the component falls back to
-// sequential LAP merging (engine/pipeline/sparse_sd_components.hpp), reported as such.
+// as the list grows (the budget shared by the components listed at once). The list suits
+// components in which few sensors see each target (T ≈ 4 per track on recorded_10k at three times
+// its density); where many sensors all gate one another a target has up to 2^S allowed subsets
+// (25 radars: 3·10⁷), so a list longer than kMaxListedTuplesPerTrack per track is abandoned too.
+// An abandoned list sends the component to sequential LAP merging
+// (engine/pipeline/sparse_sd_components.hpp), reported as the fallback.
 // Complexity: O(T·k·deg·k²) to list (k members, deg gated neighbours per member), then the
 // relaxation's O(T·S + T log T) per iteration.
 #pragma once
@@ -27,8 +31,11 @@
 
 namespace trackassoc {
 
+inline constexpr double kMaxListedTuplesPerTrack = 32.0;
+
 // The allowed tuples of a component (indices are the view's per-sensor indices, costs by
-// sd_component_tuple_cost), or nullopt when the list would need more than `max_bytes`.
+// sd_component_tuple_cost), or nullopt when the list would need more than `max_bytes` or hold more
+// than kMaxListedTuplesPerTrack tuples per track.
 std::optional<TupleListSD> list_component_tuples(const SDComponentView& v, bool all_pairs, double max_bytes);
 
 // The component solved over `list` by the relaxation (default options: 300 iterations, stop at a

@@ -120,13 +120,28 @@ TEST(SDComponentFallback, AnEarlyMergeThatBlocksTheOptimumIsTheHeuristicsKnownLo
   EXPECT_NEAR(listed.lower_bound, -25.0, 1e-9);
   // A list that does not fit the memory budget: the merging fallback, reported. Budget: the link
   // matrices and 100 bytes, room for the merging's 1 × 2 LAP (16 bytes) but not for the list's 4
-  // singletons (4 × (3 × 4 + 8 + 48) = 272 bytes, sparse_sd_tuples.cpp).
+  // singletons (4 × (2 × (3 × 4 + 8) + 48) = 352 bytes, sparse_sd_tuples.cpp).
   const std::size_t budget = memory_budget_bytes();
   set_memory_budget_bytes(v.link_bytes() + 100);
   const SDComponentResult squeezed = solve_sd_component(v, "exact", nlohmann::json::object(), true, 0);
   set_memory_budget_bytes(budget);
   EXPECT_TRUE(squeezed.fallback);
   EXPECT_EQ(groups(squeezed), groups(merged));
+}
+
+TEST(SDComponentFallback, ManySensorsThatAllGateOneAnotherAreMergedNotListed) {
+  // One target seen by 12 sensors, every pair gated: 2^12 − 1 = 4 095 allowed tuples, more than
+  // kMaxListedTuplesPerTrack × 12 = 384, so the list is abandoned and the merging joins all 12.
+  const int32_t S = 12;
+  SDComponentView v = overlapping_view(std::vector<int32_t>(S, 1));
+  for (int32_t a = 0; a < S; ++a)
+    for (int32_t b = a + 1; b < S; ++b) set_link(v, a, 0, b, 0, -1.0);
+  const SDComponentResult r = solve_sd_component(v, "lr+ls", nlohmann::json::object(), true, 0);
+  EXPECT_TRUE(r.fallback);
+  EXPECT_EQ(r.listed_tuples, 0u);
+  ASSERT_EQ(r.tuples.size(), 1u);
+  EXPECT_EQ(r.tuples[0].size(), static_cast<std::size_t>(S));
+  EXPECT_DOUBLE_EQ(r.objective, -1.0 * S * (S - 1) / 2);  // all 66 pairs linked
 }
 
 TEST(SDComponentFallback, NeverBelowTheExactOptimumAndAlwaysAPartition) {
