@@ -89,6 +89,14 @@ def groups_of(path, name):
     return out
 
 
+def score(chains, truth):
+    """Joins of the chains (each a list of fragments in time order: consecutive ones are a join),
+    correct when both fragments' truth is one target (>= 0), false otherwise."""
+    joins = [(p, n) for chain in chains for p, n in zip(chain, chain[1:])]
+    correct = sum(1 for p, n in joins if truth[p] == truth[n] >= 0)
+    return dict(joins=len(joins), correct=correct, false=len(joins) - correct)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[1])
     ap.add_argument("fragments", help="associate --no-stitch output")
@@ -143,11 +151,6 @@ def main(argv=None):
         gs.sort(key=lambda g: span[g][0])
         available += sum(1 for p, n in zip(gs, gs[1:]) if span[n][0] - span[p][1] <= a.window)
 
-    def score(chains):
-        joins = [(p, n) for chain in chains for p, n in zip(chain, chain[1:])]
-        correct = sum(1 for p, n in joins if truth[p] == truth[n] >= 0)
-        return dict(joins=len(joins), correct=correct, false=len(joins) - correct)
-
     # Ours: fragments whose keys share a target number in OURS.h5, in time order.
     target_of = {k: t for t, keys in ours.items() for k in keys}
     merged = defaultdict(list)
@@ -168,8 +171,8 @@ def main(argv=None):
     ss_s = time.perf_counter() - t0
     ss_chains = [[int(i) for i in ids] for ids in stitched.values() if len(ids) > 1]
     out = dict(file=a.fragments, fragments=len(tracks), true_joins_available=available,
-               ours=dict(score(ours_chains), ms=a.ours_ms),
-               stonesoup=dict(score(ss_chains), ms=1e3 * ss_s))
+               ours=dict(score(ours_chains, truth), ms=a.ours_ms),
+               stonesoup=dict(score(ss_chains, truth), ms=1e3 * ss_s))
     print(f"{a.fragments}: {len(tracks)} fragments, {available} true joins available")
     for side in ("ours", "stonesoup"):
         s = out[side]
