@@ -83,8 +83,35 @@ GapStatistic gap_statistic(const TrackTable& t, std::size_t end, std::size_t sta
   return g;
 }
 
+namespace {
+
+// A conservative pre-gate without a factorisation: the position part's m² is at most the full
+// m² (a marginal's Mahalanobis form never exceeds the joint one) and at least |e_p|²/trace(S_pp),
+// so |e_p|² > gate·trace(S_pp) means m² > gate. Far pairs (most of them in a wide scene) are
+// refused from the diagonal alone; the joins are exactly those without it.
+bool surely_outside(const TrackTable& t, std::size_t end, std::size_t start, double q, double gate) {
+  const int D = t.dim(), d = D / 2;
+  auto packed = [D](int r, int c) { return r * D - r * (r - 1) / 2 + (c - r); };  // r ≤ c
+  const double tm = 0.5 * (t.t[end] + t.t[start]);
+  double e2 = 0.0, trace = 0.0;
+  for (int i = 0; i < d; ++i) {
+    double e = 0.0;
+    for (const auto& [r, sign] : {std::pair{end, 1.0}, std::pair{start, -1.0}}) {
+      const double dt = tm - t.t[r], a = std::fabs(dt);
+      e += sign * (t.state[i][r] + dt * t.state[d + i][r]);
+      trace += t.cov[packed(i, i)][r] + 2.0 * dt * t.cov[packed(i, d + i)][r] +
+               dt * dt * t.cov[packed(d + i, d + i)][r] + q * a * a * a / 3.0;
+    }
+    e2 += e * e;
+  }
+  return e2 > gate * trace;
+}
+
+}  // namespace
+
 double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const TrackStitchOptions& o,
                  double gate) {
+  if (surely_outside(t, end, start, o.turn_sigma * o.turn_sigma, gate)) return std::numeric_limits<double>::infinity();
   const GapStatistic turn = gap_statistic(t, end, start, o.turn_sigma * o.turn_sigma);
   if (!(turn.m2 <= gate)) return std::numeric_limits<double>::infinity();
   const GapStatistic quiet = gap_statistic(t, end, start, o.manoeuvre_sigma * o.manoeuvre_sigma);

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "engine/pipeline/track_hygiene.hpp"
 #include "engine/pipeline/track_stitching.hpp"
@@ -237,6 +238,37 @@ TEST(TrackStitching, GroupsThatCoexistAreLeftToTheAssociationAndAChainIsOneTarge
   o.enabled = false;
   EXPECT_EQ(stitch_fragments(g, off, o).stitches, 0);
   EXPECT_EQ(off.target, (std::vector<int32_t>{0, 1, 2, 3}));
+}
+
+TEST(TrackStitching, ThePreGateRefusesOnlyPairsOutsideTheGate) {
+  // Brute force: 400 random report pairs (random states, random correlated covariances, gaps of
+  // −2..180 s); join_cost is finite exactly when the manoeuvring model's m² is inside the gate,
+  // whatever the diagonal pre-gate refuses first. Offsets of 0-30 km put pairs on both sides.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  TrackFile f;
+  f.tracks = TrackTable(StateLayout::kXY_VXVY);
+  for (int i = 0; i < 800; ++i) {
+    Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c <= r; ++c) A(r, c) = (r == c ? 1.0 : 0.5) * (u(rng) - (r == c ? 0.0 : 0.5));
+    A.diagonal().head<2>() *= 300.0;
+    A.diagonal().tail<2>() *= 10.0;
+    A(2, 0) *= 30.0, A(3, 1) *= 30.0;
+    const Eigen::Matrix4d P = A * A.transpose() + 1e-3 * Eigen::Matrix4d::Identity();
+    const double t = i % 2 == 0 ? 100.0 : 98.0 + 182.0 * u(rng);
+    const Eigen::Vector4d x(3e4 * u(rng), 3e4 * u(rng), 400.0 * (u(rng) - 0.5), 400.0 * (u(rng) - 0.5));
+    f.tracks.push_back(0, i, t, x, P, -1);
+  }
+  const TrackStitchOptions o;
+  int inside = 0;
+  for (std::size_t r = 0; r < 800; r += 2) {
+    const double m2 = gap_statistic(f.tracks, r, r + 1, o.turn_sigma * o.turn_sigma).m2;
+    EXPECT_EQ(std::isfinite(join_cost(f.tracks, r, r + 1, o, kGate)), m2 <= kGate) << r;
+    inside += m2 <= kGate;
+  }
+  EXPECT_GT(inside, 10);   // both sides are exercised
+  EXPECT_LT(inside, 390);
 }
 
 TEST(TrackStitching, BadOptionsNameTheField) {
