@@ -48,6 +48,18 @@ for r in 1 2 3; do
   $py bench/stonesoup_t2t.py bench-results/recorded_sync.h5 --cov sum --no-resampled \
       --json "bench-results/stonesoup_recorded_sync_$r.json" > /dev/null || echo "stonesoup_t2t.py failed"
 done
+# Stone Soup's TrackStitcher beside our fragment stitching on the same fragments (the groups of
+# `associate --no-stitch`) of recorded_recycled, seeds 1-3: joins, correct, false, time (ours: the
+# stitching stage of `associate`). bench/stonesoup_stitch.py.
+for s in 1 2 3; do
+  in=bench-results/recorded_recycled_$s.h5
+  build/trackassoc simulate --scenario recorded_recycled --seed $s -o "$in" > /dev/null
+  build/trackassoc associate -i "$in" -o "bench-results/recycled_fragments_$s.h5" --no-stitch > /dev/null
+  ms=$(build/trackassoc associate -i "$in" -o "bench-results/recycled_ours_$s.h5" |
+       grep -o 'stitching [0-9.]* ms' | cut -d' ' -f2)
+  $py bench/stonesoup_stitch.py "bench-results/recycled_fragments_$s.h5" "bench-results/recycled_ours_$s.h5" \
+      --ours-ms "${ms:-0}" --json "bench-results/stonesoup_stitch_recycled_$s.json" || echo "stonesoup_stitch.py failed"
+done
 # numpy's loadtxt on bench_csv_import's file.
 $py bench/csv_numpy.py --json bench-results/csv_numpy.json || echo "csv_numpy.py failed"
 echo "load after the peers: $(cut -d' ' -f1-3 /proc/loadavg)" >> bench-results/meta.txt

@@ -112,10 +112,11 @@ void register_associate(CLI::App& app) {
       "split into new local tracks before the association; /tracks/source_track keeps the recorded number; "
       "engine/pipeline/track_hygiene.hpp)");
   cmd->add_flag("--no-stitch", args->no_stitch,
-                "Default pipeline: keep output targets that never coexist apart (default: a target whose "
-                "first report continues another's last, within 180 s, by constant velocity with a 3 m/s^2 "
-                "manoeuvre allowance, unambiguously (each the other's only match), is joined to it: a "
-                "target handed over between sensors; engine/pipeline/track_stitching.hpp)");
+                "Default pipeline: keep output targets that never coexist apart (default: track segment "
+                "association joins a target whose first report continues another's last, within 180 s, "
+                "by constant velocity with a quiet (3 m/s^2) or manoeuvring (20 m/s^2) allowance, as one "
+                "assignment of positive-evidence joins: a target handed over between sensors or re-tracked "
+                "after a gap; engine/pipeline/track_stitching.hpp)");
   cmd->add_option(
       "--reference-sensor", args->reference_sensor,
       "Default pipeline: the /sensors id the registration holds fixed, a sensor you trust (default: "

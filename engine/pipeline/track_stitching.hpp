@@ -1,28 +1,54 @@
-// Fragment stitching (docs/design.md §4.10): one target followed by different sensors at different
-// times. A target that leaves one radar's coverage and enters another's, or a track that one
-// sensor drops and another picks up later, gives output groups (the tuples of one target number)
-// that never coexist; an association over common times can never link them, since they share no
-// time. This pass, run on the default path after the association (and its registration), joins
-// such groups when the motion of the earlier one explains the start of the later one, unambiguously.
+// Fragment stitching by track segment association (docs/design.md §4.10): one target followed by
+// different sensors, or by one sensor's successive tracks, at different times. A target that leaves
+// one radar's coverage and enters another's, or a track that a sensor drops and picks up later,
+// gives output groups (the tuples of one target number) that never coexist; an association over
+// common times can never link them, since they share no time. This pass, run on the default path
+// after the association (and its registration), joins such groups as one assignment.
 //
-// Rule. A *group* is the set of local tracks of one target number of the record (a tuple of one
-// member is a group too). Its end is its latest report x₀ (P₀), its start its earliest report.
-// For groups G₁, G₂ with G₂'s start within [G₁'s end − max_overlap_s, G₁'s end + max_gap_s], the
-// end of G₁ is predicted over the gap Δt by constant velocity with a manoeuvre allowance,
-// x̂ = F x₀, P̂ = F P₀ Fᵀ + Q (Q the continuous white-noise acceleration model of spectral density
-// σ_a², Bar-Shalom, Li, Kirubarajan 2001 §6.2.2), and compared with G₂'s start x₁ (P₁):
-//     m² = (x₁ − x̂)ᵀ (P̂ + P₁)⁻¹ (x₁ − x̂) ≤ χ²_D(gate_probability).
-// Groups that coexist longer than max_overlap_s are never candidates (the association at common
-// times has had its say on them). A gated pair is ambiguous when G₁ has another gated successor
-// that coexists with G₂, or G₂ another gated predecessor that coexists with G₁ (in dense traffic
-// the ambiguous fragments are left apart: a missed stitch splits a target, a wrong one joins two;
-// a later successor that starts after G₂ ends is no rival, it may be the same target after G₂).
-// Of the unambiguous pairs each group keeps its earliest successor and its latest predecessor, and
-// a pair kept by both is a *stitch* (a mutual match, as in track-continuity tests at a handover
-// between radars). Stitches are chained (G₁ → G₂ → G₃ is one target), and the later groups take
-// the earliest group's target number. The tuples are unchanged; only `target` changes (filled
-// when it was empty and a stitch was made). Complexity: O(G log G + C·D³) for G groups and C
-// candidate pairs (a sweep over groups sorted by start time).
+// Groups and candidates. A *group* is the set of local tracks of one target number of the record (a
+// tuple of one member is a group too; a group with members on several sensors joins through any of
+// them). Its end is its latest report x₀ (P₀) at t₀, its start its earliest report x₁ (P₁) at t₁.
+// (G₁, G₂) is a candidate when G₂ starts within [t₀ − max_overlap_s, t₀ + max_gap_s], starts after
+// G₁ starts and goes on after G₁ ends; so groups that coexist longer than max_overlap_s are never
+// candidates (the association at common times has had its say on them), and every chain of joins
+// runs forward in time (no cycles).
+//
+// Gap statistic (track segment association: Yeom, Kirubarajan, Bar-Shalom, "Track segment
+// association, fine-step IMM and initialization with Doppler for improved track performance", IEEE
+// TAES 40(1) 2004, §II; Stone Soup's TrackStitcher, forward and backward prediction). G₁'s end is
+// predicted forward and G₂'s start backward to the gap's midpoint t_m = (t₀ + t₁)/2 by constant
+// velocity, x̂ = F(t_m − t) x, P̂ = F P Fᵀ + Q(|t_m − t|) (Q the continuous white-noise acceleration
+// model of spectral density σ², Bar-Shalom, Li, Kirubarajan 2001 §6.2.2; backwards with F's
+// direction), and compared with the sum of the predicted covariances:
+//     e = x̂₁ − x̂₂,  S = P̂₁ + P̂₂,  m² = eᵀ S⁻¹ e.
+// The statistic is symmetric in the two ends. (For this linear model it equals the forward-only
+// m² of G₂'s start against G₁'s end predicted over the whole gap, since both residuals are one
+// unit-determinant transform F(t₁ − t_m) of each other; engine/pipeline/track_hygiene.hpp's
+// continuation_statistic.)
+// A target may turn during the gap (recorded_recycled: gaps of 14-131 s with turns of up to 150°,
+// and new tracks whose first velocity is off by 100s of m/s), which defeats a quiet CV model. So
+// the join's likelihood is a two-model mixture, as the IMM of the reference: a quiet model
+// (σ_a = manoeuvre_sigma, weight 1 − turn_probability) and a manoeuvring one (σ_a = turn_sigma,
+// weight turn_probability),
+//     p(e | same target) = (1 − π) N(e; 0, S_quiet) + π N(e; 0, S_turn),
+// gated by m²_turn ≤ χ²_D(gate_probability). Chosen by measurement on the recorded family
+// (docs/design.md §4.10): the mixture bridges the turns that the quiet gate refuses and keeps the
+// quiet model's sharp likelihood for the pairs that did not manoeuvre, so a turning pair does not
+// outbid a straight one.
+//
+// Assignment. Against "different targets" (G₂'s start uniform over the volume V of the box that
+// holds every group's start state, each side at least one unit), the join's cost is the negative
+// log-likelihood ratio
+//     c₁₂ = −ln p(e | same target) − ln V,
+// and one rectangular LAP over ends × starts (kernels/assignment/lap_sparse.hpp) with "no
+// successor" and "no predecessor" at cost 0 picks the joins: only pairs of positive evidence
+// (c < 0) can be made, and each group has at most one successor and one predecessor, globally
+// optimal over the whole file (instead of per-pair rules). Joins are chained (G₁ → G₂ → G₃ is one
+// target) and the later groups take the earliest group's target number. The tuples are unchanged;
+// only `target` changes (filled when it was empty and a join was made).
+// Complexity: O(G log G + C·D³) for the candidates (a sweep over groups sorted by start time),
+// plus the sparse LAP's O(J·C log C) worst case for J joins; in practice the candidate graph is a
+// sparse set of small chains.
 #pragma once
 
 #include <cstdint>
@@ -35,14 +61,28 @@ struct TrackStitchOptions {
   bool enabled = true;
   double max_gap_s = 180.0;          // s, the longest gap bridged
   double max_overlap_s = 2.0;        // s, the overlap of a coasting end and its successor's start
-  double manoeuvre_sigma = 3.0;      // σ_a [m/s²] of the allowance
-  double gate_probability = 0.9999;  // of χ²_D
+  double manoeuvre_sigma = 3.0;      // σ_a [m/s²] of the quiet model
+  double turn_sigma = 20.0;          // σ_a [m/s²] of the manoeuvring model
+  double turn_probability = 0.2;     // its weight π in the mixture (0: the quiet model alone)
+  double gate_probability = 0.9999;  // of χ²_D, on the manoeuvring model's m²
   void validate() const;
 };
 
 struct TrackStitchSummary {
-  int32_t groups = 0, candidates = 0, stitches = 0;  // groups, gated pairs, and stitches made
+  int32_t groups = 0, candidates = 0, stitches = 0;  // groups, gated pairs, and joins made
 };
+
+// The gap statistic of the rule above for one model: G₁'s end (row `end`) predicted forward and G₂'s
+// start (row `start`) backward to their midpoint with q = σ_a², m² and ln det(2π S).
+struct GapStatistic {
+  double m2 = 0.0, log_det = 0.0;
+};
+GapStatistic gap_statistic(const TrackTable& tracks, std::size_t end, std::size_t start, double q);
+
+// The join's cost c₁₂ + ln V of the rule above (the mixture's −ln p(e | same target)), or +inf when
+// the manoeuvring model's m² is outside the gate `gate` (χ²_D of gate_probability).
+double join_cost(const TrackTable& tracks, std::size_t end, std::size_t start, const TrackStitchOptions& options,
+                 double gate);
 
 // Joins the groups of `record` (its tuple columns are file.sensors, in order) as above; `file`
 // gives the reports (the registered reports where registration applies).

@@ -1,19 +1,28 @@
-// Fragment stitching (engine/pipeline/track_stitching.hpp) on hand-made files: a target handed over
-// from one sensor to another is joined when the gap is inside the gate worked out by hand, kept
-// apart just outside it, and kept apart when two successors both fit or the groups coexist.
+// Fragment stitching by track segment association (engine/pipeline/track_stitching.hpp) on
+// hand-made files: every cost below is worked out by hand from the closed form of the midpoint
+// prediction (for reports with diagonal P and equal halves of the gap, the forward and backward
+// cross terms cancel, so S is diagonal), and the joins are checked against the assignment that
+// those costs imply.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
+#include <random>
 
+#include "engine/pipeline/track_hygiene.hpp"
 #include "engine/pipeline/track_stitching.hpp"
 #include "kernels/statistics/chi_square.hpp"
 
 namespace trackassoc {
 namespace {
 
-// Two sensors (ids 0, 1), reports every 2 s. Segments: (sensor, track, t0, t1, x at t = 0, vx);
-// y = 0, vy = 0. P = diag(100², 100², 1, 1).
-TrackFile hand_made(const std::vector<std::array<double, 6>>& segments) {
+struct Segment {
+  int32_t sensor = 0, track = 0;
+  double t0 = 0, t1 = 0, x0 = 0, vx = 0, y0 = 0, vy = 0;  // position at t = 0 and velocity
+};
+
+// Two sensors (ids 0, 1), reports every 2 s on each segment, P = diag(100², 100², 1, 1).
+TrackFile hand_made(const std::vector<Segment>& segments) {
   TrackFile f;
   for (int32_t id : {0, 1}) {
     Sensor s;
@@ -24,11 +33,14 @@ TrackFile hand_made(const std::vector<std::array<double, 6>>& segments) {
   Eigen::Matrix4d P = Eigen::Matrix4d::Zero();
   P.diagonal() << 1e4, 1e4, 1.0, 1.0;
   for (const auto& g : segments)
-    for (double t = g[2]; t <= g[3] + 1e-9; t += 2.0)
-      f.tracks.push_back(static_cast<int32_t>(g[0]), static_cast<int32_t>(g[1]), t,
-                         Eigen::Vector4d(g[4] + g[5] * t, 0.0, g[5], 0.0), P, -1);
+    for (double t = g.t0; t <= g.t1 + 1e-9; t += 2.0)
+      f.tracks.push_back(g.sensor, g.track, t, Eigen::Vector4d(g.x0 + g.vx * t, g.y0 + g.vy * t, g.vx, g.vy), P, -1);
   return f;
 }
+
+// A far target that coexists with everything (never a candidate) and spans the "different
+// targets" box: its start (−60 km, −60 km, −300 m/s, −300 m/s).
+const Segment kBackground{1, 99, 0, 200, -60000, -300, -60000, -300};
 
 // One tuple of one member per (sensor, track) given, target numbers 0, 1, ...
 AssociationRecord singletons(const std::vector<std::pair<int32_t, int32_t>>& keys) {
@@ -42,74 +54,234 @@ AssociationRecord singletons(const std::vector<std::pair<int32_t, int32_t>>& key
   return rec;
 }
 
+// The quiet model alone with σ_a = 0 (and the gate on it).
 TrackStitchOptions no_manoeuvre() {
   TrackStitchOptions o;
-  o.manoeuvre_sigma = 0.0;
+  o.manoeuvre_sigma = o.turn_sigma = 0.0;
+  o.turn_probability = 0.0;
   return o;
 }
 
-// By hand: sensor 0 ends at 40 s, sensor 1 starts at 60 s (Δ = 20 s), σ_a = 0. Along x the
-// predicted covariance of (position, velocity) is [[1e4 + Δ², Δ], [Δ, 1]], plus the start's
-// [[1e4, 0], [0, 1]]: C = [[20400, 20], [20, 2]]. A start displaced by δ along x only (same
-// velocity) gives m² = δ² (C⁻¹)₀₀ = δ² · 2 / (20400 · 2 − 400) = δ² / 20200; y adds nothing.
-// The gate χ²₄(0.9999) then admits |δ| ≤ sqrt(20200 · χ²) ≈ 689 m.
-double critical_offset() { return std::sqrt(20200.0 * chi_square_quantile(0.9999, 4)); }
+const double kGate = chi_square_quantile(0.9999, 4);  // χ²₄(0.9999) ≈ 23.51
+const double kLog2Pi4 = 4.0 * std::log(2.0 * std::numbers::pi);
+
+// By hand, σ_a = 0, a gap of 20 s (each end predicted 10 s to the midpoint): along x the forward
+// prediction is [[1e4 + 100, 10], [10, 1]], the backward one [[1e4 + 100, −10], [−10, 1]], so
+// S = diag(20200, 2) along x and (both y states 0 in these files) S = diag(20200, 2) along y too.
+// A start displaced by δ along x (same velocity) gives m² = δ²/20200, and
+// ln det(2πS) = 4 ln 2π + 2 ln(20200·2).
+double m2_of_offset(double delta) { return delta * delta / 20200.0; }
+const double kLogDet20 = kLog2Pi4 + 2.0 * std::log(20200.0 * 2.0);
+double critical_offset() { return std::sqrt(20200.0 * kGate); }
+
+// ln V of the box of the start states, by hand from the segments' start states.
+double log_volume(const std::vector<std::array<double, 4>>& starts) {
+  double v = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    double lo = 1e300, hi = -1e300;
+    for (const auto& s : starts) lo = std::min(lo, s[i]), hi = std::max(hi, s[i]);
+    v += std::log(std::max(hi - lo, 1.0));
+  }
+  return v;
+}
+
+TEST(TrackStitching, TheMidpointStatisticIsSymmetricAndEqualsTheForwardOne) {
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 300, 200}});
+  // Rows 0..20 are track 1 (0-40 s), row 20 its end; row 21 track 7's start at 60 s.
+  const GapStatistic g = gap_statistic(f.tracks, 20, 21, 0.0);
+  EXPECT_NEAR(g.m2, m2_of_offset(300.0), 1e-9);
+  EXPECT_NEAR(g.log_det, kLogDet20, 1e-9);
+  EXPECT_NEAR(g.m2, continuation_statistic(f.tracks, 20, 21, 0.0), 1e-9);
+  EXPECT_NEAR(gap_statistic(f.tracks, 20, 21, 9.0).m2, continuation_statistic(f.tracks, 20, 21, 9.0), 1e-9);
+}
 
 TEST(TrackStitching, AHandoverInsideTheHandComputedGateIsJoined) {
   const double delta = 0.95 * critical_offset();
-  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, delta, 200}});
-  AssociationRecord rec = singletons({{0, 1}, {1, 7}});
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, delta, 200}, kBackground});
+  // Its cost: ½ m² + ½ ln det(2πS) − ln V < 0 (positive evidence).
+  const double lv = log_volume({{0, 0, 200, 0}, {delta + 12000, 0, 200, 0}, {-60000, -60000, -300, -300}});
+  EXPECT_LT(0.5 * (m2_of_offset(delta) + kLogDet20) - lv, 0.0);
+  EXPECT_NEAR(join_cost(f.tracks, 20, 21, no_manoeuvre(), kGate), 0.5 * (m2_of_offset(delta) + kLogDet20), 1e-9);
+  AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 99}});
   const TrackStitchSummary s = stitch_fragments(f, rec, no_manoeuvre());
-  EXPECT_EQ(s.groups, 2);
+  EXPECT_EQ(s.groups, 3);
   EXPECT_EQ(s.candidates, 1);
   EXPECT_EQ(s.stitches, 1);
-  EXPECT_EQ(rec.target[1], rec.target[0]);  // the later group takes the earlier one's number
-  EXPECT_EQ(rec.target[0], 0);
+  EXPECT_EQ(rec.target, (std::vector<int32_t>{0, 0, 2}));  // the later group takes the earlier one's number
 }
 
 TEST(TrackStitching, AHandoverJustOutsideTheGateIsKeptApart) {
-  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 1.05 * critical_offset(), 200}});
-  AssociationRecord rec = singletons({{0, 1}, {1, 7}});
-  EXPECT_EQ(stitch_fragments(f, rec, no_manoeuvre()).stitches, 0);
-  EXPECT_NE(rec.target[1], rec.target[0]);
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 1.05 * critical_offset(), 200}, kBackground});
+  AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 99}});
+  const TrackStitchSummary s = stitch_fragments(f, rec, no_manoeuvre());
+  EXPECT_EQ(s.candidates, 0);
+  EXPECT_EQ(s.stitches, 0);
+  EXPECT_EQ(rec.target, (std::vector<int32_t>{0, 1, 2}));
 }
 
-TEST(TrackStitching, TwoSuccessorsThatBothFitAreAmbiguousAndNeitherIsJoined) {
-  const double d = 0.4 * critical_offset();
-  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, d, 200}, {1, 8, 60, 100, -d, 200}});
-  AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 8}});
+TEST(TrackStitching, WithoutEvidenceAgainstDifferentTargetsNothingIsJoined) {
+  // The same handover alone: the box of the two starts is 12 km × 1 × 1 × 1, so
+  // ln V = ln(12000) ≈ 9.39 < ½ ln det(2πS) ≈ 14.28: the join is gated but a start anywhere in so
+  // small a scene is as likely; no evidence, no join.
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 0, 200}});
+  EXPECT_GT(0.5 * kLogDet20 - std::log(12000.0), 0.0);
+  AssociationRecord rec = singletons({{0, 1}, {1, 7}});
+  const TrackStitchSummary s = stitch_fragments(f, rec, no_manoeuvre());
+  EXPECT_EQ(s.candidates, 1);
+  EXPECT_EQ(s.stitches, 0);
+}
+
+TEST(TrackStitching, OfTwoSuccessorsTheBetterIsJoined) {
+  // Offsets 0.3 and 0.5 of the critical one: m² = 0.09 and 0.25 of the gate; equal det and V, so
+  // the nearer is cheaper and the one assignment takes it.
+  const double d = critical_offset();
+  const TrackFile f =
+      hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 0.5 * d, 200}, {1, 8, 60, 100, -0.3 * d, 200}, kBackground});
+  AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 8}, {1, 99}});
   const TrackStitchSummary s = stitch_fragments(f, rec, no_manoeuvre());
   EXPECT_EQ(s.candidates, 2);
+  EXPECT_EQ(s.stitches, 1);
+  EXPECT_EQ(rec.target, (std::vector<int32_t>{0, 1, 0, 3}));
+}
+
+TEST(TrackStitching, OneAssignmentJoinsACrossingThatTheGreedyAndTheMutualRulesMiss) {
+  // Ends A1 (sensor 0 track 1) and A2 (track 2) at 40 s, starts B1 (sensor 1 track 7) and B2
+  // (track 8) at 60 s, all at 200 m/s along x. At the midpoint (50 s) A1 and B1 meet at x = 10 km,
+  // B2 is 500 m ahead, A2 500 m behind: m²(A1,B1) = 0, m²(A1,B2) = m²(A2,B1) = 500²/20200 ≈ 12.38,
+  // m²(A2,B2) = 1000²/20200 ≈ 49.5 > the gate. With k = ½ ln det(2πS) − ln V the same for every
+  // pair: greedy (cheapest first) takes A1–B1 (k) and leaves A2 with nothing; the mutual rule of
+  // before joined nothing (A1's two successors coexist); the assignment takes A1–B2 and A2–B1,
+  // 12.38 + 2k < k since k < −12.38 here.
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200},
+                                 {0, 2, 0, 40, -500, 200},
+                                 {1, 7, 60, 100, 0, 200},
+                                 {1, 8, 60, 100, 500, 200},
+                                 kBackground});
+  const double lv = log_volume(
+      {{0, 0, 200, 0}, {-500, 0, 200, 0}, {12000, 0, 200, 0}, {12500, 0, 200, 0}, {-60000, -60000, -300, -300}});
+  const double k = 0.5 * kLogDet20 - lv;
+  EXPECT_LT(2.0 * 0.5 * m2_of_offset(500.0) + 2.0 * k, k);  // the crossing beats A1–B1 alone
+  EXPECT_GT(m2_of_offset(1000.0), kGate);                    // A2–B2 is not a candidate
+  AssociationRecord rec = singletons({{0, 1}, {0, 2}, {1, 7}, {1, 8}, {1, 99}});
+  const TrackStitchSummary s = stitch_fragments(f, rec, no_manoeuvre());
+  EXPECT_EQ(s.candidates, 3);
+  EXPECT_EQ(s.stitches, 2);
+  EXPECT_EQ(rec.target, (std::vector<int32_t>{0, 1, 1, 0, 4}));  // A1 = B2, A2 = B1
+}
+
+// A 90° turn during a 60 s gap: A runs along +x at 200 m/s from x = 0 (0-40 s), turns at the
+// midpoint (70 s, x = 14 km) and B runs along +y from there (100-160 s, starting at (14 km, 6 km)).
+// Each end predicted τ = 30 s to the midpoint, per axis S = diag(2(1e4 + τ² + qτ³/3), 2(1 + qτ));
+// the positions meet at the corner, the velocities differ by (200, −200):
+//   quiet (σ_a = 3): S = diag(183800, 542) per axis, m² = 2·200²/542 ≈ 147.6 > the gate (refused,
+//   as the CV gate with σ_a = 3 of before: continuation_statistic gives the same m²);
+//   turn (σ_a = 20): S = diag(7221800, 24002) per axis, m² = 2·200²/24002 ≈ 3.33.
+struct Turn {
+  double m2_quiet = 2.0 * 200.0 * 200.0 / 542.0, m2_turn = 2.0 * 200.0 * 200.0 / 24002.0;
+  double log_det_quiet = kLog2Pi4 + 2.0 * std::log(183800.0 * 542.0);
+  double log_det_turn = kLog2Pi4 + 2.0 * std::log(7221800.0 * 24002.0);
+  // −ln[(1 − π) N_quiet + π N_turn], π = 0.2
+  double cost() const {
+    return -std::log(0.8 * std::exp(-0.5 * (m2_quiet + log_det_quiet)) +
+                     0.2 * std::exp(-0.5 * (m2_turn + log_det_turn)));
+  }
+};
+
+TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 14000, 0, 6000 - 200 * 100, 200}, kBackground});
+  const Turn turn;
+  TrackStitchOptions defaults;
+  EXPECT_NEAR(continuation_statistic(f.tracks, 20, 21, 9.0), turn.m2_quiet, 1e-6);
+  EXPECT_GT(turn.m2_quiet, kGate);
+  EXPECT_NEAR(gap_statistic(f.tracks, 20, 21, 400.0).m2, turn.m2_turn, 1e-9);
+  EXPECT_NEAR(join_cost(f.tracks, 20, 21, defaults, kGate), turn.cost(), 1e-9);
+  const double lv = log_volume({{0, 0, 200, 0}, {14000, 6000, 0, 200}, {-60000, -60000, -300, -300}});
+  EXPECT_LT(turn.cost() - lv, 0.0);  // ≈ 32.83 − 34.74: positive evidence
+  AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 99}});
+  const TrackStitchSummary s = stitch_fragments(f, rec, defaults);
+  EXPECT_EQ(s.stitches, 1);
+  EXPECT_EQ(rec.target, (std::vector<int32_t>{0, 0, 2}));
+  // The quiet model alone (π = 0, gate on σ_a = 3) refuses it, as the CV gate did.
+  TrackStitchOptions quiet = defaults;
+  quiet.turn_sigma = quiet.manoeuvre_sigma;
+  quiet.turn_probability = 0.0;
+  AssociationRecord before = singletons({{0, 1}, {1, 7}, {1, 99}});
+  EXPECT_EQ(stitch_fragments(f, before, quiet).stitches, 0);
+}
+
+TEST(TrackStitching, AJumpBeyondTheManoeuvringGateIsRefused) {
+  // The same turn with B 15 km further along x: the turn model adds 15000²/7221800 ≈ 31.2 to m²,
+  // 34.5 > the gate.
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 29000, 0, 6000 - 200 * 100, 200}, kBackground});
+  EXPECT_GT(Turn{}.m2_turn + 15000.0 * 15000.0 / 7221800.0, kGate);
+  AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 99}});
+  const TrackStitchSummary s = stitch_fragments(f, rec, TrackStitchOptions{});
+  EXPECT_EQ(s.candidates, 0);
   EXPECT_EQ(s.stitches, 0);
   EXPECT_EQ(rec.target, (std::vector<int32_t>{0, 1, 2}));
 }
 
 TEST(TrackStitching, GroupsThatCoexistAreLeftToTheAssociationAndAChainIsOneTarget) {
   // Sensor 1's track 7 reports from 30 s: it coexists with sensor 0's 0-40 s for 10 s (> 2 s).
-  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 30, 100, 0, 200}});
-  AssociationRecord rec = singletons({{0, 1}, {1, 7}});
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 30, 100, 0, 200}, kBackground});
+  AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 99}});
   EXPECT_EQ(stitch_fragments(f, rec, no_manoeuvre()).candidates, 0);
   // A chain: 0-40 s on sensor 0, 60-100 s on sensor 1, 120-160 s on sensor 0 again (a new track).
-  const TrackFile g = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 0, 200}, {0, 2, 120, 160, 0, 200}});
-  AssociationRecord chain = singletons({{0, 1}, {1, 7}, {0, 2}});
+  const TrackFile g =
+      hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 0, 200}, {0, 2, 120, 160, 0, 200}, kBackground});
+  AssociationRecord chain = singletons({{0, 1}, {1, 7}, {0, 2}, {1, 99}});
   EXPECT_EQ(stitch_fragments(g, chain, no_manoeuvre()).stitches, 2);
-  EXPECT_EQ(chain.target, (std::vector<int32_t>{0, 0, 0}));
+  EXPECT_EQ(chain.target, (std::vector<int32_t>{0, 0, 0, 3}));
   // Off: nothing changes.
-  AssociationRecord off = singletons({{0, 1}, {1, 7}, {0, 2}});
+  AssociationRecord off = singletons({{0, 1}, {1, 7}, {0, 2}, {1, 99}});
   TrackStitchOptions o = no_manoeuvre();
   o.enabled = false;
   EXPECT_EQ(stitch_fragments(g, off, o).stitches, 0);
-  EXPECT_EQ(off.target, (std::vector<int32_t>{0, 1, 2}));
+  EXPECT_EQ(off.target, (std::vector<int32_t>{0, 1, 2, 3}));
+}
+
+TEST(TrackStitching, ThePreGateRefusesOnlyPairsOutsideTheGate) {
+  // Brute force: 400 random report pairs (random states, random correlated covariances, gaps of
+  // −2..180 s); join_cost is finite exactly when the manoeuvring model's m² is inside the gate,
+  // whatever the diagonal pre-gate refuses first. Offsets of 0-30 km put pairs on both sides.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  TrackFile f;
+  f.tracks = TrackTable(StateLayout::kXY_VXVY);
+  for (int i = 0; i < 800; ++i) {
+    Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c <= r; ++c) A(r, c) = (r == c ? 1.0 : 0.5) * (u(rng) - (r == c ? 0.0 : 0.5));
+    A.diagonal().head<2>() *= 300.0;
+    A.diagonal().tail<2>() *= 10.0;
+    A(2, 0) *= 30.0, A(3, 1) *= 30.0;
+    const Eigen::Matrix4d P = A * A.transpose() + 1e-3 * Eigen::Matrix4d::Identity();
+    const double t = i % 2 == 0 ? 100.0 : 98.0 + 182.0 * u(rng);
+    const Eigen::Vector4d x(3e4 * u(rng), 3e4 * u(rng), 400.0 * (u(rng) - 0.5), 400.0 * (u(rng) - 0.5));
+    f.tracks.push_back(0, i, t, x, P, -1);
+  }
+  const TrackStitchOptions o;
+  int inside = 0;
+  for (std::size_t r = 0; r < 800; r += 2) {
+    const double m2 = gap_statistic(f.tracks, r, r + 1, o.turn_sigma * o.turn_sigma).m2;
+    EXPECT_EQ(std::isfinite(join_cost(f.tracks, r, r + 1, o, kGate)), m2 <= kGate) << r;
+    inside += m2 <= kGate;
+  }
+  EXPECT_GT(inside, 10);   // both sides are exercised
+  EXPECT_LT(inside, 390);
 }
 
 TEST(TrackStitching, BadOptionsNameTheField) {
-  TrackStitchOptions o;
-  o.max_gap_s = -1;
-  try {
-    o.validate();
-    FAIL();
-  } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("stitching.max_gap_s"), std::string::npos) << e.what();
+  for (auto [bad, field] : std::vector<std::pair<TrackStitchOptions, std::string>>{
+           {[] { TrackStitchOptions o; o.max_gap_s = -1; return o; }(), "stitching.max_gap_s"},
+           {[] { TrackStitchOptions o; o.turn_probability = 1.5; return o; }(), "stitching.turn_probability"},
+           {[] { TrackStitchOptions o; o.turn_sigma = -2; return o; }(), "stitching.turn_sigma"}}) {
+    try {
+      bad.validate();
+      FAIL() << field;
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
   }
 }
 
