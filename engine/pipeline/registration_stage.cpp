@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <set>
@@ -294,12 +295,30 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
       return std::sqrt((u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]) +
                        (u[2] - v[2]) * (u[2] - v[2]));
     };
-    std::size_t best = 0, best_count = 0;
-    for (std::size_t i = 0; i < cand.size(); ++i) {
-      std::size_t n = 0;
-      for (const auto& c : cand) n += dist(cand[i].diff, c.diff) <= rho;
-      if (n > best_count) best = i, best_count = n;
+    // Counted through a grid of cells of side ρ (the neighbours within ρ lie in the 3^3 cells
+    // around): the same counts as comparing every pair, O(candidates × neighbours) instead of
+    // O(candidates²) (a dense line of 2 500 targets gave 75 000 candidates per sensor: 65 s).
+    std::vector<std::size_t> within(cand.size(), 0);
+    if (rho > 0.0) {
+      auto cell = [&](const double* u, int k) { return static_cast<int64_t>(std::floor(u[k] / rho)); };
+      std::map<std::array<int64_t, 3>, std::vector<std::size_t>> grid;
+      for (std::size_t i = 0; i < cand.size(); ++i)
+        grid[{cell(cand[i].diff, 0), cell(cand[i].diff, 1), cell(cand[i].diff, 2)}].push_back(i);
+      for (std::size_t i = 0; i < cand.size(); ++i) {
+        const int64_t c0 = cell(cand[i].diff, 0), c1 = cell(cand[i].diff, 1), c2 = cell(cand[i].diff, 2);
+        for (int64_t x = c0 - 1; x <= c0 + 1; ++x)
+          for (int64_t y = c1 - 1; y <= c1 + 1; ++y)
+            for (int64_t z = c2 - 1; z <= c2 + 1; ++z)
+              if (const auto it = grid.find({x, y, z}); it != grid.end())
+                for (std::size_t j : it->second) within[i] += dist(cand[i].diff, cand[j].diff) <= rho;
+      }
+    } else {
+      for (std::size_t i = 0; i < cand.size(); ++i)
+        for (const auto& c : cand) within[i] += dist(cand[i].diff, c.diff) <= rho;
     }
+    std::size_t best = 0, best_count = 0;
+    for (std::size_t i = 0; i < cand.size(); ++i)
+      if (within[i] > best_count) best = i, best_count = within[i];
     double mode[3] = {0, 0, 0};
     for (const auto& c : cand)
       if (dist(cand[best].diff, c.diff) <= rho)
