@@ -6,14 +6,17 @@
 //    goal: ≤ 1 s), 2 = recorded_dense, 3 = recorded_10k (3 × 10 000 targets, the sparse scale),
 //    4 = recorded_sync (synchronous sensors: the one file where Stone Soup's associator, which
 //    compares tracks only at shared timestamps, is a peer; scripts/bench.sh runs
-//    bench/stonesoup_t2t.py on `trackassoc simulate --scenario recorded_sync --seed 1`, the same file).
+//    bench/stonesoup_t2t.py on `trackassoc simulate --scenario recorded_sync --seed 1`, the same file),
+//    5 = recorded_30k (recorded_10k at three times its density: giant components, solved over their
+//    listed tuples, engine/pipeline/sparse_sd_tuples.hpp).
 //  - BM_DenseSDAssociation/threads: the dense S-D tensor with dummies on recorded_5s (the path that
 //    took 20–34 s before issue 20), lr+ls: the naive version of the same problem.
 //  - BM_AutoferryExperiment/threads: `experiment autoferry` on the 9 real Autoferry scenarios
 //    (../shared/datasets/autoferry): detections → local tracks → default association → scoring,
 //    without writing files (issue 17's goal: the whole set in ≤ 10 s; it was an assertion in
 //    tests/engine/studies/test_autoferry.cpp, where a loaded machine could fail it).
-// Counters: candidate pairs, gated pairs, components.
+// Counters: candidate pairs, gated pairs, components; components solved over listed tuples, the
+// largest list, the largest per-component relative gap and the merging fallbacks.
 #include <benchmark/benchmark.h>
 #include <oneapi/tbb/global_control.h>
 
@@ -29,8 +32,8 @@
 namespace trackassoc::bench {
 namespace {
 
-const char* const kScenarios[] = {"recorded_3s", "recorded_5s", "recorded_dense", "recorded_10k",
-                                  "recorded_sync"};
+const char* const kScenarios[] = {"recorded_3s",  "recorded_5s",   "recorded_dense",
+                                  "recorded_10k", "recorded_sync", "recorded_30k"};
 
 const TrackFile& track_file(int k) {
   static std::map<int, TrackFile> files;
@@ -53,6 +56,10 @@ void BM_DefaultAssociation(benchmark::State& state) {
   state.counters["candidate_pairs"] = static_cast<double>(report.solve.candidate_pairs);
   state.counters["gated_pairs"] = static_cast<double>(report.solve.gated_pairs);
   state.counters["components"] = report.solve.components;
+  state.counters["listed_components"] = report.solve.listed_components;
+  state.counters["largest_listed_tuples"] = static_cast<double>(report.solve.largest_listed_tuples);
+  state.counters["largest_gap"] = report.solve.largest_component_gap;
+  state.counters["fallback_components"] = report.solve.fallback_components;
 }
 
 void BM_DenseSDAssociation(benchmark::State& state) {
@@ -87,7 +94,7 @@ BENCHMARK(BM_DefaultAssociation)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_DefaultAssociation)
-    ->ArgsProduct({{3}, {1, 2}})
+    ->ArgsProduct({{3, 5}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(2);
