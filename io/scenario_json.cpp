@@ -12,16 +12,15 @@
 #include <vector>
 
 #include "io/json_input.hpp"
+#include "io/scenario_json_reader.hpp"
 #include "kernels/core/error.hpp"
 
 namespace trackassoc {
 namespace {
 
-using json = nlohmann::json;
+using namespace scenario_json_detail;
 using ordered_json = nlohmann::ordered_json;
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegToRad = kPi / 180.0;
 // Bounds that keep a scenario from asking for an absurd amount of work or memory.
 constexpr double kMaxSteps = 1e7;  // duration / truth_step, duration / period
 constexpr int64_t kMaxRandomTargets = 10'000'000;
@@ -29,132 +28,6 @@ constexpr int64_t kMaxRandomTargets = 10'000'000;
 constexpr const char* kFilters[] = {"cv", "ca", "ab", "cs", "cs-nn", "imm"};
 
 // ---------------------------------------------------------------- reading
-
-// One JSON object being read: every key must be consumed, so a misspelt key is reported.
-class Reader {
- public:
-  Reader(const json& object, std::string path, const std::string& source)
-      : object_(object), path_(std::move(path)), source_(source) {
-    if (!object_.is_object()) fail(path_, "expected an object", object_);
-  }
-  ~Reader() = default;
-
-  [[noreturn]] void fail(const std::string& path, const std::string& expected, const json& found) const {
-    std::string shown = found.dump();
-    if (shown.size() > 60) shown = shown.substr(0, 57) + "...";
-    throw InputError(source_ + ": " + (path.empty() ? "(top level)" : path) + ": " + expected + ", found " +
-                     std::string(found.type_name()) + " " + shown);
-  }
-  std::string key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
-
-  const json* get(const std::string& key) {
-    auto it = object_.find(key);
-    if (it == object_.end()) return nullptr;
-    seen_.insert(key);
-    return &*it;
-  }
-
-  // A finite number, optionally bounded; `rule` describes the bound for the message.
-  void number(const std::string& key, double& out, bool (*ok)(double) = nullptr, const char* rule = "") {
-    const json* v = get(key);
-    if (!v) return;
-    if (!v->is_number()) fail(key_path(key), std::string("expected a number") + rule, *v);
-    const double d = v->get<double>();
-    if (!std::isfinite(d) || (ok && !ok(d)))
-      fail(key_path(key), std::string("expected a finite number") + rule, *v);
-    out = d;
-  }
-  // An angle given either as KEY_deg (degrees) or KEY_rad (radians), stored in radians.
-  // `suffix` is "" for angles and "_s" for angular rates.
-  void angle(const std::string& key, const std::string& suffix, double& out, bool (*ok)(double),
-             const char* rule) {
-    const std::string deg = key + "_deg" + suffix, rad = key + "_rad" + suffix;
-    const bool has_deg = object_.contains(deg), has_rad = object_.contains(rad);
-    if (has_deg && has_rad)
-      throw InputError(source_ + ": " + key_path(deg) + ": give either " + deg + " or " + rad + ", not both");
-    double value = 0.0;
-    if (has_deg) {
-      number(deg, value, nullptr, "");
-      value *= kDegToRad;
-    } else if (has_rad) {
-      number(rad, value, nullptr, "");
-    } else {
-      return;
-    }
-    if (ok && !ok(value))
-      fail(key_path(has_deg ? deg : rad), std::string("expected a number") + rule,
-           object_[has_deg ? deg : rad]);
-    out = value;
-  }
-  template <typename Int>
-  void integer(const std::string& key, Int& out, int64_t min_value, int64_t max_value) {
-    const json* v = get(key);
-    if (!v) return;
-    const std::string range = " in [" + std::to_string(min_value) + ", " + std::to_string(max_value) + "]";
-    if (!v->is_number_integer()) fail(key_path(key), "expected an integer" + range, *v);
-    if (v->is_number_unsigned()) {
-      const uint64_t u = v->get<uint64_t>();
-      if (u > static_cast<uint64_t>(max_value) || static_cast<int64_t>(u) < min_value)
-        fail(key_path(key), "expected an integer" + range, *v);
-      out = static_cast<Int>(u);
-      return;
-    }
-    const int64_t i = v->get<int64_t>();
-    if (i < min_value || i > max_value) fail(key_path(key), "expected an integer" + range, *v);
-    out = static_cast<Int>(i);
-  }
-  void seed(const std::string& key, uint64_t& out) {
-    const json* v = get(key);
-    if (!v) return;
-    if (!v->is_number_unsigned()) fail(key_path(key), "expected a non-negative integer", *v);
-    out = v->get<uint64_t>();
-  }
-  void string(const std::string& key, std::string& out) {
-    const json* v = get(key);
-    if (!v) return;
-    if (!v->is_string()) fail(key_path(key), "expected a string", *v);
-    out = v->get<std::string>();
-  }
-  // [x, y] or [x, y, z]: a missing z is 0.
-  void vector3(const std::string& key, std::array<double, 3>& out) {
-    const json* v = get(key);
-    if (!v) return;
-    if (!v->is_array() || v->size() < 2 || v->size() > 3)
-      fail(key_path(key), "expected an array of 2 or 3 numbers", *v);
-    std::array<double, 3> r{0, 0, 0};
-    for (std::size_t i = 0; i < v->size(); ++i) {
-      const json& e = (*v)[i];
-      if (!e.is_number() || !std::isfinite(e.get<double>()))
-        fail(key_path(key) + "[" + std::to_string(i) + "]", "expected a finite number", e);
-      r[i] = e.get<double>();
-    }
-    out = r;
-  }
-  const json* array(const std::string& key) {
-    const json* v = get(key);
-    if (v && !v->is_array()) fail(key_path(key), "expected an array", *v);
-    return v;
-  }
-  // Call last: every key of the object must have been read.
-  void finish() const {
-    for (auto it = object_.begin(); it != object_.end(); ++it)
-      if (!seen_.count(it.key()))
-        throw InputError(source_ + ": " + key_path(it.key()) +
-                         ": unknown key (see io/scenario_json.hpp for the format)");
-  }
-  const std::string& path() const { return path_; }
-  const std::string& source() const { return source_; }
-
- private:
-  const json& object_;
-  std::string path_;
-  const std::string& source_;
-  std::set<std::string> seen_;
-};
-
-bool positive(double v) { return v > 0; }
-bool non_negative(double v) { return v >= 0; }
-bool probability(double v) { return v > 0 && v <= 1; }
 
 void read_sensor_errors(Reader& r, SensorErrors& e) {
   r.number("range_bias", e.range_bias);
@@ -172,7 +45,7 @@ void read_tracker(Reader& r, LocalTrackerSpec& t);
 
 // A sensor's own "tracker" block overrides the scenario's "tracker" key by key (`scenario_tracker`).
 void read_sensor(Reader& r, Sensor& s, SensorErrors& errors, std::optional<LocalTrackerSpec>& tracker,
-                 const LocalTrackerSpec& scenario_tracker) {
+                 const LocalTrackerSpec& scenario_tracker, double& coverage_radius) {
   r.integer("id", s.id, 0, std::numeric_limits<int32_t>::max());
   r.vector3("position", s.position);
   r.number("sigma_range", s.sigma_range, positive, " > 0");
@@ -183,6 +56,7 @@ void read_sensor(Reader& r, Sensor& s, SensorErrors& errors, std::optional<Local
   r.number("p_detect", s.p_detect, probability, " in (0, 1]");
   r.number("clutter_rate", s.clutter_rate, non_negative, " >= 0");
   r.number("reliability", s.reliability, positive, " > 0");
+  r.number("coverage_radius", coverage_radius, positive, " > 0");
   if (const json* e = r.get("errors")) {
     Reader er(*e, r.key_path("errors"), r.source());
     read_sensor_errors(er, errors);
@@ -241,7 +115,6 @@ void read_target(Reader& r, TargetSpec& t) {
   r.finish();
 }
 
-bool unit_interval(double v) { return v >= 0 && v <= 1; }
 bool coverage(double v) { return v > 0 && v <= 1; }
 
 void read_manoeuvres(Reader& r, ManoeuvreSpec& m) {
@@ -267,9 +140,7 @@ void read_recording(Reader& r, RecordingSpec& g) {
   r.number("coverage_max", g.coverage_max, coverage, " in (0, 1]");
   r.number("false_tracks", g.false_tracks, non_negative, " >= 0");
   r.finish();
-  if (g.coverage_max < g.coverage_min)
-    throw InputError(r.source() + ": " + r.key_path("coverage_max") +
-                     ": expected coverage_max >= coverage_min");
+  r.not_below("coverage_max", g.coverage_max, "coverage_min", g.coverage_min);
   if (g.false_tracks > 100)
     throw InputError(r.source() + ": " + r.key_path("false_tracks") +
                      ": expected at most 100 false tracks per target per sensor");
@@ -392,7 +263,9 @@ Scenario parse_scenario_json(const std::string& text, const std::string& source)
       sensor.id = static_cast<int32_t>(i);
       SensorErrors errors;
       std::optional<LocalTrackerSpec> tracker;
-      read_sensor(sr, sensor, errors, tracker, s.tracker);
+      double coverage = 0.0;
+      read_sensor(sr, sensor, errors, tracker, s.tracker, coverage);
+      s.sensor_coverage.push_back(coverage);
       s.sensors.push_back(sensor);
       s.sensor_errors.push_back(errors);
       s.sensor_trackers.push_back(tracker);
@@ -405,6 +278,8 @@ Scenario parse_scenario_json(const std::string& text, const std::string& source)
     if (std::none_of(s.sensor_trackers.begin(), s.sensor_trackers.end(),
                      [](const std::optional<LocalTrackerSpec>& t) { return t.has_value(); }))
       s.sensor_trackers.clear();
+    if (std::all_of(s.sensor_coverage.begin(), s.sensor_coverage.end(), [](double c) { return c == 0.0; }))
+      s.sensor_coverage.clear();
   }
   if (const json* targets = r.array("targets")) {
     for (std::size_t i = 0; i < targets->size(); ++i) {
@@ -422,6 +297,10 @@ Scenario parse_scenario_json(const std::string& text, const std::string& source)
   if (const json* g = r.get("recording")) {
     Reader gr(*g, "recording", source);
     read_recording(gr, s.recording);
+  }
+  if (const json* g = r.get("wide_area")) {
+    Reader gr(*g, "wide_area", source);
+    read_wide_area(gr, s.wide_area);
   }
   r.finish();
 
@@ -493,6 +372,7 @@ std::string scenario_to_json(const Scenario& s) {
       eo["swap_distance"] = e.swap_distance;
       o["errors"] = eo;
     }
+    if (i < s.sensor_coverage.size() && s.sensor_coverage[i] > 0.0) o["coverage_radius"] = s.sensor_coverage[i];
     if (i < s.sensor_trackers.size() && s.sensor_trackers[i])
       o["tracker"] = tracker_json(*s.sensor_trackers[i]);
     j["sensors"].push_back(o);
@@ -554,6 +434,7 @@ std::string scenario_to_json(const Scenario& s) {
                       {"coverage_min", s.recording.coverage_min},
                       {"coverage_max", s.recording.coverage_max},
                       {"false_tracks", s.recording.false_tracks}};
+  if (!s.wide_area.is_default()) j["wide_area"] = wide_area_json(s.wide_area);
   return j.dump(2) + "\n";
 }
 

@@ -28,6 +28,7 @@
 //       "p_detect": 1.0,                    in (0, 1]
 //       "clutter_rate": 0.0,                expected false plots per scan, >= 0
 //       "reliability": 1.0,                 > 0, seed 001 weight ω
+//       "coverage_radius": 350000,          m, > 0, optional: no plot beyond it (wide area, below)
 //       "errors": {                         optional: what the sensor adds beyond noise (docs/design.md
 //       §4.10;
 //                                           engine/simulation/simulation_errors.hpp has the model)
@@ -76,11 +77,21 @@
 //       "p_seen": 1.0,                      in [0, 1]: P(a sensor ever tracks a target), per pair
 //       "coverage_min": 1.0,                in (0, 1]: a local track covers a window of
 //       "coverage_max": 1.0,                in (0, 1], >= coverage_min: U(min, max)·duration
-//       "false_tracks": 0.0 }               in [0, 100]: per sensor, mean false tracks / targets
+//       "false_tracks": 0.0 },              in [0, 100]: per sensor, mean false tracks / targets
+//     "wide_area": {                        optional: a radar network over hours
+//                                           (engine/simulation/simulation_widearea.hpp has the model)
+//       "edge_fraction": 0.12,              in [0, 1): p_detect rolls off over this outer part of a radius
+//       "fade_rate": 0.005,                 1/s, >= 0: fades start per (sensor, target) at this rate
+//       "fade_duration_min": 20, "fade_duration_max": 120,   s, 0 <= min <= max
+//       "masks": [ { "sensor": 0, "target": 3, "start": 100, "end": 160 } ],   scripted fades [start, end)
+//       "coast_scans": 3,                   integer in [0, 1000]: missed scans in a row that end a track
+//       "birth_rate": 1.5,                  1/s, >= 0: random targets born over the run (Poisson)
+//       "lifetime_mean": 3600 }             s, >= 0: random targets live Exp(mean); 0 = the whole run
 //   }
-// The writer leaves out "manoeuvres" when off, "group_size" / "group_spacing" when 1 / 0 and
-// "recording" when it has the defaults, a sensor's "errors" when they are all zero (scale 1) and a
-// sensor's "tracker" when it has none of its own, so the text of scenarios without them is unchanged.
+// The writer leaves out "manoeuvres" when off, "group_size" / "group_spacing" when 1 / 0,
+// "recording" and "wide_area" when they have the defaults, a sensor's "coverage_radius" when it has
+// none, its "errors" when they are all zero (scale 1) and its "tracker" when it has none of its
+// own, so the text of scenarios without them is unchanged.
 #pragma once
 
 #include <string>

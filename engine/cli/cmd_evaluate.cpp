@@ -1,6 +1,7 @@
 // trackassoc evaluate --input G.h5 [--output H.h5]: correct / false / missed association rates of
 // every association in the file by per-row truth (the rule: engine/pipeline/metrics.hpp, stated in
-// --help), written to /metrics/<name>/, and with /truth the position RMSE
+// --help) and its pair recalls and precision (engine/pipeline/pair_metrics.hpp), written to
+// /metrics/<name>/, and with /truth the position RMSE
 // of every /fused group beside each sensor's (engine/fusion/fused_accuracy.hpp), written to the
 // /fused group (in place, atomically, by default).
 #include <iostream>
@@ -9,6 +10,7 @@
 #include "engine/cli/table.hpp"
 #include "engine/fusion/fused_accuracy.hpp"
 #include "engine/pipeline/metrics.hpp"
+#include "engine/pipeline/pair_metrics.hpp"
 #include "io/hdf5_wrapper.hpp"
 
 namespace trackassoc::cli {
@@ -40,6 +42,12 @@ void print_fused_accuracy(TrackFile& file, std::ostream& os) {
   table.print(os);
 }
 
+// "88.0 % (12 of 14)", or "- (none)" when there is nothing to count.
+std::string share(double rate, int64_t part, int64_t whole) {
+  if (whole == 0) return "- (none)";
+  return percent(rate) + " (" + std::to_string(part) + " of " + std::to_string(whole) + ")";
+}
+
 }  // namespace
 
 void register_evaluate(CLI::App& app) {
@@ -59,7 +67,12 @@ void register_evaluate(CLI::App& app) {
       "(each tuple alone when the association has no target numbers). A target is correct when one output "
       "group holds exactly its keys; false when one of its keys shares a group with a key of another "
       "target or a false track; missed otherwise (rates are fractions of the targets that need "
-      "association). A false tuple joins keys of different targets, or a false track with anything. With "
+      "association). A false tuple joins keys of different targets, or a false track with anything. Pairs "
+      "(engine/pipeline/pair_metrics.hpp): keys in one tuple, or in tuples of one target number, are one "
+      "output target; coexisting pairs are keys of one target on two sensors whose report intervals "
+      "overlap, fragment pairs are consecutive keys of one target on one sensor; each recall is the "
+      "fraction in one output target, and pair precision the fraction of the key pairs in one output "
+      "target that have the same target (a false track linked with anything is wrong). With "
       "/fused and /truth it also prints the fused position RMSE of each /fused group beside each "
       "sensor's, over the same targets and times (the members' reports at the fused times).");
   cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks/truth and /associations")->required();
@@ -80,13 +93,19 @@ void register_evaluate(CLI::App& app) {
     if (file.associations.empty())
       throw InputError(args->input + ": /associations is empty; run `trackassoc associate` first");
     TextTable table({"association", "targets", "correct", "false", "missed", "false tuples"});
+    TextTable pairs({"association", "coexisting pairs linked", "fragment pairs linked", "pair precision"});
     bool any_truth = false;
     for (const auto& rec : file.associations) {
       const AssociationMetrics m = evaluate_association(file.tracks, file.sensors, rec);
       if (!m.has_truth) continue;
       any_truth = true;
       std::erase_if(file.metrics, [&](const MetricsRecord& r) { return r.name == rec.name; });
+      const PairMetrics p = evaluate_pairs(file.tracks, file.sensors, rec);
       file.metrics.push_back(to_metrics_record(rec.name, m));
+      add_pair_metrics(file.metrics.back(), p);
+      pairs.add({rec.name, share(p.coexisting_recall, p.coexisting_linked, p.coexisting),
+                 share(p.fragment_recall, p.fragments_linked, p.fragments),
+                 share(p.precision, p.linked_pairs_same_truth, p.linked_pairs)});
       table.add({rec.name, std::to_string(m.targets), percent(m.correct_rate), percent(m.false_rate),
                  percent(m.missed_rate),
                  std::to_string(m.false_tuples) + " of " + std::to_string(m.linked_tuples)});
@@ -95,6 +114,8 @@ void register_evaluate(CLI::App& app) {
       throw InputError(args->input +
                        ": /tracks/truth holds no target ids (-1 everywhere); nothing to evaluate");
     table.print(std::cout);
+    std::cout << "\n";
+    pairs.print(std::cout);
     print_fused_accuracy(file, std::cout);
     write_track_file(args->output.empty() ? args->input : args->output, file);
   });

@@ -25,11 +25,11 @@ void register_simulate(CLI::App& app) {
     ThreadScope threads(args->common.threads);
     check_output_paths({{args->output, "--output"}}, {{args->scenario, "--scenario"}});
     const Scenario scenario = load_scenario(args->scenario);
-    const SimulationResult sim = simulate(scenario, args->common.seed, args->run);
-    write_track_file(args->output, simulation_to_track_file(scenario, sim));
+    SimulationResult sim = simulate(scenario, args->common.seed, args->run);
+    const std::size_t measurements = sim.measurements.size(), reports = sim.tracks.size();
+    write_track_file(args->output, simulation_to_track_file(scenario, std::move(sim)));
     std::cout << "simulated '" << scenario.name << "': " << scenario.sensors.size() << " sensors, "
-              << sim.measurements.size() << " measurements, " << sim.tracks.size() << " track reports -> "
-              << args->output << "\n";
+              << measurements << " measurements, " << reports << " track reports -> " << args->output << "\n";
   });
 }
 

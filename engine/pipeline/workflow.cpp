@@ -34,6 +34,17 @@ TrackFile simulation_to_track_file(const Scenario& scenario, const SimulationRes
   return f;
 }
 
+TrackFile simulation_to_track_file(const Scenario& scenario, SimulationResult&& result) {
+  TrackFile f;
+  f.created_by = created_by();
+  f.scenario_json = scenario_to_json(scenario);
+  f.sensors = scenario.sensors;
+  f.truth = std::move(result.truth);
+  f.measurements = std::move(result.measurements);
+  f.tracks = std::move(result.tracks);
+  return f;
+}
+
 namespace {
 
 // Distinct local tracks of each selected sensor: the dense tensor's n1, n2, n3.

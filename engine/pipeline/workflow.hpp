@@ -18,6 +18,8 @@ Scenario load_scenario(const std::string& name_or_path);
 
 // A track file holding the scenario JSON, the sensors, the truth, the measurements and the tracks.
 TrackFile simulation_to_track_file(const Scenario& scenario, const SimulationResult& result);
+// As above, moving the tables (no second copy of a large simulation in memory).
+TrackFile simulation_to_track_file(const Scenario& scenario, SimulationResult&& result);
 
 // Checks, before any statistic is computed, that the dense tensor fits
 // options.cost.memory_budget_bytes; otherwise throws an InputError naming the sizes and pointing

@@ -47,8 +47,9 @@ RandomTargetSpec phantom_spec(const Scenario& sc, const std::vector<TargetTrajec
   return spec;
 }
 
-// Keeps the rows of `t` where keep[r] is set, in order.
-void keep_rows(TrackTable& t, const std::vector<uint8_t>& keep) {
+}  // namespace
+
+void keep_track_rows(TrackTable& t, const std::vector<uint8_t>& keep) {
   auto compact = [&](auto& column) {
     std::size_t w = 0;
     for (std::size_t r = 0; r < keep.size(); ++r)
@@ -63,7 +64,21 @@ void keep_rows(TrackTable& t, const std::vector<uint8_t>& keep) {
   for (auto& c : t.cov) compact(c);
 }
 
-}  // namespace
+void drop_short_tracks(TrackTable& tracks) {
+  std::map<std::pair<int32_t, int32_t>, int> rows_of;
+  for (std::size_t row = 0; row < tracks.size(); ++row) ++rows_of[{tracks.sensor[row], tracks.track[row]}];
+  std::map<std::pair<int32_t, int32_t>, int32_t> renumber;
+  std::map<int32_t, int32_t> next;
+  for (const auto& [key, count] : rows_of)  // ordered by (sensor, old number)
+    if (count >= kMinReports) renumber[key] = next[key.first]++;
+  std::vector<uint8_t> keep(tracks.size(), 1);
+  for (std::size_t row = 0; row < tracks.size(); ++row) {
+    auto it = renumber.find({tracks.sensor[row], tracks.track[row]});
+    keep[row] = it != renumber.end();
+    if (keep[row]) tracks.track[row] = it->second;
+  }
+  keep_track_rows(tracks, keep);
+}
 
 int poisson_draw(CounterRng& rng, double mean) {
   if (mean <= 0.0) return 0;
@@ -138,21 +153,9 @@ void apply_recording(const RecordingPlan& plan, const Scenario& sc,
                                                : rec.window_end[index_of_target.at(id)];
     keep[row] = tracks.t[row] <= end + 1e-9;
   }
-  keep_rows(tracks, keep);
+  keep_track_rows(tracks, keep);
   // 2. Tracks with fewer than kMinReports rows; 3. renumbering by rank per sensor.
-  std::map<std::pair<int32_t, int32_t>, int> rows_of;
-  for (std::size_t row = 0; row < tracks.size(); ++row) ++rows_of[{tracks.sensor[row], tracks.track[row]}];
-  std::map<std::pair<int32_t, int32_t>, int32_t> renumber;
-  std::map<int32_t, int32_t> next;
-  for (const auto& [key, count] : rows_of)  // ordered by (sensor, old number)
-    if (count >= kMinReports) renumber[key] = next[key.first]++;
-  keep.assign(tracks.size(), 1);
-  for (std::size_t row = 0; row < tracks.size(); ++row) {
-    auto it = renumber.find({tracks.sensor[row], tracks.track[row]});
-    keep[row] = it != renumber.end();
-    if (keep[row]) tracks.track[row] = it->second;
-  }
-  keep_rows(tracks, keep);
+  drop_short_tracks(tracks);
   // 4. Phantoms are not targets: −1 in the output.
   for (int32_t& id : tracks.truth)
     if (id >= plan.phantom_base) id = -1;

@@ -71,6 +71,13 @@ RecordingPlan plan_recording(const Scenario& scenario, const std::vector<TargetT
 void apply_recording(const RecordingPlan& plan, const Scenario& scenario,
                      const std::vector<TargetTrajectory>& targets, SimulationResult& result);
 
+// Keeps the rows of `t` where keep[r] is set, in order.
+void keep_track_rows(TrackTable& t, const std::vector<uint8_t>& keep);
+
+// Drops local tracks with fewer than kMinReports rows and renumbers each sensor's tracks
+// 0..n−1 in the order of their old numbers (steps 2 and 3 of apply_recording; the wide-area model).
+void drop_short_tracks(TrackTable& tracks);
+
 // Poisson draw: Knuth's product method for small means, the normal approximation above 30.
 int poisson_draw(CounterRng& rng, double mean);
 

@@ -232,10 +232,31 @@ Eigen::MatrixXd unpack(int d, const std::array<double, 6>& R) {
   return M;
 }
 
+// The lifecycle's deletions after a scan's update: M missed scans in a row. A deleted track waits
+// for two new plots (have_first cleared).
+void end_missed_tracks(const TrackLifecycle& life, const std::vector<uint8_t>& detected,
+                       std::vector<uint8_t>& active, std::vector<uint8_t>& have_first,
+                       std::vector<int32_t>& misses) {
+  for (std::size_t i = 0; i < active.size(); ++i) {
+    if (!active[i]) continue;
+    misses[i] = detected[i] ? 0 : misses[i] + 1;
+    if (misses[i] >= life.coast_scans) active[i] = have_first[i] = 0;
+  }
+}
+
+// Whether an estimate lies beyond the sensor's coverage radius (0 = unlimited).
+bool beyond_coverage(const Eigen::VectorXd& x, const Sensor& sensor, double radius) {
+  if (radius <= 0.0) return false;
+  const int d = static_cast<int>(x.size()) / 2;
+  double r2 = 0.0;
+  for (int a = 0; a < d; ++a) r2 += (x[a] - sensor.position[a]) * (x[a] - sensor.position[a]);
+  return r2 > radius * radius;
+}
+
 SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::size_t>& rows,
                               const Sensor& sensor, std::size_t sensor_index, StateLayout layout,
                               const LocalTrackerSpec& spec, uint64_t seed, int run,
-                              std::vector<double> scans) {
+                              std::vector<double> scans, const TrackLifecycle& life) {
   const int d = spatial_dim(layout);
   SensorTracks out;
   out.table.reset(layout);
@@ -274,6 +295,12 @@ SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::s
   std::vector<uint8_t> detected(n, 0), active(n, 0), have_first(n, 0);
   std::vector<ConvertedMeasurement> first_plot(n);
   std::vector<double> first_time(n, 0.0);
+  // Track lifecycle (TrackLifecycle): misses in a row, scan of the first plot, current number.
+  const bool lifecycle = life.coast_scans > 0;
+  std::vector<int32_t> misses(n, 0), number_of(n, -1);
+  std::vector<long> first_scan(n, 0);
+  int32_t next_number = 0;
+  long scan_index = -1;
   std::vector<ConvertedMeasurement> plot(n);
   PositionScan scan;
   for (int a = 0; a < 3; ++a) scan.z[a] = z[a];
@@ -284,6 +311,7 @@ SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::s
   Eigen::VectorXd x;
   Eigen::MatrixXd P;
   for (double t : scans) {
+    ++scan_index;
     std::fill(detected.begin(), detected.end(), 0);
     std::vector<uint8_t> seen(n, 0);
     if (auto it = at_time.find(t); it != at_time.end()) {
@@ -303,18 +331,39 @@ SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::s
     }
     bank->step(t - previous, scan);
     previous = t;
+    if (lifecycle) end_missed_tracks(life, detected, active, have_first, misses);
     for (std::size_t i = 0; i < n; ++i) {
       if (!seen[i] || active[i]) continue;
-      if (have_first[i] && t > first_time[i]) {
+      const bool close = !lifecycle || scan_index - first_scan[i] <= life.coast_scans;
+      if (have_first[i] && t > first_time[i] && close) {
         bank->initialise(i, Eigen::Map<Eigen::VectorXd>(first_plot[i].z.data(), d),
                          unpack(d, first_plot[i].R), Eigen::Map<Eigen::VectorXd>(plot[i].z.data(), d),
                          unpack(d, plot[i].R), t - first_time[i]);
         active[i] = 1;
+        misses[i] = 0;
+        number_of[i] = next_number++;
       } else {
         first_plot[i] = plot[i];
         first_time[i] = t;
+        first_scan[i] = scan_index;
         have_first[i] = 1;
       }
+    }
+    if (lifecycle) {  // bank order; a track's number is its own; an estimate beyond coverage ends it
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!active[i]) continue;
+        bank->position_velocity(i, x, P);
+        if (beyond_coverage(x, sensor, life.coverage_radius)) {
+          active[i] = have_first[i] = 0;
+          continue;
+        }
+        out.table.push_back(sensor.id, number_of[i], t, x, P, targets[i]);
+        if (out.num_models > 0) {
+          const auto mu = bank->model_probabilities(i);
+          out.model_prob.insert(out.model_prob.end(), mu.begin(), mu.end());
+        }
+      }
+      continue;
     }
     for (int32_t number = 0; number < static_cast<int32_t>(n); ++number) {
       const std::size_t i = by_number[number];
@@ -367,7 +416,10 @@ LocalTrackingResult track_measurements(const Measurements& meas, const std::vect
 LocalTrackingResult track_measurements(const Measurements& meas, const std::vector<Sensor>& sensors,
                                        StateLayout layout, std::span<const LocalTrackerSpec> specs,
                                        uint64_t seed, int run,
-                                       const std::vector<std::vector<double>>& scan_times) {
+                                       const std::vector<std::vector<double>>& scan_times,
+                                       std::span<const TrackLifecycle> lifecycle) {
+  require(lifecycle.empty() || lifecycle.size() == sensors.size(), "track_measurements.lifecycle",
+          "expected none or one per sensor");
   require(specs.size() == sensors.size(), "track_measurements.specs",
           "expected one tracker per sensor (" + std::to_string(sensors.size()) + "), found " +
               std::to_string(specs.size()));
@@ -392,14 +444,20 @@ LocalTrackingResult track_measurements(const Measurements& meas, const std::vect
   parallel_for_range(sensors.size(), 1, [&](std::size_t b, std::size_t e) {
     for (std::size_t s = b; s < e; ++s)
       parts[s] = track_one_sensor(meas, rows[s], sensors[s], s, layout, specs[s], seed, run,
-                                  scan_times.empty() ? std::vector<double>{} : scan_times[s]);
+                                  scan_times.empty() ? std::vector<double>{} : scan_times[s],
+                                  lifecycle.empty() ? TrackLifecycle{} : lifecycle[s]);
   });
   LocalTrackingResult result;
   result.tracks.reset(layout);
   bool one_model_set = true, first = true;  // every sensor with tracks has the same number of models
+  std::size_t rows_total = 0;
+  for (const auto& p : parts) rows_total += p.table.size();
+  result.tracks.reserve(rows_total);
   for (auto& p : parts) {
     append(result.tracks, p.table);
-    if (p.table.size() == 0) continue;
+    const bool has_rows = p.table.size() > 0;
+    p.table = TrackTable{};  // freed at once: the result and one sensor's part at most, not two copies
+    if (!has_rows) continue;
     if (first) result.num_models = p.num_models;
     first = false;
     one_model_set = one_model_set && p.num_models == result.num_models;

@@ -57,6 +57,18 @@ class LocalFilterBank {
 std::unique_ptr<LocalFilterBank> make_local_filter_bank(const LocalTrackerSpec& spec, int spatial_dim,
                                                         std::size_t tracks);
 
+// How a sensor's tracks end (the wide-area model, engine/simulation/simulation_widearea.hpp). The
+// default keeps the model above: a track, once started, is reported at every scan to the end.
+// With coast_scans = M > 0 a track is deleted at its M-th missed scan in a row (no row then), or,
+// with coverage_radius R > 0, at a scan where its estimated position (after the update, or at its
+// initialisation) lies beyond R from the sensor's surveyed position (no row then either); the target's next two plots start a new track (two-point initialisation, only if they
+// are at most M scans apart) with a new local number. Numbers are then given per sensor in order
+// of initiation (0, 1, ...; not shuffled), one per track.
+struct TrackLifecycle {
+  int32_t coast_scans = 0;
+  double coverage_radius = 0.0;  // [m], 0 = unlimited
+};
+
 struct LocalTrackingResult {
   TrackTable tracks;
   // IMM model probabilities, one row per track row (row-major, num_models per row), when every
@@ -74,6 +86,7 @@ LocalTrackingResult track_measurements(const Measurements& measurements, const s
 LocalTrackingResult track_measurements(const Measurements& measurements, const std::vector<Sensor>& sensors,
                                        StateLayout layout, std::span<const LocalTrackerSpec> specs,
                                        uint64_t seed, int run,
-                                       const std::vector<std::vector<double>>& scan_times = {});
+                                       const std::vector<std::vector<double>>& scan_times = {},
+                                       std::span<const TrackLifecycle> lifecycle = {});
 
 }  // namespace trackassoc

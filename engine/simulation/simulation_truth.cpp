@@ -42,6 +42,12 @@ Kinematics TargetTrajectory::at(double t) const {
   return evaluate(q, t);
 }
 
+std::array<double, 3> TargetTrajectory::position_at(double t, std::size_t& piece) const {
+  if (pieces.empty()) return {0, 0, 0};
+  while (piece + 1 < pieces.size() && pieces[piece + 1].t0 <= t) ++piece;
+  return evaluate(pieces[piece], t).p;
+}
+
 void TargetTrajectory::append(double duration, const std::array<double, 3>& accel, double turn_rate) {
   TrajectoryPiece q;
   if (!pieces.empty()) {

@@ -42,6 +42,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "kernels/core/random.hpp"
@@ -65,7 +66,11 @@ enum class SimulationStream : uint64_t {
   kPhantomTrajectory = 9,  // per (sensor, false track): its trajectory
   kPhantomManoeuvre = 10,  // per (sensor, false track): its manoeuvres
   kPhantomWindow = 11,     // per (sensor, false track): its coverage window
-  kPhantomDetection = 12   // per (sensor, false track): its detections and noise
+  kPhantomDetection = 12,  // per (sensor, false track): its detections and noise
+  // The wide-area model (engine/simulation/simulation_widearea.hpp).
+  kFade = 13,      // per (sensor, target or phantom): fade start times and durations
+  kBirth = 14,     // per run: the birth times of the born targets
+  kLifetime = 15   // per random target (group) or born target: its lifetime
 };
 inline uint64_t stream_id(SimulationStream tag, uint64_t index) {
   return (static_cast<uint64_t>(tag) << 40) | index;
@@ -84,8 +89,14 @@ struct TrajectoryPiece {
 class TargetTrajectory {
  public:
   int32_t id = 0;
-  std::vector<TrajectoryPiece> pieces;  // contiguous, sorted, covering [0, duration]
-  Kinematics at(double t) const;        // beyond the last piece: extrapolated
+  std::vector<TrajectoryPiece> pieces;  // contiguous, sorted, covering [born, min(dies, duration)]
+  // The target exists in [born, dies] (wide-area turnover); always, by default.
+  double born = 0.0, dies = std::numeric_limits<double>::infinity();
+  bool alive(double t) const { return t >= born - 1e-9 && t <= dies + 1e-9; }
+  Kinematics at(double t) const;  // beyond the last piece: extrapolated
+  // The position at t for times visited in increasing order: `piece` is a cursor kept by the
+  // caller (start at 0), so a sweep costs O(pieces + times) instead of a search per time.
+  std::array<double, 3> position_at(double t, std::size_t& piece) const;
   // Appends a piece of length `duration` starting from the end of the previous one.
   void append(double duration, const std::array<double, 3>& accel, double turn_rate);
 };

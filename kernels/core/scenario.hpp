@@ -118,6 +118,26 @@ struct SensorErrors {
   friend bool operator==(const SensorErrors&, const SensorErrors&) = default;
 };
 
+// A wide-area radar network (issue 31; engine/simulation/simulation_widearea.hpp has the model):
+// local tracks that break and re-initiate, and targets born and dying over hours. The coverage
+// radius of each sensor is Scenario::sensor_coverage. All zero: none of it (the defaults).
+struct MaskSpec {  // a scripted masking interval: `sensor` sees nothing of `target` in [start, end)
+  int32_t sensor = 0, target = 0;
+  double start = 0.0, end = 0.0;  // [s]
+  friend bool operator==(const MaskSpec&, const MaskSpec&) = default;
+};
+struct WideAreaSpec {
+  double edge_fraction = 0.12;  // p_detect rolls off (raised cosine) over this outer fraction of the radius
+  double fade_rate = 0.0;       // [1/s] per (sensor, target): fades start as a Poisson process
+  double fade_duration_min = 0.0, fade_duration_max = 0.0;  // [s] a fade lasts U(min, max)
+  std::vector<MaskSpec> masks;  // scripted fades
+  int32_t coast_scans = 0;      // > 0: a local track is deleted after this many missed scans in a row
+  double birth_rate = 0.0;      // [1/s] random targets born (Poisson) over (0, duration]
+  double lifetime_mean = 0.0;   // [s] > 0: every random target lives Exp(mean) (the initial ones too)
+  bool is_default() const { return *this == WideAreaSpec{}; }
+  friend bool operator==(const WideAreaSpec&, const WideAreaSpec&) = default;
+};
+
 struct Scenario {
   std::string name = "unnamed";
   std::string description;                     // free text: where the numbers come from and why
@@ -135,6 +155,10 @@ struct Scenario {
   // `tracker`. Real sensors run different trackers (issue 29: low and high process noise,
   // alpha-beta, IMM); their tracks then lag and smooth differently after the same manoeuvre.
   std::vector<std::optional<LocalTrackerSpec>> sensor_trackers;
+  // Empty, or one per sensor: its coverage radius [m] (0 = unlimited); no plot beyond it.
+  std::vector<double> sensor_coverage;
+  WideAreaSpec wide_area;
+  bool is_wide_area() const { return !sensor_coverage.empty() || !wide_area.is_default(); }
   friend bool operator==(const Scenario&, const Scenario&) = default;
 };
 

@@ -82,7 +82,18 @@ TEST_F(CliTest, EvaluateWritesTheHandCountedRates) {
     EXPECT_NEAR(m.correct_rate, swap ? third : 2 * third, 1e-15);
     EXPECT_NEAR(m.false_rate, swap ? 2 * third : 0.0, 1e-15);
     EXPECT_NEAR(m.missed_rate, swap ? 0.0 : third, 1e-15);
+    // Pairs (engine/pipeline/pair_metrics.hpp): every track spans [0, 1], so each target's 3 tracks
+    // make 3 coexisting pairs, 9 in all. swap: target 100 keeps its 3, 101 and 102 one each (their
+    // sensor-10/20 pair) -> 5 of 9 linked; its 3 tuples link 9 pairs, 5 of one target. split: 3 + 3
+    // + 1 linked, all 7 linked pairs right. No target has two tracks on one sensor: no fragments.
+    EXPECT_EQ(m.tables.at("n_coexisting_pairs"), std::vector<double>{9.0});
+    EXPECT_EQ(m.tables.at("n_coexisting_linked"), std::vector<double>{swap ? 5.0 : 7.0});
+    EXPECT_EQ(m.tables.at("n_linked_pairs"), std::vector<double>{swap ? 9.0 : 7.0});
+    EXPECT_EQ(m.tables.at("n_linked_pairs_same_truth"), std::vector<double>{swap ? 5.0 : 7.0});
+    EXPECT_EQ(m.tables.at("n_fragment_pairs"), std::vector<double>{0.0});
   }
+  EXPECT_NE(r.out.find("55.6 % (5 of 9)"), std::string::npos) << r.out;  // swap's coexisting recall, precision
+  EXPECT_NE(r.out.find("100.0 % (7 of 7)"), std::string::npos) << r.out;  // split's precision
 }
 
 TEST_F(CliTest, SimulateAssociateEvaluate) {
