@@ -26,6 +26,8 @@ void TrackStitchOptions::validate() const {
           "expected a probability in [0, 1]");
   require(gate_probability > 0.0 && gate_probability < 1.0, "stitching.gate_probability",
           "expected a probability in (0, 1)");
+  require(std::isfinite(turn_min_evidence), "stitching.turn_min_evidence",
+          "expected a finite log-likelihood ratio");
 }
 
 namespace {
@@ -110,14 +112,17 @@ bool surely_outside(const TrackTable& t, std::size_t end, std::size_t start, dou
 }  // namespace
 
 double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const TrackStitchOptions& o,
-                 double gate) {
-  if (surely_outside(t, end, start, o.turn_sigma * o.turn_sigma, gate)) return std::numeric_limits<double>::infinity();
+                 double gate, bool* quiet_gated) {
+  if (surely_outside(t, end, start, o.turn_sigma * o.turn_sigma, gate))
+    return std::numeric_limits<double>::infinity();
   const GapStatistic turn = gap_statistic(t, end, start, o.turn_sigma * o.turn_sigma);
   if (!(turn.m2 <= gate)) return std::numeric_limits<double>::infinity();
   const GapStatistic quiet = gap_statistic(t, end, start, o.manoeuvre_sigma * o.manoeuvre_sigma);
+  if (quiet_gated) *quiet_gated = quiet.m2 <= gate;
   const double minus_inf = -std::numeric_limits<double>::infinity();
-  const double l_quiet =
-      o.turn_probability < 1.0 ? std::log1p(-o.turn_probability) - 0.5 * (quiet.m2 + quiet.log_det) : minus_inf;
+  const double l_quiet = o.turn_probability < 1.0
+                             ? std::log1p(-o.turn_probability) - 0.5 * (quiet.m2 + quiet.log_det)
+                             : minus_inf;
   const double l_turn =
       o.turn_probability > 0.0 ? std::log(o.turn_probability) - 0.5 * (turn.m2 + turn.log_det) : minus_inf;
   return -log_sum_exp(l_quiet, l_turn);
@@ -166,24 +171,54 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   double log_volume = 0.0;
   for (int i = 0; i < D; ++i) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (const Group* g : groups) lo = std::min(lo, t.state[i][g->first]), hi = std::max(hi, t.state[i][g->first]);
+    for (const Group* g : groups)
+      lo = std::min(lo, t.state[i][g->first]), hi = std::max(hi, t.state[i][g->first]);
     log_volume += std::log(std::max(hi - lo, 1.0));
   }
   // Candidates (rows: ends, columns: starts) with a cost of positive evidence, in CSR form.
   const double gate = chi_square_quantile(o.gate_probability, D);
-  std::vector<int32_t> row_start{0}, col;
-  std::vector<double> cost;
+  struct Candidate {
+    int32_t end, start;
+    double cost;
+    bool quiet;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<int32_t> rivals_of_end(G, 0), rivals_of_start(G, 0);
   for (std::size_t a = 0; a < G; ++a) {
     const double end = t.t[groups[a]->last];
     auto lo = std::lower_bound(starts.begin(), starts.end(), end - o.max_overlap_s);
-    for (auto it = lo; it != starts.end() && *it <= end + o.max_gap_s; ++it) {
+    const auto hi = std::upper_bound(lo, starts.end(), end + o.max_gap_s);
+    // "A different target": any of the n starts of the window, each uniform over the box, so the
+    // density of the alternative is n / V (the density of new starts of MHT's track score).
+    const double log_alternative = log_volume - std::log(std::max<double>(1.0, static_cast<double>(hi - lo)));
+    for (auto it = lo; it != hi; ++it) {
       const std::size_t b = by_start[static_cast<std::size_t>(it - starts.begin())];
       if (b == a || t.t[groups[b]->last] <= end) continue;           // b must go on after a ends
       if (t.t[groups[a]->first] >= t.t[groups[b]->first]) continue;  // and start after a starts
-      const double c = join_cost(t, groups[a]->last, groups[b]->first, o, gate);
+      bool quiet = false;
+      const double c = join_cost(t, groups[a]->last, groups[b]->first, o, gate, &quiet);
       if (!std::isfinite(c)) continue;
       ++summary.candidates;
-      if (c - log_volume < 0.0) col.push_back(static_cast<int32_t>(b)), cost.push_back(c - log_volume);
+      ++rivals_of_end[a], ++rivals_of_start[b];
+      if (c - log_alternative < 0.0)
+        candidates.push_back({static_cast<int32_t>(a), static_cast<int32_t>(b), c - log_alternative, quiet});
+    }
+  }
+  // A join that only the manoeuvring model gates is made only when it is unambiguous (neither side
+  // has another gated candidate) and its evidence is at least turn_min_evidence. Its wide gate
+  // takes in unrelated starts where traffic is dense, while a lone turning fragment
+  // (recorded_recycled) is still joined; see the header for the measurements.
+  std::vector<int32_t> row_start{0}, col;
+  std::vector<double> cost;
+  std::size_t next = 0;
+  for (std::size_t a = 0; a < G; ++a) {
+    for (; next < candidates.size() && candidates[next].end == static_cast<int32_t>(a); ++next) {
+      const Candidate& k = candidates[next];
+      if (!k.quiet &&
+          (rivals_of_end[k.end] > 1 || rivals_of_start[k.start] > 1 || -k.cost < o.turn_min_evidence))
+        continue;
+      col.push_back(k.start);
+      cost.push_back(k.cost);
     }
     row_start.push_back(static_cast<int32_t>(col.size()));
   }

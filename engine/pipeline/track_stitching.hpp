@@ -36,10 +36,11 @@
 // quiet model's sharp likelihood for the pairs that did not manoeuvre, so a turning pair does not
 // outbid a straight one.
 //
-// Assignment. Against "different targets" (G₂'s start uniform over the volume V of the box that
-// holds every group's start state, each side at least one unit), the join's cost is the negative
-// log-likelihood ratio
-//     c₁₂ = −ln p(e | same target) − ln V,
+// Assignment. Against "a different target" (any of the n group starts in G₁'s window [t₀ −
+// max_overlap_s, t₀ + max_gap_s], each uniform over the volume V of the box that holds every
+// group's start state, each side at least one unit: the density n / V of new starts, as in the
+// track score of multiple-hypothesis tracking), the join's cost is the negative log-likelihood ratio
+//     c₁₂ = −ln p(e | same target) − ln V + ln n,
 // and one rectangular LAP over ends × starts (kernels/assignment/lap_sparse.hpp) with "no
 // successor" and "no predecessor" at cost 0 picks the joins: only pairs of positive evidence
 // (c < 0) can be made, and each group has at most one successor and one predecessor, globally
@@ -65,6 +66,9 @@ struct TrackStitchOptions {
   double turn_sigma = 20.0;          // σ_a [m/s²] of the manoeuvring model
   double turn_probability = 0.2;     // its weight π in the mixture (0: the quiet model alone)
   double gate_probability = 0.9999;  // of χ²_D, on the manoeuvring model's m²
+  // A join outside the quiet model's gate (only the manoeuvring one gates it) is made only when it
+  // is unambiguous and its log-likelihood ratio −c is at least this (3: a ratio of e³ ≈ 20).
+  double turn_min_evidence = 3.0;
   void validate() const;
 };
 
@@ -80,9 +84,10 @@ struct GapStatistic {
 GapStatistic gap_statistic(const TrackTable& tracks, std::size_t end, std::size_t start, double q);
 
 // The join's cost c₁₂ + ln V of the rule above (the mixture's −ln p(e | same target)), or +inf when
-// the manoeuvring model's m² is outside the gate `gate` (χ²_D of gate_probability).
-double join_cost(const TrackTable& tracks, std::size_t end, std::size_t start, const TrackStitchOptions& options,
-                 double gate);
+// the manoeuvring model's m² is outside the gate `gate` (χ²_D of gate_probability). `quiet_gated`,
+// when given, tells whether the quiet model's m² is inside the gate too.
+double join_cost(const TrackTable& tracks, std::size_t end, std::size_t start,
+                 const TrackStitchOptions& options, double gate, bool* quiet_gated = nullptr);
 
 // Joins the groups of `record` (its tuple columns are file.sensors, in order) as above; `file`
 // gives the reports (the registered reports where registration applies).

@@ -34,7 +34,8 @@ TrackFile hand_made(const std::vector<Segment>& segments) {
   P.diagonal() << 1e4, 1e4, 1.0, 1.0;
   for (const auto& g : segments)
     for (double t = g.t0; t <= g.t1 + 1e-9; t += 2.0)
-      f.tracks.push_back(g.sensor, g.track, t, Eigen::Vector4d(g.x0 + g.vx * t, g.y0 + g.vy * t, g.vx, g.vy), P, -1);
+      f.tracks.push_back(g.sensor, g.track, t, Eigen::Vector4d(g.x0 + g.vx * t, g.y0 + g.vy * t, g.vx, g.vy),
+                         P, -1);
   return f;
 }
 
@@ -101,7 +102,8 @@ TEST(TrackStitching, AHandoverInsideTheHandComputedGateIsJoined) {
   // Its cost: ½ m² + ½ ln det(2πS) − ln V < 0 (positive evidence).
   const double lv = log_volume({{0, 0, 200, 0}, {delta + 12000, 0, 200, 0}, {-60000, -60000, -300, -300}});
   EXPECT_LT(0.5 * (m2_of_offset(delta) + kLogDet20) - lv, 0.0);
-  EXPECT_NEAR(join_cost(f.tracks, 20, 21, no_manoeuvre(), kGate), 0.5 * (m2_of_offset(delta) + kLogDet20), 1e-9);
+  EXPECT_NEAR(join_cost(f.tracks, 20, 21, no_manoeuvre(), kGate), 0.5 * (m2_of_offset(delta) + kLogDet20),
+              1e-9);
   AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 99}});
   const TrackStitchSummary s = stitch_fragments(f, rec, no_manoeuvre());
   EXPECT_EQ(s.groups, 3);
@@ -111,7 +113,8 @@ TEST(TrackStitching, AHandoverInsideTheHandComputedGateIsJoined) {
 }
 
 TEST(TrackStitching, AHandoverJustOutsideTheGateIsKeptApart) {
-  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 1.05 * critical_offset(), 200}, kBackground});
+  const TrackFile f =
+      hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 1.05 * critical_offset(), 200}, kBackground});
   AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 99}});
   const TrackStitchSummary s = stitch_fragments(f, rec, no_manoeuvre());
   EXPECT_EQ(s.candidates, 0);
@@ -135,8 +138,8 @@ TEST(TrackStitching, OfTwoSuccessorsTheBetterIsJoined) {
   // Offsets 0.3 and 0.5 of the critical one: m² = 0.09 and 0.25 of the gate; equal det and V, so
   // the nearer is cheaper and the one assignment takes it.
   const double d = critical_offset();
-  const TrackFile f =
-      hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 0.5 * d, 200}, {1, 8, 60, 100, -0.3 * d, 200}, kBackground});
+  const TrackFile f = hand_made(
+      {{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 0.5 * d, 200}, {1, 8, 60, 100, -0.3 * d, 200}, kBackground});
   AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 8}, {1, 99}});
   const TrackStitchSummary s = stitch_fragments(f, rec, no_manoeuvre());
   EXPECT_EQ(s.candidates, 2);
@@ -148,7 +151,8 @@ TEST(TrackStitching, OneAssignmentJoinsACrossingThatTheGreedyAndTheMutualRulesMi
   // Ends A1 (sensor 0 track 1) and A2 (track 2) at 40 s, starts B1 (sensor 1 track 7) and B2
   // (track 8) at 60 s, all at 200 m/s along x. At the midpoint (50 s) A1 and B1 meet at x = 10 km,
   // B2 is 500 m ahead, A2 500 m behind: m²(A1,B1) = 0, m²(A1,B2) = m²(A2,B1) = 500²/20200 ≈ 12.38,
-  // m²(A2,B2) = 1000²/20200 ≈ 49.5 > the gate. With k = ½ ln det(2πS) − ln V the same for every
+  // m²(A2,B2) = 1000²/20200 ≈ 49.5 > the gate. With k = ½ ln det(2πS) − ln V + ln 2 (B1 and B2 are
+  // the n = 2 starts of each end's window) the same for every
   // pair: greedy (cheapest first) takes A1–B1 (k) and leaves A2 with nothing; the mutual rule of
   // before joined nothing (A1's two successors coexist); the assignment takes A1–B2 and A2–B1,
   // 12.38 + 2k < k since k < −12.38 here.
@@ -157,11 +161,14 @@ TEST(TrackStitching, OneAssignmentJoinsACrossingThatTheGreedyAndTheMutualRulesMi
                                  {1, 7, 60, 100, 0, 200},
                                  {1, 8, 60, 100, 500, 200},
                                  kBackground});
-  const double lv = log_volume(
-      {{0, 0, 200, 0}, {-500, 0, 200, 0}, {12000, 0, 200, 0}, {12500, 0, 200, 0}, {-60000, -60000, -300, -300}});
-  const double k = 0.5 * kLogDet20 - lv;
+  const double lv = log_volume({{0, 0, 200, 0},
+                                {-500, 0, 200, 0},
+                                {12000, 0, 200, 0},
+                                {12500, 0, 200, 0},
+                                {-60000, -60000, -300, -300}});
+  const double k = 0.5 * kLogDet20 - lv + std::log(2.0);
   EXPECT_LT(2.0 * 0.5 * m2_of_offset(500.0) + 2.0 * k, k);  // the crossing beats A1–B1 alone
-  EXPECT_GT(m2_of_offset(1000.0), kGate);                    // A2–B2 is not a candidate
+  EXPECT_GT(m2_of_offset(1000.0), kGate);                   // A2–B2 is not a candidate
   AssociationRecord rec = singletons({{0, 1}, {0, 2}, {1, 7}, {1, 8}, {1, 99}});
   const TrackStitchSummary s = stitch_fragments(f, rec, no_manoeuvre());
   EXPECT_EQ(s.candidates, 3);
@@ -188,7 +195,8 @@ struct Turn {
 };
 
 TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
-  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 14000, 0, 6000 - 200 * 100, 200}, kBackground});
+  const TrackFile f =
+      hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 14000, 0, 6000 - 200 * 100, 200}, kBackground});
   const Turn turn;
   TrackStitchOptions defaults;
   EXPECT_NEAR(continuation_statistic(f.tracks, 20, 21, 9.0), turn.m2_quiet, 1e-6);
@@ -196,9 +204,18 @@ TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
   EXPECT_NEAR(gap_statistic(f.tracks, 20, 21, 400.0).m2, turn.m2_turn, 1e-9);
   EXPECT_NEAR(join_cost(f.tracks, 20, 21, defaults, kGate), turn.cost(), 1e-9);
   const double lv = log_volume({{0, 0, 200, 0}, {14000, 6000, 0, 200}, {-60000, -60000, -300, -300}});
-  EXPECT_LT(turn.cost() - lv, 0.0);  // ≈ 32.83 − 34.74: positive evidence
+  // Positive evidence, ≈ 34.74 − 32.83 = 1.91 nats (B is the only start of A's window: n = 1), but
+  // only the manoeuvring model gates it, and 1.91 is below the default turn_min_evidence (3 nats,
+  // the precision that dense traffic needs: docs/design.md §4.10): refused by default.
+  EXPECT_LT(turn.cost() - lv, 0.0);
+  EXPECT_LT(lv - turn.cost(), defaults.turn_min_evidence);
+  AssociationRecord strict = singletons({{0, 1}, {1, 7}, {1, 99}});
+  EXPECT_EQ(stitch_fragments(f, strict, defaults).stitches, 0);
+  // With 1.5 nats required, the lone turning fragment is joined.
+  TrackStitchOptions lenient = defaults;
+  lenient.turn_min_evidence = 1.5;
   AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 99}});
-  const TrackStitchSummary s = stitch_fragments(f, rec, defaults);
+  const TrackStitchSummary s = stitch_fragments(f, rec, lenient);
   EXPECT_EQ(s.stitches, 1);
   EXPECT_EQ(rec.target, (std::vector<int32_t>{0, 0, 2}));
   // The quiet model alone (π = 0, gate on σ_a = 3) refuses it, as the CV gate did.
@@ -209,10 +226,28 @@ TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
   EXPECT_EQ(stitch_fragments(f, before, quiet).stitches, 0);
 }
 
+TEST(TrackStitching, ATurnJoinWithARivalIsRefused) {
+  // The turn above, and a second start C 1 km beside B (1000²/7221800 ≈ 0.14 more m² under the turn
+  // model, in its gate; outside the quiet one like B): A's end has two gated candidates that only the
+  // manoeuvring model gates, so neither is joined. Without that rule A–B would be: its evidence,
+  // 1.91 − ln 2 (n = 2 starts in the window) ≈ 1.22 nats, is above the 0.5 required here.
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200},
+                                 {1, 7, 100, 160, 14000, 0, 6000 - 200 * 100, 200},
+                                 {1, 8, 100, 160, 15000, 0, 6000 - 200 * 100, 200},
+                                 kBackground});
+  TrackStitchOptions lenient;
+  lenient.turn_min_evidence = 0.5;
+  AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 8}, {1, 99}});
+  const TrackStitchSummary s = stitch_fragments(f, rec, lenient);
+  EXPECT_EQ(s.candidates, 2);
+  EXPECT_EQ(s.stitches, 0);
+}
+
 TEST(TrackStitching, AJumpBeyondTheManoeuvringGateIsRefused) {
   // The same turn with B 15 km further along x: the turn model adds 15000²/7221800 ≈ 31.2 to m²,
   // 34.5 > the gate.
-  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 29000, 0, 6000 - 200 * 100, 200}, kBackground});
+  const TrackFile f =
+      hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 29000, 0, 6000 - 200 * 100, 200}, kBackground});
   EXPECT_GT(Turn{}.m2_turn + 15000.0 * 15000.0 / 7221800.0, kGate);
   AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 99}});
   const TrackStitchSummary s = stitch_fragments(f, rec, TrackStitchOptions{});
@@ -267,15 +302,30 @@ TEST(TrackStitching, ThePreGateRefusesOnlyPairsOutsideTheGate) {
     EXPECT_EQ(std::isfinite(join_cost(f.tracks, r, r + 1, o, kGate)), m2 <= kGate) << r;
     inside += m2 <= kGate;
   }
-  EXPECT_GT(inside, 10);   // both sides are exercised
+  EXPECT_GT(inside, 10);  // both sides are exercised
   EXPECT_LT(inside, 390);
 }
 
 TEST(TrackStitching, BadOptionsNameTheField) {
-  for (auto [bad, field] : std::vector<std::pair<TrackStitchOptions, std::string>>{
-           {[] { TrackStitchOptions o; o.max_gap_s = -1; return o; }(), "stitching.max_gap_s"},
-           {[] { TrackStitchOptions o; o.turn_probability = 1.5; return o; }(), "stitching.turn_probability"},
-           {[] { TrackStitchOptions o; o.turn_sigma = -2; return o; }(), "stitching.turn_sigma"}}) {
+  for (auto [bad, field] :
+       std::vector<std::pair<TrackStitchOptions, std::string>>{{[] {
+                                                                  TrackStitchOptions o;
+                                                                  o.max_gap_s = -1;
+                                                                  return o;
+                                                                }(),
+                                                                "stitching.max_gap_s"},
+                                                               {[] {
+                                                                  TrackStitchOptions o;
+                                                                  o.turn_probability = 1.5;
+                                                                  return o;
+                                                                }(),
+                                                                "stitching.turn_probability"},
+                                                               {[] {
+                                                                  TrackStitchOptions o;
+                                                                  o.turn_sigma = -2;
+                                                                  return o;
+                                                                }(),
+                                                                "stitching.turn_sigma"}}) {
     try {
       bad.validate();
       FAIL() << field;
