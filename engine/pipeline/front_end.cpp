@@ -148,8 +148,9 @@ AlignedSensors align_sensors(const TrackFile& file, const PipelineOptions& optio
     p.offset.push_back(p.offset.back() + x.n_tracks());
     for (int32_t i = 0; i < x.n_tracks(); ++i) {
       int32_t first = -1, last = -1;
-      for (int32_t k = 0; k < x.n_times; ++k)
-        if (x.valid[static_cast<std::size_t>(i) * x.n_times + k]) {
+      const AlignedTracks::Span sp = x.span(i);
+      for (int32_t k = sp.begin; k < sp.end; ++k)
+        if (x.valid[x.cell(i, k)]) {
           if (first < 0) first = k;
           last = k;
         }
