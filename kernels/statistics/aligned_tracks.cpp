@@ -19,7 +19,8 @@ void AlignedTracks::allocate(std::span<const int32_t> begin, std::span<const int
   for (std::size_t i = 0; i < n; ++i) {
     require(length[i] >= 0 && begin[i] >= 0 && static_cast<int64_t>(begin[i]) + length[i] <= n_times,
             "AlignedTracks::allocate",
-            "span of track " + std::to_string(i) + " is outside the " + std::to_string(n_times) + " common times");
+            "span of track " + std::to_string(i) + " is outside the " + std::to_string(n_times) +
+                " common times");
     span_offset[i + 1] = span_offset[i] + length[i];
   }
   const auto cells = static_cast<std::size_t>(span_offset[n]);
@@ -58,12 +59,12 @@ AlignedTracks::Span alignment_span(double first, double last, std::span<const do
   // align_tracks skips t when (two-sided) t < first − mx or t > last + mx; (forward) t < first,
   // no report yet, or t − last > mx past the last report. Each test is monotone in t.
   const bool two_sided = options.method == AlignmentMethod::kTwoSided;
-  const auto lo = two_sided ? std::partition_point(times.begin(), times.end(),
-                                                   [&](double t) { return t < first - mx; })
-                            : std::partition_point(times.begin(), times.end(),
-                                                   [&](double t) { return t < first; });
-  const auto hi = two_sided ? std::partition_point(lo, times.end(), [&](double t) { return !(t > last + mx); })
-                            : std::partition_point(lo, times.end(), [&](double t) { return !(t - last > mx); });
+  const auto lo =
+      two_sided ? std::partition_point(times.begin(), times.end(), [&](double t) { return t < first - mx; })
+                : std::partition_point(times.begin(), times.end(), [&](double t) { return t < first; });
+  const auto hi = two_sided
+                      ? std::partition_point(lo, times.end(), [&](double t) { return !(t > last + mx); })
+                      : std::partition_point(lo, times.end(), [&](double t) { return !(t - last > mx); });
   return {static_cast<int32_t>(lo - times.begin()), static_cast<int32_t>(hi - times.begin())};
 }
 

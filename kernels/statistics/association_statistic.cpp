@@ -228,7 +228,15 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
   begin.push_back(rows.size());
   const int32_t n = out.n_tracks();
   out.truth.resize(n);
-  out.allocate_full();
+  // Each track is stored over its span only (alignment_span: the times where it can be valid).
+  std::vector<int32_t> span_begin(n), span_length(n);
+  for (int32_t a = 0; a < n; ++a) {
+    const AlignedTracks::Span sp =
+        alignment_span(tracks.t[rows[begin[a]]], tracks.t[rows[begin[a + 1] - 1]], common_times, options);
+    span_begin[a] = sp.begin;
+    span_length[a] = sp.size();
+  }
+  out.allocate(span_begin, span_length);
   const double q = options.process_noise * options.process_noise;
   const double half_extent2 = 0.5 * options.extent_sigma * options.extent_sigma;  // σ_r²/2 per report
 
@@ -324,9 +332,9 @@ std::vector<double> covariance_square_roots(const AlignedTracks& x) {
         if (!x.valid[cell]) continue;
         Eigen::SelfAdjointEigenSolver<Mat<D>> es(unpack<D>(x.cov_at(cell), d));
         if (es.info() != Eigen::Success || es.eigenvalues().minCoeff() < 0.0)
-          throw InputError("independent_sequential_statistic: covariance of sensor " + std::to_string(x.sensor) +
-                           " track " + std::to_string(x.track[i]) + " at common time " + std::to_string(k) +
-                           " is not positive semi-definite");
+          throw InputError("independent_sequential_statistic: covariance of sensor " +
+                           std::to_string(x.sensor) + " track " + std::to_string(x.track[i]) +
+                           " at common time " + std::to_string(k) + " is not positive semi-definite");
         const Mat<D> S = es.operatorSqrt();
         for (int r = 0, p = 0; r < d; ++r)
           for (int c = r; c < d; ++c, ++p) out[cell * P + p] = S(r, c);

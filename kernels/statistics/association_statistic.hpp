@@ -73,9 +73,9 @@ struct AlignedTracks {
   int32_t sensor = 0;
   int32_t dim = 4;  // D
   int32_t n_times = 0;
-  std::vector<double> times;   // the common times (n_times; align_tracks fills it)
-  std::vector<int32_t> track;  // local track number of each row
-  std::vector<int32_t> truth;  // truth id of each row (-1 unknown)
+  std::vector<double> times;         // the common times (n_times; align_tracks fills it)
+  std::vector<int32_t> track;        // local track number of each row
+  std::vector<int32_t> truth;        // truth id of each row (-1 unknown)
   std::vector<int32_t> span_begin;   // first common time stored, per track
   std::vector<int64_t> span_offset;  // first cell of each track; n_tracks + 1 entries
   std::vector<double> state;

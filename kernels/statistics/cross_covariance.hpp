@@ -34,7 +34,8 @@
 namespace trackassoc {
 
 // Per cell of `x` (AlignedTracks::cell(track, k)), A(k) as a full row-major D×D matrix; the
-// identity where the track is invalid at k or k−1 (or k − 1 is before its span). Throws InputError when F P(k−1) Fᵀ + Q is not positive definite.
+// identity where the track is invalid at k or k−1 (or k − 1 is before its span). Throws InputError when F
+// P(k−1) Fᵀ + Q is not positive definite.
 std::vector<double> gain_complements(const AlignedTracks& x, double sigma_a);
 
 // One step of the recursion: P_ab(k) = A_a(k)·[F P_ab(k−1) Fᵀ + Q]·A_b(k)ᵀ (any Eigen matrix types).

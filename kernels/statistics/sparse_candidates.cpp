@@ -295,7 +295,8 @@ void copy_rows(const AlignedTracks& x, std::span<const int32_t> rows, AlignedTra
     const std::size_t r = rows[q];
     out.track[q] = x.track[r];
     out.truth[q] = r < x.truth.size() ? x.truth[r] : -1;
-    const auto from = static_cast<std::size_t>(x.span_offset[r]), to = static_cast<std::size_t>(out.span_offset[q]);
+    const auto from = static_cast<std::size_t>(x.span_offset[r]),
+               to = static_cast<std::size_t>(out.span_offset[q]);
     const auto n = static_cast<std::size_t>(length[q]);
     std::copy_n(x.state.data() + from * D, n * D, out.state.data() + to * D);
     std::copy_n(x.cov.data() + from * P, n * P, out.cov.data() + to * P);
