@@ -2,8 +2,8 @@
 // kernels/statistics/association_statistic.hpp.
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <string>
+#include <unordered_map>
 
 #include "kernels/core/error.hpp"
 #include "kernels/statistics/association_statistic.hpp"
@@ -70,7 +70,7 @@ AlignedTracks::Span alignment_span(double first, double last, std::span<const do
 
 AlignedSize aligned_size(const TrackTable& tracks, int32_t sensor, std::span<const double> common_times,
                          const AlignmentOptions& options) {
-  std::map<int32_t, std::pair<double, double>> interval;  // track → [first, last] report time
+  std::unordered_map<int32_t, std::pair<double, double>> interval;  // track → [first, last] report time
   for (std::size_t r = 0; r < tracks.size(); ++r)
     if (tracks.sensor[r] == sensor) {
       auto [it, fresh] = interval.try_emplace(tracks.track[r], tracks.t[r], tracks.t[r]);

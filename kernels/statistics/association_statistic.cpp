@@ -266,7 +266,7 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
       const std::size_t r = rows[pos];
       const double dt = t - tracks.t[r];  // < 0: retrodiction to an earlier time
       const double adt = std::fabs(dt);
-      const int64_t cell = out.cell(a, k);
+      const int64_t cell = out.cell_base(a) + k;
       out.valid[cell] = 1;
       double* x = out.state_at(cell);
       for (int c = 0; c < D; ++c) x[c] = tracks.state[c][r];
@@ -379,8 +379,9 @@ class PairTerms {
     bool chained = false;               // both tracks existed at k − 1
     const auto ti = static_cast<int32_t>(i), tj = static_cast<int32_t>(j);
     const AlignedTracks::Span both = common_span(a_.span(ti), b_.span(tj));
+    const int64_t base_a = a_.cell_base(ti), base_b = b_.cell_base(tj);
     for (int32_t k = both.begin; k < both.end; ++k) {
-      const int64_t ca = a_.cell(ti, k), cb = b_.cell(tj, k);
+      const int64_t ca = base_a + k, cb = base_b + k;
       if (!a_.valid[ca] || !b_.valid[cb]) {
         chained = false;
         continue;

@@ -96,6 +96,8 @@ struct AlignedTracks {
     const int64_t c = static_cast<int64_t>(k) - span_begin[i];
     return c >= 0 && c < span_offset[i + 1] - span_offset[i] ? span_offset[i] + c : -1;
   }
+  // cell(i, k) = cell_base(i) + k for k inside the span (hot loops add k to it).
+  int64_t cell_base(int32_t i) const { return span_offset[i] - span_begin[i]; }
   bool valid_at(int32_t i, int32_t k) const {
     const int64_t c = cell(i, k);
     return c >= 0 && valid[c];

@@ -31,15 +31,20 @@ void check_inputs(const AlignedTracks& a, const AlignedTracks& b, double cap, do
   b.check_layout("scan_candidate_pairs");
 }
 
-bool within(const AlignedTracks& a, int64_t ca, const AlignedTracks& b, int64_t cb, int m, double c2) {
-  const int D = a.dim;
-  const double *xa = a.state_at(ca), *xb = b.state_at(cb);
+// |d_p|² ≤ (tr P_a,pp + tr P_b,pp)·c for positions xa, xb and position traces tra, trb.
+bool within_points(const double* xa, double tra, const double* xb, double trb, int m, double c2) {
   double d2 = 0.0;
   for (int c = 0; c < m; ++c) {
     const double d = xa[c] - xb[c];
     d2 += d * d;
   }
-  return d2 <= (position_trace(a.cov_at(ca), D, m) + position_trace(b.cov_at(cb), D, m)) * c2;
+  return d2 <= (tra + trb) * c2;
+}
+
+bool within(const AlignedTracks& a, int64_t ca, const AlignedTracks& b, int64_t cb, int m, double c2) {
+  const int D = a.dim;
+  return within_points(a.state_at(ca), position_trace(a.cov_at(ca), D, m), b.state_at(cb),
+                       position_trace(b.cov_at(cb), D, m), m, c2);
 }
 
 // The tracks valid at each common time, ascending: tracks at(k). Built from the spans, O(Σ spans + K).
@@ -58,7 +63,7 @@ ValidByTime valid_by_time(const AlignedTracks& x) {
     for (int32_t i = 0; i < x.n_tracks(); ++i) {
       const AlignedTracks::Span sp = x.span(i);
       for (int32_t k = sp.begin; k < sp.end; ++k)
-        if (x.valid[x.cell(i, k)]) fn(i, k);
+        if (x.valid[x.cell_base(i) + k]) fn(i, k);
     }
   };
   each_valid([&](int32_t, int32_t k) { ++out.offset[k + 1]; });
@@ -91,34 +96,48 @@ namespace {
 // One pass at scan k: the tracks of `q` (queries, q_at: those valid at k) whose radius
 // r_q = √(2·tr_q·c) is at least that of the tracks of `g` (the grid, g_at) they are checked against;
 // cell size h. Appends (a, b) pairs.
+// Scratch of one scan's grid, by position p in g_at (ascending tracks): cell, position trace, radius.
+struct GridScratch {
+  std::vector<std::pair<Cell, int32_t>> cells;  // (grid cell, p), sorted
+  std::vector<int64_t> cell;
+  std::vector<double> trace, radius;
+};
+
 void scan_pass(const AlignedTracks& q, std::span<const int32_t> q_at, const AlignedTracks& g,
-               std::span<const int32_t> g_at, int32_t k, double c2, bool q_is_a,
-               std::vector<std::pair<Cell, int32_t>>& cells, std::vector<double>& radius_g,
+               std::span<const int32_t> g_at, int32_t k, double c2, bool q_is_a, GridScratch& scratch,
                std::vector<std::pair<int32_t, int32_t>>& out) {
   if (g_at.empty() || q_at.empty()) return;
   const int D = q.dim, m = D / 2;
-  radius_g.resize(g_at.size());  // by position in g_at (ascending tracks)
-  for (std::size_t p = 0; p < g_at.size(); ++p)
-    radius_g[p] = std::sqrt(2.0 * position_trace(g.cov_at(g.cell(g_at[p], k)), D, m) * c2);
+  auto& [cells, cell_g, trace_g, radius_g] = scratch;
+  cell_g.resize(g_at.size());
+  trace_g.resize(g_at.size());
+  radius_g.resize(g_at.size());
+  for (std::size_t p = 0; p < g_at.size(); ++p) {
+    cell_g[p] = g.cell_base(g_at[p]) + k;
+    trace_g[p] = position_trace(g.cov_at(cell_g[p]), D, m);
+    radius_g[p] = std::sqrt(2.0 * trace_g[p] * c2);
+  }
   std::vector<double> r(radius_g);
   std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
   double h = r[r.size() / 2];  // the median radius: most queries touch 3^m cells
   if (!(h > 0.0) || !std::isfinite(h)) h = 1e-9;
   cells.clear();
   for (std::size_t p = 0; p < g_at.size(); ++p)
-    cells.emplace_back(cell_of(g.state_at(g.cell(g_at[p], k)), m, h), static_cast<int32_t>(p));
+    cells.emplace_back(cell_of(g.state_at(cell_g[p]), m, h), static_cast<int32_t>(p));
   std::sort(cells.begin(), cells.end());  // by cell, then track (p ascends with the track)
   for (const int32_t i : q_at) {
-    const int64_t cq = q.cell(i, k);
-    const double rq = std::sqrt(2.0 * position_trace(q.cov_at(cq), D, m) * c2);
+    const int64_t cq = q.cell_base(i) + k;
+    const double* xq = q.state_at(cq);
+    const double trace_q = position_trace(q.cov_at(cq), D, m);
+    const double rq = std::sqrt(2.0 * trace_q * c2);
     const double span_d = std::ceil(rq / h);
     auto consider = [&](int32_t p) {
       // Each pair once: from the side with the larger radius (ties: from a).
       if (q_is_a ? radius_g[p] > rq : radius_g[p] >= rq) return;
-      const int32_t j = g_at[p];
-      const int64_t cg = g.cell(j, k);
-      if (q_is_a ? within(q, cq, g, cg, m, c2) : within(g, cg, q, cq, m, c2))
-        out.emplace_back(q_is_a ? i : j, q_is_a ? j : i);
+      const double* xg = g.state_at(cell_g[p]);
+      if (q_is_a ? within_points(xq, trace_q, xg, trace_g[p], m, c2)
+                 : within_points(xg, trace_g[p], xq, trace_q, m, c2))
+        out.emplace_back(q_is_a ? i : g_at[p], q_is_a ? g_at[p] : i);
     };
     // A query wider than the whole grid (one huge covariance among small ones) reads every point
     // once instead of (2·span + 1)^m cells, so its cost is bounded by O(n_g).
@@ -127,7 +146,7 @@ void scan_pass(const AlignedTracks& q, std::span<const int32_t> q_at, const Alig
       continue;
     }
     const int64_t span = static_cast<int64_t>(span_d);
-    const Cell c = cell_of(q.state_at(cq), m, h);
+    const Cell c = cell_of(xq, m, h);
     const int64_t sy = m >= 2 ? span : 0, sz = m == 3 ? span : 0;
     for (int64_t dx = -span; dx <= span; ++dx)
       for (int64_t dy = -sy; dy <= sy; ++dy)
@@ -154,12 +173,11 @@ CandidatePairs scan_candidate_pairs(const AlignedTracks& a, const AlignedTracks&
   const ValidByTime va = valid_by_time(a), vb = valid_by_time(b);
   std::vector<std::vector<std::pair<int32_t, int32_t>>> per_scan(K);
   parallel_for_range(K, 1, [&](std::size_t lo, std::size_t hi) {
-    std::vector<std::pair<Cell, int32_t>> cells;
-    std::vector<double> radius;
+    GridScratch scratch;
     for (std::size_t k = lo; k < hi; ++k) {
       const auto kk = static_cast<int32_t>(k);
-      scan_pass(a, va.at(k), b, vb.at(k), kk, c2, true, cells, radius, per_scan[k]);
-      scan_pass(b, vb.at(k), a, va.at(k), kk, c2, false, cells, radius, per_scan[k]);
+      scan_pass(a, va.at(k), b, vb.at(k), kk, c2, true, scratch, per_scan[k]);
+      scan_pass(b, vb.at(k), a, va.at(k), kk, c2, false, scratch, per_scan[k]);
     }
   });
   std::vector<std::pair<int32_t, int32_t>> all;
@@ -207,8 +225,9 @@ CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTrac
       double bound = 0.0;
       int32_t n = 0, below = 0;
       const AlignedTracks::Span both = common_span(a.span(i), b.span(j));
+      const int64_t base_a = a.cell_base(i), base_b = b.cell_base(j);
       for (int32_t k = both.begin; k < both.end; ++k) {
-        const int64_t ca = a.cell(i, k), cb = b.cell(j, k);
+        const int64_t ca = base_a + k, cb = base_b + k;
         if (!a.valid[ca] || !b.valid[cb]) continue;
         ++n;
         // d_pᵀ C_pp⁻¹ d_p ≤ dᵀC⁻¹d: the position block alone (m ≤ 3, by Cholesky).

@@ -59,7 +59,7 @@ TrackIndexKeys track_index_keys(const AlignedTracks& x) {
       const auto t = static_cast<int32_t>(i);
       const AlignedTracks::Span sp = x.span(t);
       for (int32_t k = sp.begin; k < sp.end; ++k) {
-        const int64_t cell = x.cell(t, k);
+        const int64_t cell = x.cell_base(t) + k;
         if (!x.valid[cell]) continue;
         ++count;
         for (int c = 0; c < m; ++c) mean[c] += x.state_at(cell)[c];
@@ -69,7 +69,7 @@ TrackIndexKeys track_index_keys(const AlignedTracks& x) {
         for (int c = 0; c < m; ++c) mean[c] /= count;
       double r2 = 0.0;  // largest distance of a valid position from the mean
       for (int32_t k = sp.begin; k < sp.end; ++k) {
-        const int64_t cell = x.cell(t, k);
+        const int64_t cell = x.cell_base(t) + k;
         if (!x.valid[cell]) continue;
         const double* xs = x.state_at(cell);
         double d2 = 0.0;
@@ -124,8 +124,9 @@ bool within_pair_bound(const AlignedTracks& a, std::size_t i, const AlignedTrack
   int32_t common = 0;
   const auto ti = static_cast<int32_t>(i), tj = static_cast<int32_t>(j);
   const AlignedTracks::Span both = common_span(a.span(ti), b.span(tj));
+  const int64_t base_a = a.cell_base(ti), base_b = b.cell_base(tj);
   for (int32_t k = both.begin; k < both.end; ++k) {
-    const int64_t ca = a.cell(ti, k), cb = b.cell(tj, k);
+    const int64_t ca = base_a + k, cb = base_b + k;
     if (!a.valid[ca] || !b.valid[cb]) continue;
     ++common;
     const double *xa = a.state_at(ca), *xb = b.state_at(cb);
