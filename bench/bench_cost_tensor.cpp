@@ -129,10 +129,9 @@ AlignedTracks random_aligned(int32_t n, int32_t K, uint64_t stream) {
     x.track.push_back(i);
     x.truth.push_back(i);
   }
-  const std::size_t cells = static_cast<std::size_t>(n) * K;
+  x.allocate_full();
+  const std::size_t cells = static_cast<std::size_t>(x.cells());
   x.valid.assign(cells, 1);
-  x.state.resize(cells * 4);
-  x.cov.resize(cells * 10);
   for (std::size_t c = 0; c < cells; ++c) {
     for (int d = 0; d < 4; ++d) x.state[c * 4 + d] = rng.uniform(-1e4, 1e4);
     const double p = rng.uniform(100, 400), v = rng.uniform(1, 10), pv = rng.uniform(0, 5);

@@ -109,8 +109,11 @@ TupleRows fuse_tuple(const TrackTable& tracks, const std::vector<Member>& member
   std::vector<AlignedTracks> a(m);
   for (std::size_t i = 0; i < m; ++i) {
     a[i] = align_tracks(member_table(tracks, members[i]), members[i].sensor, grid, align);
-    for (int32_t k = 0; k < K; ++k)  // not past its span, not while handed over
-      a[i].valid[k] = a[i].valid[k] && members[i].active(tracks, grid[k]);
+    const AlignedTracks::Span sp = a[i].span(0);
+    for (int32_t k = sp.begin; k < sp.end; ++k) {  // not past its span, not while handed over
+      const int64_t c = a[i].cell(0, k);
+      a[i].valid[c] = a[i].valid[c] && members[i].active(tracks, grid[k]);
+    }
   }
   const bool bsc = o.rule == FusionRule::kBarShalomCampo;
   const bool recursion = bsc && o.common_process_noise > 0.0;
@@ -125,14 +128,18 @@ TupleRows fuse_tuple(const TrackTable& tracks, const std::vector<Member>& member
       for (std::size_t r : *members[i].rows) own.push_back(tracks.t[r]);
       own.erase(std::unique(own.begin(), own.end()), own.end());
       const TrackTable sub = member_table(tracks, members[i]);
-      const std::vector<double> own_gain =
-          gain_complements(align_tracks(sub, members[i].sensor, own, align), o.common_process_noise);
-      gain[i].assign(static_cast<std::size_t>(K) * D * D, 0.0);
-      for (int32_t k = 0; k < K; ++k) {
+      const AlignedTracks at_own = align_tracks(sub, members[i].sensor, own, align);
+      const std::vector<double> own_gain = gain_complements(at_own, o.common_process_noise);
+      gain[i].assign(static_cast<std::size_t>(a[i].cells()) * D * D, 0.0);  // per cell of a[i]
+      const AlignedTracks::Span sp = a[i].span(0);
+      for (int32_t k = sp.begin; k < sp.end; ++k) {
         const auto at = std::lower_bound(own.begin(), own.end(), grid[k]);
-        double* g = &gain[i][static_cast<std::size_t>(k) * D * D];
-        if (at != own.end() && *at == grid[k])
-          std::copy_n(&own_gain[static_cast<std::size_t>(at - own.begin()) * D * D], D * D, g);
+        double* g = &gain[i][static_cast<std::size_t>(a[i].cell(0, k)) * D * D];
+        const int64_t oc = at != own.end() && *at == grid[k]
+                               ? at_own.cell(0, static_cast<int32_t>(at - own.begin()))
+                               : int64_t{-1};
+        if (oc >= 0)
+          std::copy_n(&own_gain[static_cast<std::size_t>(oc) * D * D], D * D, g);
         else
           for (int r = 0; r < D; ++r) g[r * D + r] = 1.0;
       }
@@ -146,10 +153,11 @@ TupleRows fuse_tuple(const TrackTable& tracks, const std::vector<Member>& member
     std::vector<VectorXd> xs;
     std::vector<MatrixXd> Ps;
     for (std::size_t i = 0; i < m; ++i) {
-      if (!a[i].valid[k]) continue;
+      if (!a[i].valid_at(0, k)) continue;
+      const int64_t c = a[i].cell(0, k);
       present.push_back(i);
-      xs.push_back(Eigen::Map<const VectorXd>(&a[i].state[static_cast<std::size_t>(k) * D], D));
-      Ps.push_back(unpack(a[i].cov, static_cast<std::size_t>(k) * P, D));
+      xs.push_back(Eigen::Map<const VectorXd>(a[i].state_at(c), D));
+      Ps.push_back(unpack(a[i].cov, static_cast<std::size_t>(c) * P, D));
     }
     const std::size_t n = present.size();
     if (n < 2) continue;  // cannot happen on the grid; kept as a guard

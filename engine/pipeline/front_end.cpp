@@ -33,20 +33,14 @@ std::vector<double> common_time_grid(const TrackTable& tracks, std::span<const i
                                   : *std::max_element(first.begin(), first.end()) + period;
   const double end =
       span_union ? *std::max_element(last.begin(), last.end()) : *std::min_element(last.begin(), last.end());
-  // The grid and the tracks aligned to it (per track and time: state, covariance, flag) are
-  // allocated by the caller: check them against the memory budget before the first push_back.
+  // The grid is allocated here: check it against the memory budget before the first push_back
+  // (the tracks aligned to it are checked by align_sensors, over their spans).
   const double points = std::floor((end - start) / period) + 1.0;
-  std::set<std::pair<int32_t, int32_t>> local_tracks;
-  for (std::size_t r = 0; r < tracks.size(); ++r)
-    if (std::find(sensor_ids.begin(), sensor_ids.end(), tracks.sensor[r]) != sensor_ids.end())
-      local_tracks.emplace(tracks.sensor[r], tracks.track[r]);
-  const std::size_t D = static_cast<std::size_t>(tracks.dim());
-  char what[200];
+  char what[160];
   std::snprintf(what, sizeof what,
-                "the common time grid (%.4g times of period %g s over [%g, %g] s, %zu local tracks aligned "
-                "to it; see --common-period)",
-                points, period, start, end, local_tracks.size());
-  require_memory(bytes_of(points * static_cast<double>(1 + local_tracks.size()), 8 * (1 + D + D * D)), what);
+                "the common time grid (%.4g times of period %g s over [%g, %g] s; see --common-period)",
+                points, period, start, end);
+  require_memory(bytes_of(points, sizeof(double)), what);
   std::vector<double> grid;
   const double eps = 1e-9 * std::max(1.0, std::fabs(end));
   for (int64_t k = 0;; ++k) {
@@ -141,6 +135,26 @@ AlignedSensors align_sensors(const TrackFile& file, const PipelineOptions& optio
     }
   }
   p.common_times = common_time_grid(file.tracks, p.sensor_ids, sel.period, options.span_union);
+  // Each track is aligned over its span only: Σ spans cells (not tracks × grid), checked against
+  // the memory budget before any is allocated.
+  AlignedSize size;
+  for (const int32_t id : p.sensor_ids) {
+    const AlignedSize one = aligned_size(file.tracks, id, p.common_times, options.alignment);
+    size.tracks += one.tracks;
+    size.cells += one.cells;
+  }
+  char what[240];
+  std::snprintf(
+      what, sizeof what,
+      "the aligned tracks (%zu local tracks over their spans: %lld cells of %zu bytes on the common "
+      "time grid of %zu times of period %g s; see --common-period)",
+      static_cast<size_t>(size.tracks), static_cast<long long>(size.cells),
+      AlignedTracks::bytes_per_cell(p.dim), p.common_times.size(), sel.period);
+  // Per cell: state, covariance, flag; per track: its number, truth, span (begin, offset) and valid
+  // interval (first, last).
+  require_memory(bytes_of(static_cast<double>(size.cells), AlignedTracks::bytes_per_cell(p.dim)) +
+                     bytes_of(static_cast<double>(size.tracks), 5 * sizeof(int32_t) + sizeof(int64_t)),
+                 what);
   p.offset.assign(1, 0);
   for (int32_t s = 0; s < p.S(); ++s) {
     p.aligned.push_back(align_tracks(file.tracks, p.sensor_ids[s], p.common_times, options.alignment));
@@ -148,8 +162,9 @@ AlignedSensors align_sensors(const TrackFile& file, const PipelineOptions& optio
     p.offset.push_back(p.offset.back() + x.n_tracks());
     for (int32_t i = 0; i < x.n_tracks(); ++i) {
       int32_t first = -1, last = -1;
-      for (int32_t k = 0; k < x.n_times; ++k)
-        if (x.valid[static_cast<std::size_t>(i) * x.n_times + k]) {
+      const AlignedTracks::Span sp = x.span(i);
+      for (int32_t k = sp.begin; k < sp.end; ++k)
+        if (x.valid[x.cell(i, k)]) {
           if (first < 0) first = k;
           last = k;
         }

@@ -38,7 +38,8 @@
 // tracks, cost = the sum of link costs to the group's members (forbidden as above). It is what the pairwise
 // peers do, and it is reported per record (`fallback_components`).
 //
-// Complexity: alignment O(S·n·K·D³); candidates O(S²·K·n log n + hits); statistic O(hits·K·D³);
+// Complexity: alignment O(Σ spans·D³) time and memory (each track over its own span, not the whole
+// grid); candidates O(S·Σ spans·log n + hits); statistic O(Σ_hits |span_a ∩ span_b|·D³);
 // components O(E α(N)); solves Σ_c Π(n_{c,s} + 1) · (solver iterations), in parallel.
 #pragma once
 

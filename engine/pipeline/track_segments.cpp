@@ -41,17 +41,19 @@ void check_duplicate_sensors(const SegmentOptions& options, const std::vector<in
 
 DuplicateStatistic duplicate_statistic(const AlignedTracks& a, int32_t i, int32_t j, double t_lo,
                                        double t_hi) {
-  const int32_t K = a.n_times, D = a.dim, P = D * (D + 1) / 2;
+  const int32_t D = a.dim;
   require(i >= 0 && i < a.n_tracks() && j >= 0 && j < a.n_tracks(), "duplicate_statistic",
           "track index out of range");
   Eigen::VectorXd diff(D);
   Eigen::MatrixXd C(D, D);
   DuplicateStatistic out;
-  for (int32_t k = 0; k < K; ++k) {
-    const std::size_t ci = static_cast<std::size_t>(i) * K + k, cj = static_cast<std::size_t>(j) * K + k;
+  const AlignedTracks::Span both = common_span(a.span(i), a.span(j));  // the times both can exist
+  for (int32_t k = both.begin; k < both.end; ++k) {
+    const int64_t ci = a.cell(i, k), cj = a.cell(j, k);
     if (a.times[k] < t_lo || a.times[k] > t_hi || !a.valid[ci] || !a.valid[cj]) continue;
-    for (int32_t c = 0; c < D; ++c) diff[c] = a.state[ci * D + c] - a.state[cj * D + c];
-    const double *pi = &a.cov[ci * P], *pj = &a.cov[cj * P];  // packed upper triangles
+    const double *xi = a.state_at(ci), *xj = a.state_at(cj);
+    for (int32_t c = 0; c < D; ++c) diff[c] = xi[c] - xj[c];
+    const double *pi = a.cov_at(ci), *pj = a.cov_at(cj);  // packed upper triangles
     for (int32_t r = 0, q = 0; r < D; ++r)
       for (int32_t c = r; c < D; ++c, ++q) C(r, c) = C(c, r) = pi[q] + pj[q];
     const Eigen::LLT<Eigen::MatrixXd> llt(C);

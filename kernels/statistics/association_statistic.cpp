@@ -228,9 +228,15 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
   begin.push_back(rows.size());
   const int32_t n = out.n_tracks();
   out.truth.resize(n);
-  out.state.assign(static_cast<std::size_t>(n) * K * D, 0.0);
-  out.cov.assign(static_cast<std::size_t>(n) * K * P, 0.0);
-  out.valid.assign(static_cast<std::size_t>(n) * K, 0);
+  // Each track is stored over its span only (alignment_span: the times where it can be valid).
+  std::vector<int32_t> span_begin(n), span_length(n);
+  for (int32_t a = 0; a < n; ++a) {
+    const AlignedTracks::Span sp =
+        alignment_span(tracks.t[rows[begin[a]]], tracks.t[rows[begin[a + 1] - 1]], common_times, options);
+    span_begin[a] = sp.begin;
+    span_length[a] = sp.size();
+  }
+  out.allocate(span_begin, span_length);
   const double q = options.process_noise * options.process_noise;
   const double half_extent2 = 0.5 * options.extent_sigma * options.extent_sigma;  // σ_r²/2 per report
 
@@ -239,7 +245,8 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
     out.truth[a] = has_truth ? tracks.truth[rows[begin[a + 1] - 1]] : -1;
     const double first = tracks.t[rows[begin[a]]], last = tracks.t[rows[begin[a + 1] - 1]];
     std::size_t cur = begin[a];  // walks forward: common times are ascending
-    for (int32_t k = 0; k < K; ++k) {
+    const AlignedTracks::Span sp = out.span(a);
+    for (int32_t k = sp.begin; k < sp.end; ++k) {
       const double t = common_times[k];
       while (cur < begin[a + 1] && tracks.t[rows[cur]] <= t) ++cur;
       std::size_t pos;  // the report moved to t is rows[pos]
@@ -259,9 +266,9 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
       const std::size_t r = rows[pos];
       const double dt = t - tracks.t[r];  // < 0: retrodiction to an earlier time
       const double adt = std::fabs(dt);
-      const std::size_t cell = static_cast<std::size_t>(a) * K + k;
+      const int64_t cell = out.cell_base(a) + k;
       out.valid[cell] = 1;
-      double* x = &out.state[cell * D];
+      double* x = out.state_at(cell);
       for (int c = 0; c < D; ++c) x[c] = tracks.state[c][r];
       for (int c = 0; c < m; ++c) x[c] += dt * x[m + c];  // x ← F(Δ) x
       // P ← F P Fᵀ + Q(|Δ|) on the full matrix, then packed back. Backwards, F(−|Δ|) with the same
@@ -289,7 +296,7 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
         }
       }
       for (int c = 0; c < m; ++c) Pp(c, c) += half_extent2;
-      double* pc = &out.cov[cell * P];
+      double* pc = out.cov_at(cell);
       for (int i = 0, p = 0; i < D; ++i)
         for (int j = i; j < D; ++j, ++p) pc[p] = Pp(i, j);
     }
@@ -312,23 +319,26 @@ Mat<D> unpack(const double* packed, int d) {
   return M;
 }
 
-// Principal square roots of every valid aligned covariance (correlated form only).
+// Principal square roots of every valid aligned covariance (correlated form only), per cell.
 template <int D>
 std::vector<double> covariance_square_roots(const AlignedTracks& x) {
   const int d = x.dim, P = packed_size(d);
   std::vector<double> out(x.valid.size() * P, 0.0);
-  parallel_for_range(x.valid.size(), 64, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t cell = lo; cell < hi; ++cell) {
-      if (!x.valid[cell]) continue;
-      Eigen::SelfAdjointEigenSolver<Mat<D>> es(unpack<D>(&x.cov[cell * P], d));
-      if (es.info() != Eigen::Success || es.eigenvalues().minCoeff() < 0.0)
-        throw InputError("independent_sequential_statistic: covariance of sensor " +
-                         std::to_string(x.sensor) + " track " + std::to_string(x.track[cell / x.n_times]) +
-                         " at common time " + std::to_string(cell % x.n_times) +
-                         " is not positive semi-definite");
-      const Mat<D> S = es.operatorSqrt();
-      for (int i = 0, p = 0; i < d; ++i)
-        for (int j = i; j < d; ++j, ++p) out[cell * P + p] = S(i, j);
+  parallel_for_range(x.n_tracks(), 16, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      const AlignedTracks::Span sp = x.span(static_cast<int32_t>(i));
+      for (int32_t k = sp.begin; k < sp.end; ++k) {
+        const int64_t cell = x.cell(static_cast<int32_t>(i), k);
+        if (!x.valid[cell]) continue;
+        Eigen::SelfAdjointEigenSolver<Mat<D>> es(unpack<D>(x.cov_at(cell), d));
+        if (es.info() != Eigen::Success || es.eigenvalues().minCoeff() < 0.0)
+          throw InputError("independent_sequential_statistic: covariance of sensor " +
+                           std::to_string(x.sensor) + " track " + std::to_string(x.track[i]) +
+                           " at common time " + std::to_string(k) + " is not positive semi-definite");
+        const Mat<D> S = es.operatorSqrt();
+        for (int r = 0, p = 0; r < d; ++r)
+          for (int c = r; c < d; ++c, ++p) out[cell * P + p] = S(r, c);
+      }
     }
   });
   return out;
@@ -361,20 +371,25 @@ class PairTerms {
     }
   }
 
-  // Calls fn(k, term) for every common time k where tracks i (of a) and j (of b) both exist.
+  // Calls fn(k, term) for every common time k where tracks i (of a) and j (of b) both exist: the
+  // times where both spans lie, in order.
   template <class Fn>
   void for_each(std::size_t i, std::size_t j, Fn&& fn) const {
     Mat<D> Pab = Mat<D>::Zero(d_, d_);  // Bar-Shalom–Campo cross-covariance (common_ only)
     bool chained = false;               // both tracks existed at k − 1
-    for (int32_t k = 0; k < K_; ++k) {
-      const std::size_t ca = i * K_ + k, cb = j * K_ + k;
+    const auto ti = static_cast<int32_t>(i), tj = static_cast<int32_t>(j);
+    const AlignedTracks::Span both = common_span(a_.span(ti), b_.span(tj));
+    const int64_t base_a = a_.cell_base(ti), base_b = b_.cell_base(tj);
+    for (int32_t k = both.begin; k < both.end; ++k) {
+      const int64_t ca = base_a + k, cb = base_b + k;
       if (!a_.valid[ca] || !b_.valid[cb]) {
         chained = false;
         continue;
       }
       Vec<D> diff(d_);
-      for (int c = 0; c < d_; ++c) diff[c] = a_.state[ca * d_ + c] - b_.state[cb * d_ + c];
-      Mat<D> C = unpack<D>(&a_.cov[ca * P_], d_) + unpack<D>(&b_.cov[cb * P_], d_);  // seed 000 Eq. 2
+      const double *xa = a_.state_at(ca), *xb = b_.state_at(cb);
+      for (int c = 0; c < d_; ++c) diff[c] = xa[c] - xb[c];
+      Mat<D> C = unpack<D>(a_.cov_at(ca), d_) + unpack<D>(b_.cov_at(cb), d_);  // seed 000 Eq. 2
       if (rho_ > 0.0) {
         // Bar-Shalom–Campo: C = P_a + P_b − P_ab − P_ba, P_ab + P_ba ≈ ρ(S_a S_b + S_b S_a).
         const Mat<D> Sa = unpack<D>(&sqrt_a_[ca * P_], d_), Sb = unpack<D>(&sqrt_b_[cb * P_], d_);
@@ -463,12 +478,8 @@ void check_aligned_pair(const AlignedTracks& a, const AlignedTracks& b, const ch
   require(
       a.n_times == b.n_times, who,
       "numbers of common times differ: " + std::to_string(a.n_times) + " vs " + std::to_string(b.n_times));
-  for (const AlignedTracks* x : {&a, &b}) {
-    const std::size_t cells = static_cast<std::size_t>(x->n_tracks()) * x->n_times;
-    require(x->dim > 0 && x->valid.size() == cells && x->state.size() == cells * x->dim &&
-                x->cov.size() == cells * packed_size(x->dim),
-            who, "aligned tracks of sensor " + std::to_string(x->sensor) + " have inconsistent array sizes");
-  }
+  a.check_layout(who);
+  b.check_layout(who);
 }
 
 }  // namespace

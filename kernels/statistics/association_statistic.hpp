@@ -47,7 +47,8 @@
 // Pairs with no common time carry no evidence: dof = 0, not in the gate, and `overlap` = 0, so a
 // caller can tell them from a pair that was tested and failed.
 //
-// Complexity: O(n_a · n_b · K · D³) for K common times; the pair loop is split across TBB.
+// Complexity: O(Σ_pairs |span_a ∩ span_b| · D³): each pair visits the common times where both spans
+// lie (at most K); the pair loop is split across TBB. Memory of the alignment: O(Σ spans).
 #pragma once
 
 #include <cstdint>
@@ -60,20 +61,70 @@
 
 namespace trackassoc {
 
-// Tracks of one sensor at common times, SoA: state[(track·K + k)·D + c], cov likewise with the
-// packed triangle, valid[track·K + k] = 1 when the track exists at common time k.
+// Tracks of one sensor at common times, in spans (SoA). Track i is stored only over its span, the
+// common times k ∈ [span_begin[i], span_begin[i] + length_i) at which it can be valid (align_tracks:
+// two-sided, max_extrapolation before its first report to max_extrapolation after its last;
+// forward, its first report to max_extrapolation after its last), length_i = span_offset[i + 1] −
+// span_offset[i]. The cells of track i are span_offset[i] .. span_offset[i + 1] − 1, cell(i, k) =
+// span_offset[i] + k − span_begin[i]; state[cell·D + c], cov[cell·P + p] (the packed triangle),
+// valid[cell] = 1 when the track exists at common time k (outside its span it never does).
+// Memory O(Σ_i length_i), not O(n·K): a track of a long recording costs its own duration only.
 struct AlignedTracks {
   int32_t sensor = 0;
   int32_t dim = 4;  // D
   int32_t n_times = 0;
-  std::vector<double> times;   // the common times (n_times; align_tracks fills it)
-  std::vector<int32_t> track;  // local track number of each row
-  std::vector<int32_t> truth;  // truth id of each row (-1 unknown)
+  std::vector<double> times;         // the common times (n_times; align_tracks fills it)
+  std::vector<int32_t> track;        // local track number of each row
+  std::vector<int32_t> truth;        // truth id of each row (-1 unknown)
+  std::vector<int32_t> span_begin;   // first common time stored, per track
+  std::vector<int64_t> span_offset;  // first cell of each track; n_tracks + 1 entries
   std::vector<double> state;
   std::vector<double> cov;
   std::vector<uint8_t> valid;
+
+  // Common times [begin, end) stored for a track; empty spans have begin == end.
+  struct Span {
+    int32_t begin = 0, end = 0;
+    int32_t size() const { return end > begin ? end - begin : 0; }
+  };
   int32_t n_tracks() const { return static_cast<int32_t>(track.size()); }
+  Span span(int32_t i) const {
+    return {span_begin[i], span_begin[i] + static_cast<int32_t>(span_offset[i + 1] - span_offset[i])};
+  }
+  // The cell of track i at common time k, −1 outside its span.
+  int64_t cell(int32_t i, int32_t k) const {
+    const int64_t c = static_cast<int64_t>(k) - span_begin[i];
+    return c >= 0 && c < span_offset[i + 1] - span_offset[i] ? span_offset[i] + c : -1;
+  }
+  // cell(i, k) = cell_base(i) + k for k inside the span (hot loops add k to it).
+  int64_t cell_base(int32_t i) const { return span_offset[i] - span_begin[i]; }
+  bool valid_at(int32_t i, int32_t k) const {
+    const int64_t c = cell(i, k);
+    return c >= 0 && valid[c];
+  }
+  const double* state_at(int64_t c) const { return &state[c * dim]; }
+  double* state_at(int64_t c) { return &state[c * dim]; }
+  const double* cov_at(int64_t c) const { return &cov[c * packed_size(dim)]; }
+  double* cov_at(int64_t c) { return &cov[c * packed_size(dim)]; }
+  int64_t cells() const { return span_offset.empty() ? 0 : span_offset.back(); }
+
+  // Zeroed cells for the spans [begin[i], begin[i] + length[i]) of the n_tracks() tracks.
+  void allocate(std::span<const int32_t> begin, std::span<const int32_t> length);
+  // Every track over every one of the n_times common times (hand-built tracks in tests, benches).
+  void allocate_full();
+  // Bytes of one cell (state, packed covariance, flag) and of the whole object.
+  static std::size_t bytes_per_cell(int dim) {
+    return sizeof(double) * static_cast<std::size_t>(dim + packed_size(dim)) + sizeof(uint8_t);
+  }
+  std::size_t bytes() const;
+  // Throws (require(), naming `who`) when the arrays do not match the spans.
+  void check_layout(const char* who) const;
 };
+
+// The common times where both spans lie: loops over a pair visit these only.
+inline AlignedTracks::Span common_span(AlignedTracks::Span a, AlignedTracks::Span b) {
+  return {a.begin > b.begin ? a.begin : b.begin, a.end < b.end ? a.end : b.end};
+}
 
 enum class AlignmentMethod {
   kTwoSided,  // the nearest report, before or after the common time (recorded data; default)
@@ -123,9 +174,25 @@ struct AlignmentOptions {
   void validate() const;
 };
 
-// Resamples the tracks of `sensor` in `tracks` at `common_times` (ascending).
+// Resamples the tracks of `sensor` in `tracks` at `common_times` (ascending), each over its span.
+// O(rows + Σ spans · D³) time, O(Σ spans) memory.
 AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<const double> common_times,
                            const AlignmentOptions& options);
+
+// The span of a track reporting over [first, last]: the common times where align_tracks can find
+// it valid (AlignmentOptions::max_extrapolation, by method), as indices [begin, end) into
+// `common_times`; the same comparisons as the validity rule, so no valid time is left out. O(log K).
+AlignedTracks::Span alignment_span(double first, double last, std::span<const double> common_times,
+                                   const AlignmentOptions& options);
+
+// The number of tracks and of cells (Σ of their span lengths) align_tracks would store for
+// `sensor`, in O(rows·log tracks + tracks·log K) without allocating them: what a caller checks
+// against a memory budget.
+struct AlignedSize {
+  int64_t tracks = 0, cells = 0;
+};
+AlignedSize aligned_size(const TrackTable& tracks, int32_t sensor, std::span<const double> common_times,
+                         const AlignmentOptions& options);
 
 // The link cost of a gated-in pair, from its excess over the gate λ − G(n) ≤ 0 (see the header):
 enum class LinkCost {

@@ -23,34 +23,38 @@ void cv_transition(int dim, double dt, double sigma_a, Eigen::MatrixXd& F, Eigen
 }
 
 std::vector<double> gain_complements(const AlignedTracks& x, double sigma_a) {
-  const int D = x.dim, P = packed_size(D);
+  const int D = x.dim;
   const int32_t K = x.n_times;
   require(static_cast<int32_t>(x.times.size()) == K, "gain_complements",
           "the aligned tracks of sensor " + std::to_string(x.sensor) + " carry no common times");
   std::vector<Eigen::MatrixXd> F(K), Q(K);
   for (int32_t k = 1; k < K; ++k) cv_transition(D, x.times[k] - x.times[k - 1], sigma_a, F[k], Q[k]);
   std::vector<double> out(x.valid.size() * D * D, 0.0);
-  auto unpack = [&](std::size_t cell) {
+  auto unpack = [&](int64_t cell) {
     Eigen::MatrixXd M(D, D);
+    const double* packed = x.cov_at(cell);
     for (int i = 0, p = 0; i < D; ++i)
-      for (int j = i; j < D; ++j, ++p) M(i, j) = M(j, i) = x.cov[cell * P + p];
+      for (int j = i; j < D; ++j, ++p) M(i, j) = M(j, i) = packed[p];
     return M;
   };
-  parallel_for_range(x.valid.size(), 64, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t cell = lo; cell < hi; ++cell) {
-      const int32_t k = static_cast<int32_t>(cell % K);
-      Eigen::MatrixXd A = Eigen::MatrixXd::Identity(D, D);
-      if (k > 0 && x.valid[cell] && x.valid[cell - 1]) {
-        const Eigen::MatrixXd prior = F[k] * unpack(cell - 1) * F[k].transpose() + Q[k];
-        const Eigen::LLT<Eigen::MatrixXd> llt(prior);
-        if (llt.info() != Eigen::Success)
-          throw InputError("gain_complements: F P Fᵀ + Q is not positive definite for sensor " +
-                           std::to_string(x.sensor) + " track " + std::to_string(x.track[cell / K]) +
-                           " at common time " + std::to_string(k));
-        A = llt.solve(unpack(cell)).transpose();  // A = P(k|k)·P(k|k−1)⁻¹, both symmetric
+  parallel_for_range(x.n_tracks(), 16, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t t = lo; t < hi; ++t) {
+      const AlignedTracks::Span sp = x.span(static_cast<int32_t>(t));
+      for (int32_t k = sp.begin; k < sp.end; ++k) {
+        const int64_t cell = x.cell(static_cast<int32_t>(t), k);
+        Eigen::MatrixXd A = Eigen::MatrixXd::Identity(D, D);
+        if (k > sp.begin && x.valid[cell] && x.valid[cell - 1]) {  // cell − 1 is time k − 1
+          const Eigen::MatrixXd prior = F[k] * unpack(cell - 1) * F[k].transpose() + Q[k];
+          const Eigen::LLT<Eigen::MatrixXd> llt(prior);
+          if (llt.info() != Eigen::Success)
+            throw InputError("gain_complements: F P Fᵀ + Q is not positive definite for sensor " +
+                             std::to_string(x.sensor) + " track " + std::to_string(x.track[t]) +
+                             " at common time " + std::to_string(k));
+          A = llt.solve(unpack(cell)).transpose();  // A = P(k|k)·P(k|k−1)⁻¹, both symmetric
+        }
+        for (int i = 0; i < D; ++i)
+          for (int j = 0; j < D; ++j) out[cell * D * D + i * D + j] = A(i, j);
       }
-      for (int i = 0; i < D; ++i)
-        for (int j = 0; j < D; ++j) out[cell * D * D + i * D + j] = A(i, j);
     }
   });
   return out;
@@ -73,8 +77,9 @@ std::vector<double> cross_covariance_series(const AlignedTracks& a, int32_t ia,
   std::vector<double> out(static_cast<std::size_t>(K) * D * D, 0.0);
   Eigen::MatrixXd Pab = Eigen::MatrixXd::Zero(D, D), F, Q;
   bool chained = false;  // both tracks existed at k − 1
-  for (int32_t k = 0; k < K; ++k) {
-    const std::size_t ca = static_cast<std::size_t>(ia) * K + k, cb = static_cast<std::size_t>(ib) * K + k;
+  const AlignedTracks::Span both = common_span(a.span(ia), b.span(ib));
+  for (int32_t k = both.begin; k < both.end; ++k) {
+    const int64_t ca = a.cell(ia, k), cb = b.cell(ib, k);
     if (!a.valid[ca] || !b.valid[cb]) {
       chained = false;
       continue;

@@ -20,7 +20,7 @@
 // pair's first common time (independently initialised tracks); over a gap in either track it
 // restarts at 0, which underestimates the correlation there.
 //
-// Cost: A(k) once per aligned cell, O(n·K·D³); the recursion per pair and time, O(D³), in the
+// Cost: A(k) once per aligned cell, O(Σ spans·D³); the recursion per pair and time, O(D³), in the
 // statistic's pair loop (kernels/statistics/association_statistic.cpp) and in track fusion
 // (cross_covariance_series; engine/fusion/track_fuser.hpp, the Bar-Shalom–Campo rule).
 #pragma once
@@ -33,8 +33,9 @@
 
 namespace trackassoc {
 
-// Per cell (track·K + k) of `x`, A(k) as a full row-major D×D matrix; the identity where the track
-// is invalid at k or k−1. Throws InputError when F P(k−1) Fᵀ + Q is not positive definite.
+// Per cell of `x` (AlignedTracks::cell(track, k)), A(k) as a full row-major D×D matrix; the
+// identity where the track is invalid at k or k−1 (or k − 1 is before its span). Throws InputError when F
+// P(k−1) Fᵀ + Q is not positive definite.
 std::vector<double> gain_complements(const AlignedTracks& x, double sigma_a);
 
 // One step of the recursion: P_ab(k) = A_a(k)·[F P_ab(k−1) Fᵀ + Q]·A_b(k)ᵀ (any Eigen matrix types).

@@ -14,7 +14,9 @@
 // neighbouring cells and keeps the b whose own bound holds. Pairs are collected per scan
 // (parallel over scans, TBB), then sorted and deduplicated, so the output does not depend on the
 // thread count.
-// Complexity: O(K·(n_a + n_b)·log n_b + 3^m·K·n_a·log n_b + hits) time, O(hits) memory.
+// Each scan indexes only the tracks valid there, listed from their spans (O(Σ spans + K)).
+// Complexity: O(Σ_k (n_a(k) + n_b(k))·log n_b(k) + 3^m·Σ_k n_a(k)·log n_b(k) + hits) time, n_x(k) the
+// tracks valid at scan k; O(Σ spans + hits) memory.
 #pragma once
 
 #include "kernels/statistics/association_statistic.hpp"

@@ -23,8 +23,8 @@ void CandidateOptions::validate() const {
 }
 
 TrackIndexKeys track_index_keys(const AlignedTracks& x) {
-  const int D = x.dim, P = packed_size(D), m = D / 2;
-  const int32_t n = x.n_tracks(), K = x.n_times;
+  const int D = x.dim, m = D / 2;
+  const int32_t n = x.n_tracks();
   TrackIndexKeys keys;
   keys.spatial_dim = m;
   keys.mean_position.assign(static_cast<std::size_t>(n) * m, 0.0);
@@ -56,22 +56,24 @@ TrackIndexKeys track_index_keys(const AlignedTracks& x) {
       double* mean = &keys.mean_position[i * m];
       double var = 0.0;
       int32_t count = 0;
-      for (int32_t k = 0; k < K; ++k) {
-        const std::size_t cell = i * K + k;
+      const auto t = static_cast<int32_t>(i);
+      const AlignedTracks::Span sp = x.span(t);
+      for (int32_t k = sp.begin; k < sp.end; ++k) {
+        const int64_t cell = x.cell_base(t) + k;
         if (!x.valid[cell]) continue;
         ++count;
-        for (int c = 0; c < m; ++c) mean[c] += x.state[cell * D + c];
-        var = std::max(var, max_eigenvalue(&x.cov[cell * P]));
+        for (int c = 0; c < m; ++c) mean[c] += x.state_at(cell)[c];
+        var = std::max(var, max_eigenvalue(x.cov_at(cell)));
       }
       if (count > 0)
         for (int c = 0; c < m; ++c) mean[c] /= count;
       double r2 = 0.0;  // largest distance of a valid position from the mean
-      for (int32_t k = 0; k < K; ++k) {
-        const std::size_t cell = i * K + k;
+      for (int32_t k = sp.begin; k < sp.end; ++k) {
+        const int64_t cell = x.cell_base(t) + k;
         if (!x.valid[cell]) continue;
+        const double* xs = x.state_at(cell);
         double d2 = 0.0;
-        for (int c = 0; c < m; ++c)
-          d2 += (x.state[cell * D + c] - mean[c]) * (x.state[cell * D + c] - mean[c]);
+        for (int c = 0; c < m; ++c) d2 += (xs[c] - mean[c]) * (xs[c] - mean[c]);
         r2 = std::max(r2, d2);
       }
       keys.trajectory_radius[i] = std::sqrt(r2);
@@ -112,20 +114,23 @@ bool within_bound(const TrackIndexKeys& ka, std::size_t i, const TrackIndexKeys&
 }
 
 // The exact form of the bound for a pair that is not full: the means over the pair's own common
-// valid set V (K' = |V|), |m̄_a(V) − m̄_b(V)|² ≤ (σ²_a + σ²_b)·ρ(K'). O(K·m) per pair, against
+// valid set V (K' = |V|), |m̄_a(V) − m̄_b(V)|² ≤ (σ²_a + σ²_b)·ρ(K'). O(|span_a ∩ span_b|·m) per pair, against
 // O(K·D³) for λ: it removes most of the conservative radius' extra candidates before λ.
 bool within_pair_bound(const AlignedTracks& a, std::size_t i, const AlignedTracks& b, std::size_t j,
                        const TrackIndexKeys& ka, const TrackIndexKeys& kb,
                        const std::vector<double>& factor) {
-  const int D = a.dim, m = ka.spatial_dim;
-  const std::size_t K = a.n_times;
+  const int m = ka.spatial_dim;
   std::array<double, 3> diff{0.0, 0.0, 0.0};
   int32_t common = 0;
-  for (std::size_t k = 0; k < K; ++k) {
-    const std::size_t ca = i * K + k, cb = j * K + k;
+  const auto ti = static_cast<int32_t>(i), tj = static_cast<int32_t>(j);
+  const AlignedTracks::Span both = common_span(a.span(ti), b.span(tj));
+  const int64_t base_a = a.cell_base(ti), base_b = b.cell_base(tj);
+  for (int32_t k = both.begin; k < both.end; ++k) {
+    const int64_t ca = base_a + k, cb = base_b + k;
     if (!a.valid[ca] || !b.valid[cb]) continue;
     ++common;
-    for (int c = 0; c < m; ++c) diff[c] += a.state[ca * D + c] - b.state[cb * D + c];
+    const double *xa = a.state_at(ca), *xb = b.state_at(cb);
+    for (int c = 0; c < m; ++c) diff[c] += xa[c] - xb[c];
   }
   if (common == 0) return false;  // never together: dof = 0, outside every gate
   double d2 = 0.0;
@@ -136,13 +141,8 @@ bool within_pair_bound(const AlignedTracks& a, std::size_t i, const AlignedTrack
 void check_pair_inputs(const AlignedTracks& a, const AlignedTracks& b) {
   require(a.dim == b.dim, "gated_candidate_pairs", "state dimensions differ");
   require(a.n_times == b.n_times, "gated_candidate_pairs", "numbers of common times differ");
-  for (const AlignedTracks* x : {&a, &b}) {
-    const std::size_t cells = static_cast<std::size_t>(x->n_tracks()) * x->n_times;
-    require(x->valid.size() == cells && x->state.size() == cells * x->dim &&
-                x->cov.size() == cells * packed_size(x->dim),
-            "gated_candidate_pairs",
-            "aligned tracks of sensor " + std::to_string(x->sensor) + " are inconsistent");
-  }
+  a.check_layout("gated_candidate_pairs");
+  b.check_layout("gated_candidate_pairs");
 }
 
 using Cell = GridCell;
@@ -275,26 +275,33 @@ int64_t SparsePairStatistic::find(int32_t ia, int32_t ib) const {
 
 namespace {
 
-// Copies the aligned rows `rows` of `x` into a new AlignedTracks (same times and dim).
+// Copies the aligned rows `rows` of `x` into a new AlignedTracks (same times and dim), each over
+// its span.
 void copy_rows(const AlignedTracks& x, std::span<const int32_t> rows, AlignedTracks& out) {
   const int D = x.dim, P = packed_size(D);
-  const std::size_t K = x.n_times;
   out.sensor = x.sensor;
   out.dim = x.dim;
   out.n_times = x.n_times;
   out.times = x.times;
   out.track.resize(rows.size());
   out.truth.resize(rows.size());
-  out.state.resize(rows.size() * K * D);
-  out.cov.resize(rows.size() * K * P);
-  out.valid.resize(rows.size() * K);
+  std::vector<int32_t> begin(rows.size()), length(rows.size());
+  for (std::size_t q = 0; q < rows.size(); ++q) {
+    const AlignedTracks::Span sp = x.span(rows[q]);
+    begin[q] = sp.begin;
+    length[q] = sp.size();
+  }
+  out.allocate(begin, length);
   for (std::size_t q = 0; q < rows.size(); ++q) {
     const std::size_t r = rows[q];
     out.track[q] = x.track[r];
     out.truth[q] = r < x.truth.size() ? x.truth[r] : -1;
-    std::copy_n(&x.state[r * K * D], K * D, &out.state[q * K * D]);
-    std::copy_n(&x.cov[r * K * P], K * P, &out.cov[q * K * P]);
-    std::copy_n(&x.valid[r * K], K, &out.valid[q * K]);
+    const auto from = static_cast<std::size_t>(x.span_offset[r]),
+               to = static_cast<std::size_t>(out.span_offset[q]);
+    const auto n = static_cast<std::size_t>(length[q]);
+    std::copy_n(x.state.data() + from * D, n * D, out.state.data() + to * D);
+    std::copy_n(x.cov.data() + from * P, n * P, out.cov.data() + to * P);
+    std::copy_n(x.valid.data() + from, n, out.valid.data() + to);
   }
 }
 

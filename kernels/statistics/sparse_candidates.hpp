@@ -63,7 +63,7 @@ struct TrackIndexKeys {
   std::vector<double> trajectory_radius;      // r: largest distance of a valid position from the mean
 };
 
-// O(n·K·m³). Tracks never valid get valid_times = 0 and are never candidates.
+// O(Σ spans·m³). Tracks never valid get valid_times = 0 and are never candidates.
 TrackIndexKeys track_index_keys(const AlignedTracks& tracks);
 
 struct CandidateOptions {

@@ -113,6 +113,8 @@ TEST(ScanCandidates, AWideCovarianceAmongSmallOnesGivesTheNaiveResult) {
         for (double v : {var, 0.0, 0.0, 0.0, var, 0.0, 0.0, 1.0, 0.0, 1.0}) x.cov.push_back(v);
       }
     }
+    x.span_begin.assign(x.track.size(), 0);  // every track over the 3 common times
+    for (std::size_t i = 0; i <= x.track.size(); ++i) x.span_offset.push_back(3 * static_cast<int64_t>(i));
     return x;
   };
   const AlignedTracks a = make(0, 1), b = make(1, 2);
@@ -157,11 +159,12 @@ double brute_force_optimum(const TrackFile& file, const PipelineOptions& po,
       AlignedTracks one = A, two = B;  // the pair alone, through the dense kernel
       auto keep_one = [](AlignedTracks& t, int32_t i) {
         const int D = t.dim, P = packed_size(D);
-        const std::size_t K = t.n_times;
-        std::vector<double> st(t.state.begin() + i * K * D, t.state.begin() + (i + 1) * K * D);
-        std::vector<double> cv(t.cov.begin() + i * K * P, t.cov.begin() + (i + 1) * K * P);
-        std::vector<uint8_t> va(t.valid.begin() + i * K, t.valid.begin() + (i + 1) * K);
+        const int64_t o = t.span_offset[i], n = t.span(i).size();
+        std::vector<double> st(t.state.begin() + o * D, t.state.begin() + (o + n) * D);
+        std::vector<double> cv(t.cov.begin() + o * P, t.cov.begin() + (o + n) * P);
+        std::vector<uint8_t> va(t.valid.begin() + o, t.valid.begin() + o + n);
         t.state = st, t.cov = cv, t.valid = va, t.track = {t.track[i]}, t.truth = {t.truth[i]};
+        t.span_begin = {t.span_begin[i]}, t.span_offset = {0, n};
       };
       keep_one(one, nodes[x].i);
       keep_one(two, nodes[y].i);

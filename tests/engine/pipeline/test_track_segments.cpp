@@ -178,6 +178,8 @@ TEST(TrackSegments, DuplicateStatisticByHand) {
   a.state.assign(2 * 4 * 4, 0.0);
   a.cov.assign(2 * 4 * 10, 0.0);
   a.valid = {1, 1, 1, 1, 1, 1, 0, 1};
+  a.span_begin = {0, 0};  // both over the 4 common times
+  a.span_offset = {0, 4, 8};
   // packed upper triangle: (0,0) (0,1) (0,2) (0,3) (1,1) (1,2) (1,3) (2,2) (2,3) (3,3)
   auto cov = [&](int track, int k, double xx, double xy, double yy) {
     double* P = &a.cov[(track * 4 + k) * 10];

@@ -109,6 +109,8 @@ AlignedTracks aligned(const std::vector<Eigen::VectorXd>& x, const std::vector<E
       for (int j = i; j < kD; ++j) a.cov.push_back(P[k](i, j));
     a.valid.push_back(1);
   }
+  a.span_begin = {0};  // the track over every scan
+  a.span_offset = {0, a.n_times};
   return a;
 }
 

@@ -25,17 +25,15 @@ struct AlignedBuilder {
       x.track.push_back(i);
       x.truth.push_back(-1);
     }
-    x.state.assign(static_cast<std::size_t>(n) * K * d, 0.0);
-    x.cov.assign(static_cast<std::size_t>(n) * K * packed_size(d), 0.0);
-    x.valid.assign(static_cast<std::size_t>(n) * K, 0);
+    x.allocate_full();
   }
   void set(int i, int k, std::vector<double> state, std::vector<std::vector<double>> P) {
-    const int d = x.dim, K = x.n_times;
-    const std::size_t cell = static_cast<std::size_t>(i) * K + k;
+    const int d = x.dim;
+    const int64_t cell = x.cell(i, k);
     x.valid[cell] = 1;
-    for (int c = 0; c < d; ++c) x.state[cell * d + c] = state[c];
+    for (int c = 0; c < d; ++c) x.state_at(cell)[c] = state[c];
     for (int r = 0, p = 0; r < d; ++r)
-      for (int c = r; c < d; ++c, ++p) x.cov[cell * packed_size(d) + p] = P[r][c];
+      for (int c = r; c < d; ++c, ++p) x.cov_at(cell)[p] = P[r][c];
   }
 };
 
@@ -265,10 +263,10 @@ TEST(AlignTracks, CvPredictionHandExample) {
   EXPECT_EQ(al.track[1], 7);
   EXPECT_EQ(al.truth[1], 42);
   ASSERT_EQ(al.n_times, 5);
-  const int D = 4, P = 10, K = 5;
-  auto valid = [&](int a, int k) { return al.valid[a * K + k]; };
-  auto x = [&](int a, int k, int c) { return al.state[(a * K + k) * D + c]; };
-  auto cov = [&](int a, int k, int r, int c) { return al.cov[(a * K + k) * P + packed_index(D, r, c)]; };
+  const int D = 4;
+  auto valid = [&](int a, int k) { return al.valid_at(a, k); };
+  auto x = [&](int a, int k, int c) { return al.state_at(al.cell(a, k))[c]; };
+  auto cov = [&](int a, int k, int r, int c) { return al.cov_at(al.cell(a, k))[packed_index(D, r, c)]; };
   EXPECT_FALSE(valid(1, 0));  // before the first report
   ASSERT_TRUE(valid(1, 1));
   EXPECT_NEAR(x(1, 1, 0), 10.0, 1e-12);

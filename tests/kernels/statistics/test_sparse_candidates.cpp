@@ -123,6 +123,8 @@ TEST(SparseCandidates, RadiusByHand) {
     t.cov.assign(10, 0.0);
     for (int c = 0; c < 4; ++c) t.cov[packed_index(4, c, c)] = 1.0;
     t.valid = {1};
+    t.span_begin = {0};
+    t.span_offset = {0, 1};
     return t;
   };
   const CandidateOptions co{0.99, 1.0};
