@@ -445,9 +445,12 @@ PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& 
   s.in_gate.assign(pairs, 0);
 
   const PairTerms<D> terms(a, b, opt);
-  const SequentialGate gate(d, opt, K);
-  std::vector<double> threshold(K + 1, 0.0);
-  for (int32_t k = 1; k <= K; ++k) threshold[k] = gate.threshold(k);
+  // A pair has at most min(longest spans) common times: thresholds up to there only (each is a χ²
+  // quantile; a 2-hour grid has 600 times, a wide-area track's span a few dozen).
+  const int32_t most = std::min({K, longest_span(a), longest_span(b)});
+  const SequentialGate gate(d, opt, most);
+  std::vector<double> threshold(most + 1, 0.0);
+  for (int32_t k = 1; k <= most; ++k) threshold[k] = gate.threshold(k);
   const double cap = gate.cap();
 
   // One task per block of rows a; each pair is a serial loop over k, so the result does not

@@ -121,6 +121,14 @@ struct AlignedTracks {
   void check_layout(const char* who) const;
 };
 
+// The longest span of `x`'s tracks: no pair with them has more common times (the gate's
+// thresholds are needed up to min(longest_span(a), longest_span(b)) only, not the grid's K).
+inline int32_t longest_span(const AlignedTracks& x) {
+  int32_t n = 0;
+  for (int32_t i = 0; i < x.n_tracks(); ++i) n = n > x.span(i).size() ? n : x.span(i).size();
+  return n;
+}
+
 // The common times where both spans lie: loops over a pair visit these only.
 inline AlignedTracks::Span common_span(AlignedTracks::Span a, AlignedTracks::Span b) {
   return {a.begin > b.begin ? a.begin : b.begin, a.end < b.end ? a.end : b.end};

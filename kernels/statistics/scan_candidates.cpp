@@ -213,7 +213,7 @@ CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTrac
                                        const CandidatePairs& pairs, const StatisticOptions& statistic) {
   if ((statistic.correlated && statistic.cross_correlation > 0.0) || statistic.common_process_noise > 0.0)
     return pairs;  // the bound is for C = P_a + P_b
-  const SequentialGate gate(a.dim, statistic, a.n_times);
+  const SequentialGate gate(a.dim, statistic, std::min({a.n_times, longest_span(a), longest_span(b)}));
   if (!gate.enabled()) return pairs;
   const int D = a.dim, m = D / 2;
   const double cap = gate.cap();
