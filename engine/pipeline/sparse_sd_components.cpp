@@ -247,22 +247,25 @@ SDComponentResult solve_sd_component(const SDComponentView& v, const std::string
                                      std::size_t max_entries) {
   const double entries = v.entries();
   // The dense sub-tensor (float per entry) when it is small enough and fits the memory budget with
-  // what is held (issue 30); otherwise the merging fallback, which needs O(gated pairs).
+  // what is held (issue 30); the relaxation over its allowed tuples when the tensor does not fit,
+  // or when it is far larger than their list (engine/pipeline/sparse_sd_tuples.hpp: a component
+  // that many sensors share, as in a radar network, has Π(n_s + 1) entries growing with the
+  // sensors, and each relaxation iteration passes over all of them); else the merging fallback,
+  // the last resort, which needs O(gated pairs).
   const double held = v.bytes_held + static_cast<double>(v.link_bytes());
-  const bool dense = entries <= static_cast<double>(max_entries) &&
-                     bytes_of(held + entries * sizeof(float), 1) <= memory_budget_bytes();
-  if (dense) return solve_dense_sd_component(v, solver, solver_options, all_pairs);
-  // Too large for the dense sub-tensor: the relaxation over its allowed tuples, when their list
-  // fits the budget beside what is held (engine/pipeline/sparse_sd_tuples.hpp); else the merging
-  // fallback, the last resort.
-  // The room beside what is held, shared by the components listed at once (one per thread).
-  const double room = (static_cast<double>(memory_budget_bytes()) - held) /
-                      std::max(1, oneapi::tbb::this_task_arena::max_concurrency());
-  SDComponentResult r;
-  if (std::optional<TupleListSD> list = list_component_tuples(v, all_pairs, room))
-    r = solve_sd_component_by_tuples(v, *list, all_pairs);
-  else
-    r = solve_sd_component_by_merging(v, all_pairs);
+  const bool fits_dense = entries <= static_cast<double>(max_entries) &&
+                          bytes_of(held + entries * sizeof(float), 1) <= memory_budget_bytes();
+  std::optional<TupleListSD> list;
+  if (!fits_dense || entries > kListAboveEntries) {
+    // The room beside what is held, shared by the components listed at once (one per thread).
+    const double room = (static_cast<double>(memory_budget_bytes()) - held) /
+                        std::max(1, oneapi::tbb::this_task_arena::max_concurrency());
+    list = list_component_tuples(v, all_pairs, room);
+  }
+  if (fits_dense && (!list || static_cast<double>(list->size()) * kTensorPerListedTuple > entries))
+    return solve_dense_sd_component(v, solver, solver_options, all_pairs);
+  SDComponentResult r =
+      list ? solve_sd_component_by_tuples(v, *list, all_pairs) : solve_sd_component_by_merging(v, all_pairs);
   r.entries = static_cast<std::size_t>(std::min(entries, 1e18));
   return r;
 }

@@ -32,6 +32,11 @@
 namespace trackassoc {
 
 inline constexpr double kMaxListedTuplesPerTrack = 32.0;
+// A component whose dense sub-tensor fits is still solved over its list when the tensor has more
+// than kListAboveEntries entries and at least kTensorPerListedTuple per listed tuple
+// (engine/pipeline/sparse_sd_components.cpp): widearea_small's 16-radar components.
+inline constexpr double kListAboveEntries = 65536.0;
+inline constexpr double kTensorPerListedTuple = 64.0;
 
 // The allowed tuples of a component (indices are the view's per-sensor indices, costs by
 // sd_component_tuple_cost), or nullopt when the list would need more than `max_bytes` or hold more

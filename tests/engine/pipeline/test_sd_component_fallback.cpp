@@ -144,6 +144,24 @@ TEST(SDComponentFallback, ManySensorsThatAllGateOneAnotherAreMergedNotListed) {
   EXPECT_DOUBLE_EQ(r.objective, -1.0 * S * (S - 1) / 2);  // all 66 pairs linked
 }
 
+TEST(SDComponentFallback, ATensorFarLargerThanItsListIsSolvedOverTheList) {
+  // One track on each of 17 sensors, linked in a chain s0–s1–…–s16 (−1 each), every other pair
+  // coexisting and ungated, so a tuple of three is forbidden: the allowed tuples are the 17
+  // singletons and the 16 links (33); the tensor has 2^17 = 131 072 entries (> kListAboveEntries,
+  // > 64 × 33): solved over the list, to a maximum matching of the path (8 pairs and one track
+  // alone, −8) with a bound within 1 %.
+  const int32_t S = 17;
+  SDComponentView v = overlapping_view(std::vector<int32_t>(S, 1));
+  for (int32_t s = 0; s + 1 < S; ++s) set_link(v, s, 0, s + 1, 0, -1.0);
+  const SDComponentResult r = solve_sd_component(v, "lr+ls", nlohmann::json::object(), true, 1u << 24);
+  EXPECT_FALSE(r.fallback);
+  EXPECT_EQ(r.listed_tuples, 33u);
+  EXPECT_EQ(r.tuples.size(), 9u);
+  EXPECT_DOUBLE_EQ(r.objective, -8.0);
+  EXPECT_LE(r.lower_bound, -8.0 + 1e-9);  // a valid bound
+  EXPECT_GE(r.lower_bound, -8.0 * 1.01);  // within 1 %
+}
+
 TEST(SDComponentFallback, NeverBelowTheExactOptimumAndAlwaysAPartition) {
   // Random components of 3–4 sensors; the fallback is a feasible answer of the same problem, so its
   // objective (the sum of its tuples' costs) is at least the proven optimum of the dense solve.
