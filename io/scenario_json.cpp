@@ -372,7 +372,8 @@ std::string scenario_to_json(const Scenario& s) {
       eo["swap_distance"] = e.swap_distance;
       o["errors"] = eo;
     }
-    if (i < s.sensor_coverage.size() && s.sensor_coverage[i] > 0.0) o["coverage_radius"] = s.sensor_coverage[i];
+    if (i < s.sensor_coverage.size() && s.sensor_coverage[i] > 0.0)
+      o["coverage_radius"] = s.sensor_coverage[i];
     if (i < s.sensor_trackers.size() && s.sensor_trackers[i])
       o["tracker"] = tracker_json(*s.sensor_trackers[i]);
     j["sensors"].push_back(o);

@@ -358,7 +358,8 @@ SimulationResult simulate(const Scenario& sc, uint64_t seed, int run) {
   if (sc.is_wide_area())
     for (std::size_t s = 0; s < sc.sensors.size(); ++s)
       lifecycle.push_back({sc.wide_area.coast_scans, coverage_of(sc, s)});
-  result.tracks = track_measurements(all, sc.sensors, sc.layout, trackers, seed, run, scans, lifecycle).tracks;
+  result.tracks =
+      track_measurements(all, sc.sensors, sc.layout, trackers, seed, run, scans, lifecycle).tracks;
   if (sc.is_wide_area() && !plan.active) drop_short_tracks(result.tracks);
   apply_recording(plan, sc, targets, result);
   apply_sensor_errors(sc, targets, result.tracks);

@@ -255,8 +255,8 @@ bool beyond_coverage(const Eigen::VectorXd& x, const Sensor& sensor, double radi
 
 SensorTracks track_one_sensor(const Measurements& meas, const std::vector<std::size_t>& rows,
                               const Sensor& sensor, std::size_t sensor_index, StateLayout layout,
-                              const LocalTrackerSpec& spec, uint64_t seed, int run,
-                              std::vector<double> scans, const TrackLifecycle& life) {
+                              const LocalTrackerSpec& spec, uint64_t seed, int run, std::vector<double> scans,
+                              const TrackLifecycle& life) {
   const int d = spatial_dim(layout);
   SensorTracks out;
   out.table.reset(layout);

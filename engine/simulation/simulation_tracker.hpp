@@ -61,9 +61,10 @@ std::unique_ptr<LocalFilterBank> make_local_filter_bank(const LocalTrackerSpec& 
 // default keeps the model above: a track, once started, is reported at every scan to the end.
 // With coast_scans = M > 0 a track is deleted at its M-th missed scan in a row (no row then), or,
 // with coverage_radius R > 0, at a scan where its estimated position (after the update, or at its
-// initialisation) lies beyond R from the sensor's surveyed position (no row then either); the target's next two plots start a new track (two-point initialisation, only if they
-// are at most M scans apart) with a new local number. Numbers are then given per sensor in order
-// of initiation (0, 1, ...; not shuffled), one per track.
+// initialisation) lies beyond R from the sensor's surveyed position (no row then either); the target's next
+// two plots start a new track (two-point initialisation, only if they are at most M scans apart) with a new
+// local number. Numbers are then given per sensor in order of initiation (0, 1, ...; not shuffled), one per
+// track.
 struct TrackLifecycle {
   int32_t coast_scans = 0;
   double coverage_radius = 0.0;  // [m], 0 = unlimited

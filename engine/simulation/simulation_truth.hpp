@@ -68,9 +68,9 @@ enum class SimulationStream : uint64_t {
   kPhantomWindow = 11,     // per (sensor, false track): its coverage window
   kPhantomDetection = 12,  // per (sensor, false track): its detections and noise
   // The wide-area model (engine/simulation/simulation_widearea.hpp).
-  kFade = 13,      // per (sensor, target or phantom): fade start times and durations
-  kBirth = 14,     // per run: the birth times of the born targets
-  kLifetime = 15   // per random target (group) or born target: its lifetime
+  kFade = 13,     // per (sensor, target or phantom): fade start times and durations
+  kBirth = 14,    // per run: the birth times of the born targets
+  kLifetime = 15  // per random target (group) or born target: its lifetime
 };
 inline uint64_t stream_id(SimulationStream tag, uint64_t index) {
   return (static_cast<uint64_t>(tag) << 40) | index;

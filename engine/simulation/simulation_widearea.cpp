@@ -86,14 +86,15 @@ void validate_wide_area(const Scenario& sc) {
   for (std::size_t s = 0; s < sc.sensor_coverage.size(); ++s) {
     const double r = sc.sensor_coverage[s];
     const std::string where = "scenario.sensors[" + std::to_string(s) + "].";
-    require(std::isfinite(r) && r >= 0.0, where + "coverage_radius", "expected a finite radius ≥ 0 [m] (0 = unlimited)");
+    require(std::isfinite(r) && r >= 0.0, where + "coverage_radius",
+            "expected a finite radius ≥ 0 [m] (0 = unlimited)");
     any_radius = any_radius || r > 0.0;
     if (sc.is_wide_area() && sc.sensors[s].clutter_rate > 0.0)
       require(r > 0.0, where + "coverage_radius",
               "clutter in a wide-area scenario is spread over the coverage: give this sensor a radius > 0");
   }
-  require(std::isfinite(w.edge_fraction) && w.edge_fraction >= 0.0 && w.edge_fraction < 1.0, k + "edge_fraction",
-          "expected a fraction in [0, 1) of the coverage radius");
+  require(std::isfinite(w.edge_fraction) && w.edge_fraction >= 0.0 && w.edge_fraction < 1.0,
+          k + "edge_fraction", "expected a fraction in [0, 1) of the coverage radius");
   require(std::isfinite(w.fade_rate) && w.fade_rate >= 0.0, k + "fade_rate", "expected a rate ≥ 0 [1/s]");
   require(std::isfinite(w.fade_duration_min) && w.fade_duration_min >= 0.0, k + "fade_duration_min",
           "expected a duration ≥ 0 [s]");
@@ -106,8 +107,8 @@ void validate_wide_area(const Scenario& sc) {
   for (std::size_t i = 0; i < w.masks.size(); ++i) {
     const MaskSpec& m = w.masks[i];
     const std::string where = k + "masks[" + std::to_string(i) + "].";
-    require(sensor_ids.count(m.sensor) == 1, where + "sensor", "expected the id of a sensor of the scenario, found " +
-                                                                    std::to_string(m.sensor));
+    require(sensor_ids.count(m.sensor) == 1, where + "sensor",
+            "expected the id of a sensor of the scenario, found " + std::to_string(m.sensor));
     require(std::isfinite(m.start) && std::isfinite(m.end) && m.end > m.start, where + "end",
             "expected end > start [s]");
   }
@@ -115,8 +116,8 @@ void validate_wide_area(const Scenario& sc) {
   require(w.coast_scans > 0 || (!any_radius && w.fade_rate == 0.0 && w.masks.empty()), k + "coast_scans",
           "coverage radii, fades and masks break tracks only if a track ends when its target is lost: give "
           "coast_scans ≥ 1 (missed scans in a row before a local track is deleted)");
-  require(std::isfinite(w.birth_rate) && w.birth_rate >= 0.0 && w.birth_rate * sc.duration <= 1e7, k + "birth_rate",
-          "expected a rate ≥ 0 [1/s] with at most 10^7 births over the duration");
+  require(std::isfinite(w.birth_rate) && w.birth_rate >= 0.0 && w.birth_rate * sc.duration <= 1e7,
+          k + "birth_rate", "expected a rate ≥ 0 [1/s] with at most 10^7 births over the duration");
   require(std::isfinite(w.lifetime_mean) && w.lifetime_mean >= 0.0, k + "lifetime_mean",
           "expected a mean lifetime ≥ 0 [s] (0 = targets live the whole run)");
   require(w.birth_rate == 0.0 || w.lifetime_mean > 0.0, k + "lifetime_mean",
@@ -165,7 +166,8 @@ double expected_target_seconds(const Scenario& sc) {
   const double n0 = static_cast<double>(sc.targets.size() + sc.random_targets.count);
   if (L <= 0.0) return n0 * T;
   const double lived = L * (1.0 - std::exp(-T / L));  // E[min(life, T)]
-  return static_cast<double>(sc.targets.size()) * T + sc.random_targets.count * lived + lambda * L * (T - lived);
+  return static_cast<double>(sc.targets.size()) * T + sc.random_targets.count * lived +
+         lambda * L * (T - lived);
 }
 
 double coverage_share(const Scenario& sc, std::size_t s) {
@@ -197,11 +199,12 @@ SensorMeasurements simulate_sensor_wide(const Scenario& sc, std::size_t s,
   auto add = [&](const TargetTrajectory& tr, std::size_t i, bool phantom) {
     if (R > 0.0 && bounding_box(tr).distance_to(site.position) > R) return;
     const uint64_t fade_index = phantom ? targets.size() + i : i;
-    em.emplace_back(&tr, i, phantom,
-                    CounterRng(seed, r,
-                               stream_id(phantom ? SimulationStream::kPhantomDetection : SimulationStream::kDetection, s),
-                               i),
-                    CounterRng(seed, r, stream_id(SimulationStream::kFade, s), fade_index));
+    em.emplace_back(
+        &tr, i, phantom,
+        CounterRng(seed, r,
+                   stream_id(phantom ? SimulationStream::kPhantomDetection : SimulationStream::kDetection, s),
+                   i),
+        CounterRng(seed, r, stream_id(SimulationStream::kFade, s), fade_index));
     em.back().fade_end = tr.born;
   };
   for (std::size_t j = 0; j < targets.size(); ++j) add(targets[j], j, false);
@@ -224,7 +227,8 @@ SensorMeasurements simulate_sensor_wide(const Scenario& sc, std::size_t s,
     for (Emitter& e : em) {
       const TargetTrajectory& tr = *e.tr;
       if (!tr.alive(t)) continue;
-      if (recording && !(e.phantom ? recording->keeps_phantom(e.index, t) : recording->keeps_target(e.index, t)))
+      if (recording &&
+          !(e.phantom ? recording->keeps_phantom(e.index, t) : recording->keeps_target(e.index, t)))
         continue;
       const std::array<double, 3> p = tr.position_at(t - errors.clock_offset, e.piece);
       PolarPoint q = cartesian_to_polar(d, site, p);
@@ -245,8 +249,7 @@ SensorMeasurements simulate_sensor_wide(const Scenario& sc, std::size_t s,
       q.range += errors.range_bias;
       q.bearing += errors.azimuth_bias;
       q.elevation += errors.elevation_bias;
-      push(t, std::max(0.0, q.range + sensor.sigma_range * nr),
-           wrap(q.bearing + sensor.sigma_bearing * nb),
+      push(t, std::max(0.0, q.range + sensor.sigma_range * nr), wrap(q.bearing + sensor.sigma_bearing * nb),
            std::clamp(q.elevation + sensor.sigma_elevation * ne, -std::numbers::pi / 2, std::numbers::pi / 2),
            tr.id);
     }

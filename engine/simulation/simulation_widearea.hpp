@@ -57,7 +57,8 @@ double coverage_gain(double range, double radius, double edge_fraction);
 double draw_lifetime(const Scenario& scenario, uint64_t seed, int run, uint64_t index);
 
 // The targets born during the run, ids first_id, first_id + 1, ... in order of birth.
-std::vector<TargetTrajectory> born_targets(const Scenario& scenario, uint64_t seed, int run, int32_t first_id);
+std::vector<TargetTrajectory> born_targets(const Scenario& scenario, uint64_t seed, int run,
+                                           int32_t first_id);
 
 // Expected target-seconds of existence over the run (size estimates), and the fraction of a
 // target's time that sensor s can see (its coverage disc over the random-target area, at most 1).

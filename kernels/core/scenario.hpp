@@ -130,10 +130,10 @@ struct WideAreaSpec {
   double edge_fraction = 0.12;  // p_detect rolls off (raised cosine) over this outer fraction of the radius
   double fade_rate = 0.0;       // [1/s] per (sensor, target): fades start as a Poisson process
   double fade_duration_min = 0.0, fade_duration_max = 0.0;  // [s] a fade lasts U(min, max)
-  std::vector<MaskSpec> masks;  // scripted fades
-  int32_t coast_scans = 0;      // > 0: a local track is deleted after this many missed scans in a row
-  double birth_rate = 0.0;      // [1/s] random targets born (Poisson) over (0, duration]
-  double lifetime_mean = 0.0;   // [s] > 0: every random target lives Exp(mean) (the initial ones too)
+  std::vector<MaskSpec> masks;                              // scripted fades
+  int32_t coast_scans = 0;     // > 0: a local track is deleted after this many missed scans in a row
+  double birth_rate = 0.0;     // [1/s] random targets born (Poisson) over (0, duration]
+  double lifetime_mean = 0.0;  // [s] > 0: every random target lives Exp(mean) (the initial ones too)
   bool is_default() const { return *this == WideAreaSpec{}; }
   friend bool operator==(const WideAreaSpec&, const WideAreaSpec&) = default;
 };

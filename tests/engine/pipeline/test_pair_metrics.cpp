@@ -20,13 +20,13 @@ TrackTable hand_built_tracks() {
     for (double time = t0; time <= t1; time += 5.0, ++k)
       t.push_back(sensor, number, time, x, P, truth[std::min(k, truth.size() - 1)]);
   };
-  track(10, 0, 0, 10, {1});        // target 1, [0, 10]
-  track(10, 1, 20, 30, {1});       // target 1 again, [20, 30]: a fragment after 10/0
-  track(10, 2, 0, 30, {2});        // target 2, [0, 30]
-  track(10, 3, 5, 15, {-1});       // a false track
-  track(20, 5, 5, 25, {1});        // target 1, [5, 25]: overlaps 10/0 and 10/1
-  track(20, 6, 40, 50, {2});       // target 2, [40, 50]: overlaps nothing of sensor 10
-  track(20, 7, 25, 35, {3, 2, 2}); // majority target 2, [25, 35]: overlaps 10/2; 20/6 follows it
+  track(10, 0, 0, 10, {1});         // target 1, [0, 10]
+  track(10, 1, 20, 30, {1});        // target 1 again, [20, 30]: a fragment after 10/0
+  track(10, 2, 0, 30, {2});         // target 2, [0, 30]
+  track(10, 3, 5, 15, {-1});        // a false track
+  track(20, 5, 5, 25, {1});         // target 1, [5, 25]: overlaps 10/0 and 10/1
+  track(20, 6, 40, 50, {2});        // target 2, [40, 50]: overlaps nothing of sensor 10
+  track(20, 7, 25, 35, {3, 2, 2});  // majority target 2, [25, 35]: overlaps 10/2; 20/6 follows it
   return t;
 }
 

@@ -75,7 +75,8 @@ TEST(WideArea, NoPlotOrReportBeyondTheCoverageRadius) {
   ASSERT_GT(r.tracks.size(), 1000u);
   for (std::size_t i = 0; i < r.tracks.size(); ++i) {
     const Sensor& s = sc.sensors[r.tracks.sensor[i]];
-    const double range = std::hypot(r.tracks.state[0][i] - s.position[0], r.tracks.state[1][i] - s.position[1]);
+    const double range =
+        std::hypot(r.tracks.state[0][i] - s.position[0], r.tracks.state[1][i] - s.position[1]);
     EXPECT_LE(range, 100e3) << "track report " << i;
   }
 }
