@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "engine/pipeline/metrics.hpp"
+#include "kernels/assignment/clusters.hpp"
 
 namespace trackassoc {
 
@@ -16,16 +17,6 @@ namespace {
 uint64_t code(int32_t column, int32_t track) {
   return (static_cast<uint64_t>(static_cast<uint32_t>(column)) << 32) | static_cast<uint32_t>(track);
 }
-
-struct UnionFind {
-  std::vector<std::size_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::size_t find(std::size_t a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  }
-  void join(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
-};
 
 double rate(int64_t part, int64_t whole) {
   return whole > 0 ? static_cast<double>(part) / static_cast<double>(whole)
@@ -81,8 +72,8 @@ PairMetrics evaluate_pairs(const TrackTable& tracks, const std::vector<Sensor>& 
       if (!added) joins.push_back({it->second, tuple_keys[0]});
     }
   }
-  UnionFind uf(keys.size());
-  for (const auto& [a, b] : joins) uf.join(a, b);
+  UnionFind uf(static_cast<int32_t>(keys.size()));
+  for (const auto& [a, b] : joins) uf.unite(static_cast<int32_t>(a), static_cast<int32_t>(b));
 
   // Keys of each truth, by first report.
   std::map<int32_t, std::vector<std::size_t>> of_truth;
@@ -98,19 +89,22 @@ PairMetrics evaluate_pairs(const TrackTable& tracks, const std::vector<Sensor>& 
       for (std::size_t y = x + 1; y < list.size() && keys[list[y]].first <= a.last; ++y)
         if (keys[list[y]].column != a.column) {
           ++m.coexisting;
-          m.coexisting_linked += uf.find(list[x]) == uf.find(list[y]);
+          m.coexisting_linked +=
+              uf.find(static_cast<int32_t>(list[x])) == uf.find(static_cast<int32_t>(list[y]));
         }
       auto prev = previous_on_column.find(a.column);
       if (prev != previous_on_column.end() && a.first > keys[prev->second].last) {
         ++m.fragments;
-        m.fragments_linked += uf.find(prev->second) == uf.find(list[x]);
+        m.fragments_linked +=
+            uf.find(static_cast<int32_t>(prev->second)) == uf.find(static_cast<int32_t>(list[x]));
       }
       previous_on_column[a.column] = list[x];
     }
   }
   // Linked pairs per output target: all pairs, and those of one truth ≥ 0.
   std::unordered_map<std::size_t, std::map<int32_t, int64_t>> truths_of_root;
-  for (std::size_t i = 0; i < keys.size(); ++i) ++truths_of_root[uf.find(i)][keys[i].truth];
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    ++truths_of_root[uf.find(static_cast<int32_t>(i))][keys[i].truth];
   for (const auto& [root, counts] : truths_of_root) {
     int64_t members = 0;
     for (const auto& [truth, c] : counts) {
