@@ -259,10 +259,14 @@ struct MergeGate {
 // Cost of merging targets a and b into one, +inf unless, on every sensor, each member of one
 // follows or precedes each member of the other (a), and on at least one sensor they both hold,
 // each such earlier member's last report continues to the later one's first by constant velocity
-// (d), every member of each is linked with common
-// reports to a member of the other on another sensor (b), and no two members on different sensors
-// were tested and failed the gate (c): the targets' tracks are then one target's fragments that the
-// one-per-sensor assignment put into two tuples (both keys of a swap cut on two sensors, say).
+// (d), at least one member of one is linked with common reports to a member of the other on
+// another sensor (b), and no two members on different sensors were tested and failed the gate (c):
+// the targets' tracks are then one target's fragments that the one-per-sensor assignment put into
+// two tuples. Both sensors break at once (both keys of a swap cut), or one after the other (a
+// radar network's handover, a fade on one radar, then on another): then only the members that
+// report while the other target's do are linked, A₂ with B₁ of {A₁, B₁} and {A₂, B₂}, so (b) asks
+// for one such link, not one per member (which merged no staggered break; the figures are in
+// docs/design.md §4.10, "Staggered breaks").
 double merge_cost(const SegmentGraph& g, const TrackTable& tracks, const Target& a, const Target& b,
                   const OverlapRule& rule, const MergeGate& gate) {
   const std::size_t S = a.members.size();
@@ -279,11 +283,7 @@ double merge_cost(const SegmentGraph& g, const TrackTable& tracks, const Target&
       }
   if (!continued) return kInf;  // (d)
   double cost = 0.0;
-  std::unordered_map<int32_t, bool> evidence;  // (b): per member of a and of b
-  for (std::size_t s = 0; s < S; ++s)
-    for (int32_t u : a.members[s]) evidence[u] = false;
-  for (std::size_t s = 0; s < S; ++s)
-    for (int32_t m : b.members[s]) evidence[m] = false;
+  bool evidence = false;  // (b)
   for (std::size_t s = 0; s < S; ++s)
     for (int32_t u : a.members[s])
       for (std::size_t r = 0; r < S; ++r) {
@@ -295,12 +295,10 @@ double merge_cost(const SegmentGraph& g, const TrackTable& tracks, const Target&
             continue;
           }
           cost += *c;
-          if (g.overlap_s(u, m) > 0.0) evidence[u] = evidence[m] = true;
+          evidence = evidence || g.overlap_s(u, m) > 0.0;
         }
       }
-  for (const auto& [u, linked] : evidence)
-    if (!linked) return kInf;  // (b)
-  return cost;
+  return evidence ? cost : kInf;  // (b)
 }
 
 // One round of merges: every pair of targets linked by a gated-in pair of members is a candidate;

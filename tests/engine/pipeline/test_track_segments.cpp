@@ -5,6 +5,7 @@
 //  * without the segment pass the one-to-one assignment cannot get a broken target right (missed),
 //  * with it every target is correct (evaluate_association over target numbers), each tuple's
 //    members report at the same times, and every track is in exactly one target;
+//  * when both sensors break at different times, a target's early and late tuples merge;
 //  * segments that overlap by more than max_overlap_s (two tracks at once, not one after the
 //    other) never join one target on one sensor;
 //  * a duplicate (a second track of one target on one sensor at the same time) joins its target
@@ -32,32 +33,33 @@ namespace {
 
 constexpr int32_t kRenumber = 1000;  // the second segment of track k is track k + kRenumber
 
-// recorded_sync with its first two sensors; sensor `broken` loses every track between t_end and
-// t_start (a gap, or an overlap when t_start < t_end), the rows from t_start on taking a new number.
-TrackFile broken_file(double t_end, double t_start) {
+// recorded_sync with its first two sensors; sensor c (0, 1) loses every track between t_end[c] and
+// t_start[c] (a gap, or an overlap when t_start < t_end), the rows from t_start[c] on taking a new
+// number (never: both 1e9).
+TrackFile staggered_file(std::array<double, 2> t_end, std::array<double, 2> t_start) {
   const Scenario sc = load_scenario("recorded_sync");
   TrackFile f = simulation_to_track_file(sc, simulate(sc, 1, 0));
-  const int32_t keep_a = f.sensors[0].id, broken = f.sensors[1].id;
+  const std::array<int32_t, 2> ids{f.sensors[0].id, f.sensors[1].id};
   f.sensors.resize(2);
   TrackTable out(f.tracks.layout);
   for (std::size_t r = 0; r < f.tracks.size(); ++r) {
     const int32_t s = f.tracks.sensor[r];
-    if (s != keep_a && s != broken) continue;
+    const int c = s == ids[0] ? 0 : (s == ids[1] ? 1 : -1);
+    if (c < 0) continue;
     const double t = f.tracks.t[r];
     const auto x = f.tracks.state_at(r);
     const auto P = f.tracks.cov_at(r);
-    if (s == keep_a) {
-      out.push_back(s, f.tracks.track[r], t, x, P, f.tracks.truth[r]);
-      continue;
-    }
-    if (t < t_end) out.push_back(s, f.tracks.track[r], t, x, P, f.tracks.truth[r]);
-    if (t >= t_start) out.push_back(s, f.tracks.track[r] + kRenumber, t, x, P, f.tracks.truth[r]);
+    if (t < t_end[c]) out.push_back(s, f.tracks.track[r], t, x, P, f.tracks.truth[r]);
+    if (t >= t_start[c]) out.push_back(s, f.tracks.track[r] + kRenumber, t, x, P, f.tracks.truth[r]);
   }
   f.tracks = out;
   f.measurements.reset();   // of the dropped sensor too
   f.scenario_json.clear();  // a recorded track set now
   return f;
 }
+
+// Sensor 1 broken between t_end and t_start, sensor 0 whole.
+TrackFile broken_file(double t_end, double t_start) { return staggered_file({1e9, t_end}, {1e9, t_start}); }
 
 // recorded_sync with its first two sensors; from t_start on, sensor 1 holds a second track of
 // every target (number + kRenumber) beside the first, its position shifted by dx along x.
@@ -139,6 +141,29 @@ TEST(TrackSegments, BrokenTracksJoinTheirTargets) {
   ASSERT_EQ(back.associations.size(), 1u);
   EXPECT_EQ(back.associations[0].target, rec.target);
   EXPECT_EQ(back.associations[0].tuples, rec.tuples);
+}
+
+TEST(TrackSegments, StaggeredBreaksMergeTheirTargets) {
+  // Both sensors break every track, at different times (a radar handing over, a fade on one of
+  // them): sensor 0 after its report at 12 s (the new track from 16 s), sensor 1 after 44 s (from
+  // 48 s). The one-per-sensor assignment gives each target two tuples, early {A1, B1} and late
+  // {A2, B2}; A1 and B2 never report together, so only B1 and A2 (16-44 s) link the two. The merge takes
+  // the targets whose members follow each other on each sensor (a), continue by constant velocity
+  // (d), are linked over common reports by at least one pair (b) and fail no tested pair (c).
+  const TrackFile f = staggered_file({14.0, 46.0}, {15.0, 47.0});
+  const AssociationOutcome plain = associate(f, false);
+  const AssociationMetrics mp = evaluate_association(f.tracks, f.sensors, plain.record);
+  ASSERT_GT(mp.targets, 3);
+  EXPECT_EQ(mp.correct, 0) << "a target of four tracks cannot be one tuple of two sensors";
+
+  const AssociationOutcome seg = associate(f, true);
+  const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, seg.record);
+  EXPECT_EQ(m.targets, mp.targets);
+  EXPECT_EQ(m.correct, m.targets);
+  EXPECT_EQ(m.false_tuples, 0);
+  ASSERT_TRUE(seg.summary.segments.has_value());
+  EXPECT_GT(seg.summary.segments->targets_merged, 0) << "the early and late tuples of a target merge";
+  for (const UnassociatedTracks& u : seg.unassociated) EXPECT_TRUE(u.tracks.empty()) << u.sensor_id;
 }
 
 TEST(TrackSegments, OverlappingTracksDoNotJoin) {
