@@ -10,9 +10,12 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <span>
+#include <string>
 
 #include "engine/pipeline/front_end.hpp"
+#include "io/track_file.hpp"
 #include "kernels/assignment/clusters.hpp"
 #include "kernels/statistics/sparse_candidates.hpp"
 
@@ -26,5 +29,25 @@ struct GatedPairs {
 
 // Connected components over the nodes of `sensors` with an edge per gated pair.
 Components gated_pair_components(const AlignedSensors& sensors, std::span<const GatedPairs> gated);
+
+// The component solves' results summed once, for every partitioned path: Σ objectives, Σ
+// Lagrangian lower bounds (unknown when a component has none: a heuristic, the merging fallback),
+// the largest per-component relative gap (objective − bound)/max(|objective|, 1e-9) and the
+// components above 1 %, and one termination: the components' own when they all agree, else each
+// with its count, "gap_tolerance:3,optimal:140" (names of kernels/assignment/assignment_types.hpp).
+struct ComponentTotals {
+  int64_t solved = 0;
+  double objective = 0.0, lower_bound = 0.0;
+  bool bound_known = true;
+  double largest_gap = 0.0;
+  int64_t above_1pct_gap = 0;
+  std::map<std::string, int64_t> terminations;
+
+  void add(double objective, double lower_bound, const std::string& termination);
+  std::string termination() const;
+  // rec.objective, rec.termination, and rec.lower_bound and rec.gap (as set_bound_and_gap: the gap
+  // of the sums, ≥ 0) when every solved component had a bound (NaN otherwise, and with none solved).
+  void write_to(AssociationRecord& rec) const;
+};
 
 }  // namespace trackassoc

@@ -410,9 +410,7 @@ AssociationRecord sparse_record_from_solutions(const SparseAssociationProblem& p
   rec.solver = solver;
   rec.seed = seed;
   rec.options_json = nlohmann::json({{"pipeline", options.to_json()}}).dump();
-  double objective = 0.0, bound = 0.0;
-  bool bound_known = true;
-  std::map<std::string, int64_t> terminations;
+  ComponentTotals totals;  // the partition stage's sums (engine/pipeline/partition.hpp)
   for (int32_t c = 0; c < C; ++c) {
     if (p.components.size(c) == 1) {
       const int32_t node = p.components.members(c)[0];
@@ -429,22 +427,10 @@ AssociationRecord sparse_record_from_solutions(const SparseAssociationProblem& p
     const ComponentResult& r = results[c];
     rec.tuples.insert(rec.tuples.end(), r.rows.begin(), r.rows.end());
     rec.cost.insert(rec.cost.end(), r.costs.begin(), r.costs.end());
-    objective += r.summary.objective;
-    if (std::isnan(r.summary.lower_bound)) bound_known = false;
-    bound += r.summary.lower_bound;
-    ++terminations[termination_name(r.summary.termination)];
+    // Σ component objectives (phantom pairs charged G)
+    totals.add(r.summary.objective, r.summary.lower_bound, termination_name(r.summary.termination));
   }
-  rec.objective = objective;  // Σ component objectives (phantom pairs charged G)
-  if (bound_known && !work.empty()) {
-    rec.lower_bound = bound;
-    rec.gap = (objective - bound) / std::max(std::fabs(objective), 1e-9);
-  }
-  if (terminations.size() == 1) {
-    rec.termination = terminations.begin()->first;
-  } else {
-    for (const auto& [name, count] : terminations)
-      rec.termination += (rec.termination.empty() ? "" : ",") + name + ":" + std::to_string(count);
-  }
+  totals.write_to(rec);
   rec.runtime_s = seconds_since(t0);
   if (stages) {
     std::size_t bytes = rec.tuples.size() * sizeof(int32_t) + rec.cost.size() * sizeof(double);

@@ -222,31 +222,22 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
           : solve_sd_components(p, solver, solver_options, all_pairs, options.max_component_entries);
   (void)seed;  // lr, lr+ls and exact are deterministic; the seed is recorded for the file
 
-  SolverSummary summary;
-  summary.objective = 0.0;
-  summary.feasible = true;
-  double bound = 0.0;
-  bool all_optimal = true;
+  ComponentTotals totals;  // the partition stage's sums (engine/pipeline/partition.hpp)
   SparseSDSolveReport rep;
   rep.components = C;
   for (const auto& r : results) {
-    summary.objective += r.objective;
-    bound += r.lower_bound;  // NaN for a fallback component
-    all_optimal = all_optimal && r.optimal;
+    // The merging fallback has no bound (NaN): a heuristic.
+    const Termination t = r.fallback ? Termination::kHeuristic
+                                     : (r.optimal ? Termination::kOptimal : Termination::kGapTolerance);
+    totals.add(r.objective, r.lower_bound, termination_name(t));
     rep.fallback_components += r.fallback;
     rep.largest_component_entries = std::max(rep.largest_component_entries, r.entries);
     rep.listed_components += r.listed_tuples > 0;
     rep.largest_listed_tuples = std::max(rep.largest_listed_tuples, r.listed_tuples);
-    if (!r.fallback && std::isfinite(r.lower_bound)) {
-      const double gap = (r.objective - r.lower_bound) / std::max(std::abs(r.objective), 1e-9);
-      rep.largest_component_gap = std::max(rep.largest_component_gap, gap);
-      rep.components_above_1pct_gap += gap > 0.01;
-    }
   }
-  if (std::isfinite(bound)) set_bound_and_gap(summary, bound);
-  summary.termination =
-      all_optimal ? Termination::kOptimal
-                  : (rep.fallback_components > 0 ? Termination::kHeuristic : Termination::kGapTolerance);
+  rep.largest_component_gap = totals.largest_gap;
+  rep.components_above_1pct_gap = totals.above_1pct_gap;
+  SolverSummary summary;
   summary.message = std::to_string(C) + " components, " + std::to_string(rep.fallback_components) +
                     " by sequential LAP merging";
   if (rep.listed_components > 0)
@@ -260,6 +251,7 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
 
   AssociationRecord rec = record_from_summary(solver, p.file_sensors, seed, solver_options, options.to_json(),
                                               summary, summary.wall_time_s, record_info(rep, {}, nullptr));
+  totals.write_to(rec);
   rec.num_sensors = p.file_sensors;
   // Tuples in a deterministic order: by their nodes, sorted (so by their smallest node first).
   std::vector<std::pair<std::vector<int32_t>, double>> tuples;
