@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <map>
 
+#include "bench/simulated_files.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/workflow.hpp"
@@ -35,13 +36,7 @@ namespace {
 const char* const kScenarios[] = {"recorded_3s",  "recorded_5s",   "recorded_dense",
                                   "recorded_10k", "recorded_sync", "recorded_30k"};
 
-const TrackFile& track_file(int k) {
-  static std::map<int, TrackFile> files;
-  auto it = files.find(k);
-  if (it != files.end()) return it->second;
-  const Scenario sc = load_scenario(kScenarios[k]);
-  return files.emplace(k, simulation_to_track_file(sc, simulate(sc, 1, 0))).first->second;
-}
+const TrackFile& track_file(int k) { return simulated_track_file(kScenarios[k]); }
 
 void BM_DefaultAssociation(benchmark::State& state) {
   const TrackFile& file = track_file(static_cast<int>(state.range(0)));

@@ -19,6 +19,7 @@
 #include <map>
 #include <string>
 
+#include "bench/simulated_files.hpp"
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pair_metrics.hpp"
@@ -30,13 +31,7 @@ namespace {
 
 const char* const kScenarios[] = {"widearea_small", "widearea"};
 
-const TrackFile& track_file(int k) {
-  static std::map<int, TrackFile> files;
-  auto it = files.find(k);
-  if (it != files.end()) return it->second;
-  const Scenario sc = load_scenario(kScenarios[k]);
-  return files.emplace(k, simulation_to_track_file(sc, simulate(sc, 1, 0))).first->second;
-}
+const TrackFile& track_file(int k) { return simulated_track_file(kScenarios[k]); }
 
 void BM_WideAreaAssociation(benchmark::State& state) {
   const int k = static_cast<int>(state.range(0));
