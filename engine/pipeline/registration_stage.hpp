@@ -24,13 +24,13 @@
 //      2015, refer such a Wald statistic to F(k, pairs − 1)). When no sensor's δ_s reaches
 //      min_effect (1: the correction moves the pairs by one σ of their difference, RMS), it is
 //      too small to matter to the association (a registration error shows as true pairs split
-//      apart, which takes offsets of 1–3 σ) and the association of step 1 is the result. Measured (docs/design.md §4.10): on the recorded
-//      family the injected registration errors give δ ≥ 5.8 on some sensor in every run
-//      (recorded_clock 6.3 – recorded_site 61), the files without errors δ ≤ 1.2 (formation) and
-//      mixed local trackers 0.4–92 (their lags act as registration; step 6 still decides
-//      there); on `widearea` (no registration error injected, Wald 170.7 on 75 dof from 3 503
-//      seed observations) δ ≤ 0.29 on every sensor with more than 5 seed pairs (sensor 12: Wald
-//      96 from 2 pairs, δ 1.03), where the re-association cost 280 s and was rejected in step 6;
+//      apart, which takes offsets of 1–3 σ) and the association of step 1 is the result.
+//      Measured (docs/design.md §4.10): on the recorded family the injected registration errors
+//      give δ ≥ 5.8 on some sensor in every run (recorded_clock 6.3 – recorded_site 61), the files
+//      without errors δ ≤ 1.2 (formation) and mixed local trackers 0.4–92 (their lags act as
+//      registration; step 6 still decides there); on `widearea` (no registration error injected, Wald 170.7
+//      on 75 dof from 3 503 seed observations) δ ≤ 0.29 on every sensor with more than 5 seed pairs (sensor
+//      12: Wald 96 from 2 pairs, δ 1.03), where the re-association cost 280 s and was rejected in step 6;
 //   4. correct every report of every sensor but the reference, x ← x − J_s(x)·b_s (the azimuth
 //      bias also rotates the velocity back), widen its position covariance by J_s V_s J_sᵀ (the
 //      registration's own uncertainty, so the re-association tolerates what is left), and
@@ -71,8 +71,8 @@ struct RegistrationStageOptions {
   // false: steps 1-3 only (the estimate is written, never applied): the default path over MPI
   // ranks, whose servers solve one association (engine/pipeline/sparse_sd_components.hpp).
   bool reassociate = true;
-  int32_t max_rounds = 4;                  // associations in all (≥ 2)
-  double significance = 1e-6;              // Wald test level: apply when p < significance
+  int32_t max_rounds = 4;      // associations in all (≥ 2)
+  double significance = 1e-6;  // Wald test level: apply when p < significance
   // Step 3b: re-associate only when some sensor's effect δ_s (squared σ per scan, see above)
   // reaches this; 0: the Wald test alone decides.
   double min_effect = 1.0;
@@ -159,8 +159,8 @@ struct RegistrationEffect {
   std::vector<int64_t> pairs;
   double largest = 0.0;
 };
-RegistrationEffect registration_effect(const RegistrationObservations& obs, const RegistrationEstimate& estimate,
-                                       const RegistrationOptions& model,
+RegistrationEffect registration_effect(const RegistrationObservations& obs,
+                                       const RegistrationEstimate& estimate, const RegistrationOptions& model,
                                        std::span<const std::array<double, 3>> sites);
 
 // Steps 1-6 with `associate` as the association; `result` (optional) gets the registration.
