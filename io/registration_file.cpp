@@ -59,6 +59,7 @@ void write_registration(const h5::Group& root, const std::optional<RegistrationR
   g.write_attribute("rounds", r->rounds);
   g.write_attribute("wald", r->wald);
   g.write_attribute("wald_dof", r->wald_dof);
+  g.write_attribute("effect", r->effect);
   g.write_attribute("observations", static_cast<uint64_t>(r->observations));
   g.write_attribute("association", r->association);
   g.write_attribute("options", r->options_json);
@@ -86,6 +87,7 @@ std::optional<RegistrationRecord> read_registration(const h5::Group& root, const
   if (g.has_attribute("applied")) r.applied = g.read_integer_attribute("applied") != 0;
   if (g.has_attribute("rounds")) r.rounds = static_cast<int32_t>(g.read_integer_attribute("rounds"));
   if (g.has_attribute("wald")) r.wald = g.read_double_attribute("wald");
+  if (g.has_attribute("effect")) r.effect = g.read_double_attribute("effect");
   if (g.has_attribute("wald_dof")) r.wald_dof = static_cast<int32_t>(g.read_integer_attribute("wald_dof"));
   if (g.has_attribute("observations"))
     r.observations = static_cast<int64_t>(g.read_unsigned_attribute("observations"));

@@ -3,11 +3,15 @@
 //
 //   /registration/           attrs reference_sensor (a /sensors id, held at zero), parameters
 //                            (comma-separated names, in the order below), applied (1 when the
-//                            association used the corrected reports, 0 when the estimate was not
-//                            significant and the reports were left as recorded), rounds
+//                            association used the corrected reports, 0 when the reports were
+//                            left as recorded: the estimate not significant, or immaterial, or
+//                            the corrected reports linked no more tracks), rounds
 //                            (associations run), wald, wald_dof (the Wald statistic of every
 //                            estimate together and its degrees of freedom), observations (pair
-//                            observations fitted), association (the /associations group it
+//                            observations fitted), effect (the largest per-sensor effect δ of
+//                            the correction, squared σ per scan, that decided whether it mattered;
+//                            NaN when the Wald test was not significant; absent in older files),
+//                            association (the /associations group it
 //                            belongs to), options (JSON)
 //     sensor        (S int32)      the /sensors ids, in /sensors order
 //     <parameter>   (S float64)    one per parameter: range_bias [m], azimuth_bias [rad],
@@ -27,6 +31,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -48,6 +53,7 @@ struct RegistrationRecord {
   bool applied = false;
   int32_t rounds = 0, wald_dof = 0;
   double wald = 0.0;
+  double effect = std::numeric_limits<double>::quiet_NaN();  // step 3b's largest δ_s (NaN: not tested)
   int64_t observations = 0;
   std::string association;  // the /associations group
   // The association named reference_sensor (--reference-sensor, a sensor the user trusts); false:

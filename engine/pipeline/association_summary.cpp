@@ -24,6 +24,9 @@ void registration_lines(std::ostream& os, const RegistrationRecord& r) {
   os << "registration (reference sensor " << r.reference_sensor << ", Wald " << fmt(r.wald, "%.1f") << " on "
      << r.wald_dof << " dof, " << r.observations << " observations): "
      << (r.applied ? "applied, " + std::to_string(r.rounds) + " associations"
+         : r.rounds == 1 && std::isfinite(r.effect)
+             ? "significant, but its largest effect " + fmt(r.effect, "%.2f") +
+                   " sigma^2 per scan is below the bar, reports left as recorded"
          : r.rounds == 1
              ? std::string("not significant, reports left as recorded")
              : std::string("the corrected reports linked no more tracks, reports left as recorded"))

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <span>
 
 #include "kernels/core/error.hpp"
 #include "kernels/statistics/chi_square.hpp"
@@ -87,6 +88,8 @@ void RegistrationStageOptions::validate() const {
   require(std::isfinite(pattern_radius) && pattern_radius > 0.0, "registration.pattern_radius",
           "expected a finite radius > 0 [m]");
   require(pattern_tracks >= 1, "registration.pattern_tracks", "expected >= 1");
+  require(std::isfinite(min_effect) && min_effect >= 0.0, "registration.min_effect",
+          "expected a finite effect >= 0 [squared sigmas per scan]");
   fit.validate();
 }
 
@@ -95,6 +98,7 @@ nlohmann::json RegistrationStageOptions::to_json() const {
           {"reassociate", reassociate},
           {"max_rounds", max_rounds},
           {"significance", significance},
+          {"min_effect", min_effect},
           {"max_observations_per_pair", max_observations_per_pair},
           {"max_gap", max_gap},
           {"reference_sensor", reference_sensor},
@@ -129,6 +133,7 @@ RegistrationRecord RegistrationStageResult::to_record(const TrackFile& file, con
   r.rounds = rounds;
   r.wald = wald;
   r.wald_dof = wald_dof;
+  r.effect = effect;
   r.observations = static_cast<int64_t>(estimate.summary.observations);
   r.association = association;
   r.reference_named = options.reference_sensor >= 0;
@@ -446,6 +451,46 @@ RecordedRegistration recorded_registration(const TrackFile& file, const std::str
   return out;
 }
 
+RegistrationEffect registration_effect(const RegistrationObservations& obs, const RegistrationEstimate& e,
+                                       const RegistrationOptions& model,
+                                       std::span<const std::array<double, 3>> sites) {
+  const int d = obs.dim, K = e.k();
+  const std::size_t S = static_cast<std::size_t>(e.sensors);
+  RegistrationEffect out;
+  out.delta.assign(S, 0.0);
+  out.pairs.assign(S, 0);
+  std::vector<std::size_t> count(S, 0);
+  std::vector<std::set<int64_t>> clusters(S);
+  auto bias_of = [&](int32_t s) {
+    return Eigen::Map<const Eigen::VectorXd>(e.bias.data() + static_cast<std::size_t>(s) * K, K);
+  };
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    const int32_t a = obs.sensor_a[i], b = obs.sensor_b[i];
+    const std::size_t o = i * static_cast<std::size_t>(d);
+    const std::span<const double> xa(obs.position_a.data() + o, d), xb(obs.position_b.data() + o, d),
+        va(obs.velocity_a.data() + o, d), vb(obs.velocity_b.data() + o, d);
+    const Eigen::VectorXd m = registration_jacobian(model, d, sites[a], xa, va) * bias_of(a) -
+                              registration_jacobian(model, d, sites[b], xb, vb) * bias_of(b);
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> C(
+        obs.covariance.data() + i * static_cast<std::size_t>(d) * d, d, d);
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(C.eval());
+    if (ldlt.info() != Eigen::Success) continue;
+    const double delta = m.dot(ldlt.solve(m));
+    for (const int32_t s : {a, b}) {
+      out.delta[s] += delta;
+      ++count[s];
+      clusters[s].insert(obs.cluster[i]);
+    }
+  }
+  for (std::size_t s = 0; s < S; ++s) {
+    if (count[s] > 0) out.delta[s] /= static_cast<double>(count[s]);
+    out.pairs[s] = static_cast<int64_t>(clusters[s].size());
+    if (static_cast<int32_t>(s) != e.reference && out.pairs[s] > K)
+      out.largest = std::max(out.largest, out.delta[s]);
+  }
+  return out;
+}
+
 AssociationRecord associate_with_registration(
     const TrackFile& file, const RegistrationStageOptions& o,
     const std::function<AssociationRecord(const TrackFile&)>& associate, RegistrationStageResult* result) {
@@ -490,6 +535,10 @@ AssociationRecord associate_with_registration(
   res.wald = res.estimate.wald(res.wald_dof);
   if (res.wald_dof == 0 || res.wald <= chi_square_quantile(1.0 - o.significance, res.wald_dof)) return rec;
   if (!o.reassociate) return rec;
+  // Practical significance (step 3b): a correction that moves no sensor's pairs by min_effect
+  // cannot split or join true pairs, so the association of step 1 stands.
+  res.effect = registration_effect(seeds, res.estimate, m, sites).largest;
+  if (res.effect < o.min_effect) return rec;
   const AssociationRecord recorded = rec;
   const RegistrationEstimate tested = res.estimate;
   std::optional<TrackFile> corrected;  // the reports of the latest association

@@ -12,6 +12,25 @@
 //   3. test the estimate: its Wald statistic bᵀV⁻¹b (V the cluster-robust covariance) against
 //      χ²_dof at 1 − significance. Not significant: stop, and the association of step 1 is the
 //      result (so a file without registration errors is associated exactly as without the stage);
+//   3b. test whether it matters (practical beside statistical significance): the effect δ_s of
+//      sensor s is the mean over its seed observations of mᵀC⁻¹m, m = J_a(x_a)·b_a − J_b(x_b)·b_b
+//      the correction of the pair's difference and C its position covariance (registration_effect):
+//      how much the correction changes each scan's term dᵀC⁻¹d of the sequential statistic λ of the
+//      pairs it was fitted on (a constant offset of c σ adds about c² per scan; issue 29's harmful
+//      offsets are 1–3 filtered σ). Counted only for sensors whose seeds are more than k pairs of
+//      tracks (k parameters per sensor): a pair's scans are one correlated sample, so fewer pairs
+//      than parameters leave the estimate's covariance to the model, which ignores that correlation
+//      (the cluster-robust sandwich has rank ≤ pairs; Cameron and Miller, J. Human Resources 50(2),
+//      2015, refer such a Wald statistic to F(k, pairs − 1)). When no sensor's δ_s reaches
+//      min_effect (1: the correction moves the pairs by one σ of their difference, RMS), it is
+//      too small to matter to the association (a registration error shows as true pairs split
+//      apart, which takes offsets of 1–3 σ) and the association of step 1 is the result.
+//      Measured (docs/design.md §4.10): on the recorded family the injected registration errors
+//      give δ ≥ 5.8 on some sensor in every run (recorded_clock 6.3 – recorded_site 61), the files
+//      without errors δ ≤ 1.2 (formation) and mixed local trackers 0.4–92 (their lags act as
+//      registration; step 6 still decides there); on `widearea` (no registration error injected, Wald 170.7
+//      on 75 dof from 3 503 seed observations) δ ≤ 0.29 on every sensor with more than 5 seed pairs (sensor
+//      12: Wald 96 from 2 pairs, δ 1.03), where the re-association cost 280 s and was rejected in step 6;
 //   4. correct every report of every sensor but the reference, x ← x − J_s(x)·b_s (the azimuth
 //      bias also rotates the velocity back), widen its position covariance by J_s V_s J_sᵀ (the
 //      registration's own uncertainty, so the re-association tolerates what is left), and
@@ -29,13 +48,16 @@
 // The estimate, its standard errors and the per-pair covariance scale go to /registration
 // (io/registration_file.hpp) whether applied or not, with the attribute applied.
 // Cost: one association, plus one per further round (≤ max_rounds) when the estimate is
-// significant; the fit is O(observations · k²) + O((S·k)³).
+// significant and material; the fit is O(observations · k²) + O((S·k)³), the effect
+// O(observations · k · d).
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -49,8 +71,11 @@ struct RegistrationStageOptions {
   // false: steps 1-3 only (the estimate is written, never applied): the default path over MPI
   // ranks, whose servers solve one association (engine/pipeline/sparse_sd_components.hpp).
   bool reassociate = true;
-  int32_t max_rounds = 4;                  // associations in all (≥ 2)
-  double significance = 1e-6;              // Wald test level: apply when p < significance
+  int32_t max_rounds = 4;      // associations in all (≥ 2)
+  double significance = 1e-6;  // Wald test level: apply when p < significance
+  // Step 3b: re-associate only when some sensor's effect δ_s (squared σ per scan, see above)
+  // reaches this; 0: the Wald test alone decides.
+  double min_effect = 1.0;
   int32_t max_observations_per_pair = 24;  // per pair of local tracks
   double max_gap = 30.0;                   // s, the largest gap between a partner's reports bridged
   double pattern_radius = 5000.0;          // m, the largest registration offset the pattern step looks for
@@ -67,6 +92,8 @@ struct RegistrationStageResult {
   int32_t rounds = 0;    // associations run
   double wald = 0.0;
   int32_t wald_dof = 0;
+  // Step 3b's largest δ_s of the estimate tested in step 3 (NaN when step 3b did not run).
+  double effect = std::numeric_limits<double>::quiet_NaN();
   RegistrationEstimate estimate;  // rows in /sensors order
   // When applied: the corrected reports the returned association used (later stages, such as
   // fragment stitching, work on them).
@@ -122,7 +149,21 @@ struct RecordedRegistration {
 RecordedRegistration recorded_registration(const TrackFile& file, const std::string& path,
                                            const RegistrationRecord& record);
 
-// Steps 1-5 with `associate` as the association; `result` (optional) gets the registration.
+// Step 3b: the correction's effect on the association statistic of the pairs in `obs`. Per sensor
+// (/sensors order): delta, the mean over the observations of a pair with it of mᵀC⁻¹m (m = J_a(x_a)·
+// b_a − J_b(x_b)·b_b, C the observation's position covariance; 0 without observations), and pairs,
+// the pairs of tracks (clusters) they come from; largest, the largest delta of a sensor other than
+// the reference with more than k pairs (0 when none).
+struct RegistrationEffect {
+  std::vector<double> delta;
+  std::vector<int64_t> pairs;
+  double largest = 0.0;
+};
+RegistrationEffect registration_effect(const RegistrationObservations& obs,
+                                       const RegistrationEstimate& estimate, const RegistrationOptions& model,
+                                       std::span<const std::array<double, 3>> sites);
+
+// Steps 1-6 with `associate` as the association; `result` (optional) gets the registration.
 AssociationRecord associate_with_registration(
     const TrackFile& file, const RegistrationStageOptions& options,
     const std::function<AssociationRecord(const TrackFile&)>& associate, RegistrationStageResult* result);

@@ -1,11 +1,13 @@
 // Joint registration and association (engine/pipeline/registration_stage.hpp) on simulated files:
 // the injected registration recovered within 2 standard errors through the whole stage, the
 // association it gives against the one without it, a file without errors left exactly as without
-// the stage, and /registration written and read back.
+// the stage, a significant but immaterial estimate not re-associated (step 3b, its effect worked out
+// by hand), and /registration written and read back.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 
 #include "engine/pipeline/associator.hpp"
@@ -15,6 +17,8 @@
 #include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "io/hdf5_wrapper.hpp"
+#include "kernels/core/error.hpp"
+#include "kernels/statistics/chi_square.hpp"
 
 namespace trackassoc {
 namespace {
@@ -103,6 +107,8 @@ TEST(RegistrationStage, RegistrationIsWrittenToTheFileAndReadBack) {
   EXPECT_EQ(back.registration->estimate, out.registration->estimate);
   EXPECT_EQ(back.registration->parameters, out.registration->parameters);
   EXPECT_EQ(back.registration->association, out.record.name);
+  EXPECT_TRUE(std::isfinite(out.registration->effect));  // step 3b ran: the error is material
+  EXPECT_EQ(back.registration->effect, out.registration->effect);
   // The reference was named (0), so `fuse` estimates in its frame: the typed flag survives the file.
   EXPECT_TRUE(out.registration->reference_named);
   EXPECT_TRUE(back.registration->reference_named);
@@ -129,6 +135,88 @@ TEST(RegistrationStage, RegistrationIsWrittenToTheFileAndReadBack) {
   EXPECT_EQ(g.read_doubles("covariance_scale", 2, dims).size(), 9u);
   EXPECT_EQ(g.read_integer_attribute("reference_sensor"), 0);
   std::filesystem::remove(path);
+}
+
+// Step 3b's effect, worked out by hand: a translation model (J = −I), 3 sensors, reference 0.
+// Sensor 1 is off by b₁ = (30, 40) m, sensor 2 by b₂ = (300, 0) m. Three pairs of tracks of sensors
+// 1 and 0 (2 scans each, C = 100² I): m = −b₁, mᵀC⁻¹m = 2500 / 10⁴ = 0.25. One pair of sensors 2
+// and 1 (2 scans, C = 200² I): m = −b₂ + b₁ = (−270, 40), mᵀC⁻¹m = 74 500 / 40 000 = 1.8625.
+// δ₁ = (6 · 0.25 + 2 · 1.8625) / 8 = 0.653125 from 4 pairs, δ₂ = 1.8625 from 1 pair: with k = 2
+// parameters only sensor 1 (4 > 2 pairs) counts, so the largest is δ₁.
+TEST(RegistrationStage, TheEffectIsTheCorrectionInSigmasOfItsPairs) {
+  RegistrationOptions model;
+  model.polar = false;
+  model.site_offset = true;
+  model.clock_offset = false;
+  model.reference_sensor = 0;
+  RegistrationEstimate e;
+  e.sensors = 3;
+  e.dim = 2;
+  e.reference = 0;
+  e.parameter_names = registration_parameter_names(model, 2);
+  ASSERT_EQ(e.k(), 2);
+  e.bias = {0, 0, 30, 40, 300, 0};
+  RegistrationObservations obs;
+  obs.dim = 2;
+  const std::vector<double> x = {1000.0, 2000.0}, v = {0.0, 0.0};
+  const std::vector<double> c1 = {1e4, 0, 0, 1e4}, c2 = {4e4, 0, 0, 4e4};
+  for (int64_t pair = 0; pair < 3; ++pair)
+    for (int scan = 0; scan < 2; ++scan) obs.add(1, 0, pair, x, x, v, v, c1);
+  for (int scan = 0; scan < 2; ++scan) obs.add(2, 1, 7, x, x, v, v, c2);
+  const std::vector<std::array<double, 3>> sites(3, std::array<double, 3>{0, 0, 0});
+  const RegistrationEffect effect = registration_effect(obs, e, model, sites);
+  ASSERT_EQ(effect.delta.size(), 3u);
+  EXPECT_NEAR(effect.delta[1], 0.653125, 1e-12);
+  EXPECT_NEAR(effect.delta[2], 1.8625, 1e-12);
+  EXPECT_NEAR(effect.delta[0], 0.25, 1e-12);  // the reference's pairs, never counted
+  EXPECT_EQ(effect.pairs, (std::vector<int64_t>{3, 4, 1}));
+  EXPECT_NEAR(effect.largest, 0.653125, 1e-12);
+}
+
+// A file without registration errors, tested at a level every estimate passes (significance
+// 0.999): the estimate is "significant" but moves no pair by a σ, so the stage must not re-associate
+// (without step 3b it did: rounds ≥ 2). The biased file's estimate is material and is applied.
+TEST(RegistrationStage, ASignificantButImmaterialEstimateIsNotReassociated) {
+  const Scenario clean = biased(false);
+  const TrackFile file = simulation_to_track_file(clean, simulate(clean, 2));
+  AssociatorOptions o;
+  o.registration.significance = 0.999;
+  const AssociationOutcome immaterial = make_associator(o)->associate(file);
+  ASSERT_TRUE(immaterial.registration.has_value());
+  const RegistrationRecord& r = *immaterial.registration;
+  EXPECT_GT(r.wald, chi_square_quantile(0.001, r.wald_dof));  // significant at this level
+  ASSERT_TRUE(std::isfinite(r.effect));
+  EXPECT_LT(r.effect, 1.0);
+  EXPECT_EQ(r.rounds, 1);
+  EXPECT_FALSE(r.applied);
+  EXPECT_EQ(immaterial.record.tuples, run_default(file, false, -1).record.tuples);
+  // The Wald test alone (min_effect 0) re-associates the same file.
+  o.registration.min_effect = 0.0;
+  EXPECT_GE(make_associator(o)->associate(file).registration->rounds, 2);
+  // A real registration error: material, re-associated and applied.
+  const Scenario sc = biased(true);
+  const AssociationOutcome material = run_default(simulation_to_track_file(sc, simulate(sc, 1)), true);
+  ASSERT_TRUE(material.registration.has_value());
+  EXPECT_GT(material.registration->effect, 1.0);
+  EXPECT_GE(material.registration->rounds, 2);
+  EXPECT_TRUE(material.registration->applied);
+}
+
+TEST(RegistrationStage, OptionsNameABadMinimumEffect) {
+  for (const double bad : {-0.5, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    RegistrationStageOptions o;
+    o.min_effect = bad;
+    try {
+      o.validate();
+      ADD_FAILURE() << "min_effect " << bad << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("registration.min_effect"), std::string::npos) << e.what();
+    }
+  }
+  RegistrationStageOptions zero;
+  zero.min_effect = 0.0;
+  EXPECT_NO_THROW(zero.validate());
+  EXPECT_EQ(zero.to_json().at("min_effect").get<double>(), 0.0);
 }
 
 }  // namespace
