@@ -21,6 +21,23 @@ IndexedCandidates indexed_candidates(const AlignedSensors& sensors, int32_t a, i
   return c;
 }
 
+std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
+                                                  const StatisticOptions& statistic, double radius_scale) {
+  std::vector<const AlignedTracks*> x;
+  for (const AlignedTracks& t : sensors.aligned) x.push_back(&t);
+  std::vector<CandidatePairs> found = candidate_pairs_for_gate(x, statistic, radius_scale);
+  const std::size_t S = x.size();
+  std::vector<IndexedCandidates> out(found.size());
+  for (std::size_t a = 0; a < S; ++a)
+    for (std::size_t b = a + 1; b < S; ++b) {
+      IndexedCandidates& c = out[a * S + b];
+      c.found = found[a * S + b].size();
+      c.pairs = prune_by_position_bound(*x[a], *x[b], found[a * S + b], statistic);
+      found[a * S + b] = CandidatePairs();
+    }
+  return out;
+}
+
 SparsePairStatistic gated_candidate_statistic(const AlignedSensors& sensors, int32_t a, int32_t b,
                                               CandidatePairs& candidates, const StatisticOptions& statistic) {
   SparsePairStatistic s = keep_in_gate(
