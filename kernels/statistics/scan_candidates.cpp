@@ -175,23 +175,33 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
                  : within_points(xg, g.trace[p], xq, trace_q, m, c2))
         out.push_back(q_is_a ? Hit{slot, q.track[i], g.track[p]} : Hit{slot, g.track[p], q.track[i]});
     };
-    // A query wider than the whole grid (one huge covariance among small ones) reads every point
-    // once instead of (2·span + 1)^m cells, so its cost is bounded by O(n_g).
-    if (std::pow(2.0 * span_d + 1.0, m) > static_cast<double>(cells.size())) {
+    // The cells within span of the query's cell are read row by row along the last axis (a row is
+    // contiguous in the sorted cells): (2·span + 1)^(m−1) binary searches. A query for which these
+    // cost more than reading every point (one huge covariance among small ones) reads every point
+    // once instead, so its cost is bounded by O(n_g).
+    const double n_g = static_cast<double>(cells.size());
+    if (std::pow(2.0 * span_d + 1.0, m - 1) * std::max(1.0, std::log2(n_g)) > n_g) {
       for (const auto& e : cells) consider(e.second);
       continue;
     }
     const int64_t span = static_cast<int64_t>(span_d);
     const Cell c = cell_of(xq, m, h);
-    const int64_t sy = m >= 2 ? span : 0, sz = m == 3 ? span : 0;
-    for (int64_t dx = -span; dx <= span; ++dx)
-      for (int64_t dy = -sy; dy <= sy; ++dy)
-        for (int64_t dz = -sz; dz <= sz; ++dz) {
-          const Cell key{c[0] + dx, c[1] + dy, c[2] + dz};
-          auto it = std::lower_bound(cells.begin(), cells.end(), key,
-                                     [](const auto& e, const Cell& k) { return cell_less(e.first, k); });
-          for (; it != cells.end() && it->first == key; ++it) consider(it->second);
+    const int last = m - 1;  // the axis of a row
+    const int64_t sx = m >= 2 ? span : 0, sy = m == 3 ? span : 0;
+    for (int64_t dx = -sx; dx <= sx; ++dx)
+      for (int64_t dy = -sy; dy <= sy; ++dy) {
+        Cell key{c[0] + dx, c[1] + dy, c[2]};
+        key[last] = c[last] - span;
+        const int64_t row_end = c[last] + span;
+        auto it = std::lower_bound(cells.begin(), cells.end(), key,
+                                   [](const auto& e, const Cell& k) { return cell_less(e.first, k); });
+        for (; it != cells.end(); ++it) {
+          bool same_row = it->first[last] <= row_end;
+          for (int d = 0; d < last; ++d) same_row = same_row && it->first[d] == key[d];
+          if (!same_row) break;
+          consider(it->second);
         }
+      }
   }
 }
 
