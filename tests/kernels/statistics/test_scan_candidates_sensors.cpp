@@ -4,6 +4,7 @@
 // asynchronous spans, gaps of validity and one wide covariance among small ones.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -13,15 +14,17 @@
 namespace trackassoc {
 namespace {
 
-// n tracks of one sensor around (cx, cy) (±half on each axis), each over a random span of the K
-// common times, valid at ~80 % of them, moving 30 m per step; position variance 1e4..5e4 m² (one
-// track `wide_var`, when > 0).
+// n tracks of one sensor around (cx, cy) (±half on each axis; the third axis, m = 3, in ±half
+// too), each over a random span of the K common times, valid at ~80 % of them, moving 30 m per step
+// along the first axis; position variance 1e4..5e4 m² (one track `wide_var`, when > 0, and with
+// `spread`, variances spread over 10²..10⁶ m², so that queries cover a few to many cells). D = 2m.
 AlignedTracks make_sensor(int32_t sensor, double cx, double cy, double half, int32_t n, int32_t K,
-                          uint64_t seed, double wide_var = 0.0) {
+                          uint64_t seed, double wide_var = 0.0, int D = 4, bool spread = false) {
   AlignedTracks x;
   x.sensor = sensor;
-  x.dim = 4;
+  x.dim = D;
   x.n_times = K;
+  const int m = D / 2;
   CounterRng rng(seed, 0, 0);
   std::vector<int32_t> begin, length;
   for (int32_t i = 0; i < n; ++i) {
@@ -33,15 +36,19 @@ AlignedTracks make_sensor(int32_t sensor, double cx, double cy, double half, int
   }
   x.allocate(begin, length);
   for (int32_t i = 0; i < n; ++i) {
-    const double px = cx + rng.uniform(-half, half), py = cy + rng.uniform(-half, half);
-    const double var = i == 3 && wide_var > 0.0 ? wide_var : rng.uniform(1e4, 5e4);
+    const double p0[3] = {cx + rng.uniform(-half, half), cy + rng.uniform(-half, half),
+                          rng.uniform(-half, half)};
+    const double var = i == 3 && wide_var > 0.0 ? wide_var
+                       : spread                 ? std::pow(10.0, rng.uniform(2.0, 6.0))
+                                                : rng.uniform(1e4, 5e4);
     for (int32_t k = x.span(i).begin; k < x.span(i).end; ++k) {
       const int64_t c = x.cell(i, k);
       x.valid[c] = rng.uniform(0.0, 1.0) < 0.8;
-      const double s[4] = {px + 30.0 * k, py, 30.0, 0.0};
-      const double p[10] = {var, 0.0, 0.0, 0.0, var, 0.0, 0.0, 1.0, 0.0, 1.0};
-      std::copy_n(s, 4, x.state_at(c));
-      std::copy_n(p, 10, x.cov_at(c));
+      double* st = x.state_at(c);
+      for (int d = 0; d < m; ++d) st[d] = p0[d] + (d == 0 ? 30.0 * k : 0.0);
+      st[m] = 30.0;
+      double* p = x.cov_at(c);
+      for (int r = 0; r < D; ++r) p[packed_index(D, r, r)] = r < m ? var : 1.0;
     }
   }
   return x;
@@ -88,6 +95,28 @@ TEST(ScanCandidatesSensors, EverySensorPairEqualsTheNaiveScan) {
     EXPECT_GT(all[0 * 5 + 1].size(), 10u);
     EXPECT_GT(all[1 * 5 + 2].size(), cap > 10.0 ? 5u : 0u);  // the boxes overlap by 500 m
     EXPECT_GT(total, 100u);
+  }
+}
+
+// m = 1 and m = 3, with variances over four decades: the rows of cells read along the last axis
+// and the switch to reading every point give the naive scan's pairs.
+TEST(ScanCandidatesSensors, OneAndThreeAxesWithSpreadRadiiEqualTheNaiveScan) {
+  for (const int D : {2, 6}) {
+    const int32_t K = 12;
+    const std::vector<AlignedTracks> x{make_sensor(0, 0.0, 0.0, 4000.0, 300, K, 11, 0.0, D, true),
+                                       make_sensor(1, 1000.0, 0.0, 4000.0, 300, K, 12, 0.0, D, true),
+                                       make_sensor(2, 9000.0, 0.0, 4000.0, 200, K, 13, 0.0, D, true)};
+    const std::vector<const AlignedTracks*> ptr{&x[0], &x[1], &x[2]};
+    const std::vector<CandidatePairs> all = scan_candidate_pairs(ptr, 18.47);
+    std::size_t total = 0;
+    for (const auto& [s, t] : {std::pair{0, 1}, {0, 2}, {1, 2}}) {
+      SCOPED_TRACE("D " + std::to_string(D) + " sensors " + std::to_string(s) + "-" + std::to_string(t));
+      const CandidatePairs naive = scan_candidate_pairs_all_pairs(x[s], x[t], 18.47);
+      EXPECT_EQ(all[s * 3 + t].a, naive.a);
+      EXPECT_EQ(all[s * 3 + t].b, naive.b);
+      total += naive.size();
+    }
+    EXPECT_GT(total, 500u) << D;
   }
 }
 
