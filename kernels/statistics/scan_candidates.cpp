@@ -163,6 +163,7 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
   std::sort(cells.begin(), cells.end(), [](const auto& x, const auto& y) {
     return cell_less(x.first, y.first) || (x.first == y.first && x.second < y.second);
   });
+  const double n_g = static_cast<double>(cells.size()), search_cost = std::max(1.0, std::log2(n_g));
   for (const int32_t i : qi) {
     const double* xq = &q.pos[i * m];
     const double trace_q = q.trace[i], rq = q.radius[i];
@@ -179,8 +180,9 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
     // contiguous in the sorted cells): (2·span + 1)^(m−1) binary searches. A query for which these
     // cost more than reading every point (one huge covariance among small ones) reads every point
     // once instead, so its cost is bounded by O(n_g).
-    const double n_g = static_cast<double>(cells.size());
-    if (std::pow(2.0 * span_d + 1.0, m - 1) * std::max(1.0, std::log2(n_g)) > n_g) {
+    double rows = 1.0;
+    for (int d = 1; d < m; ++d) rows *= 2.0 * span_d + 1.0;
+    if (rows * search_cost > n_g) {
       for (const auto& e : cells) consider(e.second);
       continue;
     }
