@@ -182,7 +182,7 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
     // once instead, so its cost is bounded by O(n_g).
     double rows = 1.0;
     for (int d = 1; d < m; ++d) rows *= 2.0 * span_d + 1.0;
-    if (rows * search_cost > n_g) {
+    if (!(span_d <= n_g) || !(rows * search_cost <= n_g)) {  // (a NaN radius, from a broken covariance, too)
       for (const auto& e : cells) consider(e.second);
       continue;
     }
