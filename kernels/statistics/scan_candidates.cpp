@@ -280,7 +280,9 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
   // cost one box test per scan. Scans in blocks of consecutive times (a pair found at one is
   // mostly found at the next), each block's hits deduplicated before they are kept.
   std::vector<ValidByTime> valid(S);
-  for (int32_t s = 0; s < S; ++s) valid[s] = valid_by_time(*sensors[s]);
+  parallel_for_range(static_cast<std::size_t>(S), 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t s = lo; s < hi; ++s) valid[s] = valid_by_time(*sensors[s]);
+  });
   constexpr int32_t kBlock = 8;
   const std::size_t blocks = (static_cast<std::size_t>(K) + kBlock - 1) / kBlock;
   std::vector<std::vector<Hit>> per_block(blocks);
