@@ -5,6 +5,8 @@
 //   solve       — components solved in parallel with the registry's "pairwise" solver.
 //   problem, defaults — the same problem with `associate --sparse`'s default options (n ≤ 10³),
 //                       and the default path's problem with those options (the same pair source).
+//   wide-area candidates — the default path's candidate index (engine/pipeline/pair_source.hpp) over
+//                       widearea_small's 16 radars (seed 1), every pair of sensors at once (issue 31).
 // Track sets: engine/studies/scale/experiment_scale.hpp's synthetic_recorded_tracks at the experiment's
 // default density (100 targets per 100 km², 3-D) and options (PipelineOptions::paper()). Args: {n, threads}.
 #include <benchmark/benchmark.h>
@@ -13,9 +15,12 @@
 #include <map>
 #include <memory>
 
+#include "engine/pipeline/pair_source.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/workflow.hpp"
+#include "engine/simulation/simulation.hpp"
 #include "engine/studies/scale/experiment_scale.hpp"
 #include "kernels/statistics/sparse_candidates.hpp"
 
@@ -180,6 +185,30 @@ void BM_SparseSolve(benchmark::State& state) {
   state.counters["components"] = static_cast<double>(f.problem->components.count);
 }
 
+// The candidates stage of `associate` on widearea_small (seed 1): the index over all 120 pairs of
+// its 16 radars and the position-bound prune. Counters: pairs found, pairs kept.
+void BM_WideAreaCandidates(benchmark::State& state) {
+  static const AlignedSensors sensors = [] {
+    const Scenario sc = load_scenario("widearea_small");
+    const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
+    return align_sensors(file, PipelineOptions{}, SensorRule::kTwoOrMore, EmptySensors::kLeaveOut);
+  }();
+  tbb::global_control g(tbb::global_control::max_allowed_parallelism,
+                        static_cast<std::size_t>(state.range(0)));
+  std::size_t found = 0, kept = 0;
+  for (auto _ : state) {
+    const std::vector<IndexedCandidates> c = indexed_candidates(sensors, StatisticOptions{}, 1.0);
+    found = kept = 0;
+    for (const auto& x : c) {
+      found += x.found;
+      kept += x.pairs.size();
+    }
+    benchmark::DoNotOptimize(c.data());
+  }
+  state.counters["found"] = static_cast<double>(found);
+  state.counters["kept"] = static_cast<double>(kept);
+}
+
 void sizes(benchmark::internal::Benchmark* b, int64_t max_n) {
   for (int64_t n : {100, 1000, 10000})
     if (n <= max_n)
@@ -195,6 +224,12 @@ BENCHMARK(BM_SparseProblem)->Apply([](auto* b) { sizes(b, 10000); });
 BENCHMARK(BM_SparseProblemDefaults)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_DefaultPathProblem)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_SparseSolve)->Apply([](auto* b) { sizes(b, 10000); });
+BENCHMARK(BM_WideAreaCandidates)
+    ->Arg(1)
+    ->Arg(2)
+    ->ArgName("threads")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace trackassoc

@@ -1,6 +1,7 @@
 // The pair source stage; see engine/pipeline/pair_source.hpp.
 #include "engine/pipeline/pair_source.hpp"
 
+#include "kernels/core/parallel.hpp"
 #include "kernels/statistics/scan_candidates.hpp"
 
 namespace trackassoc {
@@ -19,6 +20,29 @@ IndexedCandidates indexed_candidates(const AlignedSensors& sensors, int32_t a, i
   c.found = found.size();
   c.pairs = prune_by_position_bound(ta, tb, found, statistic);
   return c;
+}
+
+std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
+                                                  const StatisticOptions& statistic, double radius_scale) {
+  std::vector<const AlignedTracks*> x;
+  for (const AlignedTracks& t : sensors.aligned) x.push_back(&t);
+  std::vector<CandidatePairs> found = candidate_pairs_for_gate(x, statistic, radius_scale);
+  const std::size_t S = x.size();
+  std::vector<IndexedCandidates> out(found.size());
+  std::vector<std::pair<std::size_t, std::size_t>> sensor_pairs;
+  for (std::size_t a = 0; a < S; ++a)
+    for (std::size_t b = a + 1; b < S; ++b) sensor_pairs.emplace_back(a, b);
+  // The pairs of sensors in parallel (most are small; each prune is parallel inside too).
+  parallel_for_range(sensor_pairs.size(), 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t q = lo; q < hi; ++q) {
+      const auto [a, b] = sensor_pairs[q];
+      IndexedCandidates& c = out[a * S + b];
+      c.found = found[a * S + b].size();
+      c.pairs = prune_by_position_bound(*x[a], *x[b], found[a * S + b], statistic);
+      found[a * S + b] = CandidatePairs();
+    }
+  });
+  return out;
 }
 
 SparsePairStatistic gated_candidate_statistic(const AlignedSensors& sensors, int32_t a, int32_t b,

@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "engine/pipeline/front_end.hpp"
 #include "kernels/statistics/association_statistic.hpp"
@@ -34,6 +35,11 @@ struct IndexedCandidates {
 };
 IndexedCandidates indexed_candidates(const AlignedSensors& sensors, int32_t a, int32_t b,
                                      const StatisticOptions& statistic, double radius_scale);
+// The same for every pair a < b of the sensors at once (slot a·S + b; one pass over the common
+// times for all of them, kernels/statistics/scan_candidates.hpp): slot a·S + b equals
+// indexed_candidates(sensors, a, b, ...).
+std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
+                                                  const StatisticOptions& statistic, double radius_scale);
 
 // λ on the candidates of sensors a and b, the gated-in pairs kept (sorted by (a, b)); the
 // candidates' memory is released.

@@ -152,13 +152,13 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   p.candidate_pairs.assign(slots, 0);
   t0 = std::chrono::steady_clock::now();
   std::vector<CandidatePairs> cand(slots);
+  std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale);
   bytes = 0;
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
-      IndexedCandidates c = indexed_candidates(p, a, b, po.statistic, options.radius_scale);
-      p.candidate_pairs[slot] = c.found;
-      cand[slot] = std::move(c.pairs);
+      p.candidate_pairs[slot] = found[slot].found;
+      cand[slot] = std::move(found[slot].pairs);
       bytes += cand[slot].size() * 2.0 * sizeof(int32_t);
       require_held(bytes, "the candidate pairs of " + pair_name(a, b) + " (" +
                               std::to_string(p.candidate_pairs[slot]) + " found, " +

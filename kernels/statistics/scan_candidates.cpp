@@ -93,102 +93,229 @@ CandidatePairs finish(int32_t n_a, int32_t n_b, std::vector<std::pair<int32_t, i
 
 namespace {
 
-// One pass at scan k: the tracks of `q` (queries, q_at: those valid at k) whose radius
-// r_q = √(2·tr_q·c) is at least that of the tracks of `g` (the grid, g_at) they are checked against;
-// cell size h. Appends (a, b) pairs.
-// Scratch of one scan's grid, by position p in g_at (ascending tracks): cell, position trace, radius.
-struct GridScratch {
-  std::vector<std::pair<Cell, int32_t>> cells;  // (grid cell, p), sorted
-  std::vector<int64_t> cell;
-  std::vector<double> trace, radius;
+// One sensor's tracks valid at one common time, gathered once for all its pairs of sensors
+// (contiguous, so the passes below do not chase each track's cells): track, position (m
+// coordinates), position trace and radius √(2·tr·c); their bounding box and largest trace.
+struct ScanSet {
+  std::vector<int32_t> track;
+  std::vector<double> pos, trace, radius;
+  std::array<double, 3> lo{}, hi{};
+  double max_trace = 0.0;
+  std::size_t size() const { return track.size(); }
+
+  void gather(const AlignedTracks& x, std::span<const int32_t> at, int32_t k, double c2) {
+    const int D = x.dim, m = D / 2;
+    track.assign(at.begin(), at.end());
+    pos.resize(at.size() * m);
+    trace.resize(at.size());
+    radius.resize(at.size());
+    lo.fill(std::numeric_limits<double>::infinity());
+    hi.fill(-std::numeric_limits<double>::infinity());
+    max_trace = -std::numeric_limits<double>::infinity();
+    for (std::size_t p = 0; p < at.size(); ++p) {
+      const int64_t cell = x.cell_base(at[p]) + k;
+      const double* xs = x.state_at(cell);
+      for (int c = 0; c < m; ++c) {
+        pos[p * m + c] = xs[c];
+        lo[c] = std::min(lo[c], xs[c]);  // a NaN coordinate (never within) leaves the box as it is
+        hi[c] = std::max(hi[c], xs[c]);
+      }
+      trace[p] = position_trace(x.cov_at(cell), D, m);
+      radius[p] = std::sqrt(2.0 * trace[p] * c2);
+      max_trace = std::max(max_trace, trace[p]);
+    }
+  }
 };
 
-void scan_pass(const AlignedTracks& q, std::span<const int32_t> q_at, const AlignedTracks& g,
-               std::span<const int32_t> g_at, int32_t k, double c2, bool q_is_a, GridScratch& scratch,
-               std::vector<std::pair<int32_t, int32_t>>& out) {
-  if (g_at.empty() || q_at.empty()) return;
-  const int D = q.dim, m = D / 2;
-  auto& [cells, cell_g, trace_g, radius_g] = scratch;
-  cell_g.resize(g_at.size());
-  trace_g.resize(g_at.size());
-  radius_g.resize(g_at.size());
-  for (std::size_t p = 0; p < g_at.size(); ++p) {
-    cell_g[p] = g.cell_base(g_at[p]) + k;
-    trace_g[p] = position_trace(g.cov_at(cell_g[p]), D, m);
-    radius_g[p] = std::sqrt(2.0 * trace_g[p] * c2);
+// Scratch of one scan's grid: (grid cell, index into the grid's ScanSet), sorted.
+struct GridScratch {
+  std::vector<std::pair<Cell, int32_t>> cells;
+  std::vector<double> r;
+};
+
+bool cell_less(const Cell& x, const Cell& y) {
+  return x[0] != y[0] ? x[0] < y[0] : (x[1] != y[1] ? x[1] < y[1] : x[2] < y[2]);
+}
+
+// A hit of the index: sensor pair slot, track of the first sensor, track of the second.
+struct Hit {
+  int32_t slot, a, b;
+  friend bool operator<(const Hit& x, const Hit& y) {
+    return x.slot != y.slot ? x.slot < y.slot : (x.a != y.a ? x.a < y.a : x.b < y.b);
   }
-  std::vector<double> r(radius_g);
+  friend bool operator==(const Hit&, const Hit&) = default;
+};
+
+// One pass at one scan: the points qi of `q` (queries) whose radius r_q is at least that of the
+// points gi of `g` (the grid) they are checked against; cell size h, the median radius of gi.
+// Appends (a, b) hits of `slot`.
+void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, std::span<const int32_t> gi,
+               int m, double c2, bool q_is_a, int32_t slot, GridScratch& scratch, std::vector<Hit>& out) {
+  if (gi.empty() || qi.empty()) return;
+  auto& [cells, r] = scratch;
+  r.clear();
+  for (const int32_t p : gi) r.push_back(g.radius[p]);
   std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
   double h = r[r.size() / 2];  // the median radius: most queries touch 3^m cells
   if (!(h > 0.0) || !std::isfinite(h)) h = 1e-9;
   cells.clear();
-  for (std::size_t p = 0; p < g_at.size(); ++p)
-    cells.emplace_back(cell_of(g.state_at(cell_g[p]), m, h), static_cast<int32_t>(p));
-  std::sort(cells.begin(), cells.end());  // by cell, then track (p ascends with the track)
-  for (const int32_t i : q_at) {
-    const int64_t cq = q.cell_base(i) + k;
-    const double* xq = q.state_at(cq);
-    const double trace_q = position_trace(q.cov_at(cq), D, m);
-    const double rq = std::sqrt(2.0 * trace_q * c2);
+  for (const int32_t p : gi) cells.emplace_back(cell_of(&g.pos[p * m], m, h), p);
+  std::sort(cells.begin(), cells.end(), [](const auto& x, const auto& y) {
+    return cell_less(x.first, y.first) || (x.first == y.first && x.second < y.second);
+  });
+  const double n_g = static_cast<double>(cells.size()), search_cost = std::max(1.0, std::log2(n_g));
+  for (const int32_t i : qi) {
+    const double* xq = &q.pos[i * m];
+    const double trace_q = q.trace[i], rq = q.radius[i];
     const double span_d = std::ceil(rq / h);
     auto consider = [&](int32_t p) {
       // Each pair once: from the side with the larger radius (ties: from a).
-      if (q_is_a ? radius_g[p] > rq : radius_g[p] >= rq) return;
-      const double* xg = g.state_at(cell_g[p]);
-      if (q_is_a ? within_points(xq, trace_q, xg, trace_g[p], m, c2)
-                 : within_points(xg, trace_g[p], xq, trace_q, m, c2))
-        out.emplace_back(q_is_a ? i : g_at[p], q_is_a ? g_at[p] : i);
+      if (q_is_a ? g.radius[p] > rq : g.radius[p] >= rq) return;
+      const double* xg = &g.pos[p * m];
+      if (q_is_a ? within_points(xq, trace_q, xg, g.trace[p], m, c2)
+                 : within_points(xg, g.trace[p], xq, trace_q, m, c2))
+        out.push_back(q_is_a ? Hit{slot, q.track[i], g.track[p]} : Hit{slot, g.track[p], q.track[i]});
     };
-    // A query wider than the whole grid (one huge covariance among small ones) reads every point
-    // once instead of (2·span + 1)^m cells, so its cost is bounded by O(n_g).
-    if (std::pow(2.0 * span_d + 1.0, m) > static_cast<double>(cells.size())) {
+    // The cells within span of the query's cell are read row by row along the last axis (a row is
+    // contiguous in the sorted cells): (2·span + 1)^(m−1) binary searches. A query for which these
+    // cost more than reading every point (one huge covariance among small ones) reads every point
+    // once instead, so its cost is bounded by O(n_g).
+    double rows = 1.0;
+    for (int d = 1; d < m; ++d) rows *= 2.0 * span_d + 1.0;
+    if (!(span_d <= n_g) || !(rows * search_cost <= n_g)) {  // (a NaN radius, from a broken covariance, too)
       for (const auto& e : cells) consider(e.second);
       continue;
     }
     const int64_t span = static_cast<int64_t>(span_d);
     const Cell c = cell_of(xq, m, h);
-    const int64_t sy = m >= 2 ? span : 0, sz = m == 3 ? span : 0;
-    for (int64_t dx = -span; dx <= span; ++dx)
-      for (int64_t dy = -sy; dy <= sy; ++dy)
-        for (int64_t dz = -sz; dz <= sz; ++dz) {
-          const Cell key{c[0] + dx, c[1] + dy, c[2] + dz};
-          auto it = std::lower_bound(cells.begin(), cells.end(),
-                                     std::make_pair(key, std::numeric_limits<int32_t>::min()));
-          for (; it != cells.end() && it->first == key; ++it) consider(it->second);
+    const int last = m - 1;  // the axis of a row
+    const int64_t sx = m >= 2 ? span : 0, sy = m == 3 ? span : 0;
+    for (int64_t dx = -sx; dx <= sx; ++dx)
+      for (int64_t dy = -sy; dy <= sy; ++dy) {
+        Cell key{c[0] + dx, c[1] + dy, c[2]};
+        key[last] = c[last] - span;
+        const int64_t row_end = c[last] + span;
+        auto it = std::lower_bound(cells.begin(), cells.end(), key,
+                                   [](const auto& e, const Cell& k) { return cell_less(e.first, k); });
+        for (; it != cells.end(); ++it) {
+          bool same_row = it->first[last] <= row_end;
+          for (int d = 0; d < last; ++d) same_row = same_row && it->first[d] == key[d];
+          if (!same_row) break;
+          consider(it->second);
         }
+      }
   }
+}
+
+// The points of `x` that can be within the bound of some point of `other` at this scan: inside
+// other's bounding box widened by R = √((max tr_x + max tr_other)·c) on every axis (a pair within
+// its bound has |d_c| ≤ |d_p| ≤ R per axis; the factor 1 + 10⁻⁹ covers the round-off of both
+// tests, so nothing within is dropped).
+void points_near(const ScanSet& x, const ScanSet& other, double reach, int m, std::vector<int32_t>& out) {
+  out.clear();
+  for (std::size_t p = 0; p < x.size(); ++p) {
+    bool in = true;
+    for (int c = 0; c < m && in; ++c) {
+      const double v = x.pos[p * m + c];
+      in = v >= other.lo[c] - reach && v <= other.hi[c] + reach;
+    }
+    if (in) out.push_back(static_cast<int32_t>(p));
+  }
+}
+
+// The candidate pairs of the sensor pairs (s, t), s < t, of one scan k.
+struct ScanScratch {
+  std::vector<ScanSet> sets;
+  std::vector<int32_t> near_s, near_t;
+  GridScratch grid;
+};
+
+void scan_all_pairs(std::span<const AlignedTracks* const> x, std::span<const ValidByTime> valid, int32_t k,
+                    double c2, ScanScratch& scratch, std::vector<Hit>& out) {
+  const auto S = static_cast<int32_t>(x.size());
+  const int m = x[0]->dim / 2;
+  scratch.sets.resize(S);
+  for (int32_t s = 0; s < S; ++s) scratch.sets[s].gather(*x[s], valid[s].at(k), k, c2);
+  for (int32_t s = 0; s < S; ++s)
+    for (int32_t t = s + 1; t < S; ++t) {
+      const ScanSet &a = scratch.sets[s], &b = scratch.sets[t];
+      if (a.size() == 0 || b.size() == 0) continue;
+      const double reach = std::sqrt((a.max_trace + b.max_trace) * c2) * (1.0 + 1e-9);
+      bool apart = false;  // the boxes farther apart than the reach on some axis
+      for (int c = 0; c < m; ++c) apart = apart || a.lo[c] > b.hi[c] + reach || b.lo[c] > a.hi[c] + reach;
+      if (apart) continue;
+      points_near(a, b, reach, m, scratch.near_s);
+      points_near(b, a, reach, m, scratch.near_t);
+      const int32_t slot = s * S + t;
+      scan_pass(a, scratch.near_s, b, scratch.near_t, m, c2, true, slot, scratch.grid, out);
+      scan_pass(b, scratch.near_t, a, scratch.near_s, m, c2, false, slot, scratch.grid, out);
+    }
+}
+
+void sort_unique(std::vector<Hit>& hits) {
+  std::sort(hits.begin(), hits.end());
+  hits.erase(std::unique(hits.begin(), hits.end()), hits.end());
 }
 
 }  // namespace
 
-CandidatePairs scan_candidate_pairs(const AlignedTracks& a, const AlignedTracks& b, double cap,
-                                    double radius_scale) {
-  check_inputs(a, b, cap, radius_scale);
-  const int32_t K = a.n_times;
+std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* const> sensors, double cap,
+                                                 double radius_scale) {
+  const auto S = static_cast<int32_t>(sensors.size());
+  std::vector<CandidatePairs> out(static_cast<std::size_t>(S) * S);
+  for (int32_t s = 0; s < S; ++s)
+    for (int32_t t = s + 1; t < S; ++t) {
+      check_inputs(*sensors[s], *sensors[t], cap, radius_scale);
+      out[static_cast<std::size_t>(s) * S + t].n_a = sensors[s]->n_tracks();
+      out[static_cast<std::size_t>(s) * S + t].n_b = sensors[t]->n_tracks();
+    }
+  if (S < 2) return out;
+  const int32_t K = sensors[0]->n_times;
   const double c2 = cap * radius_scale * radius_scale;
   // Lossless: (tr_a + tr_b)·c ≤ 2·max(tr_a, tr_b)·c, so a pair within its bound is within the
   // larger of the two radii √(2·tr·c); each pair is searched from the track with the larger one
   // (two passes: a over b's grid, b over a's grid), so one wide track does not coarsen the grid.
-  // Each scan's tracks come from the spans (valid_by_time), so a scan costs its own tracks only.
-  const ValidByTime va = valid_by_time(a), vb = valid_by_time(b);
-  std::vector<std::vector<std::pair<int32_t, int32_t>>> per_scan(K);
-  parallel_for_range(K, 1, [&](std::size_t lo, std::size_t hi) {
-    GridScratch scratch;
-    for (std::size_t k = lo; k < hi; ++k) {
-      const auto kk = static_cast<int32_t>(k);
-      scan_pass(a, va.at(k), b, vb.at(k), kk, c2, true, scratch, per_scan[k]);
-      scan_pass(b, vb.at(k), a, va.at(k), kk, c2, false, scratch, per_scan[k]);
+  // Each scan's tracks come from the spans (valid_by_time) and are gathered once for all pairs of
+  // sensors; a pair of sensors meets only where their boxes do (points_near), so sensors far apart
+  // cost one box test per scan. Scans in blocks of consecutive times (a pair found at one is
+  // mostly found at the next), each block's hits deduplicated before they are kept.
+  std::vector<ValidByTime> valid(S);
+  parallel_for_range(static_cast<std::size_t>(S), 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t s = lo; s < hi; ++s) valid[s] = valid_by_time(*sensors[s]);
+  });
+  constexpr int32_t kBlock = 8;
+  const std::size_t blocks = (static_cast<std::size_t>(K) + kBlock - 1) / kBlock;
+  std::vector<std::vector<Hit>> per_block(blocks);
+  parallel_for_range(blocks, 1, [&](std::size_t lo, std::size_t hi) {
+    ScanScratch scratch;
+    for (std::size_t bl = lo; bl < hi; ++bl) {
+      const auto k0 = static_cast<int32_t>(bl) * kBlock;
+      for (int32_t k = k0; k < std::min(K, k0 + kBlock); ++k)
+        scan_all_pairs(sensors, valid, k, c2, scratch, per_block[bl]);
+      sort_unique(per_block[bl]);
     }
   });
-  std::vector<std::pair<int32_t, int32_t>> all;
+  std::vector<Hit> all;
   std::size_t total = 0;
-  for (const auto& v : per_scan) total += v.size();
+  for (const auto& v : per_block) total += v.size();
   all.reserve(total);
-  for (auto& v : per_scan) {
+  for (auto& v : per_block) {
     all.insert(all.end(), v.begin(), v.end());
-    std::vector<std::pair<int32_t, int32_t>>().swap(v);
+    std::vector<Hit>().swap(v);
   }
-  return finish(a.n_tracks(), b.n_tracks(), all);
+  sort_unique(all);  // by slot, then (a, b): each slot's pairs sorted
+  for (const Hit& h : all) {
+    out[h.slot].a.push_back(h.a);
+    out[h.slot].b.push_back(h.b);
+  }
+  return out;
+}
+
+CandidatePairs scan_candidate_pairs(const AlignedTracks& a, const AlignedTracks& b, double cap,
+                                    double radius_scale) {
+  check_inputs(a, b, cap, radius_scale);
+  const AlignedTracks* both[2] = {&a, &b};
+  return std::move(scan_candidate_pairs(both, cap, radius_scale)[1]);
 }
 
 CandidatePairs scan_candidate_pairs_all_pairs(const AlignedTracks& a, const AlignedTracks& b, double cap,
@@ -283,6 +410,18 @@ CandidatePairs candidate_pairs_for_gate(const AlignedTracks& a, const AlignedTra
   if (statistic.gate == GateMethod::kCalibrated)
     return scan_candidate_pairs(a, b, SequentialGate(a.dim, statistic).cap(), radius_scale);
   return gated_candidate_pairs(a, b, CandidateOptions{statistic.gate_probability, radius_scale});
+}
+
+std::vector<CandidatePairs> candidate_pairs_for_gate(std::span<const AlignedTracks* const> sensors,
+                                                     const StatisticOptions& statistic, double radius_scale) {
+  if (statistic.gate == GateMethod::kCalibrated && !sensors.empty())
+    return scan_candidate_pairs(sensors, SequentialGate(sensors[0]->dim, statistic).cap(), radius_scale);
+  const std::size_t S = sensors.size();
+  std::vector<CandidatePairs> out(S * S);
+  for (std::size_t s = 0; s < S; ++s)
+    for (std::size_t t = s + 1; t < S; ++t)
+      out[s * S + t] = candidate_pairs_for_gate(*sensors[s], *sensors[t], statistic, radius_scale);
+  return out;
 }
 
 }  // namespace trackassoc

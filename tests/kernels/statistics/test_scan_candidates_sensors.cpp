@@ -1,0 +1,124 @@
+// The per-scan candidate index over many sensors at once (kernels/statistics/scan_candidates.hpp,
+// scan_candidate_pairs over a span of sensors): each sensor pair's slot holds exactly the pairs of
+// the naive O(n_a·n_b·K) scan, whether the sensors' coverages overlap, touch or lie far apart, with
+// asynchronous spans, gaps of validity and one wide covariance among small ones.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "kernels/core/random.hpp"
+#include "kernels/statistics/scan_candidates.hpp"
+
+namespace trackassoc {
+namespace {
+
+// n tracks of one sensor around (cx, cy) (±half on each axis; the third axis, m = 3, in ±half
+// too), each over a random span of the K common times, valid at ~80 % of them, moving 30 m per step
+// along the first axis; position variance 1e4..5e4 m² (one track `wide_var`, when > 0, and with
+// `spread`, variances spread over 10²..10⁶ m², so that queries cover a few to many cells). D = 2m.
+AlignedTracks make_sensor(int32_t sensor, double cx, double cy, double half, int32_t n, int32_t K,
+                          uint64_t seed, double wide_var = 0.0, int D = 4, bool spread = false) {
+  AlignedTracks x;
+  x.sensor = sensor;
+  x.dim = D;
+  x.n_times = K;
+  const int m = D / 2;
+  CounterRng rng(seed, 0, 0);
+  std::vector<int32_t> begin, length;
+  for (int32_t i = 0; i < n; ++i) {
+    x.track.push_back(i);
+    x.truth.push_back(i);
+    const auto b = static_cast<int32_t>(rng.uniform(0.0, K - 1.0));
+    begin.push_back(b);
+    length.push_back(1 + static_cast<int32_t>(rng.uniform(0.0, K - b - 1.0)));
+  }
+  x.allocate(begin, length);
+  for (int32_t i = 0; i < n; ++i) {
+    const double p0[3] = {cx + rng.uniform(-half, half), cy + rng.uniform(-half, half),
+                          rng.uniform(-half, half)};
+    const double var = i == 3 && wide_var > 0.0 ? wide_var
+                       : spread                 ? std::pow(10.0, rng.uniform(2.0, 6.0))
+                                                : rng.uniform(1e4, 5e4);
+    for (int32_t k = x.span(i).begin; k < x.span(i).end; ++k) {
+      const int64_t c = x.cell(i, k);
+      x.valid[c] = rng.uniform(0.0, 1.0) < 0.8;
+      double* st = x.state_at(c);
+      for (int d = 0; d < m; ++d) st[d] = p0[d] + (d == 0 ? 30.0 * k : 0.0);
+      st[m] = 30.0;
+      double* p = x.cov_at(c);
+      for (int r = 0; r < D; ++r) p[packed_index(D, r, r)] = r < m ? var : 1.0;
+    }
+  }
+  return x;
+}
+
+TEST(ScanCandidatesSensors, EverySensorPairEqualsTheNaiveScan) {
+  const int32_t K = 40;
+  // 0 and 1 overlap, 2 overlaps 1 by 500 m only, 3 is 10⁴ km away, 4 overlaps 0 with one
+  // track of variance 10¹³ m², whose bound √((10¹³ + σ²)·c) reaches sensor 3 at c = 18.47
+  // (1.36·10⁷ m) but not at c = 1 (3.2·10⁶ m).
+  const std::vector<AlignedTracks> x{
+      make_sensor(0, 0.0, 0.0, 3000.0, 150, K, 1), make_sensor(1, 4000.0, 0.0, 3000.0, 150, K, 2),
+      make_sensor(2, 9500.0, 0.0, 3000.0, 120, K, 3), make_sensor(3, 1e7, 0.0, 3000.0, 100, K, 4),
+      make_sensor(4, 0.0, 2000.0, 3000.0, 80, K, 5, 1e13)};
+  std::vector<const AlignedTracks*> ptr;
+  for (const auto& s : x) ptr.push_back(&s);
+  for (const double cap : {1.0, 18.47}) {
+    const std::vector<CandidatePairs> all = scan_candidate_pairs(ptr, cap);
+    ASSERT_EQ(all.size(), 25u);
+    std::size_t total = 0;
+    for (int32_t s = 0; s < 5; ++s)
+      for (int32_t t = 0; t < 5; ++t) {
+        const CandidatePairs& got = all[s * 5 + t];
+        if (t <= s) {
+          EXPECT_EQ(got.size(), 0u);
+          continue;
+        }
+        SCOPED_TRACE(std::to_string(s) + "-" + std::to_string(t) + " cap " + std::to_string(cap));
+        const CandidatePairs naive = scan_candidate_pairs_all_pairs(x[s], x[t], cap);
+        EXPECT_EQ(got.n_a, x[s].n_tracks());
+        EXPECT_EQ(got.n_b, x[t].n_tracks());
+        EXPECT_EQ(got.a, naive.a);  // sorted by (a, b), as the naive scan's
+        EXPECT_EQ(got.b, naive.b);
+        const CandidatePairs two = scan_candidate_pairs(x[s], x[t], cap);
+        EXPECT_EQ(two.a, naive.a);
+        EXPECT_EQ(two.b, naive.b);
+        total += got.size();
+      }
+    // Far apart: nothing, except through the wide track of sensor 4.
+    EXPECT_EQ(all[0 * 5 + 3].size(), 0u);
+    EXPECT_EQ(all[3 * 5 + 4].size() > 0, cap > 10.0);
+    EXPECT_EQ(all[1 * 5 + 3].size(), 0u);
+    EXPECT_EQ(all[0 * 5 + 2].size(), 0u);  // 3.5 km between the boxes, bounds ≤ 1.4 km
+    EXPECT_GT(all[0 * 5 + 1].size(), 10u);
+    EXPECT_GT(all[1 * 5 + 2].size(), cap > 10.0 ? 5u : 0u);  // the boxes overlap by 500 m
+    EXPECT_GT(total, 100u);
+  }
+}
+
+// m = 1 and m = 3, with variances over four decades: the rows of cells read along the last axis
+// and the switch to reading every point give the naive scan's pairs.
+TEST(ScanCandidatesSensors, OneAndThreeAxesWithSpreadRadiiEqualTheNaiveScan) {
+  for (const int D : {2, 6}) {
+    const int32_t K = 12;
+    const std::vector<AlignedTracks> x{make_sensor(0, 0.0, 0.0, 4000.0, 300, K, 11, 0.0, D, true),
+                                       make_sensor(1, 1000.0, 0.0, 4000.0, 300, K, 12, 0.0, D, true),
+                                       make_sensor(2, 9000.0, 0.0, 4000.0, 200, K, 13, 0.0, D, true)};
+    const std::vector<const AlignedTracks*> ptr{&x[0], &x[1], &x[2]};
+    const std::vector<CandidatePairs> all = scan_candidate_pairs(ptr, 18.47);
+    std::size_t total = 0;
+    for (const auto& [s, t] : {std::pair{0, 1}, {0, 2}, {1, 2}}) {
+      SCOPED_TRACE("D " + std::to_string(D) + " sensors " + std::to_string(s) + "-" + std::to_string(t));
+      const CandidatePairs naive = scan_candidate_pairs_all_pairs(x[s], x[t], 18.47);
+      EXPECT_EQ(all[s * 3 + t].a, naive.a);
+      EXPECT_EQ(all[s * 3 + t].b, naive.b);
+      total += naive.size();
+    }
+    EXPECT_GT(total, 500u) << D;
+  }
+}
+
+}  // namespace
+}  // namespace trackassoc
