@@ -156,24 +156,53 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
   numbers.erase(std::unique(numbers.begin(), numbers.end()), numbers.end());
   std::vector<Group> all(numbers.size());
   std::vector<char> seen(numbers.size(), 0);
-  // Rows come in runs of one (sensor, track): one search per run.
-  std::pair<int32_t, int32_t> last_key{0, 0};
-  std::ptrdiff_t last_group = -2;  // -2: no run yet, -1: a track of no tuple
-  for (std::size_t r = 0; r < t.size(); ++r) {
-    const std::pair key{t.sensor[r], t.track[r]};
-    if (last_group == -2 || key != last_key) {
-      last_key = key;
-      const auto it = std::lower_bound(members.begin(), members.end(), key,
-                                       [](const Member& m, const std::pair<int32_t, int32_t>& k) { return m.key() < k; });
-      last_group = it == members.end() || it->key() != key
-                       ? -1
-                       : std::lower_bound(numbers.begin(), numbers.end(), it->target) - numbers.begin();
+  // Per sensor id, its members' group indices by track number: a table when its numbers are dense
+  // (at most 4 slots a member), else a binary search. Rows come in any order.
+  struct Lookup {
+    int32_t sensor = 0, first_track = 0;
+    std::size_t begin = 0, end = 0;  // its members
+    std::vector<int32_t> table;      // track − first_track -> group index or -1; empty: search
+  };
+  std::vector<Lookup> lookups;
+  for (std::size_t i = 0; i < members.size();) {
+    Lookup l;
+    l.sensor = members[i].sensor, l.begin = i, l.first_track = members[i].track;
+    while (i < members.size() && members[i].sensor == l.sensor) ++i;
+    l.end = i;
+    const int64_t span = static_cast<int64_t>(members[i - 1].track) - l.first_track + 1;
+    if (span <= 4 * static_cast<int64_t>(l.end - l.begin) + 64) {
+      l.table.assign(static_cast<std::size_t>(span), -1);
+      for (std::size_t m = l.begin; m < l.end; ++m)
+        l.table[static_cast<std::size_t>(members[m].track - l.first_track)] = static_cast<int32_t>(
+            std::lower_bound(numbers.begin(), numbers.end(), members[m].target) - numbers.begin());
     }
-    if (last_group < 0) continue;
-    Group& G = all[static_cast<std::size_t>(last_group)];
-    if (!seen[static_cast<std::size_t>(last_group)]) {
-      seen[static_cast<std::size_t>(last_group)] = 1;
-      G.target = numbers[static_cast<std::size_t>(last_group)], G.first = G.last = r;
+    lookups.push_back(std::move(l));
+  }
+  auto group_of = [&](const Lookup& l, int32_t track) -> std::ptrdiff_t {
+    if (!l.table.empty()) {
+      const int64_t i = static_cast<int64_t>(track) - l.first_track;
+      return i < 0 || i >= static_cast<int64_t>(l.table.size()) ? -1 : l.table[static_cast<std::size_t>(i)];
+    }
+    const auto first = members.begin() + static_cast<std::ptrdiff_t>(l.begin),
+               last = members.begin() + static_cast<std::ptrdiff_t>(l.end);
+    const auto it = std::lower_bound(first, last, track, [](const Member& m, int32_t k) { return m.track < k; });
+    return it == last || it->track != track ? -1
+                                            : std::lower_bound(numbers.begin(), numbers.end(), it->target) - numbers.begin();
+  };
+  const Lookup* lookup = nullptr;
+  for (std::size_t r = 0; r < t.size(); ++r) {
+    if (lookup == nullptr || lookup->sensor != t.sensor[r]) {
+      const auto it = std::lower_bound(lookups.begin(), lookups.end(), t.sensor[r],
+                                       [](const Lookup& l, int32_t id) { return l.sensor < id; });
+      if (it == lookups.end() || it->sensor != t.sensor[r]) continue;  // a sensor of no tuple
+      lookup = &*it;
+    }
+    const std::ptrdiff_t g = group_of(*lookup, t.track[r]);
+    if (g < 0) continue;
+    Group& G = all[static_cast<std::size_t>(g)];
+    if (!seen[static_cast<std::size_t>(g)]) {
+      seen[static_cast<std::size_t>(g)] = 1;
+      G.target = numbers[static_cast<std::size_t>(g)], G.first = G.last = r;
     }
     if (t.t[r] < t.t[G.first]) G.first = r;
     if (t.t[r] > t.t[G.last]) G.last = r;
