@@ -77,6 +77,11 @@ class SparseSDAssociator final : public TrackAssociator {
     SparseSDReport& kept = reg.applied ? reports.back() : reports.front();
     AssociationSummary& s = out.summary;
     s.stages = std::move(kept.stages);
+    // The registration's own time (everything but the kept association: the fits and, when it
+    // re-associated, the other association on corrected reports) ran before the stitching, and so
+    // did the peak memory it reached.
+    if (reg.fitted)
+      s.stages.push_back({"registration", std::max(0.0, seconds_since(t0) - out.record.runtime_s), peak_rss_mib(), 0.0});
     // Fragments: on the reports the association used (corrected when the registration applied).
     if (o_.stitching.enabled) {
       const auto ts = std::chrono::steady_clock::now();
@@ -90,10 +95,7 @@ class SparseSDAssociator final : public TrackAssociator {
     if (reg.fitted) {
       out.registration = reg.to_record(file, out.record.name, ro);
       s.registration = out.registration;
-      // The stages are the kept association's; the registration is everything else.
-      const double total = seconds_since(t0);
-      s.stages.push_back({"registration", std::max(0.0, total - out.record.runtime_s), peak_rss_mib(), 0.0});
-      out.record.runtime_s = total;
+      out.record.runtime_s = seconds_since(t0);
     }
     s.path = path();
     s.sensor_ids = select_sensors(file, o_.pipeline, SensorRule::kTwoOrMore).ids;

@@ -3,14 +3,16 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <numbers>
 #include <numeric>
 
+#include "engine/pipeline/stitch_index.hpp"
 #include "kernels/assignment/lap_sparse.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/parallel.hpp"
 #include "kernels/statistics/chi_square.hpp"
 
 namespace trackassoc {
@@ -85,13 +87,11 @@ GapStatistic gap_statistic(const TrackTable& t, std::size_t end, std::size_t sta
   return g;
 }
 
-namespace {
-
 // A conservative pre-gate without a factorisation: the position part's m² is at most the full
 // m² (a marginal's Mahalanobis form never exceeds the joint one) and at least |e_p|²/trace(S_pp),
 // so |e_p|² > gate·trace(S_pp) means m² > gate. Far pairs (most of them in a wide scene) are
 // refused from the diagonal alone; the joins are exactly those without it.
-bool surely_outside(const TrackTable& t, std::size_t end, std::size_t start, double q, double gate) {
+bool gap_surely_outside(const TrackTable& t, std::size_t end, std::size_t start, double q, double gate) {
   const int D = t.dim(), d = D / 2;
   auto packed = [D](int r, int c) { return r * D - r * (r - 1) / 2 + (c - r); };  // r ≤ c
   const double tm = 0.5 * (t.t[end] + t.t[start]);
@@ -109,11 +109,9 @@ bool surely_outside(const TrackTable& t, std::size_t end, std::size_t start, dou
   return e2 > gate * trace;
 }
 
-}  // namespace
-
 double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const TrackStitchOptions& o,
                  double gate, bool* quiet_gated) {
-  if (surely_outside(t, end, start, o.turn_sigma * o.turn_sigma, gate))
+  if (gap_surely_outside(t, end, start, o.turn_sigma * o.turn_sigma, gate))
     return std::numeric_limits<double>::infinity();
   const GapStatistic turn = gap_statistic(t, end, start, o.turn_sigma * o.turn_sigma);
   if (!(turn.m2 <= gate)) return std::numeric_limits<double>::infinity();
@@ -128,6 +126,104 @@ double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const 
   return -log_sum_exp(l_quiet, l_turn);
 }
 
+namespace {
+
+// The groups of the rule, in increasing target number: each target number of `target` that has
+// reports, with the rows of its earliest and latest report.
+std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec, const std::vector<int32_t>& target) {
+  const TrackTable& t = file.tracks;
+  const std::size_t S = static_cast<std::size_t>(rec.num_sensors), K = rec.num_tuples();
+  // (sensor id, track, target number), sorted; of a key listed twice, the later tuple's number.
+  struct Member {
+    int32_t sensor, track, target;
+    auto key() const { return std::pair{sensor, track}; }
+  };
+  std::vector<Member> members;
+  for (std::size_t k = 0; k < K; ++k)
+    for (std::size_t s = 0; s < S; ++s)
+      if (rec.tuples[k * S + s] >= 0) members.push_back({file.sensors[s].id, rec.tuples[k * S + s], target[k]});
+  std::stable_sort(members.begin(), members.end(), [](const Member& a, const Member& b) { return a.key() < b.key(); });
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    if (kept > 0 && members[kept - 1].key() == members[i].key()) --kept;
+    members[kept++] = members[i];
+  }
+  members.resize(kept);
+  std::vector<int32_t> numbers;
+  numbers.reserve(members.size());
+  for (const Member& m : members) numbers.push_back(m.target);
+  std::sort(numbers.begin(), numbers.end());
+  numbers.erase(std::unique(numbers.begin(), numbers.end()), numbers.end());
+  std::vector<Group> all(numbers.size());
+  std::vector<char> seen(numbers.size(), 0);
+  // Per sensor id, its members' group indices by track number: a table when its numbers are dense
+  // (at most 4 slots a member), else a binary search. Rows come in any order.
+  struct Lookup {
+    int32_t sensor = 0, first_track = 0;
+    std::size_t begin = 0, end = 0;  // its members
+    std::vector<int32_t> table;      // track − first_track -> group index or -1; empty: search
+  };
+  std::vector<Lookup> lookups;
+  for (std::size_t i = 0; i < members.size();) {
+    Lookup l;
+    l.sensor = members[i].sensor, l.begin = i, l.first_track = members[i].track;
+    while (i < members.size() && members[i].sensor == l.sensor) ++i;
+    l.end = i;
+    const int64_t span = static_cast<int64_t>(members[i - 1].track) - l.first_track + 1;
+    if (span <= 4 * static_cast<int64_t>(l.end - l.begin) + 64) {
+      l.table.assign(static_cast<std::size_t>(span), -1);
+      for (std::size_t m = l.begin; m < l.end; ++m)
+        l.table[static_cast<std::size_t>(members[m].track - l.first_track)] = static_cast<int32_t>(
+            std::lower_bound(numbers.begin(), numbers.end(), members[m].target) - numbers.begin());
+    }
+    lookups.push_back(std::move(l));
+  }
+  auto group_of = [&](const Lookup& l, int32_t track) -> std::ptrdiff_t {
+    if (!l.table.empty()) {
+      const int64_t i = static_cast<int64_t>(track) - l.first_track;
+      return i < 0 || i >= static_cast<int64_t>(l.table.size()) ? -1 : l.table[static_cast<std::size_t>(i)];
+    }
+    const auto first = members.begin() + static_cast<std::ptrdiff_t>(l.begin),
+               last = members.begin() + static_cast<std::ptrdiff_t>(l.end);
+    const auto it = std::lower_bound(first, last, track, [](const Member& m, int32_t k) { return m.track < k; });
+    return it == last || it->track != track ? -1
+                                            : std::lower_bound(numbers.begin(), numbers.end(), it->target) - numbers.begin();
+  };
+  const Lookup* lookup = nullptr;
+  for (std::size_t r = 0; r < t.size(); ++r) {
+    if (lookup == nullptr || lookup->sensor != t.sensor[r]) {
+      const auto it = std::lower_bound(lookups.begin(), lookups.end(), t.sensor[r],
+                                       [](const Lookup& l, int32_t id) { return l.sensor < id; });
+      if (it == lookups.end() || it->sensor != t.sensor[r]) continue;  // a sensor of no tuple
+      lookup = &*it;
+    }
+    const std::ptrdiff_t g = group_of(*lookup, t.track[r]);
+    if (g < 0) continue;
+    Group& G = all[static_cast<std::size_t>(g)];
+    if (!seen[static_cast<std::size_t>(g)]) {
+      seen[static_cast<std::size_t>(g)] = 1;
+      G.target = numbers[static_cast<std::size_t>(g)], G.first = G.last = r;
+    }
+    if (t.t[r] < t.t[G.first]) G.first = r;
+    if (t.t[r] > t.t[G.last]) G.last = r;
+  }
+  std::vector<Group> groups;
+  groups.reserve(all.size());
+  for (std::size_t g = 0; g < all.size(); ++g)
+    if (seen[g]) groups.push_back(all[g]);
+  return groups;
+}
+
+// One gated pair: end group, start group, its cost c₁₂ (with the window's n / V) and whether the
+// quiet model gates it too.
+struct Candidate {
+  int32_t end, start;
+  double cost;
+  bool quiet;
+};
+
+}  // namespace
+
 TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& rec,
                                     const TrackStitchOptions& o) {
   o.validate();
@@ -141,69 +237,62 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     target.resize(K);
     std::iota(target.begin(), target.end(), 0);
   }
-  // (sensor id, track) -> target number.
-  std::map<std::pair<int32_t, int32_t>, int32_t> target_of;
-  for (std::size_t k = 0; k < K; ++k)
-    for (int32_t s = 0; s < S; ++s)
-      if (rec.tuples[k * S + s] >= 0) target_of[{file.sensors[s].id, rec.tuples[k * S + s]}] = target[k];
-  std::map<int32_t, Group> by_target;
-  for (std::size_t r = 0; r < t.size(); ++r) {
-    const auto it = target_of.find({t.sensor[r], t.track[r]});
-    if (it == target_of.end()) continue;
-    auto [g, fresh] = by_target.try_emplace(it->second);
-    Group& G = g->second;
-    if (fresh) G.target = it->second, G.first = G.last = r;
-    if (t.t[r] < t.t[G.first]) G.first = r;
-    if (t.t[r] > t.t[G.last]) G.last = r;
-  }
-  std::vector<const Group*> groups;
-  for (const auto& [k, g] : by_target) groups.push_back(&g);
+  const std::vector<Group> groups = groups_of(file, rec, target);
   const std::size_t G = groups.size();
   summary.groups = static_cast<int32_t>(G);
   std::vector<std::size_t> by_start(G);
   std::iota(by_start.begin(), by_start.end(), 0);
   std::sort(by_start.begin(), by_start.end(),
-            [&](std::size_t a, std::size_t b) { return t.t[groups[a]->first] < t.t[groups[b]->first]; });
-  std::vector<double> starts;
-  for (std::size_t i : by_start) starts.push_back(t.t[groups[i]->first]);
+            [&](std::size_t a, std::size_t b) { return t.t[groups[a].first] < t.t[groups[b].first]; });
   // "Different targets": a start uniform over the box of the groups' start states.
   const int D = t.dim();
   double log_volume = 0.0;
   for (int i = 0; i < D; ++i) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (const Group* g : groups)
-      lo = std::min(lo, t.state[i][g->first]), hi = std::max(hi, t.state[i][g->first]);
+    for (const Group& g : groups) lo = std::min(lo, t.state[i][g.first]), hi = std::max(hi, t.state[i][g.first]);
     log_volume += std::log(std::max(hi - lo, 1.0));
   }
-  // Candidates (rows: ends, columns: starts) with a cost of positive evidence, in CSR form.
+  // Candidates (rows: ends, columns: starts): for each end, the starts of its window that the
+  // index (engine/pipeline/stitch_index.hpp) does not exclude, in start-time order, gated.
   const double gate = chi_square_quantile(o.gate_probability, D);
-  struct Candidate {
-    int32_t end, start;
-    double cost;
-    bool quiet;
-  };
+  std::vector<std::size_t> start_rows(G);
+  for (std::size_t p = 0; p < G; ++p) start_rows[p] = groups[by_start[p]].first;
+  const StitchStartIndex index(t, start_rows, o.turn_sigma * o.turn_sigma, gate, o.max_overlap_s, o.max_gap_s);
+  start_rows = {};
+  constexpr std::size_t kBlock = 1024;  // ends per task; the blocks are concatenated in order
+  std::vector<std::vector<Candidate>> kept((G + kBlock - 1) / kBlock);
+  std::vector<int32_t> rivals_of_end(G, 0), rivals_of_start(G, 0);  // gated pairs of each end / start
+  parallel_for_range(kept.size(), 1, [&](std::size_t first_block, std::size_t last_block) {
+    std::vector<int32_t> near;
+    for (std::size_t k = first_block; k < last_block; ++k)
+      for (std::size_t a = k * kBlock; a < std::min(G, (k + 1) * kBlock); ++a) {
+        const double end = t.t[groups[a].last];
+        // "A different target": any of the n starts of the window, each uniform over the box, so
+        // the density of the alternative is n / V (the density of new starts of MHT's track score).
+        const auto [first, last] = index.window(end);
+        const double log_alternative = log_volume - std::log(std::max<double>(1.0, static_cast<double>(last - first)));
+        index.query(t, groups[a].last, near);
+        for (int32_t p : near) {
+          const std::size_t b = by_start[static_cast<std::size_t>(p)];
+          if (b == a || t.t[groups[b].last] <= end) continue;          // b must go on after a ends
+          if (t.t[groups[a].first] >= t.t[groups[b].first]) continue;  // and start after a starts
+          bool quiet = false;
+          const double c = join_cost(t, groups[a].last, groups[b].first, o, gate, &quiet);
+          if (!std::isfinite(c)) continue;
+          ++rivals_of_end[a];
+          std::atomic_ref<int32_t>(rivals_of_start[b]).fetch_add(1, std::memory_order_relaxed);
+          if (c - log_alternative < 0.0)
+            kept[k].push_back({static_cast<int32_t>(a), static_cast<int32_t>(b), c - log_alternative, quiet});
+        }
+      }
+  });
+  // The gated pairs of positive evidence, in order of their ends (then of their starts' times).
   std::vector<Candidate> candidates;
-  std::vector<int32_t> rivals_of_end(G, 0), rivals_of_start(G, 0);
-  for (std::size_t a = 0; a < G; ++a) {
-    const double end = t.t[groups[a]->last];
-    auto lo = std::lower_bound(starts.begin(), starts.end(), end - o.max_overlap_s);
-    const auto hi = std::upper_bound(lo, starts.end(), end + o.max_gap_s);
-    // "A different target": any of the n starts of the window, each uniform over the box, so the
-    // density of the alternative is n / V (the density of new starts of MHT's track score).
-    const double log_alternative = log_volume - std::log(std::max<double>(1.0, static_cast<double>(hi - lo)));
-    for (auto it = lo; it != hi; ++it) {
-      const std::size_t b = by_start[static_cast<std::size_t>(it - starts.begin())];
-      if (b == a || t.t[groups[b]->last] <= end) continue;           // b must go on after a ends
-      if (t.t[groups[a]->first] >= t.t[groups[b]->first]) continue;  // and start after a starts
-      bool quiet = false;
-      const double c = join_cost(t, groups[a]->last, groups[b]->first, o, gate, &quiet);
-      if (!std::isfinite(c)) continue;
-      ++summary.candidates;
-      ++rivals_of_end[a], ++rivals_of_start[b];
-      if (c - log_alternative < 0.0)
-        candidates.push_back({static_cast<int32_t>(a), static_cast<int32_t>(b), c - log_alternative, quiet});
-    }
+  for (auto& block : kept) {
+    candidates.insert(candidates.end(), block.begin(), block.end());
+    block = {};
   }
+  for (int32_t n : rivals_of_end) summary.candidates += n;
   // A join that only the manoeuvring model gates is made only when it is unambiguous (neither side
   // has another gated candidate) and its evidence is at least turn_min_evidence. Its wide gate
   // takes in unrelated starts where traffic is dense, while a lone turning fragment
@@ -242,18 +331,20 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     if (joins.row_to_col[a] < 0) continue;
     const std::size_t ra = find(a), rb = find(static_cast<std::size_t>(joins.row_to_col[a]));
     if (ra == rb) continue;
-    if (t.t[groups[rb]->first] < t.t[groups[ra]->first])  // the root is the group that starts first
+    if (t.t[groups[rb].first] < t.t[groups[ra].first])  // the root is the group that starts first
       parent[ra] = rb;
     else
       parent[rb] = ra;
     ++summary.stitches;
   }
   if (summary.stitches == 0) return summary;
-  std::map<int32_t, int32_t> renumber;
-  for (std::size_t g = 0; g < G; ++g) renumber[groups[g]->target] = groups[find(g)]->target;
+  // groups is in increasing target number: a binary search finds a tuple's group.
+  std::vector<int32_t> renumber(G);
+  for (std::size_t g = 0; g < G; ++g) renumber[g] = groups[find(g)].target;
   for (auto& number : target) {
-    const auto it = renumber.find(number);
-    if (it != renumber.end()) number = it->second;
+    const auto it = std::lower_bound(groups.begin(), groups.end(), number,
+                                     [](const Group& g, int32_t n) { return g.target < n; });
+    if (it != groups.end() && it->target == number) number = renumber[static_cast<std::size_t>(it - groups.begin())];
   }
   rec.target = std::move(target);
   return summary;

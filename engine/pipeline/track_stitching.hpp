@@ -47,9 +47,14 @@
 // optimal over the whole file (instead of per-pair rules). Joins are chained (G₁ → G₂ → G₃ is one
 // target) and the later groups take the earliest group's target number. The tuples are unchanged;
 // only `target` changes (filled when it was empty and a join was made).
-// Complexity: O(G log G + C·D³) for the candidates (a sweep over groups sorted by start time),
-// plus the sparse LAP's O(J·C log C) worst case for J joins; in practice the candidate graph is a
-// sparse set of small chains.
+// Candidates are searched through an index of the starts (engine/pipeline/stitch_index.hpp: a k-d
+// tree over time and position with an exact bound of the pre-gate's reach), so an end looks only
+// at the starts it could gate, not at every start of its window; the candidates, their order and
+// the joins are those of the scan of the whole window. Ends are searched in parallel.
+// Complexity: O(G log G) to build, per end the index's nodes near its window and reach, O(D³) per
+// start it returns, plus the sparse LAP's O(J·C log C) worst case for J joins of C candidates; in
+// practice the candidate graph is a sparse set of small chains. Memory: O(G) (the groups, the
+// index, ~100 bytes a group) plus the candidates of positive evidence.
 #pragma once
 
 #include <cstdint>
@@ -82,6 +87,11 @@ struct GapStatistic {
   double m2 = 0.0, log_det = 0.0;
 };
 GapStatistic gap_statistic(const TrackTable& tracks, std::size_t end, std::size_t start, double q);
+
+// The pre-gate of join_cost: true only when m² under q = σ_a² is surely above `gate`, from the
+// diagonal alone (|e_p|² > gate·tr(S_pp) of the position part e_p, S_pp); the index of
+// engine/pipeline/stitch_index.hpp bounds the pairs it keeps.
+bool gap_surely_outside(const TrackTable& tracks, std::size_t end, std::size_t start, double q, double gate);
 
 // The join's cost c₁₂ + ln V of the rule above (the mixture's −ln p(e | same target)), or +inf when
 // the manoeuvring model's m² is outside the gate `gate` (χ²_D of gate_probability). `quiet_gated`,

@@ -122,14 +122,17 @@ TEST(Associator, SparseSDTuplesAreTheFilesTargets) {
   EXPECT_EQ(out.summary.sensor_ids, (std::vector<int32_t>{file.sensors[0].id, file.sensors[1].id,
                                                           file.sensors[2].id, file.sensors[3].id}));
   EXPECT_GE(out.summary.components, 1);
-  // alignment, candidates, statistics, components, solve, segments, stitching, then the
-  // registration stage's own time (engine/pipeline/registration_stage.hpp): this file has no
-  // registration errors, so the estimate is not applied (the tuples above are the recorded ones);
-  // its tracks all coexist, so no fragment is stitched.
+  // alignment, candidates, statistics, components, solve, segments, the registration stage's own
+  // time (engine/pipeline/registration_stage.hpp), then stitching, in the order they ran: this file
+  // has no registration errors, so the estimate is not applied (the tuples above are the recorded
+  // ones); its tracks all coexist, so no fragment is stitched. Each stage's peak memory is the
+  // process's at its end, so it never decreases along the list.
   EXPECT_EQ(out.summary.stages.size(), 8u);
-  EXPECT_EQ(out.summary.stages[6].name, "stitching");
+  EXPECT_EQ(out.summary.stages[6].name, "registration");
   EXPECT_EQ(out.summary.stitching.stitches, 0);
-  EXPECT_EQ(out.summary.stages.back().name, "registration");
+  EXPECT_EQ(out.summary.stages.back().name, "stitching");
+  for (std::size_t i = 1; i < out.summary.stages.size(); ++i)
+    EXPECT_GE(out.summary.stages[i].peak_rss_mib, out.summary.stages[i - 1].peak_rss_mib) << i;
   ASSERT_TRUE(out.registration.has_value());
   EXPECT_FALSE(out.registration->applied);
   expect_unassociated(file, out);
