@@ -81,7 +81,8 @@ class SparseSDAssociator final : public TrackAssociator {
     // re-associated, the other association on corrected reports) ran before the stitching, and so
     // did the peak memory it reached.
     if (reg.fitted)
-      s.stages.push_back({"registration", std::max(0.0, seconds_since(t0) - out.record.runtime_s), peak_rss_mib(), 0.0});
+      s.stages.push_back(
+          {"registration", std::max(0.0, seconds_since(t0) - out.record.runtime_s), peak_rss_mib(), 0.0});
     // Fragments: on the reports the association used (corrected when the registration applied).
     if (o_.stitching.enabled) {
       const auto ts = std::chrono::steady_clock::now();

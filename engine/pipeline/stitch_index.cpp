@@ -8,12 +8,13 @@ namespace trackassoc {
 
 namespace {
 
-constexpr int32_t kLeaf = 16;          // points per leaf
+constexpr int32_t kLeaf = 16;            // points per leaf
 constexpr double kRelativeSlack = 1e-7;  // the bound's widening against rounding (header)
 
 }  // namespace
 
-StitchStartIndex::Reach StitchStartIndex::reach_of(const TrackTable& t, std::size_t row, int32_t position) const {
+StitchStartIndex::Reach StitchStartIndex::reach_of(const TrackTable& t, std::size_t row,
+                                                   int32_t position) const {
   const int D = t.dim(), d = d_;
   auto packed = [D](int r, int c) { return r * D - r * (r - 1) / 2 + (c - r); };  // r ≤ c
   Reach r;
@@ -38,14 +39,16 @@ double StitchStartIndex::tau(double a, double b, double c, double h) const {
 }
 
 double StitchStartIndex::reach(const Reach& e, double a, double b, double c, double speed, double h) const {
-  const double r = 0.5 * h * (e.speed + speed) + std::sqrt(gate_ * std::max(0.0, tau(e.a, e.b, e.c, h) + tau(a, b, c, h)));
+  const double r =
+      0.5 * h * (e.speed + speed) + std::sqrt(gate_ * std::max(0.0, tau(e.a, e.b, e.c, h) + tau(a, b, c, h)));
   return r * (1.0 + kRelativeSlack) + margin_;
 }
 
 namespace {
 
 bool finite_reach(double t, const double* x, int d, double a, double b, double c, double speed) {
-  bool ok = std::isfinite(t) && std::isfinite(a) && std::isfinite(b) && std::isfinite(c) && std::isfinite(speed);
+  bool ok =
+      std::isfinite(t) && std::isfinite(a) && std::isfinite(b) && std::isfinite(c) && std::isfinite(speed);
   for (int i = 0; i < d; ++i) ok = ok && std::isfinite(x[i]);
   return ok;
 }
@@ -73,7 +76,9 @@ StitchStartIndex::StitchStartIndex(const TrackTable& t, const std::vector<std::s
   const double n = static_cast<double>(points_.size()), H = std::max({max_overlap_s, max_gap_s, 1.0});
   // The scene's scale for the absolute widening: positions and the farthest reach.
   margin_ = kRelativeSlack * (scale + H * sum_speed / n + 1.0);
-  double time_scale = (0.5 * H * sum_speed / n + std::sqrt(gate * std::max(0.0, tau(sum_a / n, sum_b / n, sum_c / n, H)))) / H;
+  double time_scale =
+      (0.5 * H * sum_speed / n + std::sqrt(gate * std::max(0.0, tau(sum_a / n, sum_b / n, sum_c / n, H)))) /
+      H;
   if (!(time_scale > 0.0) || !std::isfinite(time_scale)) time_scale = 1.0;
   nodes_.reserve(2 * points_.size() / kLeaf + 2);
   build(0, static_cast<int32_t>(points_.size()), time_scale);
@@ -118,7 +123,8 @@ std::pair<int32_t, int32_t> StitchStartIndex::window(double t_end) const {
   return {static_cast<int32_t>(lo - times_.begin()), static_cast<int32_t>(hi - times_.begin())};
 }
 
-void StitchStartIndex::visit(int32_t id, const Reach& e, double t_lo, double t_hi, std::vector<int32_t>& out) const {
+void StitchStartIndex::visit(int32_t id, const Reach& e, double t_lo, double t_hi,
+                             std::vector<int32_t>& out) const {
   const Node& n = nodes_[id];
   if (n.t_hi < t_lo || n.t_lo > t_hi) return;
   // The largest gap the node's span allows within the window.

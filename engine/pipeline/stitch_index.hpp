@@ -73,10 +73,10 @@ class StitchStartIndex {
 
   int d_ = 2;
   double q_ = 0.0, gate_ = 0.0, overlap_ = 0.0, gap_ = 0.0, margin_ = 0.0;
-  std::vector<double> times_;          // by position: the sorted start times
-  std::vector<Reach> points_;          // the tree's points, in leaf order
-  std::vector<Node> nodes_;            // nodes_[0] the root when points_ is not empty
-  std::vector<int32_t> unbounded_;     // positions with a non-finite coefficient, increasing
+  std::vector<double> times_;       // by position: the sorted start times
+  std::vector<Reach> points_;       // the tree's points, in leaf order
+  std::vector<Node> nodes_;         // nodes_[0] the root when points_ is not empty
+  std::vector<int32_t> unbounded_;  // positions with a non-finite coefficient, increasing
 };
 
 }  // namespace trackassoc

@@ -130,7 +130,8 @@ namespace {
 
 // The groups of the rule, in increasing target number: each target number of `target` that has
 // reports, with the rows of its earliest and latest report.
-std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec, const std::vector<int32_t>& target) {
+std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec,
+                             const std::vector<int32_t>& target) {
   const TrackTable& t = file.tracks;
   const std::size_t S = static_cast<std::size_t>(rec.num_sensors), K = rec.num_tuples();
   // (sensor id, track, target number), sorted; of a key listed twice, the later tuple's number.
@@ -141,8 +142,10 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
   std::vector<Member> members;
   for (std::size_t k = 0; k < K; ++k)
     for (std::size_t s = 0; s < S; ++s)
-      if (rec.tuples[k * S + s] >= 0) members.push_back({file.sensors[s].id, rec.tuples[k * S + s], target[k]});
-  std::stable_sort(members.begin(), members.end(), [](const Member& a, const Member& b) { return a.key() < b.key(); });
+      if (rec.tuples[k * S + s] >= 0)
+        members.push_back({file.sensors[s].id, rec.tuples[k * S + s], target[k]});
+  std::stable_sort(members.begin(), members.end(),
+                   [](const Member& a, const Member& b) { return a.key() < b.key(); });
   std::size_t kept = 0;
   for (std::size_t i = 0; i < members.size(); ++i) {
     if (kept > 0 && members[kept - 1].key() == members[i].key()) --kept;
@@ -185,9 +188,11 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
     }
     const auto first = members.begin() + static_cast<std::ptrdiff_t>(l.begin),
                last = members.begin() + static_cast<std::ptrdiff_t>(l.end);
-    const auto it = std::lower_bound(first, last, track, [](const Member& m, int32_t k) { return m.track < k; });
-    return it == last || it->track != track ? -1
-                                            : std::lower_bound(numbers.begin(), numbers.end(), it->target) - numbers.begin();
+    const auto it =
+        std::lower_bound(first, last, track, [](const Member& m, int32_t k) { return m.track < k; });
+    return it == last || it->track != track
+               ? -1
+               : std::lower_bound(numbers.begin(), numbers.end(), it->target) - numbers.begin();
   };
   const Lookup* lookup = nullptr;
   for (std::size_t r = 0; r < t.size(); ++r) {
@@ -249,7 +254,8 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   double log_volume = 0.0;
   for (int i = 0; i < D; ++i) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (const Group& g : groups) lo = std::min(lo, t.state[i][g.first]), hi = std::max(hi, t.state[i][g.first]);
+    for (const Group& g : groups)
+      lo = std::min(lo, t.state[i][g.first]), hi = std::max(hi, t.state[i][g.first]);
     log_volume += std::log(std::max(hi - lo, 1.0));
   }
   // Candidates (rows: ends, columns: starts): for each end, the starts of its window that the
@@ -257,7 +263,8 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   const double gate = chi_square_quantile(o.gate_probability, D);
   std::vector<std::size_t> start_rows(G);
   for (std::size_t p = 0; p < G; ++p) start_rows[p] = groups[by_start[p]].first;
-  const StitchStartIndex index(t, start_rows, o.turn_sigma * o.turn_sigma, gate, o.max_overlap_s, o.max_gap_s);
+  const StitchStartIndex index(t, start_rows, o.turn_sigma * o.turn_sigma, gate, o.max_overlap_s,
+                               o.max_gap_s);
   start_rows = {};
   constexpr std::size_t kBlock = 1024;  // ends per task; the blocks are concatenated in order
   std::vector<std::vector<Candidate>> kept((G + kBlock - 1) / kBlock);
@@ -270,7 +277,8 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
         // "A different target": any of the n starts of the window, each uniform over the box, so
         // the density of the alternative is n / V (the density of new starts of MHT's track score).
         const auto [first, last] = index.window(end);
-        const double log_alternative = log_volume - std::log(std::max<double>(1.0, static_cast<double>(last - first)));
+        const double log_alternative =
+            log_volume - std::log(std::max<double>(1.0, static_cast<double>(last - first)));
         index.query(t, groups[a].last, near);
         for (int32_t p : near) {
           const std::size_t b = by_start[static_cast<std::size_t>(p)];
@@ -344,7 +352,8 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   for (auto& number : target) {
     const auto it = std::lower_bound(groups.begin(), groups.end(), number,
                                      [](const Group& g, int32_t n) { return g.target < n; });
-    if (it != groups.end() && it->target == number) number = renumber[static_cast<std::size_t>(it - groups.begin())];
+    if (it != groups.end() && it->target == number)
+      number = renumber[static_cast<std::size_t>(it - groups.begin())];
   }
   rec.target = std::move(target);
   return summary;

@@ -26,7 +26,8 @@ Eigen::MatrixXd random_covariance(int D, double pos, double vel, std::mt19937& r
   const int d = D / 2;
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(D, D);
   for (int r = 0; r < D; ++r)
-    for (int c = 0; c <= r; ++c) A(r, c) = r == c ? (r < d ? pos : vel) * (0.2 + u(rng)) : 0.3 * (u(rng) - 0.5) * vel;
+    for (int c = 0; c <= r; ++c)
+      A(r, c) = r == c ? (r < d ? pos : vel) * (0.2 + u(rng)) : 0.3 * (u(rng) - 0.5) * vel;
   for (int i = 0; i < d; ++i) A(d + i, i) = (u(rng) - 0.5) * vel;  // position-velocity terms
   return A * A.transpose() + 1e-3 * Eigen::MatrixXd::Identity(D, D);
 }
@@ -94,7 +95,8 @@ Scene random_scene(StateLayout layout, int n, unsigned seed, const TrackStitchOp
       place(std::sqrt(gate * (1.0 - 1e-6) / gap_statistic(t, end, row, q).m2));
     } else if (kind == 3) {  // the largest scale the pre-gate keeps, to 10⁻¹² relative
       double in = 0.0, out = 1.0;
-      for (place(out); !gap_surely_outside(t, end, row, q, gate) && out < 1e9; place(out)) in = out, out *= 2.0;
+      for (place(out); !gap_surely_outside(t, end, row, q, gate) && out < 1e9; place(out))
+        in = out, out *= 2.0;
       while (out - in > 1e-12 * out) {
         place(0.5 * (in + out));
         (gap_surely_outside(t, end, row, q, gate) ? out : in) = 0.5 * (in + out);
@@ -172,7 +174,8 @@ TEST(StitchIndex, StartsWithANonFiniteCovarianceAreNeverPruned) {
     index.query(t, end, found);
     for (std::size_t p = 0; p < s.starts.size(); ++p) {
       const double ts = t.t[s.starts[p]], te = t.t[end];
-      if (std::isfinite(t.cov[0][s.starts[p]]) || ts < te - o.max_overlap_s || ts > te + o.max_gap_s) continue;
+      if (std::isfinite(t.cov[0][s.starts[p]]) || ts < te - o.max_overlap_s || ts > te + o.max_gap_s)
+        continue;
       EXPECT_TRUE(std::binary_search(found.begin(), found.end(), static_cast<int32_t>(p))) << end << " " << p;
       ++seen;
     }
