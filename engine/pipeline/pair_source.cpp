@@ -11,17 +11,6 @@ PairStatistic all_pairs_statistic(const AlignedSensors& sensors, int32_t a, int3
   return independent_sequential_statistic(sensors.aligned[a], sensors.aligned[b], statistic);
 }
 
-IndexedCandidates indexed_candidates(const AlignedSensors& sensors, int32_t a, int32_t b,
-                                     const StatisticOptions& statistic, double radius_scale) {
-  const AlignedTracks& ta = sensors.aligned[a];
-  const AlignedTracks& tb = sensors.aligned[b];
-  IndexedCandidates c;
-  const CandidatePairs found = candidate_pairs_for_gate(ta, tb, statistic, radius_scale);
-  c.found = found.size();
-  c.pairs = prune_by_position_bound(ta, tb, found, statistic);
-  return c;
-}
-
 std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
                                                   const StatisticOptions& statistic, double radius_scale) {
   std::vector<const AlignedTracks*> x;

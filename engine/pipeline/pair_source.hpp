@@ -27,17 +27,13 @@ namespace trackassoc {
 PairStatistic all_pairs_statistic(const AlignedSensors& sensors, int32_t a, int32_t b,
                                   const StatisticOptions& statistic);
 
-// The candidate index of sensors a and b: `found` pairs out of the index, `pairs` those the
-// position bound keeps (sorted by (a, b)).
+// The candidate index of every pair a < b of the sensors, in one pass over the common times
+// (kernels/statistics/scan_candidates.hpp): slot a·S + b holds the `found` pairs of sensors a and b
+// out of the index, and `pairs`, those the position bound keeps (sorted by (a, b)).
 struct IndexedCandidates {
   CandidatePairs pairs;
   std::size_t found = 0;
 };
-IndexedCandidates indexed_candidates(const AlignedSensors& sensors, int32_t a, int32_t b,
-                                     const StatisticOptions& statistic, double radius_scale);
-// The same for every pair a < b of the sensors at once (slot a·S + b; one pass over the common
-// times for all of them, kernels/statistics/scan_candidates.hpp): slot a·S + b equals
-// indexed_candidates(sensors, a, b, ...).
 std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
                                                   const StatisticOptions& statistic, double radius_scale);
 

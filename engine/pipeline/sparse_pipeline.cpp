@@ -74,9 +74,11 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   const std::array<std::pair<int, int>, 3> sensor_pairs{{{0, 1}, {1, 2}, {0, 2}}};
   std::array<CandidatePairs, 3> cand;
   bytes = 0;
-  for (int q = 0; q < 3; ++q) {  // the default path's index (pair_source.hpp): the same gated pairs
-    IndexedCandidates c = indexed_candidates(p, sensor_pairs[q].first, sensor_pairs[q].second, po.statistic,
-                                             options.radius_scale);
+  // The default path's index in one pass for the three pairs (pair_source.hpp): the same gated pairs.
+  std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale);
+  for (int q = 0; q < 3; ++q) {
+    IndexedCandidates& c =
+        found[static_cast<std::size_t>(sensor_pairs[q].first) * 3 + sensor_pairs[q].second];
     p.candidate_pairs[q] = c.found;
     cand[q] = std::move(c.pairs);
     bytes += cand[q].size() * 2 * sizeof(int32_t);

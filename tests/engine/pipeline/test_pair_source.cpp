@@ -13,6 +13,7 @@
 #include "engine/pipeline/sparse_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/studies/scale/experiment_scale.hpp"
+#include "kernels/statistics/scan_candidates.hpp"
 
 namespace trackassoc {
 namespace {
@@ -64,6 +65,7 @@ TEST(PairSource, SparsePathsShareTheDefaultIndexsGatedPairs) {
   ASSERT_EQ(sd.S(), 3);
   const std::pair<int32_t, int32_t> sensor_pairs[3] = {{0, 1}, {1, 2}, {0, 2}};
   const SparsePairStatistic* three_pairs[3] = {&three.s12, &three.s23, &three.s13};
+  const std::vector<IndexedCandidates> all = indexed_candidates(three, StatisticOptions{}, 1.0);
   std::size_t found = 0, kept = 0;
   for (int q = 0; q < 3; ++q) {
     const auto [a, b] = sensor_pairs[q];
@@ -74,11 +76,18 @@ TEST(PairSource, SparsePathsShareTheDefaultIndexsGatedPairs) {
     expect_same(gated(*three_pairs[q]), want);
     expect_same(gated(sd.pairs[slot]), want);
     EXPECT_EQ(three.candidate_pairs[q], sd.candidate_pairs[slot]);
-    const IndexedCandidates c = indexed_candidates(three, a, b, StatisticOptions{}, 1.0);
-    EXPECT_EQ(c.found, three.candidate_pairs[q]);
-    EXPECT_GE(c.pairs.size(), want.size());  // lossless: every gated pair is a candidate
-    found += c.found;
-    kept += c.pairs.size();
+    // The one-pass index's slot against the pair's own search and bound (the kernels alone).
+    const CandidatePairs alone =
+        candidate_pairs_for_gate(three.aligned[a], three.aligned[b], StatisticOptions{}, 1.0);
+    const CandidatePairs alone_kept =
+        prune_by_position_bound(three.aligned[a], three.aligned[b], alone, StatisticOptions{});
+    EXPECT_EQ(alone.size(), three.candidate_pairs[q]);
+    EXPECT_EQ(all[slot].found, alone.size());
+    EXPECT_EQ(all[slot].pairs.a, alone_kept.a);
+    EXPECT_EQ(all[slot].pairs.b, alone_kept.b);
+    EXPECT_GE(alone_kept.size(), want.size());  // lossless: every gated pair is a candidate
+    found += alone.size();
+    kept += alone_kept.size();
   }
   // The index's radius is conservative here (hundreds of candidates per track); the bound keeps few
   // (measured: 266 767 found, 24 835 kept, about 300 and 28 per track)
