@@ -9,7 +9,7 @@
 #include <limits>
 #include <map>
 
-#include "engine/pipeline/registration_stage.hpp"
+#include "engine/registration/registered_reports.hpp"
 #include "io/scenario_json.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"

@@ -46,7 +46,7 @@
 // Registration (fuse_track_file). When the file's /registration belongs to the association fused
 // (its attribute `association`) and was applied (the association used the corrected reports),
 // every report is first corrected exactly as `associate`'s registration stage corrected it
-// (registered_file of engine/pipeline/registration_stage.hpp: x ← x − J_s(x)·b_s for every sensor
+// (registered_file of engine/registration/registered_reports.hpp: x ← x − J_s(x)·b_s for every sensor
 // but the reference, the velocity rotated back by the azimuth bias, the position covariance
 // widened by J_s V_s J_sᵀ), so the fused states are those of the registered reports. The
 // correction is relative to the reference sensor: its own error stays in every fused state.

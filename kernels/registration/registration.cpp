@@ -121,9 +121,8 @@ double RegistrationEstimate::wald(int32_t& dof) const {
   dof = 0;
   for (int32_t s = 0; s < sensors; ++s) {
     if (s == reference) continue;
-    Eigen::Map<const Eigen::MatrixXd> V(covariance.data() + static_cast<std::size_t>(s) * K * K, K, K);
-    Eigen::Map<const Eigen::VectorXd> b(bias.data() + static_cast<std::size_t>(s) * K, K);
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(V);
+    const auto b = sensor_bias(static_cast<std::size_t>(s));
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(sensor_covariance(static_cast<std::size_t>(s)));
     if (ldlt.info() != Eigen::Success) continue;
     w += b.dot(ldlt.solve(b));
     dof += K;

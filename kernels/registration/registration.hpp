@@ -104,6 +104,13 @@ struct RegistrationEstimate {
   std::vector<int64_t> pair_observations;    // S×S, observations per pair of sensors
   RegistrationSummary summary;
   int32_t k() const { return static_cast<int32_t>(parameter_names.size()); }
+  // Sensor s's row b_s of `bias` (k) and its block V_s of `covariance` (k × k).
+  Eigen::Map<const Eigen::VectorXd> sensor_bias(std::size_t s) const {
+    return {bias.data() + s * static_cast<std::size_t>(k()), k()};
+  }
+  Eigen::Map<const Eigen::MatrixXd> sensor_covariance(std::size_t s) const {
+    return {covariance.data() + s * static_cast<std::size_t>(k()) * k(), k(), k()};
+  }
   // The Wald statistic bᵀ V⁻¹ b of every non-reference parameter together (V = the reported
   // covariance, block diagonal per sensor) and its degrees of freedom: large when the data show a
   // registration error, about dof when they do not.

@@ -12,8 +12,8 @@
 #include "engine/fusion/fused_accuracy.hpp"
 #include "engine/fusion/track_fuser.hpp"
 #include "engine/pipeline/associator.hpp"
-#include "engine/pipeline/registration_stage.hpp"
 #include "engine/pipeline/workflow.hpp"
+#include "engine/registration/registered_reports.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "kernels/core/error.hpp"
 
