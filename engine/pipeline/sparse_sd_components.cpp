@@ -69,7 +69,7 @@ SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::
       }
   r.objective = sol.summary.objective;
   r.lower_bound = sol.summary.lower_bound;
-  r.optimal = sol.summary.termination == Termination::kOptimal;
+  r.termination = sol.summary.termination;
   return r;
 }
 
@@ -85,6 +85,7 @@ SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::
 SDComponentResult solve_sd_component_by_merging(const SDComponentView& v, bool all_pairs) {
   SDComponentResult r;
   r.fallback = true;
+  r.termination = Termination::kHeuristic;
   r.lower_bound = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::vector<std::pair<int32_t, int32_t>>> groups;
   for (int32_t s = 0; s < v.S; ++s) {
@@ -274,7 +275,7 @@ SDComponentResult single_track_component(int32_t u) {
   SDComponentResult r;
   r.tuples.push_back({u});
   r.costs.push_back(0.0);
-  r.optimal = true;
+  r.termination = Termination::kOptimal;
   return r;
 }
 

@@ -116,7 +116,10 @@ struct SDComponentResult {
   std::vector<std::vector<int32_t>> tuples;  // problem nodes per tuple (any order)
   std::vector<double> costs;                 // sd_tuple_cost of each tuple
   double objective = 0.0, lower_bound = 0.0;
-  bool fallback = false, optimal = false;
+  bool fallback = false;
+  // The component solver's own termination (optimal, gap tolerance, iteration limit, ...; the
+  // merging fallback's is heuristic): what `associate` counts per kind.
+  Termination termination = Termination::kOptimal;
   std::size_t entries = 0;
   // Solved over its listed tuples (engine/pipeline/sparse_sd_tuples.hpp): how many; 0 otherwise.
   std::size_t listed_tuples = 0;
@@ -184,7 +187,7 @@ constexpr auto wire_codec(std::type_identity<SDComponentResult>) {
   return distributed::codec<SDComponentResult>(
       "S-D component result", &SDComponentResult::tuples, &SDComponentResult::costs,
       &SDComponentResult::objective, &SDComponentResult::lower_bound, &SDComponentResult::fallback,
-      &SDComponentResult::optimal, &SDComponentResult::entries, &SDComponentResult::listed_tuples);
+      &SDComponentResult::termination, &SDComponentResult::entries, &SDComponentResult::listed_tuples);
 }
 
 }  // namespace trackassoc

@@ -226,10 +226,7 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
   SparseSDSolveReport rep;
   rep.components = C;
   for (const auto& r : results) {
-    // The merging fallback has no bound (NaN): a heuristic.
-    const Termination t = r.fallback ? Termination::kHeuristic
-                                     : (r.optimal ? Termination::kOptimal : Termination::kGapTolerance);
-    totals.add(r.objective, r.lower_bound, termination_name(t));
+    totals.add(r.objective, r.lower_bound, termination_name(r.termination));  // merging: heuristic, no bound
     rep.fallback_components += r.fallback;
     rep.largest_component_entries = std::max(rep.largest_component_entries, r.entries);
     rep.listed_components += r.listed_tuples > 0;

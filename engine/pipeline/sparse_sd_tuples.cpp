@@ -115,7 +115,7 @@ SDComponentResult solve_sd_component_by_tuples(const SDComponentView& v, const T
   }
   r.objective = sol.summary.objective;
   r.lower_bound = sol.summary.lower_bound;
-  r.optimal = sol.summary.termination == Termination::kOptimal;
+  r.termination = sol.summary.termination;
   r.listed_tuples = list.size();
   return r;
 }

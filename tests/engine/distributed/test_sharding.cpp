@@ -402,7 +402,7 @@ TEST(ShardedSparseSD, ComponentsOverRanksAreThoseOfOneProcess) {
           EXPECT_EQ(merged[c].costs, local[c].costs);
           EXPECT_EQ(merged[c].objective, local[c].objective);
           EXPECT_EQ(merged[c].fallback, local[c].fallback);
-          EXPECT_EQ(merged[c].optimal, local[c].optimal);
+          EXPECT_EQ(merged[c].termination, local[c].termination);
           EXPECT_EQ(merged[c].entries, local[c].entries);
           EXPECT_EQ(merged[c].listed_tuples, local[c].listed_tuples);
           EXPECT_EQ(merged[c].lower_bound, local[c].lower_bound);
