@@ -23,7 +23,7 @@ How to run (from the repo root, Debian's Python, as bench/stonesoup_t2t.py):
     build/trackassoc associate -i IN.h5 -o FRAG.h5 --no-stitch
     build/trackassoc associate -i IN.h5 -o OURS.h5
     /usr/bin/python3 bench/stonesoup_stitch.py FRAG.h5 OURS.h5 [--name NAME] [--q 9]
-        [--window 180] [--json OUT.json]
+        [--window 180] [--until SECONDS] [--json OUT.json]
     Exit status: 0 ok, 2 bad input, 3 Stone Soup (or a dependency) cannot be imported.
 
 Caveats
@@ -105,6 +105,9 @@ def main(argv=None):
     ap.add_argument("--q", type=float, default=9.0, help="ConstantVelocity noise diff coeff [m^2/s^3]")
     ap.add_argument("--window", type=float, default=180.0, help="search window [s]")
     ap.add_argument("--ours-ms", type=float, default=None, help="our stitching stage's time [ms]")
+    ap.add_argument("--until", type=float, default=None,
+                    help="only the fragments that end by this time [s] (both sides scored on their joins "
+                         "among them; for recordings of hours, which TrackStitcher steps through second by second)")
     ap.add_argument("--json", default=None)
     a = ap.parse_args(argv)
     try:
@@ -141,6 +144,10 @@ def main(argv=None):
         good = sorted((-n, t) for t, n in votes.items() if t >= 0)
         truth[g] = good[0][1] if good else -1
         span[g] = (d["t"][rows[0]], d["t"][rows[-1]])
+    if a.until is not None:  # the fragments inside [start, until]; ours keeps its joins among them
+        keep = {g for g in tracks if span[g][1] <= a.until}
+        tracks = {g: tracks[g] for g in keep}
+        truth = {g: truth[g] for g in keep}
     # True joins available: consecutive fragments of one target within the window.
     by_truth = defaultdict(list)
     for g, t in truth.items():
@@ -157,6 +164,8 @@ def main(argv=None):
     for g, keys in frag.items():
         merged[target_of.get(keys[0], ("alone", g))].append(g)
     ours_chains = [sorted(gs, key=lambda g: span[g][0]) for gs in merged.values() if len(gs) > 1]
+    if a.until is not None:  # its joins with both fragments kept, each a chain of two
+        ours_chains = [[p, n] for c in ours_chains for p, n in zip(c, c[1:]) if p in tracks and n in tracks]
     # Stone Soup.
     model = ss["CombinedLinearGaussianTransitionModel"]([ss["ConstantVelocity"](a.q)] * (dim // 2))
     gate = float(np.sqrt(ss["chi2"].ppf(0.9999, dim)))
@@ -170,10 +179,11 @@ def main(argv=None):
     _, stitched = stitcher.stitch(set(tracks.values()), EPOCH)
     ss_s = time.perf_counter() - t0
     ss_chains = [[int(i) for i in ids] for ids in stitched.values() if len(ids) > 1]
-    out = dict(file=a.fragments, fragments=len(tracks), true_joins_available=available,
+    out = dict(file=a.fragments, until_s=a.until, fragments=len(tracks), true_joins_available=available,
                ours=dict(score(ours_chains, truth), ms=a.ours_ms),
                stonesoup=dict(score(ss_chains, truth), ms=1e3 * ss_s))
-    print(f"{a.fragments}: {len(tracks)} fragments, {available} true joins available")
+    until = "" if a.until is None else f" ending by {a.until:g} s"
+    print(f"{a.fragments}: {len(tracks)} fragments{until}, {available} true joins available")
     for side in ("ours", "stonesoup"):
         s = out[side]
         ms = "" if s["ms"] is None else f", {s['ms']:.1f} ms"

@@ -60,6 +60,16 @@ for s in 1 2 3; do
   $py bench/stonesoup_stitch.py "bench-results/recycled_fragments_$s.h5" "bench-results/recycled_ours_$s.h5" \
       --ours-ms "${ms:-0}" --json "bench-results/stonesoup_stitch_recycled_$s.json" || echo "stonesoup_stitch.py failed"
 done
+# The same on widearea_small (issue 31 item 3): its first 600 s (TrackStitcher steps through every
+# second of the 2-hour file; the fragments that end by 600 s, ~7 min), ours over the whole file.
+in=bench-results/widearea_small.h5
+build/trackassoc simulate --scenario widearea_small --seed 1 -o "$in" > /dev/null
+build/trackassoc associate -i "$in" -o bench-results/widearea_small_fragments.h5 --no-stitch > /dev/null
+ms=$(build/trackassoc associate -i "$in" -o bench-results/widearea_small_ours.h5 |
+     grep -o 'stitching [0-9.]* ms' | cut -d' ' -f2)
+$py bench/stonesoup_stitch.py bench-results/widearea_small_fragments.h5 bench-results/widearea_small_ours.h5 \
+    --ours-ms "${ms:-0}" --until 600 --json bench-results/stonesoup_stitch_widearea_small.json \
+    || echo "stonesoup_stitch.py failed"
 # numpy's loadtxt on bench_csv_import's file.
 $py bench/csv_numpy.py --json bench-results/csv_numpy.json || echo "csv_numpy.py failed"
 echo "load after the peers: $(cut -d' ' -f1-3 /proc/loadavg)" >> bench-results/meta.txt
