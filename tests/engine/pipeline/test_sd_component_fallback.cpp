@@ -163,6 +163,33 @@ TEST(SDComponentFallback, ATensorFarLargerThanItsListIsSolvedOverTheList) {
   EXPECT_GE(r.lower_bound, -8.0 * 1.01);  // within 1 %
 }
 
+TEST(SDComponentFallback, TheTensorSpansTheSensorsPresentInTheComponent) {
+  // A component of widearea_small (seed 1) among 16 radars: radar 2's track (scans 489-506) gates
+  // with both fragments of one target on radar 1 (scans 480-491 and 500-506), at near-equal costs
+  // (−9.220329 and −9.220451). By hand the optimum takes the better link: {1.1, 2.0}, {1.0}, at
+  // −9.220451. Over the two radars present (a 3 × 2 tensor) the relaxation is one exact LAP; over
+  // all sixteen it kept two empty radars, relaxed the two that have tracks, and stopped at the
+  // iteration limit with a 99.6 % gap (bound −18.40; 23 such components in that file).
+  std::vector<int32_t> n(16, 0);
+  n[1] = 2;
+  n[2] = 1;
+  SDComponentView v = overlapping_view(n);
+  v.first[1] = {480, 500};
+  v.last[1] = {491, 506};
+  v.first[2] = {489};
+  v.last[2] = {506};
+  set_link(v, 1, 0, 2, 0, -9.220329);
+  set_link(v, 1, 1, 2, 0, -9.220451);
+  for (const bool all_pairs : {true, false}) {
+    const SDComponentResult r = solve_sd_component(v, "lr+ls", nlohmann::json::object(), all_pairs, 1000);
+    EXPECT_EQ(r.entries, 6u);
+    EXPECT_EQ(r.termination, Termination::kOptimal);
+    EXPECT_EQ(groups(r), (std::set<std::set<int32_t>>{{101, 200}, {100}}));
+    EXPECT_NEAR(r.objective, -9.220451, 1e-5);
+    EXPECT_NEAR(r.lower_bound, -9.220451, 1e-5);
+  }
+}
+
 TEST(SDComponentFallback, AComponentReportsItsSolversOwnTermination) {
   // Stopped after one subgradient step, a relaxation whose gap is still open reports the iteration
   // limit, never a gap tolerance it did not reach (widearea_small had 23 such components labelled
