@@ -81,6 +81,8 @@ void SparseSDOptions::validate() const {
           "probability below 1");
   require(radius_scale >= 1.0 && std::isfinite(radius_scale), "SparseSDOptions.radius_scale", "must be >= 1");
   require(max_component_entries >= 1, "SparseSDOptions.max_component_entries", "must be >= 1");
+  require(rival_exponent >= 0.0 && std::isfinite(rival_exponent), "SparseSDOptions.rival_exponent",
+          "expected an exponent >= 0");
   segments.validate();
 }
 
@@ -89,6 +91,7 @@ nlohmann::json SparseSDOptions::to_json() const {
   j["sparse"] = true;
   j["radius_scale"] = radius_scale;
   j["max_component_entries"] = max_component_entries;
+  j["rival_exponent"] = rival_exponent;
   j["segments"] = segments.to_json();
   return j;
 }
@@ -112,6 +115,64 @@ void require_sparse_sd_solver(const std::string& name) {
   throw InputError("--solver: '" + name +
                    "' is not a solver of the default (sparse S-D) pipeline; its solvers:" + known +
                    " (the 3-D solvers run with --solver NAME --3d)");
+}
+
+std::vector<double> rival_link_costs(const SparsePairStatistic& st, const AlignedSensors& sensors, int32_t sa,
+                                     int32_t sb, const SequentialGate& gate,
+                                     const StatisticOptions& statistic, double rival_exponent) {
+  const int dim = sensors.dim;
+  std::vector<double> link(st.size());
+  // Each track's gated partners (pair indices), on either side.
+  auto partners = [&](const std::vector<int32_t>& side, int32_t count) {
+    std::vector<int32_t> start(static_cast<std::size_t>(count) + 1, 0), list(side.size());
+    for (int32_t i : side) ++start[static_cast<std::size_t>(i) + 1];
+    for (int32_t i = 0; i < count; ++i) start[i + 1] += start[i];
+    std::vector<int32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t q = 0; q < side.size(); ++q)
+      list[static_cast<std::size_t>(fill[side[q]]++)] = static_cast<int32_t>(q);
+    return std::pair{std::move(start), std::move(list)};
+  };
+  const auto [start_a, of_a] = partners(st.a, st.n_a);
+  const auto [start_b, of_b] = partners(st.b, st.n_b);
+  const int32_t oa = sensors.offset[sa], ob = sensors.offset[sb];
+  // m of pair q: the rivals that compete at the same time, the partners of one of its tracks that
+  // coexist with its other track (the pair itself included).
+  auto rivals = [&](std::size_t q) {
+    int32_t ma = 0, mb = 0;
+    for (int32_t k = start_a[st.a[q]]; k < start_a[st.a[q] + 1]; ++k)
+      ma += sensors.coexist(ob + st.b[q], ob + st.b[of_a[k]]) || of_a[k] == static_cast<int32_t>(q);
+    for (int32_t k = start_b[st.b[q]]; k < start_b[st.b[q] + 1]; ++k)
+      mb += sensors.coexist(oa + st.a[q], oa + st.a[of_b[k]]) || of_b[k] == static_cast<int32_t>(q);
+    return std::max(ma, mb);
+  };
+  // The tightened gates by m, built on demand; their thresholds are cached by n inside (on demand).
+  std::map<int32_t, SequentialGate> tightened;
+  std::map<std::pair<int32_t, int32_t>, double> threshold;  // (m, n) -> G_{p(m)}(n)
+  for (std::size_t q = 0; q < st.size(); ++q) {
+    const int32_t n = st.dof[q] / dim;
+    const int32_t m = rival_exponent == 0.0 || n <= 0 ? 1 : rivals(q);
+    if (m <= 1) {
+      link[q] = gate.link_cost(st.lambda[q], n);
+      continue;
+    }
+    auto it = threshold.find({m, n});
+    if (it == threshold.end()) {
+      auto g = tightened.find(m);
+      if (g == tightened.end()) {
+        StatisticOptions o = statistic;
+        o.gate_probability = std::max(
+            0.5, 1.0 - (1.0 - statistic.gate_probability) * std::pow(static_cast<double>(m), rival_exponent));
+        g = tightened.emplace(m, SequentialGate(dim, o, 0)).first;
+      }
+      it = threshold.emplace(std::pair{m, n}, g->second.threshold(n)).first;
+    }
+    // SequentialGate::link_cost with the tightened threshold: per scan, or per independent scan.
+    const double per = statistic.link == LinkCost::kPerScan        ? static_cast<double>(n)
+                       : statistic.gate == GateMethod::kCalibrated ? statistic.scans_per_independent
+                                                                   : 1.0;
+    link[q] = (st.lambda[q] - it->second) / per;
+  }
+  return link;
 }
 
 SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOptions& options) {
@@ -186,8 +247,7 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       gated.push_back({a, b, &st});
       gated_pairs += st.size();
       auto& link = p.link[slot];
-      link.resize(st.size());
-      for (std::size_t q = 0; q < st.size(); ++q) link[q] = gate.link_cost(st.lambda[q], st.dof[q] / p.dim);
+      link = rival_link_costs(st, p, a, b, gate, po.statistic, options.rival_exponent);
       // The link costs, and the two nodes of each gated pair that the partition's edges take.
       bytes += static_cast<double>(st.bytes() + link.size() * sizeof(double)) + 8.0 * link.size();
       held -= n * 2 * sizeof(int32_t);  // the candidates, freed above

@@ -65,6 +65,10 @@ struct SparseSDOptions {
   // Largest dense sub-tensor per component, Π(n_s + 1) entries (16 Mi floats = 64 MiB); larger
   // components are solved by sequential LAP merging.
   std::size_t max_component_entries = std::size_t{1} << 24;
+  // The exponent κ of the rival-weighted link cost (rival_link_costs below): a gated pair whose
+  // tracks have up to m gated partners on the other's sensor counts as evidence only below the
+  // gate of probability 1 − (1 − p)·m^κ. 0 = every pair against the gate itself.
+  double rival_exponent = 2.0;
   // After the assignment, the segments of one target on one sensor joined to it
   // (engine/pipeline/track_segments.hpp); associate_sparse_sd runs it, solve_sparse_sd_association not.
   SegmentOptions segments;
@@ -87,6 +91,32 @@ struct SparseSDProblem : AlignedSensors {
   std::vector<StageReport> stages;  // alignment, candidates, statistics, components
   double bytes_held = 0.0;          // the input and the problem [bytes], counted against the memory budget
 };
+
+// Rival-weighted link costs (docs/design.md §4.9, issue 29). The S-D link cost of a gated pair is
+// its excess over the gate, (λ − G_p(n))/n (SequentialGate::link_cost), the same whatever else the
+// two tracks gate with. In dense traffic on one heading (recorded_bias_dense: 60 targets within
+// 12 km, neighbours 0.1-3 km apart at 100 km range) a track gates with several tracks of the other
+// sensor, and a neighbour's track that fits at the tail of the gate (λ/n ≈ 6-9 against ≈ 2.6 for
+// the true pairs) still earns a reward and completes a tuple. As the alternative hypothesis of a
+// likelihood-ratio track score weighs a fit against the density of competing tracks (n / V of the
+// fragment stitching's gap statistic; the new-target density β of the track score of multiple-
+// hypothesis tracking, Blackman and Popoli, Design and Analysis of Modern Tracking Systems, 1999),
+// the link is
+// measured against a gate tightened by the pair's rivals: with m = the larger of the two tracks'
+// numbers of rivals, the gated partners on the other's sensor that coexist with the pair's other
+// track (the pair itself included; a target's successive fragments on one sensor compete for
+// nothing, so they are no rivals: on widearea_small counting them cost 2.9 points of correct),
+//     c = (λ − G_{p(m)}(n))/n,   p(m) = max(1/2, 1 − (1 − p)·m^κ),
+// so an unambiguous pair (m = 1) is scored as before, and p(2) = 0.96, p(3) = 0.91 at p = 0.99,
+// κ = 2. The gate itself (which pairs may share a tuple) is unchanged; a rival pair above its
+// tightened threshold only costs (c > 0). κ chosen by measurement on the recorded family
+// (docs/design.md §4.9): p(m) = 1 − (1 − p)·c·m for c = 1, 2, 3, 5 and m^κ for κ = 1.5, 2, 3.
+// Thresholds are computed once per distinct (m, n). O(Σ_pairs rivals + n_a + n_b).
+// `st` holds the gated pairs of sensors sa < sb (positions in `sensors`); `gate` is
+// SequentialGate(sensors.dim, statistic, ...), shared by the sensor pairs.
+std::vector<double> rival_link_costs(const SparsePairStatistic& st, const AlignedSensors& sensors, int32_t sa,
+                                     int32_t sb, const SequentialGate& gate,
+                                     const StatisticOptions& statistic, double rival_exponent);
 
 // Throws InputError on unknown sensor ids, fewer than 2 sensors with local tracks (a sensor without
 // any is left out: empty_sensor_ids), a gate probability of 1 (the gate is the miss cost), or no

@@ -130,8 +130,11 @@ TEST(ScanCandidates, AWideCovarianceAmongSmallOnesGivesTheNaiveResult) {
 // Brute force: every grouping of the tracks into tuples with at most one track per sensor, cost
 // from the dense statistic (link (λ − G(n))/f when gated in; a tested pair outside the gate
 // forbids the tuple; pairs never together are neutral; members connected through gated pairs).
+// The link is rival-weighted as the pipeline's (rival_link_costs, κ = rival_exponent): G at
+// probability max(1/2, 1 − (1 − p)·m^κ), m counted here from the dense gate and the tracks' valid
+// common times.
 double brute_force_optimum(const TrackFile& file, const PipelineOptions& po,
-                           const std::vector<int32_t>& keep_tracks) {
+                           const std::vector<int32_t>& keep_tracks, double rival_exponent = 2.0) {
   std::vector<int32_t> ids;
   for (const auto& s : file.sensors) ids.push_back(s.id);
   double period = 0.0;
@@ -139,7 +142,6 @@ double brute_force_optimum(const TrackFile& file, const PipelineOptions& po,
   const std::vector<double> grid = common_time_grid(file.tracks, ids, period, true);
   std::vector<AlignedTracks> al;
   for (int32_t id : ids) al.push_back(align_tracks(file.tracks, id, grid, po.alignment));
-  const SequentialGate gate(al[0].dim, po.statistic);
   struct Node {
     int32_t s, i;
   };
@@ -151,6 +153,8 @@ double brute_force_optimum(const TrackFile& file, const PipelineOptions& po,
   const std::size_t N = nodes.size();
   std::vector<std::vector<double>> link(N, std::vector<double>(N, 0.0));
   std::vector<std::vector<int>> kind(N, std::vector<int>(N, 0));  // 1 gated, -1 forbidden, 0 neutral
+  std::vector<std::vector<double>> lambda(N, std::vector<double>(N, 0.0));
+  std::vector<std::vector<int32_t>> scans(N, std::vector<int32_t>(N, 0));
   for (std::size_t x = 0; x < N; ++x)
     for (std::size_t y = x + 1; y < N; ++y) {
       if (nodes[x].s == nodes[y].s) continue;
@@ -171,10 +175,43 @@ double brute_force_optimum(const TrackFile& file, const PipelineOptions& po,
       const PairStatistic ps = independent_sequential_statistic(one, two, po.statistic);
       if (ps.in_gate[0]) {
         kind[x][y] = kind[y][x] = 1;
-        link[x][y] = link[y][x] = gate.link_cost(ps.lambda[0], ps.dof[0] / one.dim);
+        lambda[x][y] = lambda[y][x] = ps.lambda[0];
+        scans[x][y] = scans[y][x] = ps.dof[0] / one.dim;
       } else if (ps.dof[0] > 0) {
         kind[x][y] = kind[y][x] = -1;
       }
+    }
+  // Each track's first and last valid common time; rivals of (x, y): y's sensor's tracks gated
+  // with x whose valid times meet y's, and the same from y's side.
+  std::vector<std::pair<int64_t, int64_t>> valid(N, {-1, -1});
+  for (std::size_t x = 0; x < N; ++x) {
+    const auto& t = al[nodes[x].s];
+    const int64_t o = t.span_offset[nodes[x].i], n = t.span_offset[nodes[x].i + 1] - o;
+    for (int64_t c = 0; c < n; ++c)
+      if (t.valid[o + c]) {
+        const int64_t k = t.span_begin[nodes[x].i] + c;
+        if (valid[x].first < 0) valid[x].first = k;
+        valid[x].second = k;
+      }
+  }
+  auto meet = [&](std::size_t u, std::size_t v) {
+    return valid[u].first >= 0 && valid[v].first >= 0 &&
+           std::max(valid[u].first, valid[v].first) <= std::min(valid[u].second, valid[v].second);
+  };
+  auto rivals = [&](std::size_t x, std::size_t y) {  // x's partners on y's sensor that meet y
+    int m = 0;
+    for (std::size_t z = 0; z < N; ++z)
+      m += nodes[z].s == nodes[y].s && kind[x][z] == 1 && (z == y || meet(z, y));
+    return m;
+  };
+  for (std::size_t x = 0; x < N; ++x)
+    for (std::size_t y = 0; y < N; ++y) {
+      if (kind[x][y] != 1) continue;
+      const int m = std::max(rivals(x, y), rivals(y, x));
+      StatisticOptions so = po.statistic;
+      so.gate_probability =
+          std::max(0.5, 1.0 - (1.0 - so.gate_probability) * std::pow(static_cast<double>(m), rival_exponent));
+      link[x][y] = SequentialGate(al[0].dim, so).link_cost(lambda[x][y], scans[x][y]);
     }
   auto tuple_cost = [&](const std::vector<std::size_t>& m) {
     if (m.size() <= 1) return 0.0;
