@@ -30,6 +30,7 @@ void TrackStitchOptions::validate() const {
           "expected a probability in (0, 1)");
   require(std::isfinite(turn_min_evidence), "stitching.turn_min_evidence",
           "expected a finite log-likelihood ratio");
+  require(std::isfinite(gap_bin_s) && gap_bin_s >= 0.0, "stitching.gap_bin_s", "expected a bin >= 0 [s] (0: none)");
 }
 
 namespace {
@@ -289,12 +290,13 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
           if (!std::isfinite(c)) continue;
           ++rivals_of_end[a];
           std::atomic_ref<int32_t>(rivals_of_start[b]).fetch_add(1, std::memory_order_relaxed);
-          if (c - log_alternative < 0.0)
+          if (c - log_alternative < 0.0 || o.gap_bin_s > 0.0)  // the gap prior may raise the evidence
             kept[k].push_back({static_cast<int32_t>(a), static_cast<int32_t>(b), c - log_alternative, quiet});
         }
       }
   });
-  // The gated pairs of positive evidence, in order of their ends (then of their starts' times).
+  // The gated pairs (of positive evidence without the gap prior), in order of their ends (then of
+  // their starts' times).
   std::vector<Candidate> candidates;
   for (auto& block : kept) {
     candidates.insert(candidates.end(), block.begin(), block.end());
@@ -305,29 +307,61 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   // has another gated candidate) and its evidence is at least turn_min_evidence. Its wide gate
   // takes in unrelated starts where traffic is dense, while a lone turning fragment
   // (recorded_recycled) is still joined; see the header for the measurements.
-  std::vector<int32_t> row_start{0}, col;
-  std::vector<double> cost;
-  std::size_t next = 0;
-  for (std::size_t a = 0; a < G; ++a) {
-    for (; next < candidates.size() && candidates[next].end == static_cast<int32_t>(a); ++next) {
-      const Candidate& k = candidates[next];
-      if (!k.quiet &&
-          (rivals_of_end[k.end] > 1 || rivals_of_start[k.start] > 1 || -k.cost < o.turn_min_evidence))
-        continue;
-      col.push_back(k.start);
-      cost.push_back(k.cost);
+  // `cost(i)`: candidate i's cost; the pairs of positive evidence enter one LAP.
+  auto solve = [&](auto&& cost_of) {
+    std::vector<int32_t> row_start{0}, col;
+    std::vector<double> cost;
+    std::size_t next = 0;
+    for (std::size_t a = 0; a < G; ++a) {
+      for (; next < candidates.size() && candidates[next].end == static_cast<int32_t>(a); ++next) {
+        const Candidate& k = candidates[next];
+        const double c = cost_of(next);
+        if (!(c < 0.0) || (!k.quiet && (rivals_of_end[k.end] > 1 || rivals_of_start[k.start] > 1 ||
+                                         -c < o.turn_min_evidence)))
+          continue;
+        col.push_back(k.start);
+        cost.push_back(c);
+      }
+      row_start.push_back(static_cast<int32_t>(col.size()));
     }
-    row_start.push_back(static_cast<int32_t>(col.size()));
+    LapResult r;
+    if (col.empty()) return r;
+    SparseCostView view;
+    view.rows = view.cols = static_cast<int32_t>(G);
+    view.row_start = row_start;
+    view.col = col;
+    view.cost = cost;
+    LapOptions lap;
+    lap.allow_unassigned = true;  // "no successor" / "no predecessor" at cost 0
+    return solve_gated_lap(view, lap);
+  };
+  LapResult joins = solve([&](std::size_t i) { return candidates[i].cost; });
+  if (joins.row_to_col.empty()) return summary;
+  if (o.gap_bin_s > 0.0) {
+    // The gap prior: the same target's gaps follow its fades and re-initiations, a different
+    // target's start is uniform over the window W. Its density, a histogram of the first joins'
+    // gaps (Laplace-smoothed), turns into the factor W·p(g) of the likelihood ratio.
+    const double W = o.max_overlap_s + o.max_gap_s;
+    const std::size_t B = static_cast<std::size_t>(std::ceil(W / o.gap_bin_s));
+    auto bin_of = [&](double g) {
+      return std::min(B - 1, static_cast<std::size_t>(std::max(0.0, (g + o.max_overlap_s) / o.gap_bin_s)));
+    };
+    auto gap_of = [&](std::size_t a, std::size_t b) { return t.t[groups[b].first] - t.t[groups[a].last]; };
+    std::vector<double> count(B, 1.0);
+    double total = static_cast<double>(B);
+    for (std::size_t a = 0; a < G; ++a)
+      if (joins.row_to_col[a] >= 0) count[bin_of(gap_of(a, static_cast<std::size_t>(joins.row_to_col[a])))] += 1.0, total += 1.0;
+    std::vector<double> log_factor(B);
+    for (std::size_t k = 0; k < B; ++k) {
+      const double width = std::min(o.gap_bin_s, W - static_cast<double>(k) * o.gap_bin_s);
+      log_factor[k] = std::log(W * count[k] / (total * width));
+    }
+    joins = solve([&](std::size_t i) {
+      const Candidate& k = candidates[i];
+      return k.cost - log_factor[bin_of(gap_of(static_cast<std::size_t>(k.end), static_cast<std::size_t>(k.start)))];
+    });
+    if (joins.row_to_col.empty()) return summary;
   }
-  if (col.empty()) return summary;
-  SparseCostView view;
-  view.rows = view.cols = static_cast<int32_t>(G);
-  view.row_start = row_start;
-  view.col = col;
-  view.cost = cost;
-  LapOptions lap;
-  lap.allow_unassigned = true;  // "no successor" / "no predecessor" at cost 0
-  const LapResult joins = solve_gated_lap(view, lap);
   // Union-find over group indices; the root keeps the earliest group's target number.
   std::vector<std::size_t> parent(G);
   std::iota(parent.begin(), parent.end(), 0);

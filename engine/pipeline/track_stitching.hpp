@@ -47,6 +47,14 @@
 // optimal over the whole file (instead of per-pair rules). Joins are chained (G₁ → G₂ → G₃ is one
 // target) and the later groups take the earliest group's target number. The tuples are unchanged;
 // only `target` changes (filled when it was empty and a join was made).
+// Gap prior (gap_bin_s). The same target's gap follows its fades and re-initiations
+// (widearea_small: 94 % of the true successors come within 120 s, in a window of 182 s), while a
+// different target's start is uniform over the window W = max_overlap_s + max_gap_s; the join's
+// likelihood ratio has the factor W·p(g), p the density of the same target's gaps. p is learnt
+// from the file (empirical Bayes): the joins of a first assignment without the factor, binned by
+// gap_bin_s with one count added to every bin (Laplace); then the assignment is solved again with
+// c₁₂ − ln(W·p(g)). Few joins leave p near uniform (the recorded family's figures are unchanged);
+// many learn the scene's gaps (widearea: false joins 2 943 → 2 073, correct 126 564 → 126 497).
 // Candidates are searched through an index of the starts (engine/pipeline/stitch_index.hpp: a k-d
 // tree over time and position with an exact bound of the pre-gate's reach), so an end looks only
 // at the starts it could gate, not at every start of its window; the candidates, their order and
@@ -74,6 +82,8 @@ struct TrackStitchOptions {
   // A join outside the quiet model's gate (only the manoeuvring one gates it) is made only when it
   // is unambiguous and its log-likelihood ratio −c is at least this (3: a ratio of e³ ≈ 20).
   double turn_min_evidence = 3.0;
+  // The gap prior's histogram bin [s] (0: none; the gaps uniform over the window).
+  double gap_bin_s = 20.0;
   void validate() const;
 };
 

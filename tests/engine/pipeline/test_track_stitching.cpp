@@ -306,6 +306,52 @@ TEST(TrackStitching, ThePreGateRefusesOnlyPairsOutsideTheGate) {
   EXPECT_LT(inside, 390);
 }
 
+// The gap prior (gap_bin_s = 20): 40 handovers with a gap of 20 s (far apart: lanes 200 km apart
+// along y, nothing else gated) and one weak join C → D over 150 s. Without the prior every gated
+// join of positive evidence is made (41). With it, the first joins' gaps give the bins (width
+// 20 s from −2 s: W = 182 s, 10 bins, the last 2 s wide) Laplace counts 41 (gap 20 s, bin 1) and
+// 2 (gap 150 s, bin 7) of 51, so the weak join's ratio is multiplied by W·2/(51·20) = 0.3569,
+// −1.0304 nats: a join of 1.00 nat is refused and one of 1.06 nats is kept.
+TrackStitchSummary weak_long_join(double evidence, double gap_bin_s, AssociationRecord& rec) {
+  std::vector<Segment> segments;
+  std::vector<std::pair<int32_t, int32_t>> keys;
+  for (int32_t i = 0; i < 40; ++i) {
+    segments.push_back({0, i, 0, 40, 0, 200, 2e5 * i, 0});
+    segments.push_back({1, 100 + i, 60, 100, 0, 200, 2e5 * i, 0});
+    keys.push_back({0, i});
+    keys.push_back({1, 100 + i});
+  }
+  // The box of the start states: x over [0, 1e6] (the background's start), y over [−2e5, 1e7],
+  // the velocities all (200, 0); C's window [38, 220] s holds n = 41 starts (the 40 B's and D).
+  const double tau = 75.0, s_pos = 2.0 * (1e4 + tau * tau);  // per axis S = diag(s_pos, 2)
+  const double log_det = kLog2Pi4 + 2.0 * std::log(s_pos * 2.0);
+  const double log_alternative = std::log(1e6) + std::log(1.02e7) - std::log(41.0);
+  const double m2 = 2.0 * (log_alternative - evidence) - log_det;  // −c = evidence
+  const double delta = std::sqrt(m2 * s_pos);
+  segments.push_back({0, 200, 0, 40, 0, 200, -2e5, 0});         // C
+  segments.push_back({1, 201, 190, 230, delta, 200, -2e5, 0});         // D, 150 s after C's end
+  segments.push_back({1, 300, 0, 400, 1e6, 200, 1e7, 0});  // background, coexisting
+  keys.push_back({0, 200});
+  keys.push_back({1, 201});
+  keys.push_back({1, 300});
+  const TrackFile f = hand_made(segments);
+  rec = singletons(keys);
+  TrackStitchOptions o = no_manoeuvre();
+  o.gap_bin_s = gap_bin_s;
+  return stitch_fragments(f, rec, o);
+}
+
+TEST(TrackStitching, TheGapPriorRefusesAWeakJoinAtAGapTheOtherJoinsDoNotHave) {
+  AssociationRecord rec;
+  EXPECT_EQ(weak_long_join(1.00, 0.0, rec).stitches, 41);  // no prior: every positive join
+  EXPECT_EQ(rec.target[81], rec.target[80]);
+  EXPECT_EQ(weak_long_join(1.00, 20.0, rec).stitches, 40);  // 1.00 − 1.0304 < 0
+  EXPECT_NE(rec.target[81], rec.target[80]);
+  EXPECT_EQ(rec.target[1], rec.target[0]);  // the handovers stay joined
+  EXPECT_EQ(weak_long_join(1.06, 20.0, rec).stitches, 41);  // 1.06 − 1.0304 > 0
+  EXPECT_EQ(rec.target[81], rec.target[80]);
+}
+
 TEST(TrackStitching, BadOptionsNameTheField) {
   for (auto [bad, field] :
        std::vector<std::pair<TrackStitchOptions, std::string>>{{[] {
@@ -325,7 +371,13 @@ TEST(TrackStitching, BadOptionsNameTheField) {
                                                                   o.turn_sigma = -2;
                                                                   return o;
                                                                 }(),
-                                                                "stitching.turn_sigma"}}) {
+                                                                "stitching.turn_sigma"},
+                                                               {[] {
+                                                                  TrackStitchOptions o;
+                                                                  o.gap_bin_s = -20;
+                                                                  return o;
+                                                                }(),
+                                                                "stitching.gap_bin_s"}}) {
     try {
       bad.validate();
       FAIL() << field;
