@@ -199,6 +199,7 @@ TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
       hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 14000, 0, 6000 - 200 * 100, 200}, kBackground});
   const Turn turn;
   TrackStitchOptions defaults;
+  defaults.start_density_bins = false;  // the box density of the hand calculation
   EXPECT_NEAR(continuation_statistic(f.tracks, 20, 21, 9.0), turn.m2_quiet, 1e-6);
   EXPECT_GT(turn.m2_quiet, kGate);
   EXPECT_NEAR(gap_statistic(f.tracks, 20, 21, 400.0).m2, turn.m2_turn, 1e-9);
@@ -338,6 +339,7 @@ TrackStitchSummary weak_long_join(double evidence, double gap_bin_s, Association
   rec = singletons(keys);
   TrackStitchOptions o = no_manoeuvre();
   o.gap_bin_s = gap_bin_s;
+  o.start_density_bins = false;  // the box density of the hand calculation
   return stitch_fragments(f, rec, o);
 }
 
