@@ -354,6 +354,84 @@ TEST(TrackStitching, TheGapPriorRefusesAWeakJoinAtAGapTheOtherJoinsDoNotHave) {
   EXPECT_EQ(rec.target[81], rec.target[80]);
 }
 
+// The start density (start_density_bins). A ends at 40 s, B starts at 60 s δ ahead along x (same
+// velocity); two coexisting background tracks start at (0, 3 km) with vx = −300 and 2 200 m/s (a
+// wild first velocity that stretches the box). Start states, G = 4, B = ⌈√4⌉ = 2 bins a component,
+// G + B = 6: x {0, 12 km + δ, 0, 0}: B alone in the upper bin, h = 2/(6·w/2) against the box's 1/w
+// (ratio 2/3); y {0, 0, 3 km, 3 km}: ratio 3·2/6 = 1; vx {200, 200, −300, 2200} over 2 500 m/s: B's
+// bin holds 3, ratio 4·2/6 = 4/3; vy all 0, w = 1: one bin holds all 4, ratio 5·2/6 = 5/3. So the
+// histogram adds ln(2/3 · 4/3 · 5/3) = ln(40/27) ≈ 0.3930 nats to the box's cost: a join of
+// evidence 0.20 nats under the box is refused, one of 0.45 is kept.
+int density_join(double evidence, bool bins) {
+  // Box: c = ½(m² + ln det(2πS)) + ln n − ln V, n = 1, V = (12 km + δ)·3 km·2 500·1; δ by fixed point.
+  double delta = 650.0;
+  for (int i = 0; i < 50; ++i) {
+    const double log_v = std::log(12000.0 + delta) + std::log(3000.0) + std::log(2500.0);
+    delta = std::sqrt(20200.0 * 2.0 * (log_v - 0.5 * kLogDet20 - evidence));
+  }
+  EXPECT_LT(m2_of_offset(delta), kGate);
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200},
+                                 {1, 7, 60, 100, delta, 200},
+                                 {1, 98, 0, 200, 0, -300, 3000, 0},
+                                 {0, 97, 0, 200, 0, 2200, 3000, 0}});
+  AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 98}, {0, 97}});
+  TrackStitchOptions o = no_manoeuvre();
+  o.gap_bin_s = 0.0;
+  o.start_density_bins = bins;
+  const TrackStitchSummary s = stitch_fragments(f, rec, o);
+  EXPECT_EQ(s.candidates, 1);
+  return s.stitches;
+}
+
+TEST(TrackStitching, TheStartDensityOfTheStartsRefusesAJoinThatTheBoxMakes) {
+  EXPECT_NEAR(std::log(2.0 / 3.0 * 4.0 / 3.0 * 5.0 / 3.0), 0.3930, 1e-4);
+  EXPECT_EQ(density_join(0.20, false), 1);  // the box: 0.20 nats, joined
+  EXPECT_EQ(density_join(0.20, true), 0);   // 0.20 − 0.393 < 0
+  EXPECT_EQ(density_join(0.45, true), 1);   // 0.45 − 0.393 > 0
+  EXPECT_EQ(density_join(0.38, true), 0);   // 0.38 − 0.393 < 0
+}
+
+TEST(TrackStitching, TheStartsRepresentativeReportRefusesAJoinThatItsFirstVelocityMakes) {
+  // A runs along +x at 200 m/s (0-40 s) and dies; B (a different target) starts at 60 s where A
+  // would be, (12 km, 0), running along +y. B's first report has the velocity of two plots,
+  // (200, 0) m/s with P_v = 300² (the rows after it: (0, 200), P = diag(100², 100², 1, 1)).
+  TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, kBackground});  // rows 0-20 A, 21-121 background
+  Eigen::Matrix4d P0 = Eigen::Matrix4d::Zero(), P = Eigen::Matrix4d::Zero();
+  P0.diagonal() << 1e4, 1e4, 9e4, 9e4;
+  P.diagonal() << 1e4, 1e4, 1.0, 1.0;
+  f.tracks.push_back(1, 7, 60.0, Eigen::Vector4d(12000, 0, 200, 0), P0, -1);  // row 122
+  for (double t = 62.0; t <= 100.0 + 1e-9; t += 2.0)
+    f.tracks.push_back(1, 7, t, Eigen::Vector4d(12000, 200 * (t - 60), 0, 200), P, -1);
+  // The first report against A's end, to the midpoint 50 s: e = 0; per axis S = [[1e4 + 100 +
+  // 1e4 + 100·9e4, 10 − 10·9e4], [·, 1 + 9e4]], det = 9 020 100·90 001 − 899 990² = 1 836 020 000,
+  // so c = ½(4 ln 2π + 2 ln 1 836 020 000) ≈ 25.007 < ln V ≈ 34.105 (box of A, B's first report
+  // and the background: 72 km · 60 km · 500 · 300 m/s): 9.1 nats for the join.
+  const double c_first = 0.5 * (kLog2Pi4 + 2.0 * std::log(1836020000.0));
+  EXPECT_NEAR(join_cost(f.tracks, 20, 122, no_manoeuvre(), kGate), c_first, 1e-6);
+  EXPECT_LT(c_first - (std::log(72000.0) + std::log(60000.0) + std::log(500.0) + std::log(300.0)), 0.0);
+  // The representative: predicted back to 60 s with q = 0, the first report's ln det is ln(1e4·9e4)
+  // a component, every later one's ln 1e4 (ties keep the earliest): the report at 62 s. Against it,
+  // to the midpoint 51 s: e = (−1 800, 1 800, 200, −200), S = diag(20 242, 2) a component:
+  // m² = 2·1 800²/20 242 + 2·200²/2 ≈ 40 320, far outside the gate.
+  EXPECT_NEAR(gap_statistic(f.tracks, 20, 123, 0.0).m2, 2.0 * 1800.0 * 1800.0 / 20242.0 + 40000.0, 1e-6);
+  TrackStitchOptions first = no_manoeuvre();
+  first.start_density_bins = false;
+  first.gap_bin_s = 0.0;
+  first.start_reports = 1;
+  AssociationRecord before = singletons({{0, 1}, {1, 99}, {1, 7}});
+  const TrackStitchSummary old_rule = stitch_fragments(f, before, first);
+  EXPECT_EQ(old_rule.candidates, 1);
+  EXPECT_EQ(old_rule.stitches, 1);
+  EXPECT_EQ(before.target, (std::vector<int32_t>{0, 1, 0}));
+  TrackStitchOptions representative = first;
+  representative.start_reports = 16;
+  AssociationRecord after = singletons({{0, 1}, {1, 99}, {1, 7}});
+  const TrackStitchSummary new_rule = stitch_fragments(f, after, representative);
+  EXPECT_EQ(new_rule.candidates, 0);
+  EXPECT_EQ(new_rule.stitches, 0);
+  EXPECT_EQ(after.target, (std::vector<int32_t>{0, 1, 2}));
+}
+
 TEST(TrackStitching, BadOptionsNameTheField) {
   for (auto [bad, field] :
        std::vector<std::pair<TrackStitchOptions, std::string>>{{[] {
@@ -379,7 +457,13 @@ TEST(TrackStitching, BadOptionsNameTheField) {
                                                                   o.gap_bin_s = -20;
                                                                   return o;
                                                                 }(),
-                                                                "stitching.gap_bin_s"}}) {
+                                                                "stitching.gap_bin_s"},
+                                                               {[] {
+                                                                  TrackStitchOptions o;
+                                                                  o.start_reports = 0;
+                                                                  return o;
+                                                                }(),
+                                                                "stitching.start_reports"}}) {
     try {
       bad.validate();
       FAIL() << field;
