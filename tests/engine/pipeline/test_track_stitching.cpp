@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <random>
 
@@ -433,37 +434,16 @@ TEST(TrackStitching, TheStartsRepresentativeReportRefusesAJoinThatItsFirstVeloci
 }
 
 TEST(TrackStitching, BadOptionsNameTheField) {
-  for (auto [bad, field] :
-       std::vector<std::pair<TrackStitchOptions, std::string>>{{[] {
-                                                                  TrackStitchOptions o;
-                                                                  o.max_gap_s = -1;
-                                                                  return o;
-                                                                }(),
-                                                                "stitching.max_gap_s"},
-                                                               {[] {
-                                                                  TrackStitchOptions o;
-                                                                  o.turn_probability = 1.5;
-                                                                  return o;
-                                                                }(),
-                                                                "stitching.turn_probability"},
-                                                               {[] {
-                                                                  TrackStitchOptions o;
-                                                                  o.turn_sigma = -2;
-                                                                  return o;
-                                                                }(),
-                                                                "stitching.turn_sigma"},
-                                                               {[] {
-                                                                  TrackStitchOptions o;
-                                                                  o.gap_bin_s = -20;
-                                                                  return o;
-                                                                }(),
-                                                                "stitching.gap_bin_s"},
-                                                               {[] {
-                                                                  TrackStitchOptions o;
-                                                                  o.start_reports = 0;
-                                                                  return o;
-                                                                }(),
-                                                                "stitching.start_reports"}}) {
+  const std::vector<std::pair<std::function<void(TrackStitchOptions&)>, std::string>> cases{
+      {[](TrackStitchOptions& o) { o.max_gap_s = -1; }, "stitching.max_gap_s"},
+      {[](TrackStitchOptions& o) { o.turn_probability = 1.5; }, "stitching.turn_probability"},
+      {[](TrackStitchOptions& o) { o.turn_sigma = -2; }, "stitching.turn_sigma"},
+      {[](TrackStitchOptions& o) { o.gap_bin_s = -20; }, "stitching.gap_bin_s"},
+      {[](TrackStitchOptions& o) { o.start_reports = 0; }, "stitching.start_reports"},
+      {[](TrackStitchOptions& o) { o.start_reports = 17; }, "stitching.start_reports"}};
+  for (const auto& [spoil, field] : cases) {
+    TrackStitchOptions bad;
+    spoil(bad);
     try {
       bad.validate();
       FAIL() << field;
