@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -30,6 +31,9 @@ void TrackStitchOptions::validate() const {
           "expected a probability in (0, 1)");
   require(std::isfinite(turn_min_evidence), "stitching.turn_min_evidence",
           "expected a finite log-likelihood ratio");
+  require(start_reports >= 1 && start_reports <= 16, "stitching.start_reports",
+          "expected 1 to 16 reports");
+  require(std::isfinite(gap_bin_s) && gap_bin_s >= 0.0, "stitching.gap_bin_s", "expected a bin >= 0 [s] (0: none)");
 }
 
 namespace {
@@ -67,7 +71,11 @@ double log_sum_exp(double a, double b) {
 struct Group {
   int32_t target = 0;
   std::size_t first = 0, last = 0;  // rows of the earliest and the latest report
+  std::size_t start = 0;            // the start's representative row (the header's x₁, P₁)
 };
+
+// The rows of a start track among which its representative is chosen: its earliest ones.
+constexpr std::size_t kStartRows = 16;
 
 }  // namespace
 
@@ -131,7 +139,8 @@ namespace {
 // The groups of the rule, in increasing target number: each target number of `target` that has
 // reports, with the rows of its earliest and latest report.
 std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec,
-                             const std::vector<int32_t>& target) {
+                             const std::vector<int32_t>& target, double q,
+                             std::size_t start_reports) {
   const TrackTable& t = file.tracks;
   const std::size_t S = static_cast<std::size_t>(rec.num_sensors), K = rec.num_tuples();
   // (sensor id, track, target number), sorted; of a key listed twice, the later tuple's number.
@@ -194,24 +203,63 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
                ? -1
                : std::lower_bound(numbers.begin(), numbers.end(), it->target) - numbers.begin();
   };
-  const Lookup* lookup = nullptr;
-  for (std::size_t r = 0; r < t.size(); ++r) {
-    if (lookup == nullptr || lookup->sensor != t.sensor[r]) {
-      const auto it = std::lower_bound(lookups.begin(), lookups.end(), t.sensor[r],
-                                       [](const Lookup& l, int32_t id) { return l.sensor < id; });
-      if (it == lookups.end() || it->sensor != t.sensor[r]) continue;  // a sensor of no tuple
-      lookup = &*it;
+  // Calls visit(row, group index) for every row of a member.
+  auto for_each_member_row = [&](auto&& visit) {
+    const Lookup* lookup = nullptr;
+    for (std::size_t r = 0; r < t.size(); ++r) {
+      if (lookup == nullptr || lookup->sensor != t.sensor[r]) {
+        const auto it = std::lower_bound(lookups.begin(), lookups.end(), t.sensor[r],
+                                         [](const Lookup& l, int32_t id) { return l.sensor < id; });
+        if (it == lookups.end() || it->sensor != t.sensor[r]) continue;  // a sensor of no tuple
+        lookup = &*it;
+      }
+      const std::ptrdiff_t g = group_of(*lookup, t.track[r]);
+      if (g >= 0) visit(r, static_cast<std::size_t>(g));
     }
-    const std::ptrdiff_t g = group_of(*lookup, t.track[r]);
-    if (g < 0) continue;
-    Group& G = all[static_cast<std::size_t>(g)];
-    if (!seen[static_cast<std::size_t>(g)]) {
-      seen[static_cast<std::size_t>(g)] = 1;
-      G.target = numbers[static_cast<std::size_t>(g)], G.first = G.last = r;
+  };
+  for_each_member_row([&](std::size_t r, std::size_t g) {
+    Group& G = all[g];
+    if (!seen[g]) {
+      seen[g] = 1;
+      G.target = numbers[g], G.first = G.last = r;
     }
     if (t.t[r] < t.t[G.first]) G.first = r;
     if (t.t[r] > t.t[G.last]) G.last = r;
-  }
+  });
+  // The start's representative: of the earliest kStartRows reports of the track that starts the
+  // group, the one whose estimate, predicted back to the group's first report with the quiet model,
+  // has the smallest covariance (ln det): a new track's first velocity is poor, a few reports later
+  // it has converged. Chosen from the covariances alone, not from any residual.
+  std::vector<std::array<std::size_t, kStartRows>> early(all.size());
+  std::vector<uint8_t> n_early(all.size(), 0);
+  for_each_member_row([&](std::size_t r, std::size_t g) {
+    const std::size_t f = all[g].first;
+    if (t.sensor[r] != t.sensor[f] || t.track[r] != t.track[f]) return;
+    auto& e = early[g];
+    std::size_t n = n_early[g];
+    if (n == kStartRows && !(t.t[r] < t.t[e[n - 1]])) return;
+    if (n < kStartRows) ++n;
+    std::size_t i = n - 1;  // insertion, kept in time order
+    for (; i > 0 && t.t[r] < t.t[e[i - 1]]; --i) e[i] = e[i - 1];
+    e[i] = r;
+    n_early[g] = static_cast<uint8_t>(n);
+  });
+  parallel_for_range(all.size(), 1024, [&](std::size_t lo, std::size_t hi) {
+    Vector x;
+    Matrix P;
+    for (std::size_t g = lo; g < hi; ++g) {
+      if (!seen[g]) continue;
+      double best = std::numeric_limits<double>::infinity();
+      all[g].start = all[g].first;
+      for (std::size_t i = 0; i < std::min<std::size_t>(n_early[g], start_reports); ++i) {
+        const std::size_t r = early[g][i];
+        predict(t, r, t.t[all[g].first] - t.t[r], q, x, P);
+        const double log_det = Eigen::LDLT<Matrix>(P).vectorD().array().log().sum();
+        // Ties (equal information, as with a constant P and q = 0) keep the earlier report.
+        if (log_det < best - 1e-9) best = log_det, all[g].start = r;
+      }
+    }
+  });
   std::vector<Group> groups;
   groups.reserve(all.size());
   for (std::size_t g = 0; g < all.size(); ++g)
@@ -242,21 +290,37 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     target.resize(K);
     std::iota(target.begin(), target.end(), 0);
   }
-  const std::vector<Group> groups = groups_of(file, rec, target);
+  const std::vector<Group> groups = groups_of(file, rec, target, o.manoeuvre_sigma * o.manoeuvre_sigma,
+                                              static_cast<std::size_t>(o.start_reports));
   const std::size_t G = groups.size();
   summary.groups = static_cast<int32_t>(G);
   std::vector<std::size_t> by_start(G);
   std::iota(by_start.begin(), by_start.end(), 0);
   std::sort(by_start.begin(), by_start.end(),
             [&](std::size_t a, std::size_t b) { return t.t[groups[a].first] < t.t[groups[b].first]; });
-  // "Different targets": a start uniform over the box of the groups' start states.
+  // "Different targets": the density f of the groups' start states (start_density_bins: a
+  // histogram per state component, else uniform over their box); ln f at each group's start.
   const int D = t.dim();
-  double log_volume = 0.0;
+  std::vector<double> log_density(G, 0.0);
   for (int i = 0; i < D; ++i) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (const Group& g : groups)
-      lo = std::min(lo, t.state[i][g.first]), hi = std::max(hi, t.state[i][g.first]);
-    log_volume += std::log(std::max(hi - lo, 1.0));
+      lo = std::min(lo, t.state[i][g.start]), hi = std::max(hi, t.state[i][g.start]);
+    const double width = std::max(hi - lo, 1.0);
+    if (!o.start_density_bins || !std::isfinite(width)) {
+      for (double& l : log_density) l -= std::log(width);
+      continue;
+    }
+    const std::size_t B = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(G))));
+    auto bin_of = [&](double x) {
+      const double u = (x - lo) / width * static_cast<double>(B);
+      return u >= 0.0 ? std::min(B - 1, static_cast<std::size_t>(u)) : std::size_t{0};
+    };
+    std::vector<double> count(B, 1.0);  // one count added to each bin (Laplace)
+    for (const Group& g : groups) count[bin_of(t.state[i][g.start])] += 1.0;
+    const double bin_width = width / static_cast<double>(B), total = static_cast<double>(G + B);
+    for (std::size_t g = 0; g < G; ++g)
+      log_density[g] += std::log(count[bin_of(t.state[i][groups[g].start])] / (total * bin_width));
   }
   // Candidates (rows: ends, columns: starts): for each end, the starts of its window that the
   // index (engine/pipeline/stitch_index.hpp) does not exclude, in start-time order, gated.
@@ -277,24 +341,25 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
         // "A different target": any of the n starts of the window, each uniform over the box, so
         // the density of the alternative is n / V (the density of new starts of MHT's track score).
         const auto [first, last] = index.window(end);
-        const double log_alternative =
-            log_volume - std::log(std::max<double>(1.0, static_cast<double>(last - first)));
+        const double log_n = std::log(std::max<double>(1.0, static_cast<double>(last - first)));
         index.query(t, groups[a].last, near);
         for (int32_t p : near) {
           const std::size_t b = by_start[static_cast<std::size_t>(p)];
           if (b == a || t.t[groups[b].last] <= end) continue;          // b must go on after a ends
           if (t.t[groups[a].first] >= t.t[groups[b].first]) continue;  // and start after a starts
           bool quiet = false;
-          const double c = join_cost(t, groups[a].last, groups[b].first, o, gate, &quiet);
+          const double c = join_cost(t, groups[a].last, groups[b].start, o, gate, &quiet);
           if (!std::isfinite(c)) continue;
           ++rivals_of_end[a];
           std::atomic_ref<int32_t>(rivals_of_start[b]).fetch_add(1, std::memory_order_relaxed);
-          if (c - log_alternative < 0.0)
-            kept[k].push_back({static_cast<int32_t>(a), static_cast<int32_t>(b), c - log_alternative, quiet});
+          const double cost = c + log_n + log_density[b];
+          if (cost < 0.0 || o.gap_bin_s > 0.0)  // the gap prior may raise the evidence
+            kept[k].push_back({static_cast<int32_t>(a), static_cast<int32_t>(b), cost, quiet});
         }
       }
   });
-  // The gated pairs of positive evidence, in order of their ends (then of their starts' times).
+  // The gated pairs (of positive evidence without the gap prior), in order of their ends (then of
+  // their starts' times).
   std::vector<Candidate> candidates;
   for (auto& block : kept) {
     candidates.insert(candidates.end(), block.begin(), block.end());
@@ -305,29 +370,61 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   // has another gated candidate) and its evidence is at least turn_min_evidence. Its wide gate
   // takes in unrelated starts where traffic is dense, while a lone turning fragment
   // (recorded_recycled) is still joined; see the header for the measurements.
-  std::vector<int32_t> row_start{0}, col;
-  std::vector<double> cost;
-  std::size_t next = 0;
-  for (std::size_t a = 0; a < G; ++a) {
-    for (; next < candidates.size() && candidates[next].end == static_cast<int32_t>(a); ++next) {
-      const Candidate& k = candidates[next];
-      if (!k.quiet &&
-          (rivals_of_end[k.end] > 1 || rivals_of_start[k.start] > 1 || -k.cost < o.turn_min_evidence))
-        continue;
-      col.push_back(k.start);
-      cost.push_back(k.cost);
+  // `cost(i)`: candidate i's cost; the pairs of positive evidence enter one LAP.
+  auto solve = [&](auto&& cost_of) {
+    std::vector<int32_t> row_start{0}, col;
+    std::vector<double> cost;
+    std::size_t next = 0;
+    for (std::size_t a = 0; a < G; ++a) {
+      for (; next < candidates.size() && candidates[next].end == static_cast<int32_t>(a); ++next) {
+        const Candidate& k = candidates[next];
+        const double c = cost_of(next);
+        if (!(c < 0.0) || (!k.quiet && (rivals_of_end[k.end] > 1 || rivals_of_start[k.start] > 1 ||
+                                         -c < o.turn_min_evidence)))
+          continue;
+        col.push_back(k.start);
+        cost.push_back(c);
+      }
+      row_start.push_back(static_cast<int32_t>(col.size()));
     }
-    row_start.push_back(static_cast<int32_t>(col.size()));
+    LapResult r;
+    if (col.empty()) return r;
+    SparseCostView view;
+    view.rows = view.cols = static_cast<int32_t>(G);
+    view.row_start = row_start;
+    view.col = col;
+    view.cost = cost;
+    LapOptions lap;
+    lap.allow_unassigned = true;  // "no successor" / "no predecessor" at cost 0
+    return solve_gated_lap(view, lap);
+  };
+  LapResult joins = solve([&](std::size_t i) { return candidates[i].cost; });
+  if (joins.row_to_col.empty()) return summary;
+  if (o.gap_bin_s > 0.0) {
+    // The gap prior: the same target's gaps follow its fades and re-initiations, a different
+    // target's start is uniform over the window W. Its density, a histogram of the first joins'
+    // gaps (Laplace-smoothed), turns into the factor W·p(g) of the likelihood ratio.
+    const double W = o.max_overlap_s + o.max_gap_s;
+    const std::size_t B = static_cast<std::size_t>(std::ceil(W / o.gap_bin_s));
+    auto bin_of = [&](double g) {
+      return std::min(B - 1, static_cast<std::size_t>(std::max(0.0, (g + o.max_overlap_s) / o.gap_bin_s)));
+    };
+    auto gap_of = [&](std::size_t a, std::size_t b) { return t.t[groups[b].first] - t.t[groups[a].last]; };
+    std::vector<double> count(B, 1.0);
+    double total = static_cast<double>(B);
+    for (std::size_t a = 0; a < G; ++a)
+      if (joins.row_to_col[a] >= 0) count[bin_of(gap_of(a, static_cast<std::size_t>(joins.row_to_col[a])))] += 1.0, total += 1.0;
+    std::vector<double> log_factor(B);
+    for (std::size_t k = 0; k < B; ++k) {
+      const double width = std::min(o.gap_bin_s, W - static_cast<double>(k) * o.gap_bin_s);
+      log_factor[k] = std::log(W * count[k] / (total * width));
+    }
+    joins = solve([&](std::size_t i) {
+      const Candidate& k = candidates[i];
+      return k.cost - log_factor[bin_of(gap_of(static_cast<std::size_t>(k.end), static_cast<std::size_t>(k.start)))];
+    });
+    if (joins.row_to_col.empty()) return summary;
   }
-  if (col.empty()) return summary;
-  SparseCostView view;
-  view.rows = view.cols = static_cast<int32_t>(G);
-  view.row_start = row_start;
-  view.col = col;
-  view.cost = cost;
-  LapOptions lap;
-  lap.allow_unassigned = true;  // "no successor" / "no predecessor" at cost 0
-  const LapResult joins = solve_gated_lap(view, lap);
   // Union-find over group indices; the root keeps the earliest group's target number.
   std::vector<std::size_t> parent(G);
   std::iota(parent.begin(), parent.end(), 0);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <random>
 
@@ -199,6 +200,7 @@ TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
       hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 14000, 0, 6000 - 200 * 100, 200}, kBackground});
   const Turn turn;
   TrackStitchOptions defaults;
+  defaults.start_density_bins = false;  // the box density of the hand calculation
   EXPECT_NEAR(continuation_statistic(f.tracks, 20, 21, 9.0), turn.m2_quiet, 1e-6);
   EXPECT_GT(turn.m2_quiet, kGate);
   EXPECT_NEAR(gap_statistic(f.tracks, 20, 21, 400.0).m2, turn.m2_turn, 1e-9);
@@ -306,26 +308,142 @@ TEST(TrackStitching, ThePreGateRefusesOnlyPairsOutsideTheGate) {
   EXPECT_LT(inside, 390);
 }
 
+// The gap prior (gap_bin_s = 20): 40 handovers with a gap of 20 s (far apart: lanes 200 km apart
+// along y, nothing else gated) and one weak join C → D over 150 s. Without the prior every gated
+// join of positive evidence is made (41). With it, the first joins' gaps give the bins (width
+// 20 s from −2 s: W = 182 s, 10 bins, the last 2 s wide) Laplace counts 41 (gap 20 s, bin 1) and
+// 2 (gap 150 s, bin 7) of 51, so the weak join's ratio is multiplied by W·2/(51·20) = 0.3569,
+// −1.0304 nats: a join of 1.00 nat is refused and one of 1.06 nats is kept.
+TrackStitchSummary weak_long_join(double evidence, double gap_bin_s, AssociationRecord& rec) {
+  std::vector<Segment> segments;
+  std::vector<std::pair<int32_t, int32_t>> keys;
+  for (int32_t i = 0; i < 40; ++i) {
+    segments.push_back({0, i, 0, 40, 0, 200, 2e5 * i, 0});
+    segments.push_back({1, 100 + i, 60, 100, 0, 200, 2e5 * i, 0});
+    keys.push_back({0, i});
+    keys.push_back({1, 100 + i});
+  }
+  // The box of the start states: x over [0, 1e6] (the background's start), y over [−2e5, 1e7],
+  // the velocities all (200, 0); C's window [38, 220] s holds n = 41 starts (the 40 B's and D).
+  const double tau = 75.0, s_pos = 2.0 * (1e4 + tau * tau);  // per axis S = diag(s_pos, 2)
+  const double log_det = kLog2Pi4 + 2.0 * std::log(s_pos * 2.0);
+  const double log_alternative = std::log(1e6) + std::log(1.02e7) - std::log(41.0);
+  const double m2 = 2.0 * (log_alternative - evidence) - log_det;  // −c = evidence
+  const double delta = std::sqrt(m2 * s_pos);
+  segments.push_back({0, 200, 0, 40, 0, 200, -2e5, 0});         // C
+  segments.push_back({1, 201, 190, 230, delta, 200, -2e5, 0});         // D, 150 s after C's end
+  segments.push_back({1, 300, 0, 400, 1e6, 200, 1e7, 0});  // background, coexisting
+  keys.push_back({0, 200});
+  keys.push_back({1, 201});
+  keys.push_back({1, 300});
+  const TrackFile f = hand_made(segments);
+  rec = singletons(keys);
+  TrackStitchOptions o = no_manoeuvre();
+  o.gap_bin_s = gap_bin_s;
+  o.start_density_bins = false;  // the box density of the hand calculation
+  return stitch_fragments(f, rec, o);
+}
+
+TEST(TrackStitching, TheGapPriorRefusesAWeakJoinAtAGapTheOtherJoinsDoNotHave) {
+  AssociationRecord rec;
+  EXPECT_EQ(weak_long_join(1.00, 0.0, rec).stitches, 41);  // no prior: every positive join
+  EXPECT_EQ(rec.target[81], rec.target[80]);
+  EXPECT_EQ(weak_long_join(1.00, 20.0, rec).stitches, 40);  // 1.00 − 1.0304 < 0
+  EXPECT_NE(rec.target[81], rec.target[80]);
+  EXPECT_EQ(rec.target[1], rec.target[0]);  // the handovers stay joined
+  EXPECT_EQ(weak_long_join(1.06, 20.0, rec).stitches, 41);  // 1.06 − 1.0304 > 0
+  EXPECT_EQ(rec.target[81], rec.target[80]);
+}
+
+// The start density (start_density_bins). A ends at 40 s, B starts at 60 s δ ahead along x (same
+// velocity); two coexisting background tracks start at (0, 3 km) with vx = −300 and 2 200 m/s (a
+// wild first velocity that stretches the box). Start states, G = 4, B = ⌈√4⌉ = 2 bins a component,
+// G + B = 6: x {0, 12 km + δ, 0, 0}: B alone in the upper bin, h = 2/(6·w/2) against the box's 1/w
+// (ratio 2/3); y {0, 0, 3 km, 3 km}: ratio 3·2/6 = 1; vx {200, 200, −300, 2200} over 2 500 m/s: B's
+// bin holds 3, ratio 4·2/6 = 4/3; vy all 0, w = 1: one bin holds all 4, ratio 5·2/6 = 5/3. So the
+// histogram adds ln(2/3 · 4/3 · 5/3) = ln(40/27) ≈ 0.3930 nats to the box's cost: a join of
+// evidence 0.20 nats under the box is refused, one of 0.45 is kept.
+int density_join(double evidence, bool bins) {
+  // Box: c = ½(m² + ln det(2πS)) + ln n − ln V, n = 1, V = (12 km + δ)·3 km·2 500·1; δ by fixed point.
+  double delta = 650.0;
+  for (int i = 0; i < 50; ++i) {
+    const double log_v = std::log(12000.0 + delta) + std::log(3000.0) + std::log(2500.0);
+    delta = std::sqrt(20200.0 * 2.0 * (log_v - 0.5 * kLogDet20 - evidence));
+  }
+  EXPECT_LT(m2_of_offset(delta), kGate);
+  const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200},
+                                 {1, 7, 60, 100, delta, 200},
+                                 {1, 98, 0, 200, 0, -300, 3000, 0},
+                                 {0, 97, 0, 200, 0, 2200, 3000, 0}});
+  AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 98}, {0, 97}});
+  TrackStitchOptions o = no_manoeuvre();
+  o.gap_bin_s = 0.0;
+  o.start_density_bins = bins;
+  const TrackStitchSummary s = stitch_fragments(f, rec, o);
+  EXPECT_EQ(s.candidates, 1);
+  return s.stitches;
+}
+
+TEST(TrackStitching, TheStartDensityOfTheStartsRefusesAJoinThatTheBoxMakes) {
+  EXPECT_NEAR(std::log(2.0 / 3.0 * 4.0 / 3.0 * 5.0 / 3.0), 0.3930, 1e-4);
+  EXPECT_EQ(density_join(0.20, false), 1);  // the box: 0.20 nats, joined
+  EXPECT_EQ(density_join(0.20, true), 0);   // 0.20 − 0.393 < 0
+  EXPECT_EQ(density_join(0.45, true), 1);   // 0.45 − 0.393 > 0
+  EXPECT_EQ(density_join(0.38, true), 0);   // 0.38 − 0.393 < 0
+}
+
+TEST(TrackStitching, TheStartsRepresentativeReportRefusesAJoinThatItsFirstVelocityMakes) {
+  // A runs along +x at 200 m/s (0-40 s) and dies; B (a different target) starts at 60 s where A
+  // would be, (12 km, 0), running along +y. B's first report has the velocity of two plots,
+  // (200, 0) m/s with P_v = 300² (the rows after it: (0, 200), P = diag(100², 100², 1, 1)).
+  TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, kBackground});  // rows 0-20 A, 21-121 background
+  Eigen::Matrix4d P0 = Eigen::Matrix4d::Zero(), P = Eigen::Matrix4d::Zero();
+  P0.diagonal() << 1e4, 1e4, 9e4, 9e4;
+  P.diagonal() << 1e4, 1e4, 1.0, 1.0;
+  f.tracks.push_back(1, 7, 60.0, Eigen::Vector4d(12000, 0, 200, 0), P0, -1);  // row 122
+  for (double t = 62.0; t <= 100.0 + 1e-9; t += 2.0)
+    f.tracks.push_back(1, 7, t, Eigen::Vector4d(12000, 200 * (t - 60), 0, 200), P, -1);
+  // The first report against A's end, to the midpoint 50 s: e = 0; per axis S = [[1e4 + 100 +
+  // 1e4 + 100·9e4, 10 − 10·9e4], [·, 1 + 9e4]], det = 9 020 100·90 001 − 899 990² = 1 836 020 000,
+  // so c = ½(4 ln 2π + 2 ln 1 836 020 000) ≈ 25.007 < ln V ≈ 34.105 (box of A, B's first report
+  // and the background: 72 km · 60 km · 500 · 300 m/s): 9.1 nats for the join.
+  const double c_first = 0.5 * (kLog2Pi4 + 2.0 * std::log(1836020000.0));
+  EXPECT_NEAR(join_cost(f.tracks, 20, 122, no_manoeuvre(), kGate), c_first, 1e-6);
+  EXPECT_LT(c_first - (std::log(72000.0) + std::log(60000.0) + std::log(500.0) + std::log(300.0)), 0.0);
+  // The representative: predicted back to 60 s with q = 0, the first report's ln det is ln(1e4·9e4)
+  // a component, every later one's ln 1e4 (ties keep the earliest): the report at 62 s. Against it,
+  // to the midpoint 51 s: e = (−1 800, 1 800, 200, −200), S = diag(20 242, 2) a component:
+  // m² = 2·1 800²/20 242 + 2·200²/2 ≈ 40 320, far outside the gate.
+  EXPECT_NEAR(gap_statistic(f.tracks, 20, 123, 0.0).m2, 2.0 * 1800.0 * 1800.0 / 20242.0 + 40000.0, 1e-6);
+  TrackStitchOptions first = no_manoeuvre();
+  first.start_density_bins = false;
+  first.gap_bin_s = 0.0;
+  first.start_reports = 1;
+  AssociationRecord before = singletons({{0, 1}, {1, 99}, {1, 7}});
+  const TrackStitchSummary old_rule = stitch_fragments(f, before, first);
+  EXPECT_EQ(old_rule.candidates, 1);
+  EXPECT_EQ(old_rule.stitches, 1);
+  EXPECT_EQ(before.target, (std::vector<int32_t>{0, 1, 0}));
+  TrackStitchOptions representative = first;
+  representative.start_reports = 16;
+  AssociationRecord after = singletons({{0, 1}, {1, 99}, {1, 7}});
+  const TrackStitchSummary new_rule = stitch_fragments(f, after, representative);
+  EXPECT_EQ(new_rule.candidates, 0);
+  EXPECT_EQ(new_rule.stitches, 0);
+  EXPECT_EQ(after.target, (std::vector<int32_t>{0, 1, 2}));
+}
+
 TEST(TrackStitching, BadOptionsNameTheField) {
-  for (auto [bad, field] :
-       std::vector<std::pair<TrackStitchOptions, std::string>>{{[] {
-                                                                  TrackStitchOptions o;
-                                                                  o.max_gap_s = -1;
-                                                                  return o;
-                                                                }(),
-                                                                "stitching.max_gap_s"},
-                                                               {[] {
-                                                                  TrackStitchOptions o;
-                                                                  o.turn_probability = 1.5;
-                                                                  return o;
-                                                                }(),
-                                                                "stitching.turn_probability"},
-                                                               {[] {
-                                                                  TrackStitchOptions o;
-                                                                  o.turn_sigma = -2;
-                                                                  return o;
-                                                                }(),
-                                                                "stitching.turn_sigma"}}) {
+  const std::vector<std::pair<std::function<void(TrackStitchOptions&)>, std::string>> cases{
+      {[](TrackStitchOptions& o) { o.max_gap_s = -1; }, "stitching.max_gap_s"},
+      {[](TrackStitchOptions& o) { o.turn_probability = 1.5; }, "stitching.turn_probability"},
+      {[](TrackStitchOptions& o) { o.turn_sigma = -2; }, "stitching.turn_sigma"},
+      {[](TrackStitchOptions& o) { o.gap_bin_s = -20; }, "stitching.gap_bin_s"},
+      {[](TrackStitchOptions& o) { o.start_reports = 0; }, "stitching.start_reports"},
+      {[](TrackStitchOptions& o) { o.start_reports = 17; }, "stitching.start_reports"}};
+  for (const auto& [spoil, field] : cases) {
+    TrackStitchOptions bad;
+    spoil(bad);
     try {
       bad.validate();
       FAIL() << field;
