@@ -10,6 +10,7 @@
 // flags, calls it, writes the file and prints, ending with the unassociated local tracks of each
 // sensor (those in no tuple of two or more). --plots F.png draws the recording as a map with the
 // association (engine/report/association_map.hpp; --svg for SVG).
+#include <cstdlib>
 #include <iostream>
 
 #include "engine/cli/association_flags.hpp"
@@ -27,6 +28,7 @@
 #include "engine/report/association_map.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "io/track_validation.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc::cli {
 namespace {
@@ -187,13 +189,21 @@ void register_associate(CLI::App& app) {
       check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}}, inputs);
     }
     const auto associator = make_associator(request);  // every check before the file is read
+    // The phases' wall times, printed on stderr with TRACKASSOC_MPI_STATS (the serial remainder of
+    // a sharded run: docs/mpi.md).
+    PhaseClock clock;
     TrackFile file = read_track_file(args->input);
+    clock.lap("read");
     const TrackSplitSummary split = split_recorded_keys(file, request);
+    clock.lap("split");
     AssociationOutcome outcome = associator->associate(file);
     distributed::end_items(comm);  // the other ranks' serve loop returns (no-op on one process)
+    clock.lap("associate");
     outcome.summary.split = split;
     store_outcome(file, outcome);
     write_track_file(args->output, file);
+    clock.lap("write");
+    if (std::getenv("TRACKASSOC_MPI_STATS")) std::cerr << "phases: " << clock.text() << "\n";
     print_outcome(outcome.summary, args->output);
     if (!args->plot.empty()) {
       report::write_association_map(args->plot, report::picture_format(args->plot, args->svg), file,

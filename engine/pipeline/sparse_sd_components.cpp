@@ -2,6 +2,8 @@
 // (engine/pipeline/sparse_sd_components.hpp).
 #include "engine/pipeline/sparse_sd_components.hpp"
 
+#include "engine/pipeline/pair_statistics_sharded.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -412,6 +414,10 @@ std::vector<SDComponentResult> solve_sd_components_sharded(distributed::Communic
   return results;
 }
 
-void serve_sd_components(distributed::Communicator& comm) { distributed::serve_items(comm, kSDComponents); }
+// The other ranks answer both sharded steps of the default path, round after round: the sensor
+// pairs' gated statistics (engine/pipeline/pair_statistics_sharded.hpp) and the components.
+void serve_sd_components(distributed::Communicator& comm) {
+  distributed::serve_items(comm, kPairStatisticsJob, kSDComponents);
+}
 
 }  // namespace trackassoc
