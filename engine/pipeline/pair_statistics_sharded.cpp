@@ -27,7 +27,8 @@ std::vector<int32_t> renumbered(const std::vector<int32_t>& side, const std::vec
 
 }  // namespace
 
-PairStatisticsResult solve_pair_statistics(const StatisticOptions& statistic, const PairStatisticsItem& item) {
+PairStatisticsResult solve_pair_statistics(const StatisticOptions& statistic,
+                                           const PairStatisticsItem& item) {
   const CandidatePairs kept = prune_by_position_bound(item.a, item.b, item.pairs, statistic);
   PairStatisticsResult r;
   r.kept = kept.size();
@@ -55,22 +56,21 @@ std::vector<PairStatisticsResult> gated_statistics_sharded(distributed::Communic
       cost.push_back(static_cast<double>(found[s].size()));
     }
   std::vector<std::vector<int32_t>> rows_a(slot.size()), rows_b(slot.size());
-  auto solved = distributed::shard_items(
-      comm, kPairStatisticsJob, "gated statistics of the sensor pairs", statistic, id, cost,
-      [&](std::size_t k) {
-        const std::size_t s = slot[k], a = s / S, b = s % S;
-        const CandidatePairs& c = found[s];
-        rows_a[k] = rows_of(c.a);
-        rows_b[k] = rows_of(c.b);
-        PairStatisticsItem item;
-        copy_rows(sensors.aligned[a], rows_a[k], item.a);
-        copy_rows(sensors.aligned[b], rows_b[k], item.b);
-        item.pairs.n_a = static_cast<int32_t>(rows_a[k].size());
-        item.pairs.n_b = static_cast<int32_t>(rows_b[k].size());
-        item.pairs.a = renumbered(c.a, rows_a[k]);
-        item.pairs.b = renumbered(c.b, rows_b[k]);
-        return item;
-      });
+  auto solved = distributed::shard_items(comm, kPairStatisticsJob, "gated statistics of the sensor pairs",
+                                         statistic, id, cost, [&](std::size_t k) {
+                                           const std::size_t s = slot[k], a = s / S, b = s % S;
+                                           const CandidatePairs& c = found[s];
+                                           rows_a[k] = rows_of(c.a);
+                                           rows_b[k] = rows_of(c.b);
+                                           PairStatisticsItem item;
+                                           copy_rows(sensors.aligned[a], rows_a[k], item.a);
+                                           copy_rows(sensors.aligned[b], rows_b[k], item.b);
+                                           item.pairs.n_a = static_cast<int32_t>(rows_a[k].size());
+                                           item.pairs.n_b = static_cast<int32_t>(rows_b[k].size());
+                                           item.pairs.a = renumbered(c.a, rows_a[k]);
+                                           item.pairs.b = renumbered(c.b, rows_b[k]);
+                                           return item;
+                                         });
   for (std::size_t k = 0; k < slot.size(); ++k) {
     const std::size_t s = slot[k];
     PairStatisticsResult& r = out[s];

@@ -51,18 +51,18 @@ constexpr auto wire_codec(std::type_identity<CandidatePairs>) {
                                             &CandidatePairs::a, &CandidatePairs::b);
 }
 constexpr auto wire_codec(std::type_identity<SparsePairStatistic>) {
-  return distributed::codec<SparsePairStatistic>(
-      "gated pair statistic", &SparsePairStatistic::n_a, &SparsePairStatistic::n_b, &SparsePairStatistic::a,
-      &SparsePairStatistic::b, &SparsePairStatistic::lambda, &SparsePairStatistic::dof,
-      &SparsePairStatistic::in_gate);
+  return distributed::codec<SparsePairStatistic>("gated pair statistic", &SparsePairStatistic::n_a,
+                                                 &SparsePairStatistic::n_b, &SparsePairStatistic::a,
+                                                 &SparsePairStatistic::b, &SparsePairStatistic::lambda,
+                                                 &SparsePairStatistic::dof, &SparsePairStatistic::in_gate);
 }
 constexpr auto wire_codec(std::type_identity<PairStatisticsItem>) {
   return distributed::codec<PairStatisticsItem>("sensor pair's candidates", &PairStatisticsItem::a,
                                                 &PairStatisticsItem::b, &PairStatisticsItem::pairs);
 }
 constexpr auto wire_codec(std::type_identity<PairStatisticsResult>) {
-  return distributed::codec<PairStatisticsResult>("sensor pair's gated statistic", &PairStatisticsResult::kept,
-                                                  &PairStatisticsResult::gated);
+  return distributed::codec<PairStatisticsResult>("sensor pair's gated statistic",
+                                                  &PairStatisticsResult::kept, &PairStatisticsResult::gated);
 }
 
 // The job (kind 1; the components' job is kind 0): the header is the statistic's options (a plain

@@ -2,13 +2,12 @@
 // (engine/pipeline/sparse_sd_components.hpp).
 #include "engine/pipeline/sparse_sd_components.hpp"
 
-#include "engine/pipeline/pair_statistics_sharded.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "engine/distributed/shard_items.hpp"
+#include "engine/pipeline/pair_statistics_sharded.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_tuples.hpp"
 #include "engine/pipeline/tuple_cost.hpp"

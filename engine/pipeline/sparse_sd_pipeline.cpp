@@ -196,8 +196,8 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       // the link cost and both nodes of each (at most every) gated one.
       const std::size_t kept = sharded ? shared[slot].kept : cand[slot].size();
       const auto n = static_cast<double>(kept);
-      require_held(bytes + n * (21.0 + 8.0 + 8.0),
-                   "the statistics of the " + std::to_string(kept) + " candidate pairs of " + pair_name(a, b));
+      require_held(bytes + n * (21.0 + 8.0 + 8.0), "the statistics of the " + std::to_string(kept) +
+                                                       " candidate pairs of " + pair_name(a, b));
       p.pairs[slot] = sharded ? std::move(shared[slot].gated)
                               : gated_candidate_statistic(p, a, b, cand[slot], po.statistic);
       const SparsePairStatistic& st = p.pairs[slot];
