@@ -10,7 +10,11 @@
 // flags, calls it, writes the file and prints, ending with the unassociated local tracks of each
 // sensor (those in no tuple of two or more). --plots F.png draws the recording as a map with the
 // association (engine/report/association_map.hpp; --svg for SVG).
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <iostream>
+#include <string>
 
 #include "engine/cli/association_flags.hpp"
 #include "engine/cli/common.hpp"
@@ -30,6 +34,25 @@
 
 namespace trackassoc::cli {
 namespace {
+
+// Wall times of consecutive phases: lap(name) closes the phase that started at the last lap (or at
+// construction); text() lists them, "read 1.23 s, write 0.45 s".
+class PhaseClock {
+ public:
+  void lap(const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s%s %.2f s", text_.empty() ? "" : ", ", name,
+                  std::chrono::duration<double>(now - t_).count());
+    text_ += buf;
+    t_ = now;
+  }
+  const std::string& text() const { return text_; }
+
+ private:
+  std::chrono::steady_clock::time_point t_ = std::chrono::steady_clock::now();
+  std::string text_;
+};
 
 // What `associate` prints: the summary's full report (engine/pipeline/associator.hpp), its first
 // line with the output file; siamese's note on points outside the model's domain to stderr.
@@ -187,13 +210,21 @@ void register_associate(CLI::App& app) {
       check_output_paths({{args->output, "--output"}, {args->plot, "--plots"}}, inputs);
     }
     const auto associator = make_associator(request);  // every check before the file is read
+    // The phases' wall times, printed on stderr with TRACKASSOC_MPI_STATS (the serial remainder of
+    // a sharded run: docs/mpi.md).
+    PhaseClock clock;
     TrackFile file = read_track_file(args->input);
+    clock.lap("read");
     const TrackSplitSummary split = split_recorded_keys(file, request);
+    clock.lap("split");
     AssociationOutcome outcome = associator->associate(file);
     distributed::end_items(comm);  // the other ranks' serve loop returns (no-op on one process)
+    clock.lap("associate");
     outcome.summary.split = split;
     store_outcome(file, outcome);
     write_track_file(args->output, file);
+    clock.lap("write");
+    if (std::getenv("TRACKASSOC_MPI_STATS")) std::cerr << "phases: " << clock.text() << "\n";
     print_outcome(outcome.summary, args->output);
     if (!args->plot.empty()) {
       report::write_association_map(args->plot, report::picture_format(args->plot, args->svg), file,

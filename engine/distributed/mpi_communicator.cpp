@@ -71,8 +71,12 @@ class MpiCommunicator final : public Communicator {
       for (int r = 0; r < size_; ++r) sizes[r] = parts[r].size();
     }
     uint64_t mine = 0;
-    check(MPI_Scatter(sizes.data(), 1, MPI_UINT64_T, &mine, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD),
-          "MPI_Scatter");
+    // Non-blocking, tested politely: the other ranks wait here while rank 0 reads and builds (a
+    // blocking MPI_Scatter spins, and took a core from rank 0 when ranks share the cores).
+    MPI_Request request;
+    check(MPI_Iscatter(sizes.data(), 1, MPI_UINT64_T, &mine, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request),
+          "MPI_Iscatter");
+    wait_politely(request, "MPI_Iscatter");
     if (rank_ == 0) {
       for (int r = 1; r < size_; ++r) {
         send_bytes(parts[r], r);

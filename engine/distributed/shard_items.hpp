@@ -4,7 +4,8 @@
 //
 // A path declares its job once: the header every item of a part shares (the solver and its
 // options), the item (a component's self-contained problem) and its result, each with a declared
-// codec (engine/distributed/codec.hpp), and the solve. Then
+// codec (engine/distributed/codec.hpp), and the solve; jobs that one serve loop answers (the
+// default path's gated statistics, then its components) differ by their `kind`. Then
 //   1. rank 0 plans: each item to a rank by its estimated cost, longest processing time first
 //      (balance_by_cost, engine/distributed/sharding.hpp);
 //   2. rank 0 builds the items (in parallel, TBB) and scatters each rank its part: the header,
@@ -43,6 +44,7 @@ struct ItemJob {
   const char* unit;  // what an item's size counts: "tracks"
   std::size_t (*size)(const I&);
   R (*solve)(const H&, const I&);
+  uint8_t kind = 0;  // the first byte of each part: which job of serve_items' list it is
 };
 
 // What rank 0 learned about a sharded solve (the TRACKASSOC_MPI_STATS line).
@@ -62,6 +64,7 @@ namespace item_detail {
 template <class Job>
 Bytes solve_part(const Job& job, const Bytes& part, std::string& shard, const Communicator& comm) {
   ByteReader rd(part);
+  if (rd.get<uint8_t>() != job.kind) throw std::runtime_error("distributed work part of another job (a bug)");
   typename Job::Header header;
   codec_detail::get_value(rd, header);
   const auto n = static_cast<std::size_t>(rd.get<uint64_t>());
@@ -114,6 +117,7 @@ std::vector<typename Job::Result> shard_items(
   const auto parts = encode_planned_parts(
       comm.size(), stats.rank_of,
       [&](ByteWriter& w, uint64_t items) {
+        w.put<uint8_t>(job.kind);
         codec_detail::put_value(w, header);
         w.put<uint64_t>(items);
       },
@@ -160,11 +164,12 @@ std::vector<typename Job::Result> shard_items(
 }
 
 // Ranks other than 0, round after round (rank 0 may shard several solves, e.g. the registration
-// stage's re-associations): receive a part, solve it, send it back; return at the empty part of
-// end_items. Rank 0's failure, or its release after a round that failed here or elsewhere
+// stage's re-associations, and several jobs, each part's first byte naming its job's kind):
+// receive a part, solve it with its job, send it back; return at the empty part of end_items.
+// Rank 0's failure, or its release after a round that failed here or elsewhere
 // (release_waiting_ranks), ends this rank silently (SilentExit).
-template <class Job>
-void serve_items(Communicator& comm, const Job& job) {
+template <class... Jobs>
+void serve_items(Communicator& comm, const Jobs&... jobs) {
   while (true) {
     const Bytes mine = scatter_work(comm, {});
     if (mine.empty()) {
@@ -173,8 +178,17 @@ void serve_items(Communicator& comm, const Job& job) {
     }
     try {
       gather_shards(comm, [&](std::string& shard) {
-        shard = std::string("its ") + job.noun + "s";
-        return item_detail::solve_part(job, mine, shard, comm);
+        Bytes solved;
+        bool found = false;
+        auto try_job = [&](const auto& job) {
+          if (found || mine[0] != job.kind) return;
+          found = true;
+          shard = std::string("its ") + job.noun + "s";
+          solved = item_detail::solve_part(job, mine, shard, comm);
+        };
+        (try_job(jobs), ...);
+        if (!found) throw std::runtime_error("distributed work part of no job served here (a bug)");
+        return solved;
       });
     } catch (const SilentExit&) {
       // This rank's part failed and rank 0 reports it: wait for its release like the others.

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "engine/distributed/shard_items.hpp"
+#include "engine/pipeline/pair_statistics_sharded.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_tuples.hpp"
 #include "engine/pipeline/tuple_cost.hpp"
@@ -428,6 +429,10 @@ std::vector<SDComponentResult> solve_sd_components_sharded(distributed::Communic
   return results;
 }
 
-void serve_sd_components(distributed::Communicator& comm) { distributed::serve_items(comm, kSDComponents); }
+// The other ranks answer both sharded steps of the default path, round after round: the sensor
+// pairs' gated statistics (engine/pipeline/pair_statistics_sharded.hpp) and the components.
+void serve_sd_components(distributed::Communicator& comm) {
+  distributed::serve_items(comm, kPairStatisticsJob, kSDComponents);
+}
 
 }  // namespace trackassoc

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "engine/pipeline/pair_source.hpp"
+#include "engine/pipeline/pair_statistics_sharded.hpp"
 #include "engine/pipeline/partition.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_components.hpp"
@@ -20,6 +21,7 @@
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/random.hpp"
 #include "kernels/core/stopwatch.hpp"
+#include "kernels/statistics/scan_candidates.hpp"
 
 namespace trackassoc {
 namespace {
@@ -213,13 +215,26 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   p.candidate_pairs.assign(slots, 0);
   t0 = std::chrono::steady_clock::now();
   std::vector<CandidatePairs> cand(slots);
-  std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale);
+  // More ranks (docs/mpi.md): rank 0 runs the index alone; each sensor pair's prune and statistic
+  // are shared out in the statistics stage (engine/pipeline/pair_statistics_sharded.hpp), so the
+  // candidates held here are those found, before the prune.
+  const bool sharded = options.ranks && options.ranks->size() > 1;
+  if (sharded) {
+    std::vector<const AlignedTracks*> x;
+    for (const AlignedTracks& t : p.aligned) x.push_back(&t);
+    cand = candidate_pairs_for_gate(x, po.statistic, options.radius_scale);
+  } else {
+    std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale);
+    for (std::size_t slot = 0; slot < slots; ++slot) {
+      p.candidate_pairs[slot] = found[slot].found;
+      cand[slot] = std::move(found[slot].pairs);
+    }
+  }
   bytes = 0;
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
-      p.candidate_pairs[slot] = found[slot].found;
-      cand[slot] = std::move(found[slot].pairs);
+      if (sharded) p.candidate_pairs[slot] = cand[slot].size();
       bytes += cand[slot].size() * 2.0 * sizeof(int32_t);
       require_held(bytes, "the candidate pairs of " + pair_name(a, b) + " (" +
                               std::to_string(p.candidate_pairs[slot]) + " found, " +
@@ -233,16 +248,19 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   std::vector<GatedPairs> gated;
   std::size_t gated_pairs = 0;
   bytes = 0;
+  std::vector<PairStatisticsResult> shared;  // more ranks: each slot's pruned count and gated pairs
+  if (sharded) shared = gated_statistics_sharded(*options.ranks, p, cand, po.statistic);
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
       // The statistic of every candidate (SparsePairStatistic: 21 bytes each) before the gate, and
       // the link cost and both nodes of each (at most every) gated one.
-      const auto n = static_cast<double>(cand[slot].size());
-      require_held(bytes + n * (21.0 + 8.0 + 8.0), "the statistics of the " +
-                                                       std::to_string(cand[slot].size()) +
+      const std::size_t kept = sharded ? shared[slot].kept : cand[slot].size();
+      const auto n = static_cast<double>(kept);
+      require_held(bytes + n * (21.0 + 8.0 + 8.0), "the statistics of the " + std::to_string(kept) +
                                                        " candidate pairs of " + pair_name(a, b));
-      p.pairs[slot] = gated_candidate_statistic(p, a, b, cand[slot], po.statistic);
+      p.pairs[slot] = sharded ? std::move(shared[slot].gated)
+                              : gated_candidate_statistic(p, a, b, cand[slot], po.statistic);
       const SparsePairStatistic& st = p.pairs[slot];
       gated.push_back({a, b, &st});
       gated_pairs += st.size();
@@ -250,7 +268,8 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       link = rival_link_costs(st, p, a, b, gate, po.statistic, options.rival_exponent);
       // The link costs, and the two nodes of each gated pair that the partition's edges take.
       bytes += static_cast<double>(st.bytes() + link.size() * sizeof(double)) + 8.0 * link.size();
-      held -= n * 2 * sizeof(int32_t);  // the candidates, freed above
+      // The candidates, freed above (more ranks: those found, held here before the prune).
+      held -= (sharded ? static_cast<double>(p.candidate_pairs[slot]) : n) * 2 * sizeof(int32_t);
     }
   stage("statistics", t0, bytes);
   held += bytes;

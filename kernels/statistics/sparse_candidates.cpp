@@ -273,10 +273,6 @@ int64_t SparsePairStatistic::find(int32_t ia, int32_t ib) const {
   return lo < a.size() && a[lo] == ia && b[lo] == ib ? static_cast<int64_t>(lo) : -1;
 }
 
-namespace {
-
-// Copies the aligned rows `rows` of `x` into a new AlignedTracks (same times and dim), each over
-// its span.
 void copy_rows(const AlignedTracks& x, std::span<const int32_t> rows, AlignedTracks& out) {
   const int D = x.dim, P = packed_size(D);
   out.sensor = x.sensor;
@@ -304,8 +300,6 @@ void copy_rows(const AlignedTracks& x, std::span<const int32_t> rows, AlignedTra
     std::copy_n(x.valid.data() + from, n, out.valid.data() + to);
   }
 }
-
-}  // namespace
 
 SparsePairStatistic sparse_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
                                                 const CandidatePairs& pairs,

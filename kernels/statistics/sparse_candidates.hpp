@@ -101,6 +101,11 @@ struct SparsePairStatistic {
   std::size_t bytes() const { return size() * (2 * sizeof(int32_t) + sizeof(double) + sizeof(int32_t) + 1); }
 };
 
+// The aligned rows `rows` of `x` copied into `out` (same times and dim; track and truth of each),
+// each over its span: the sub-problems below, and the tracks a sensor pair's statistic needs when
+// it is solved on another MPI rank (engine/pipeline/pair_statistics_sharded.hpp).
+void copy_rows(const AlignedTracks& x, std::span<const int32_t> rows, AlignedTracks& out);
+
 // seed 000 Eq. 1–2 for the listed pairs, through independent_sequential_statistic on per-row
 // sub-problems; the gate is χ²_p(D·times) as in the dense kernel. O(pairs · K · D³), TBB over rows.
 SparsePairStatistic sparse_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,

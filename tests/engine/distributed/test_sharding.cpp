@@ -416,6 +416,53 @@ TEST(ShardedSparseSD, ComponentsOverRanksAreThoseOfOneProcess) {
   }
 }
 
+// The default path's build over N fake ranks (each sensor pair's prune and statistic solved where
+// it lands, engine/pipeline/pair_statistics_sharded.hpp) gives the problem of one process, bit for
+// bit: the candidate counts, every gated pair with its λ, degrees of freedom and link cost, and the
+// components.
+TEST(ShardedSparseSD, GatedStatisticsOverRanksAreThoseOfOneProcess) {
+  for (const char* name : {"recorded_5s", "recorded_dense"}) {
+    const Scenario sc = load_scenario(name);
+    const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
+    const SparseSDProblem local = build_sparse_sd_problem(file, SparseSDOptions{});
+    for (int ranks : {2, 3}) {
+      uint64_t sent = 0;  // rank 0's bytes out: the items of the sensor pairs
+      const auto built = testing::over_thread_ranks(ranks, [&](distributed::Communicator& comm) {
+        if (!comm.root()) {
+          serve_sd_components(comm);
+          return SparseSDProblem{};
+        }
+        SparseSDOptions so;
+        so.ranks = &comm;
+        comm.set_ranks_waiting(true);
+        SparseSDProblem p = build_sparse_sd_problem(file, so);
+        sent = comm.stats().bytes_sent;
+        distributed::end_items(comm);
+        return p;
+      });
+      EXPECT_GT(sent, 10000u) << name;  // the sensor pairs did travel
+      ASSERT_EQ(built.pairs.size(), local.pairs.size());
+      std::size_t gated = 0;
+      for (std::size_t slot = 0; slot < local.pairs.size(); ++slot) {
+        const SparsePairStatistic &x = built.pairs[slot], &y = local.pairs[slot];
+        EXPECT_EQ(built.candidate_pairs[slot], local.candidate_pairs[slot]) << name << " slot " << slot;
+        EXPECT_EQ(x.n_a, y.n_a);
+        EXPECT_EQ(x.n_b, y.n_b);
+        EXPECT_EQ(x.a, y.a) << name << " slot " << slot;
+        EXPECT_EQ(x.b, y.b);
+        EXPECT_EQ(x.lambda, y.lambda);  // bit for bit
+        EXPECT_EQ(x.dof, y.dof);
+        EXPECT_EQ(built.link[slot], local.link[slot]);
+        gated += y.size();
+      }
+      EXPECT_GT(gated, 100u) << name;  // the statistics were exercised
+      EXPECT_EQ(built.components.count, local.components.count);
+      EXPECT_EQ(built.components.nodes, local.components.nodes);
+      EXPECT_EQ(built.bytes_held, local.bytes_held);
+    }
+  }
+}
+
 TEST(ShardedSparseSD, PlanBalancesTheEstimatedCost) {
   const Scenario sc = load_scenario("recorded_5s");
   const TrackFile file = simulation_to_track_file(sc, simulate(sc, 1, 0));
