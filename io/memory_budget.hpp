@@ -29,6 +29,20 @@ std::size_t bytes_of(double count, std::size_t size);
 // --memory-budget MIB, ...)" when `bytes` > memory_budget_bytes().
 void require_memory(std::size_t bytes, const std::string& what);
 
+// The process's resident set now [bytes] (/proc/self/statm; 0 where it cannot be read).
+std::size_t resident_bytes();
+// What the work holds: the resident set above the program's own, measured when the budget was set
+// (the CLI sets it before it reads anything; the code, the libraries, a sanitizer's shadow memory
+// are not the work's), or at the first call when it never was.
+std::size_t work_resident_bytes();
+
+// require_memory(held + bytes) with held = max(`held`, work_resident_bytes()): what the stages
+// count they hold, or what the process really holds when that is more (the input, the allocator's
+// slack, another stage's leftovers), so that the budget bounds the process, not only each request.
+// The message names both: "<what> needs N MiB beside the H MiB held (the input and the stages
+// before), more than the memory budget of B MiB; ...".
+void require_memory_beside_held(double held, double bytes, const std::string& what);
+
 // "1.5 GiB", "12 MiB", "640 bytes": a size for messages.
 std::string size_text(std::size_t bytes);
 

@@ -122,15 +122,15 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), bytes / kMiB});
   };
 
-  // The memory budget (issue 30): every stage's large allocation is counted against it, with what
-  // the input and the stages before still hold (`held`), before it is made where its size is
-  // known in advance (the grid and aligned tracks: common_time_grid; the statistics, the
-  // components), and right after the candidate search, whose size is not.
+  // The memory budget (issues 30, 31): every stage's large allocation is counted against it, with
+  // what the input and the stages before still hold (`held`: their count, or the process's
+  // resident set when that is larger), before it is made where its size is known in advance (the
+  // grid and aligned tracks: common_time_grid; the statistics, the components), and right after
+  // the candidate search, whose size is not.
   const auto D = static_cast<double>(file.tracks.dim());
   double held = static_cast<double>(file.tracks.size()) * 8.0 * (4.0 + D + D * (D + 1) / 2);
   auto require_held = [&](double more, const std::string& what) {
-    require_memory(bytes_of(held + more, 1), what + " (with " + size_text(bytes_of(held, 1)) +
-                                                 " held by the input and the stages before)");
+    require_memory_beside_held(held, more, what);
   };
   auto pair_name = [&](int32_t a, int32_t b) {
     return "sensors " + std::to_string(p.sensor_ids[a]) + " and " + std::to_string(p.sensor_ids[b]);
@@ -202,7 +202,8 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   p.components = gated_pair_components(p, gated);
   stage("components", t0, static_cast<double>(p.components.nodes.size() * sizeof(int32_t)));
   held -= 8.0 * static_cast<double>(gated_pairs);  // the edges, freed on return
-  p.bytes_held = held + static_cast<double>(p.components.nodes.size() * sizeof(int32_t));
+  p.bytes_held = std::max(held + static_cast<double>(p.components.nodes.size() * sizeof(int32_t)),
+                          static_cast<double>(work_resident_bytes()));
   return p;
 }
 
