@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <mutex>
 
 #include "kernels/core/error.hpp"
 
@@ -18,6 +19,7 @@ std::atomic<std::size_t> g_budget{0};  // 0 = not set: the default
 std::atomic<bool> g_was_set{false};
 std::atomic<std::size_t> g_baseline{0};  // resident set when the budget was set (or first asked)
 std::atomic<bool> g_has_baseline{false};
+std::mutex g_baseline_mutex;  // the first work_resident_bytes of several threads: one baseline
 
 std::size_t physical_memory_bytes() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
@@ -49,8 +51,9 @@ void set_memory_budget_bytes(std::size_t bytes) {
   require(bytes > 0, "--memory-budget", "expected a size > 0");
   g_budget.store(bytes, std::memory_order_relaxed);
   g_was_set.store(true, std::memory_order_relaxed);
+  const std::lock_guard<std::mutex> lock(g_baseline_mutex);
   g_baseline.store(resident_bytes(), std::memory_order_relaxed);
-  g_has_baseline.store(true, std::memory_order_relaxed);
+  g_has_baseline.store(true, std::memory_order_release);
 }
 
 bool memory_budget_was_set() { return g_was_set.load(std::memory_order_relaxed); }
@@ -97,13 +100,25 @@ std::size_t resident_bytes() {
 }
 
 std::size_t work_resident_bytes() {
-  if (!g_has_baseline.exchange(true)) g_baseline.store(resident_bytes(), std::memory_order_relaxed);
+  if (!g_has_baseline.load(std::memory_order_acquire)) {
+    const std::lock_guard<std::mutex> lock(g_baseline_mutex);
+    if (!g_has_baseline.load(std::memory_order_relaxed)) {
+      g_baseline.store(resident_bytes(), std::memory_order_relaxed);
+      g_has_baseline.store(true, std::memory_order_release);
+    }
+  }
   const std::size_t now = resident_bytes(), base = g_baseline.load(std::memory_order_relaxed);
   return now > base ? now - base : 0;
 }
 
+double held_or_resident(double held) { return std::max(held, static_cast<double>(work_resident_bytes())); }
+
 void require_memory_beside_held(double held, double bytes, const std::string& what) {
-  const double now = std::max(held, static_cast<double>(work_resident_bytes()));
+  require_memory_beside(held_or_resident(held), bytes, what);
+}
+
+void require_memory_beside(double held, double bytes, const std::string& what) {
+  const double now = held;
   const std::size_t budget = memory_budget_bytes();
   if (bytes_of(now + bytes, 1) <= budget) return;
   throw InputError(what + " needs " + size_text(bytes_of(bytes, 1)) + " beside the " +

@@ -43,6 +43,13 @@ std::size_t work_resident_bytes();
 // before), more than the memory budget of B MiB; ...".
 void require_memory_beside_held(double held, double bytes, const std::string& what);
 
+// max(`held`, work_resident_bytes()): what a stage starts beside.
+double held_or_resident(double held);
+// The same check and message as require_memory_beside_held with `held` as given (the resident set
+// is not read again): for a stage that counts its own growth on top of what it started beside
+// (kernels/core/allocation_gauge.hpp), whose buffers are by then in the resident set too.
+void require_memory_beside(double held, double bytes, const std::string& what);
+
 // "1.5 GiB", "12 MiB", "640 bytes": a size for messages.
 std::string size_text(std::size_t bytes);
 

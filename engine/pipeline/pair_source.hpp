@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "engine/pipeline/front_end.hpp"
+#include "kernels/core/allocation_gauge.hpp"
 #include "kernels/statistics/association_statistic.hpp"
 #include "kernels/statistics/sparse_candidates.hpp"
 
@@ -37,9 +38,12 @@ IndexedCandidates indexed_candidates(const AlignedSensors& sensors, int32_t a, i
                                      const StatisticOptions& statistic, double radius_scale);
 // The same for every pair a < b of the sensors at once (slot a·S + b; one pass over the common
 // times for all of them, kernels/statistics/scan_candidates.hpp): slot a·S + b equals
-// indexed_candidates(sensors, a, b, ...).
+// indexed_candidates(sensors, a, b, ...). `gauge` (optional; kernels/core/allocation_gauge.hpp) is
+// told every large buffer of the search and the prune before it is allocated (it throws to
+// refuse); on return it holds the kept pairs' bytes (8 a pair).
 std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
-                                                  const StatisticOptions& statistic, double radius_scale);
+                                                  const StatisticOptions& statistic, double radius_scale,
+                                                  AllocationGauge* gauge = nullptr);
 
 // λ on the candidates of sensors a and b, the gated-in pairs kept (sorted by (a, b)); the
 // candidates' memory is released.

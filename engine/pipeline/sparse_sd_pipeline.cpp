@@ -122,11 +122,12 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), bytes / kMiB});
   };
 
-  // The memory budget (issues 30, 31): every stage's large allocation is counted against it, with
-  // what the input and the stages before still hold (`held`: their count, or the process's
-  // resident set when that is larger), before it is made where its size is known in advance (the
-  // grid and aligned tracks: common_time_grid; the statistics, the components), and right after
-  // the candidate search, whose size is not.
+  // The memory budget (issues 30, 31; docs/design.md §7): every stage's large allocation is
+  // counted against it, with what the input and the stages before still hold (`held`: their
+  // count, or the process's resident set above its baseline when that is larger), before it is
+  // made: from its size where that is known in advance (the grid and aligned tracks:
+  // common_time_grid; the statistics, the components), and buffer by buffer as it grows in the
+  // candidate search, whose size is known only once found (an AllocationGauge).
   const auto D = static_cast<double>(file.tracks.dim());
   double held = static_cast<double>(file.tracks.size()) * 8.0 * (4.0 + D + D * (D + 1) / 2);
   auto require_held = [&](double more, const std::string& what) {
@@ -152,7 +153,14 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   p.candidate_pairs.assign(slots, 0);
   t0 = std::chrono::steady_clock::now();
   std::vector<CandidatePairs> cand(slots);
-  std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale);
+  const double candidates_beside = held_or_resident(held);
+  const std::string candidates_what = "the candidate search of " + std::to_string(S) + " sensors (" +
+                                      std::to_string(p.nodes()) +
+                                      " local tracks; the pairs found so far; a wide gate finds many, see --gate)";
+  AllocationGauge gauge([&](double stage_bytes) {
+    require_memory_beside(candidates_beside, stage_bytes, candidates_what);
+  });
+  std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale, &gauge);
   bytes = 0;
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
@@ -160,9 +168,6 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       p.candidate_pairs[slot] = found[slot].found;
       cand[slot] = std::move(found[slot].pairs);
       bytes += cand[slot].size() * 2.0 * sizeof(int32_t);
-      require_held(bytes, "the candidate pairs of " + pair_name(a, b) + " (" +
-                              std::to_string(p.candidate_pairs[slot]) + " found, " +
-                              std::to_string(cand[slot].size()) + " kept; a wide gate, see --gate)");
     }
   held += bytes;
   stage("candidates", t0, bytes);
@@ -175,10 +180,11 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
-      // The statistic of every candidate (SparsePairStatistic: 21 bytes each) before the gate, and
-      // the link cost and both nodes of each (at most every) gated one.
+      // The statistic of every candidate (SparsePairStatistic: 21 bytes each) and its rows (8 bytes
+      // at most each) beside the gated ones kept (21 bytes, at most every one); then, those freed,
+      // the link cost and both nodes of each gated one (16 bytes): at most 50 bytes a candidate.
       const auto n = static_cast<double>(cand[slot].size());
-      require_held(bytes + n * (21.0 + 8.0 + 8.0), "the statistics of the " +
+      require_held(bytes + n * (21.0 + 8.0 + 21.0), "the statistics of the " +
                                                        std::to_string(cand[slot].size()) +
                                                        " candidate pairs of " + pair_name(a, b));
       p.pairs[slot] = gated_candidate_statistic(p, a, b, cand[slot], po.statistic);

@@ -10,20 +10,14 @@
 #include "io/memory_budget.hpp"
 #include "io/track_file.hpp"
 #include "kernels/core/error.hpp"
+#include "tests/support/two_sensor_file.hpp"
 
 namespace trackassoc {
 namespace {
 
 // Two sensors (period 1 s), each with a track over [0, 9] s and one over [990, 999] s.
 TrackFile long_recording_of_short_tracks() {
-  TrackFile f;
-  for (int32_t s = 0; s < 2; ++s) {
-    Sensor sensor;
-    sensor.id = s;
-    sensor.period = 1.0;
-    f.sensors.push_back(sensor);
-  }
-  f.tracks = TrackTable(StateLayout::kXY_VXVY);
+  TrackFile f = testing_support::two_sensor_file();
   const Eigen::MatrixXd P = Eigen::Vector4d(25, 25, 1, 1).asDiagonal();
   for (int32_t s = 0; s < 2; ++s)
     for (const double t0 : {0.0, 990.0})
