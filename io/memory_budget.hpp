@@ -1,9 +1,27 @@
-// The process-wide memory budget (docs/design.md §2: no input may exhaust memory). Every reader and
-// generator works out how many bytes a request needs from its declared sizes (a file's dataset
-// shapes, a scenario's targets × steps, a header's n1·n2·n3) and calls require_memory BEFORE it
-// allocates, so that a file or an option asking for more than the machine can give is refused
-// with an InputError naming the size, the budget and how to raise it, instead of std::bad_alloc
-// after gigabytes. The CLI sets the budget with the global option --memory-budget MIB.
+// The process-wide memory budget (docs/design.md §2 and §7: no input may exhaust memory). Every
+// reader, generator and pipeline stage works out how many bytes a request needs (a file's dataset
+// shapes, a scenario's targets × steps, a header's n1·n2·n3, the aligned tracks' spans) and checks
+// it BEFORE it allocates, so that a file or an option asking for more than the machine can give is
+// refused with an InputError naming the size, the budget and how to raise it, instead of
+// std::bad_alloc after gigabytes. The CLI sets the budget with the global option --memory-budget MIB.
+//
+// What counts (issue 31): the WORK's memory, i.e. the process's resident set above its baseline,
+// plus the request. The baseline is the resident set when the budget was set (the CLI sets it
+// before it reads anything: the code, the shared libraries, the C++ runtime, a sanitizer's shadow
+// memory; ~15 MiB in Release, ~170 MiB under ASan), or at the first check when it never was. A
+// check passes when max(what the stages count they hold, resident − baseline) + request ≤ budget
+// (require_memory_beside_held), so peak resident ≤ baseline + budget. Why the resident set and
+// not only the requests: it is what the machine charges (the OOM killer, a cgroup, /usr/bin/time),
+// and a sum of requests missed the allocator's slack, freed memory it keeps, libraries' caches and
+// the leftovers of earlier stages (recorded_30k at a 400 MiB budget peaked at 440 MiB with every
+// request within). Why the request is added and not read from it: pages count only once touched,
+// so an allocation shows in the resident set only as it is filled. Its limits: freed memory the
+// allocator keeps still counts (conservative: a stage may be refused that would have reused it);
+// a stage whose size is known only as it runs counts its buffers on an AllocationGauge
+// (kernels/core/allocation_gauge.hpp) by capacity, beside the resident set at its start
+// (require_memory_beside), as the candidate search does (its per-thread scratch too); small
+// allocations (messages, a solver's per-component scratch) are not. Default: half of the physical
+// or cgroup memory.
 #pragma once
 
 #include <cstddef>

@@ -157,8 +157,11 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   const std::string candidates_what = "the candidate search of " + std::to_string(S) + " sensors (" +
                                       std::to_string(p.nodes()) +
                                       " local tracks; the pairs found so far; a wide gate finds many, see --gate)";
-  AllocationGauge gauge([&](double stage_bytes) {
+  // What the search counts on top of what it started beside, or, when more, the process's
+  // resident set now (freed buffers the allocator keeps count too) and the new buffer.
+  AllocationGauge gauge([&](double stage_bytes, double request) {
     require_memory_beside(candidates_beside, stage_bytes, candidates_what);
+    require_memory_beside_held(0.0, request, candidates_what);
   });
   std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale, &gauge);
   bytes = 0;

@@ -3,8 +3,9 @@
 // found) can be refused before it allocates, not after (issues 30 and 31: no stage may allocate
 // past --memory-budget). The kernels know nothing of the budget (engine -> io -> kernels): the
 // caller's `check` receives the bytes the kernel will hold once the allocation is made (all its
-// live buffers and the new one) and throws to refuse (the engine: io/memory_budget.hpp,
-// require_memory_beside_held). Thread-safe: buffers of several threads are counted together, each
+// live buffers and the new one) and the allocation's own bytes, and throws to refuse (the engine:
+// io/memory_budget.hpp, which also reads the resident set, where freed buffers the allocator
+// keeps still count). Thread-safe: buffers of several threads are counted together, each
 // allocation is added before it is made and released after it is freed, so the count is never
 // below what the kernel holds (capacities, not sizes).
 #pragma once
@@ -18,7 +19,7 @@ namespace trackassoc {
 
 class AllocationGauge {
  public:
-  using Check = std::function<void(double held_bytes)>;
+  using Check = std::function<void(double held_bytes, double request_bytes)>;
   explicit AllocationGauge(Check check) : check_(std::move(check)) {}
 
   // Counts `bytes` about to be allocated, then checks the total; a refusal (check throws) leaves
@@ -27,7 +28,7 @@ class AllocationGauge {
     if (!(bytes > 0.0)) return;
     const double now = held_.fetch_add(bytes) + bytes;
     try {
-      check_(now);
+      check_(now, bytes);
     } catch (...) {
       held_.fetch_sub(bytes);
       throw;

@@ -59,7 +59,10 @@ TEST(ScanCandidatesGauge, CountsNoLessThanTheSearchHoldsAndEndsAtItsOutput) {
   const AlignedTracks a = crowd(0, kN, kK), b = crowd(1, kN, kK);
   const AlignedTracks* both[2] = {&a, &b};
   double most = 0.0;
-  AllocationGauge gauge([&](double held) { most = std::max(most, held); });
+  AllocationGauge gauge([&](double held, double request) {
+    EXPECT_LE(request, held);
+    most = std::max(most, held);
+  });
   const std::vector<CandidatePairs> out = scan_candidate_pairs(both, 18.0, 1.0, &gauge);
   ASSERT_EQ(out[1].size(), static_cast<std::size_t>(kPairs));
   EXPECT_GE(most, kHeldAtTheMerge);
@@ -81,7 +84,7 @@ TEST(ScanCandidatesGauge, ALimitIsRefusedBeforeTheBufferThatWouldCrossIt) {
   const double limit = 2e6;  // below the 4.32 MB the search holds at its merge
   double most_accepted = 0.0;
   int refusals = 0;
-  AllocationGauge gauge([&](double held) {
+  AllocationGauge gauge([&](double held, double) {
     if (held > limit) {
       ++refusals;
       throw Refused();
