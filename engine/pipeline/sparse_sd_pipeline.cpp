@@ -1,7 +1,10 @@
 // The sparse S-D pipeline; see engine/pipeline/sparse_sd_pipeline.hpp for the formulation.
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 
+#include <oneapi/tbb/task_arena.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -158,10 +161,17 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
                                       std::to_string(p.nodes()) +
                                       " local tracks; the pairs found so far; a wide gate finds many, see --gate)";
   // What the search counts on top of what it started beside, or, when more, the process's
-  // resident set now (freed buffers the allocator keeps count too) and the new buffer.
+  // resident set now (freed buffers the allocator keeps count too) with the new buffer and, for
+  // each other thread, one as large as the largest granted (given, maybe not filled yet, so not
+  // resident: two threads growing at once each see the other's buffer as free).
+  const int threads = std::max(1, oneapi::tbb::this_task_arena::max_concurrency());
+  std::atomic<double> largest{0.0};
   AllocationGauge gauge([&](double stage_bytes, double request) {
     require_memory_beside(candidates_beside, stage_bytes, candidates_what);
-    require_memory_beside_held(0.0, request, candidates_what);
+    double l = largest.load();
+    while (request > l && !largest.compare_exchange_weak(l, request)) {
+    }
+    require_memory_beside_held(0.0, request + (threads - 1) * std::max(l, request), candidates_what);
   });
   std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale, &gauge);
   bytes = 0;
