@@ -161,17 +161,22 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
                                       std::to_string(p.nodes()) +
                                       " local tracks; the pairs found so far; a wide gate finds many, see --gate)";
   // What the search counts on top of what it started beside, or, when more, the process's
-  // resident set now (freed buffers the allocator keeps count too) with the new buffer and, for
-  // each other thread, one as large as the largest granted (given, maybe not filled yet, so not
-  // resident: two threads growing at once each see the other's buffer as free).
+  // resident set now (freed buffers the allocator keeps count too) with the new buffer and, when
+  // other threads may be allocating too, one for each as large as the largest granted to a thread
+  // (given, maybe not filled yet, so not resident: two threads growing at once each see the
+  // other's buffer as free).
   const int threads = std::max(1, oneapi::tbb::this_task_arena::max_concurrency());
   std::atomic<double> largest{0.0};
-  AllocationGauge gauge([&](double stage_bytes, double request) {
+  AllocationGauge gauge([&](double stage_bytes, double request, bool concurrent) {
     require_memory_beside(candidates_beside, stage_bytes, candidates_what);
-    double l = largest.load();
-    while (request > l && !largest.compare_exchange_weak(l, request)) {
+    double others = 0.0;
+    if (concurrent) {
+      double l = largest.load();
+      while (request > l && !largest.compare_exchange_weak(l, request)) {
+      }
+      others = (threads - 1) * std::max(l, request);
     }
-    require_memory_beside_held(0.0, request + (threads - 1) * std::max(l, request), candidates_what);
+    require_memory_beside_held(0.0, request + others, candidates_what);
   });
   std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale, &gauge);
   bytes = 0;

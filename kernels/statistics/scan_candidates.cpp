@@ -387,14 +387,14 @@ CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTrac
                                        const CandidatePairs& pairs, const StatisticOptions& statistic,
                                        AllocationGauge* gauge) {
   auto copy = [&] {  // the pairs unpruned: a copy of them
-    gauge_add(gauge, static_cast<double>(pairs.size() * 2 * sizeof(int32_t)));
+    gauge_add(gauge, static_cast<double>(pairs.size() * 2 * sizeof(int32_t)), true);
     return pairs;
   };
   if ((statistic.correlated && statistic.cross_correlation > 0.0) || statistic.common_process_noise > 0.0)
     return copy();  // the bound is for C = P_a + P_b
   const SequentialGate gate(a.dim, statistic, std::min({a.n_times, longest_span(a), longest_span(b)}));
   if (!gate.enabled()) return copy();
-  gauge_add(gauge, static_cast<double>(pairs.size()));
+  gauge_add(gauge, static_cast<double>(pairs.size()), true);  // (sensor pairs are pruned in parallel)
   const int D = a.dim, m = D / 2;
   const double cap = gate.cap();
   const bool calibrated = statistic.gate == GateMethod::kCalibrated;
@@ -449,7 +449,7 @@ CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTrac
   });
   // The pairs kept, counted and then laid out at their size (8 bytes a pair) beside the flags.
   const auto kept = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), uint8_t{1}));
-  gauge_add(gauge, static_cast<double>(kept * 2 * sizeof(int32_t)));
+  gauge_add(gauge, static_cast<double>(kept * 2 * sizeof(int32_t)), true);
   CandidatePairs out;
   out.n_a = pairs.n_a;
   out.n_b = pairs.n_b;

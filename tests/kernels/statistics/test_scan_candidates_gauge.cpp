@@ -59,7 +59,7 @@ TEST(ScanCandidatesGauge, CountsNoLessThanTheSearchHoldsAndEndsAtItsOutput) {
   const AlignedTracks a = crowd(0, kN, kK), b = crowd(1, kN, kK);
   const AlignedTracks* both[2] = {&a, &b};
   double most = 0.0;
-  AllocationGauge gauge([&](double held, double request) {
+  AllocationGauge gauge([&](double held, double request, bool) {
     EXPECT_LE(request, held);
     most = std::max(most, held);
   });
@@ -84,7 +84,7 @@ TEST(ScanCandidatesGauge, ALimitIsRefusedBeforeTheBufferThatWouldCrossIt) {
   const double limit = 2e6;  // below the 4.32 MB the search holds at its merge
   double most_accepted = 0.0;
   int refusals = 0;
-  AllocationGauge gauge([&](double held, double) {
+  AllocationGauge gauge([&](double held, double, bool) {
     if (held > limit) {
       ++refusals;
       throw Refused();
