@@ -8,7 +8,9 @@
 // What counts (issue 31): the WORK's memory, i.e. the process's resident set above its baseline,
 // plus the request. The baseline is the resident set when the budget was set (the CLI sets it
 // before it reads anything: the code, the shared libraries, the C++ runtime, a sanitizer's shadow
-// memory; ~15 MiB in Release, ~170 MiB under ASan), or at the first check when it never was. A
+// memory; ~15 MiB in Release), or at the first check when it never was. Under AddressSanitizer,
+// whose shadow memory and quarantine of freed blocks (up to 256 MiB) grow with the work but are
+// not the work's, only the stages' counts are checked (work_resident_bytes() is 0). A
 // check passes when max(what the stages count they hold, resident − baseline) + request ≤ budget
 // (require_memory_beside_held), so peak resident ≤ baseline + budget. Why the resident set and
 // not only the requests: it is what the machine charges (the OOM killer, a cgroup, /usr/bin/time),
