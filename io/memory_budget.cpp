@@ -114,6 +114,8 @@ std::size_t resident_bytes() {
   return page > 0 ? static_cast<std::size_t>(resident) * static_cast<std::size_t>(page) : 0;
 }
 
+bool address_sanitizer_build() { return !kResidentIsTheWorks; }
+
 std::size_t work_resident_bytes() {
   if (!kResidentIsTheWorks) return 0;
   if (!g_has_baseline.load(std::memory_order_acquire)) {

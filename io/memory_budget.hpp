@@ -70,6 +70,9 @@ double held_or_resident(double held);
 // (kernels/core/allocation_gauge.hpp), whose buffers are by then in the resident set too.
 void require_memory_beside(double held, double bytes, const std::string& what);
 
+// True in a build with AddressSanitizer, where the resident set is not the work's (above).
+bool address_sanitizer_build();
+
 // "1.5 GiB", "12 MiB", "640 bytes": a size for messages.
 std::string size_text(std::size_t bytes);
 

@@ -2,18 +2,10 @@
 // not the program's, so tests that bound the resident set loosen or skip the bound there.
 #pragma once
 
+#include "io/memory_budget.hpp"
+
 namespace trackassoc::testing_support {
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
+inline const bool kAddressSanitizer = address_sanitizer_build();
 
 }  // namespace trackassoc::testing_support
