@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "io/hdf5_wrapper.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/types.hpp"
 
@@ -64,10 +65,15 @@ inline std::vector<double> read_table_2d(const Group& g, const std::string& name
   return v;
 }
 
-// [D][rows] columns to a rows×D row-major buffer, and back.
+// [D][rows] columns to a rows×D row-major buffer, and back. The copy for a writer is checked
+// against the memory budget beside what the process holds (an output is written at the end, when
+// it holds the most).
 inline std::vector<double> rows_from_columns(const std::vector<std::vector<double>>& columns,
                                              std::size_t rows) {
   const std::size_t d = columns.size();
+  require_memory_beside_held(0.0, static_cast<double>(rows) * static_cast<double>(d) * sizeof(double),
+                             "writing a table of " + std::to_string(rows) + " rows of " + std::to_string(d) +
+                                 " values");
   std::vector<double> out(rows * d);
   for (std::size_t c = 0; c < d; ++c)
     for (std::size_t r = 0; r < rows; ++r) out[r * d + c] = columns[c][r];

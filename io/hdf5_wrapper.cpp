@@ -363,7 +363,7 @@ std::size_t Group::table_rows(std::initializer_list<const char*> columns) const 
   const std::vector<hsize_t> first = dataset_shape(reference);
   if (first.empty()) fail(reference, "expected a 1-D or 2-D dataset, found a scalar");
   const hsize_t rows = first[0];
-  double elements = 0.0;
+  double elements = 0.0, largest_matrix = 0.0;
   for (const char* name : columns) {
     if (!has(name)) continue;  // optional columns; a missing required one is reported when read
     const std::vector<hsize_t> dims = dataset_shape(name);
@@ -373,9 +373,12 @@ std::size_t Group::table_rows(std::initializer_list<const char*> columns) const 
     double n = 1.0;
     for (hsize_t d : dims) n *= static_cast<double>(d);
     elements += n;
+    if (dims.size() > 1) largest_matrix = std::max(largest_matrix, n);
   }
-  require_memory(bytes_of(elements, 8), file_path_ + ": " + path_ + " (" + std::to_string(rows) +
-                                            " rows of " + std::to_string(columns.size()) + " columns)");
+  // A matrix (state, cov) is read row-major and then laid out by columns: both at once, briefly.
+  require_memory_beside_held(0.0, (elements + largest_matrix) * 8.0,
+                             file_path_ + ": " + path_ + " (" + std::to_string(rows) + " rows of " +
+                                 std::to_string(columns.size()) + " columns)");
   return static_cast<std::size_t>(rows);
 }
 
@@ -426,8 +429,8 @@ std::vector<T> Group::read_typed(const std::string& name, NumberClass accepted, 
   std::size_t count = 0;
   Handle set = open_numeric_dataset(name, accepted, rank, dims, count);
   if (count > 0) require_stored(set, name, dims, count);
-  require_memory(count * sizeof(T),
-                 file_path_ + ": " + child_path(name) + " (shape " + shape_text(dims) + ")");
+  require_memory_beside_held(0.0, static_cast<double>(count) * sizeof(T),
+                             file_path_ + ": " + child_path(name) + " (shape " + shape_text(dims) + ")");
   std::vector<T> out;
   try {
     out.resize(count);

@@ -91,7 +91,8 @@ class Group {
   std::vector<hsize_t> dataset_shape(const std::string& name) const;
   // The rows of a table stored as one dataset per column: the first dimension of columns[0], after
   // checking from the shapes alone (nothing is read yet) that every other column present has as
-  // many rows, and that reading them all (8 bytes per element) fits the memory budget.
+  // many rows, and that reading them all (8 bytes per element, the largest matrix twice: read by
+  // rows, laid out by columns) fits the memory budget beside what the process holds.
   std::size_t table_rows(std::initializer_list<const char*> columns) const;
   // Reads a whole numeric dataset, converting to the memory type. `dims` receives the shape;
   // the rank must be `rank` (1 or 2).

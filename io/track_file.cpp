@@ -77,8 +77,10 @@ void write_tracks(const Group& root, const TrackTable& t, const RecordingInfo& i
   write_1d(g, "sensor", t.sensor);
   write_1d(g, "track", t.track);
   write_1d(g, "t", t.t);
-  const std::vector<double> state = rows_from_columns(t.state, n);
-  g.write_dataset("state", std::span<const double>(state), {n, d});
+  {  // one row-major copy at a time
+    const std::vector<double> state = rows_from_columns(t.state, n);
+    g.write_dataset("state", std::span<const double>(state), {n, d});
+  }
   const std::vector<double> cov = rows_from_columns(t.cov, n);
   g.write_dataset("cov", std::span<const double>(cov), {n, p});
   write_1d(g, "truth", t.truth);

@@ -151,10 +151,11 @@ AlignedSensors align_sensors(const TrackFile& file, const PipelineOptions& optio
       static_cast<size_t>(size.tracks), static_cast<long long>(size.cells),
       AlignedTracks::bytes_per_cell(p.dim), p.common_times.size(), sel.period);
   // Per cell: state, covariance, flag; per track: its number, truth, span (begin, offset) and valid
-  // interval (first, last).
-  require_memory(bytes_of(static_cast<double>(size.cells), AlignedTracks::bytes_per_cell(p.dim)) +
-                     bytes_of(static_cast<double>(size.tracks), 5 * sizeof(int32_t) + sizeof(int64_t)),
-                 what);
+  // interval (first, last); beside what the process holds (the input).
+  require_memory_beside_held(0.0,
+                             static_cast<double>(size.cells) * AlignedTracks::bytes_per_cell(p.dim) +
+                                 static_cast<double>(size.tracks) * (5 * sizeof(int32_t) + sizeof(int64_t)),
+                             what);
   p.offset.assign(1, 0);
   for (int32_t s = 0; s < p.S(); ++s) {
     p.aligned.push_back(align_tracks(file.tracks, p.sensor_ids[s], p.common_times, options.alignment));

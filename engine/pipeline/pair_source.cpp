@@ -12,10 +12,11 @@ PairStatistic all_pairs_statistic(const AlignedSensors& sensors, int32_t a, int3
 }
 
 std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
-                                                  const StatisticOptions& statistic, double radius_scale) {
+                                                  const StatisticOptions& statistic, double radius_scale,
+                                                  AllocationGauge* gauge) {
   std::vector<const AlignedTracks*> x;
   for (const AlignedTracks& t : sensors.aligned) x.push_back(&t);
-  std::vector<CandidatePairs> found = candidate_pairs_for_gate(x, statistic, radius_scale);
+  std::vector<CandidatePairs> found = candidate_pairs_for_gate(x, statistic, radius_scale, gauge);
   const std::size_t S = x.size();
   std::vector<IndexedCandidates> out(found.size());
   std::vector<std::pair<std::size_t, std::size_t>> sensor_pairs;
@@ -27,8 +28,11 @@ std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
       const auto [a, b] = sensor_pairs[q];
       IndexedCandidates& c = out[a * S + b];
       c.found = found[a * S + b].size();
-      c.pairs = prune_by_position_bound(*x[a], *x[b], found[a * S + b], statistic);
+      c.pairs = prune_by_position_bound(*x[a], *x[b], found[a * S + b], statistic, gauge);
+      const double freed = static_cast<double>(found[a * S + b].a.capacity() + found[a * S + b].b.capacity()) *
+                           sizeof(int32_t);
       found[a * S + b] = CandidatePairs();
+      gauge_release(gauge, freed);
     }
   });
   return out;

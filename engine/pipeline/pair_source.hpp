@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "engine/pipeline/front_end.hpp"
+#include "kernels/core/allocation_gauge.hpp"
 #include "kernels/statistics/association_statistic.hpp"
 #include "kernels/statistics/sparse_candidates.hpp"
 
@@ -34,8 +35,12 @@ struct IndexedCandidates {
   CandidatePairs pairs;
   std::size_t found = 0;
 };
+// `gauge` (optional; kernels/core/allocation_gauge.hpp) is told every large buffer of the search
+// and the prune before it is allocated (it throws to refuse); on return it holds the kept pairs'
+// bytes (8 a pair).
 std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
-                                                  const StatisticOptions& statistic, double radius_scale);
+                                                  const StatisticOptions& statistic, double radius_scale,
+                                                  AllocationGauge* gauge = nullptr);
 
 // λ on the candidates of sensors a and b, the gated-in pairs kept (sorted by (a, b)); the
 // candidates' memory is released.

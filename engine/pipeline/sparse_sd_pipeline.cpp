@@ -1,7 +1,10 @@
 // The sparse S-D pipeline; see engine/pipeline/sparse_sd_pipeline.hpp for the formulation.
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 
+#include <oneapi/tbb/task_arena.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -185,15 +188,16 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
     p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), bytes / kMiB});
   };
 
-  // The memory budget (issue 30): every stage's large allocation is counted against it, with what
-  // the input and the stages before still hold (`held`), before it is made where its size is
-  // known in advance (the grid and aligned tracks: common_time_grid; the statistics, the
-  // components), and right after the candidate search, whose size is not.
+  // The memory budget (issues 30, 31; docs/design.md §7): every stage's large allocation is
+  // counted against it, with what the input and the stages before still hold (`held`: their
+  // count, or the process's resident set above its baseline when that is larger), before it is
+  // made: from its size where that is known in advance (the grid and aligned tracks:
+  // common_time_grid; the statistics, the components), and buffer by buffer as it grows in the
+  // candidate search, whose size is known only once found (an AllocationGauge).
   const auto D = static_cast<double>(file.tracks.dim());
   double held = static_cast<double>(file.tracks.size()) * 8.0 * (4.0 + D + D * (D + 1) / 2);
   auto require_held = [&](double more, const std::string& what) {
-    require_memory(bytes_of(held + more, 1), what + " (with " + size_text(bytes_of(held, 1)) +
-                                                 " held by the input and the stages before)");
+    require_memory_beside_held(held, more, what);
   };
   auto pair_name = [&](int32_t a, int32_t b) {
     return "sensors " + std::to_string(p.sensor_ids[a]) + " and " + std::to_string(p.sensor_ids[b]);
@@ -215,6 +219,28 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   p.candidate_pairs.assign(slots, 0);
   t0 = std::chrono::steady_clock::now();
   std::vector<CandidatePairs> cand(slots);
+  const double candidates_beside = held_or_resident(held);
+  const std::string candidates_what =
+      "the candidate search of " + std::to_string(S) + " sensors (" + std::to_string(p.nodes()) +
+      " local tracks; the pairs found so far; a wide gate finds many, see --gate)";
+  // What the search counts on top of what it started beside, or, when more, the process's
+  // resident set now (freed buffers the allocator keeps count too) with the new buffer and, when
+  // other threads may be allocating too, one for each as large as the largest granted to a thread
+  // (given, maybe not filled yet, so not resident: two threads growing at once each see the
+  // other's buffer as free).
+  const int threads = std::max(1, oneapi::tbb::this_task_arena::max_concurrency());
+  std::atomic<double> largest{0.0};
+  AllocationGauge gauge([&](double stage_bytes, double request, bool concurrent) {
+    require_memory_beside(candidates_beside, stage_bytes, candidates_what);
+    double others = 0.0;
+    if (concurrent) {
+      double l = largest.load();
+      while (request > l && !largest.compare_exchange_weak(l, request)) {
+      }
+      others = (threads - 1) * std::max(l, request);
+    }
+    require_memory_beside_held(0.0, request + others, candidates_what);
+  });
   // More ranks (docs/mpi.md): rank 0 runs the index alone; each sensor pair's prune and statistic
   // are shared out in the statistics stage (engine/pipeline/pair_statistics_sharded.hpp), so the
   // candidates held here are those found, before the prune.
@@ -222,9 +248,9 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   if (sharded) {
     std::vector<const AlignedTracks*> x;
     for (const AlignedTracks& t : p.aligned) x.push_back(&t);
-    cand = candidate_pairs_for_gate(x, po.statistic, options.radius_scale);
+    cand = candidate_pairs_for_gate(x, po.statistic, options.radius_scale, &gauge);
   } else {
-    std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale);
+    std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale, &gauge);
     for (std::size_t slot = 0; slot < slots; ++slot) {
       p.candidate_pairs[slot] = found[slot].found;
       cand[slot] = std::move(found[slot].pairs);
@@ -236,9 +262,6 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
       if (sharded) p.candidate_pairs[slot] = cand[slot].size();
       bytes += cand[slot].size() * 2.0 * sizeof(int32_t);
-      require_held(bytes, "the candidate pairs of " + pair_name(a, b) + " (" +
-                              std::to_string(p.candidate_pairs[slot]) + " found, " +
-                              std::to_string(cand[slot].size()) + " kept; a wide gate, see --gate)");
     }
   held += bytes;
   stage("candidates", t0, bytes);
@@ -253,12 +276,13 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
-      // The statistic of every candidate (SparsePairStatistic: 21 bytes each) before the gate, and
-      // the link cost and both nodes of each (at most every) gated one.
+      // The statistic of every candidate (SparsePairStatistic: 21 bytes each) and its rows (8 bytes
+      // at most each) beside the gated ones kept (21 bytes, at most every one); then, those freed,
+      // the link cost and both nodes of each gated one (16 bytes): at most 50 bytes a candidate.
       const std::size_t kept = sharded ? shared[slot].kept : cand[slot].size();
       const auto n = static_cast<double>(kept);
-      require_held(bytes + n * (21.0 + 8.0 + 8.0), "the statistics of the " + std::to_string(kept) +
-                                                       " candidate pairs of " + pair_name(a, b));
+      require_held(bytes + n * (21.0 + 8.0 + 21.0), "the statistics of the " + std::to_string(kept) +
+                                                        " candidate pairs of " + pair_name(a, b));
       p.pairs[slot] = sharded ? std::move(shared[slot].gated)
                               : gated_candidate_statistic(p, a, b, cand[slot], po.statistic);
       const SparsePairStatistic& st = p.pairs[slot];
@@ -281,7 +305,8 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   p.components = gated_pair_components(p, gated);
   stage("components", t0, static_cast<double>(p.components.nodes.size() * sizeof(int32_t)));
   held -= 8.0 * static_cast<double>(gated_pairs);  // the edges, freed on return
-  p.bytes_held = held + static_cast<double>(p.components.nodes.size() * sizeof(int32_t));
+  p.bytes_held = std::max(held + static_cast<double>(p.components.nodes.size() * sizeof(int32_t)),
+                          static_cast<double>(work_resident_bytes()));
   return p;
 }
 

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <limits>
 
+#include <oneapi/tbb/task_arena.h>
+
+#include "kernels/core/allocation_gauge.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
 
@@ -146,11 +149,17 @@ struct Hit {
   friend bool operator==(const Hit&, const Hit&) = default;
 };
 
+void sort_unique(std::vector<Hit>& hits) {
+  std::sort(hits.begin(), hits.end());
+  hits.erase(std::unique(hits.begin(), hits.end()), hits.end());
+}
+
 // One pass at one scan: the points qi of `q` (queries) whose radius r_q is at least that of the
 // points gi of `g` (the grid) they are checked against; cell size h, the median radius of gi.
 // Appends (a, b) hits of `slot`.
 void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, std::span<const int32_t> gi,
-               int m, double c2, bool q_is_a, int32_t slot, GridScratch& scratch, std::vector<Hit>& out) {
+               int m, double c2, bool q_is_a, int32_t slot, GridScratch& scratch, std::vector<Hit>& out,
+               AllocationGauge* gauge) {
   if (gi.empty() || qi.empty()) return;
   auto& [cells, r] = scratch;
   r.clear();
@@ -174,7 +183,8 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
       const double* xg = &g.pos[p * m];
       if (q_is_a ? within_points(xq, trace_q, xg, g.trace[p], m, c2)
                  : within_points(xg, g.trace[p], xq, trace_q, m, c2))
-        out.push_back(q_is_a ? Hit{slot, q.track[i], g.track[p]} : Hit{slot, g.track[p], q.track[i]});
+        gauged_push_back(out, q_is_a ? Hit{slot, q.track[i], g.track[p]} : Hit{slot, g.track[p], q.track[i]},
+                         gauge);
     };
     // The cells within span of the query's cell are read row by row along the last axis (a row is
     // contiguous in the sorted cells): (2·span + 1)^(m−1) binary searches. A query for which these
@@ -231,7 +241,7 @@ struct ScanScratch {
 };
 
 void scan_all_pairs(std::span<const AlignedTracks* const> x, std::span<const ValidByTime> valid, int32_t k,
-                    double c2, ScanScratch& scratch, std::vector<Hit>& out) {
+                    double c2, ScanScratch& scratch, std::vector<Hit>& out, AllocationGauge* gauge) {
   const auto S = static_cast<int32_t>(x.size());
   const int m = x[0]->dim / 2;
   scratch.sets.resize(S);
@@ -247,20 +257,15 @@ void scan_all_pairs(std::span<const AlignedTracks* const> x, std::span<const Val
       points_near(a, b, reach, m, scratch.near_s);
       points_near(b, a, reach, m, scratch.near_t);
       const int32_t slot = s * S + t;
-      scan_pass(a, scratch.near_s, b, scratch.near_t, m, c2, true, slot, scratch.grid, out);
-      scan_pass(b, scratch.near_t, a, scratch.near_s, m, c2, false, slot, scratch.grid, out);
+      scan_pass(a, scratch.near_s, b, scratch.near_t, m, c2, true, slot, scratch.grid, out, gauge);
+      scan_pass(b, scratch.near_t, a, scratch.near_s, m, c2, false, slot, scratch.grid, out, gauge);
     }
-}
-
-void sort_unique(std::vector<Hit>& hits) {
-  std::sort(hits.begin(), hits.end());
-  hits.erase(std::unique(hits.begin(), hits.end()), hits.end());
 }
 
 }  // namespace
 
 std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* const> sensors, double cap,
-                                                 double radius_scale) {
+                                                 double radius_scale, AllocationGauge* gauge) {
   const auto S = static_cast<int32_t>(sensors.size());
   std::vector<CandidatePairs> out(static_cast<std::size_t>(S) * S);
   for (int32_t s = 0; s < S; ++s)
@@ -279,10 +284,35 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
   // sensors; a pair of sensors meets only where their boxes do (points_near), so sensors far apart
   // cost one box test per scan. Scans in blocks of consecutive times (a pair found at one is
   // mostly found at the next), each block's hits deduplicated before they are kept.
+  // The index of valid tracks by time (offsets and the counting pass's cursors, 2·(K + 1) int64,
+  // and at most one int32 per cell of each span), counted before it is built.
+  double valid_bytes = 0.0;
+  for (int32_t s = 0; s < S; ++s) {
+    valid_bytes += 16.0 * (static_cast<double>(K) + 1.0);
+    for (int32_t i = 0; i < sensors[s]->n_tracks(); ++i) {
+      const AlignedTracks::Span sp = sensors[s]->span(i);
+      valid_bytes += 4.0 * std::max(0, sp.end - sp.begin);
+    }
+  }
+  gauge_add(gauge, valid_bytes);
   std::vector<ValidByTime> valid(S);
   parallel_for_range(static_cast<std::size_t>(S), 1, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t s = lo; s < hi; ++s) valid[s] = valid_by_time(*sensors[s]);
   });
+  // Each thread's scratch of one scan (its sensors' valid tracks gathered: track, m coordinates,
+  // trace, radius; the points near the other sensor; the grid's cells and radii), at most the
+  // largest number of tracks valid at one time, counted before the scans for every thread.
+  double scratch_bytes = 0.0;
+  std::size_t widest = 0;
+  for (int32_t s = 0; s < S; ++s) {
+    std::size_t most = 0;
+    for (int32_t k = 0; k < K; ++k) most = std::max(most, valid[s].at(k).size());
+    scratch_bytes += static_cast<double>(most) * (4.0 + 8.0 * (sensors[s]->dim / 2) + 16.0);
+    widest = std::max(widest, most);
+  }
+  scratch_bytes += static_cast<double>(widest) * (2 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0);
+  scratch_bytes *= static_cast<double>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  gauge_add(gauge, scratch_bytes);
   constexpr int32_t kBlock = 8;
   const std::size_t blocks = (static_cast<std::size_t>(K) + kBlock - 1) / kBlock;
   std::vector<std::vector<Hit>> per_block(blocks);
@@ -291,23 +321,40 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     for (std::size_t bl = lo; bl < hi; ++bl) {
       const auto k0 = static_cast<int32_t>(bl) * kBlock;
       for (int32_t k = k0; k < std::min(K, k0 + kBlock); ++k)
-        scan_all_pairs(sensors, valid, k, c2, scratch, per_block[bl]);
+        scan_all_pairs(sensors, valid, k, c2, scratch, per_block[bl], gauge);
       sort_unique(per_block[bl]);
     }
   });
+  gauge_release(gauge, scratch_bytes);  // freed with each thread's scratch
   std::vector<Hit> all;
   std::size_t total = 0;
   for (const auto& v : per_block) total += v.size();
+  gauge_add(gauge, static_cast<double>(total * sizeof(Hit)));
   all.reserve(total);
   for (auto& v : per_block) {
     all.insert(all.end(), v.begin(), v.end());
+    const double freed = static_cast<double>(v.capacity() * sizeof(Hit));
     std::vector<Hit>().swap(v);
+    gauge_release(gauge, freed);
   }
+  std::vector<ValidByTime>().swap(valid);
+  gauge_release(gauge, valid_bytes);
   sort_unique(all);  // by slot, then (a, b): each slot's pairs sorted
+  // Each slot's pairs counted, then laid out (exactly their size: 8 bytes a pair) beside the hits.
+  std::vector<std::size_t> per_slot(out.size(), 0);
+  for (const Hit& h : all) ++per_slot[h.slot];
+  gauge_add(gauge, static_cast<double>(all.size() * 2 * sizeof(int32_t)));
+  for (std::size_t slot = 0; slot < out.size(); ++slot) {
+    out[slot].a.reserve(per_slot[slot]);
+    out[slot].b.reserve(per_slot[slot]);
+  }
   for (const Hit& h : all) {
     out[h.slot].a.push_back(h.a);
     out[h.slot].b.push_back(h.b);
   }
+  const double hits = static_cast<double>(all.capacity() * sizeof(Hit));
+  std::vector<Hit>().swap(all);
+  gauge_release(gauge, hits);
   return out;
 }
 
@@ -337,11 +384,17 @@ CandidatePairs scan_candidate_pairs_all_pairs(const AlignedTracks& a, const Alig
 }
 
 CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTracks& b,
-                                       const CandidatePairs& pairs, const StatisticOptions& statistic) {
+                                       const CandidatePairs& pairs, const StatisticOptions& statistic,
+                                       AllocationGauge* gauge) {
+  auto copy = [&] {  // the pairs unpruned: a copy of them
+    gauge_add(gauge, static_cast<double>(pairs.size() * 2 * sizeof(int32_t)), true);
+    return pairs;
+  };
   if ((statistic.correlated && statistic.cross_correlation > 0.0) || statistic.common_process_noise > 0.0)
-    return pairs;  // the bound is for C = P_a + P_b
+    return copy();  // the bound is for C = P_a + P_b
   const SequentialGate gate(a.dim, statistic, std::min({a.n_times, longest_span(a), longest_span(b)}));
-  if (!gate.enabled()) return pairs;
+  if (!gate.enabled()) return copy();
+  gauge_add(gauge, static_cast<double>(pairs.size()), true);  // (sensor pairs are pruned in parallel)
   const int D = a.dim, m = D / 2;
   const double cap = gate.cap();
   const bool calibrated = statistic.gate == GateMethod::kCalibrated;
@@ -394,14 +447,21 @@ CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTrac
       keep[q] = n < 0 || (n > 0 && bound <= gate.threshold(n) && (!calibrated || below > 0));
     }
   });
+  // The pairs kept, counted and then laid out at their size (8 bytes a pair) beside the flags.
+  const auto kept = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), uint8_t{1}));
+  gauge_add(gauge, static_cast<double>(kept * 2 * sizeof(int32_t)), true);
   CandidatePairs out;
   out.n_a = pairs.n_a;
   out.n_b = pairs.n_b;
+  out.a.reserve(kept);
+  out.b.reserve(kept);
   for (std::size_t q = 0; q < pairs.size(); ++q)
     if (keep[q]) {
       out.a.push_back(pairs.a[q]);
       out.b.push_back(pairs.b[q]);
     }
+  std::vector<uint8_t>().swap(keep);
+  gauge_release(gauge, static_cast<double>(pairs.size()));
   return out;
 }
 
@@ -413,14 +473,18 @@ CandidatePairs candidate_pairs_for_gate(const AlignedTracks& a, const AlignedTra
 }
 
 std::vector<CandidatePairs> candidate_pairs_for_gate(std::span<const AlignedTracks* const> sensors,
-                                                     const StatisticOptions& statistic, double radius_scale) {
+                                                     const StatisticOptions& statistic, double radius_scale,
+                                                     AllocationGauge* gauge) {
   if (statistic.gate == GateMethod::kCalibrated && !sensors.empty())
-    return scan_candidate_pairs(sensors, SequentialGate(sensors[0]->dim, statistic).cap(), radius_scale);
+    return scan_candidate_pairs(sensors, SequentialGate(sensors[0]->dim, statistic).cap(), radius_scale, gauge);
   const std::size_t S = sensors.size();
   std::vector<CandidatePairs> out(S * S);
   for (std::size_t s = 0; s < S; ++s)
-    for (std::size_t t = s + 1; t < S; ++t)
+    for (std::size_t t = s + 1; t < S; ++t) {
+      // The time-averaged index's own transient is not gauged (the pairs are counted once found).
       out[s * S + t] = candidate_pairs_for_gate(*sensors[s], *sensors[t], statistic, radius_scale);
+      gauge_add(gauge, static_cast<double>(out[s * S + t].size() * 2 * sizeof(int32_t)));
+    }
   return out;
 }
 

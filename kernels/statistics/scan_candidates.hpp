@@ -28,6 +28,7 @@
 #include <span>
 #include <vector>
 
+#include "kernels/core/allocation_gauge.hpp"
 #include "kernels/statistics/association_statistic.hpp"
 #include "kernels/statistics/sparse_candidates.hpp"
 
@@ -43,8 +44,12 @@ CandidatePairs scan_candidate_pairs(const AlignedTracks& a, const AlignedTracks&
 // that time only where its bounding boxes, widened by the largest bound, meet: sensors whose
 // coverages do not overlap cost one box test per scan.
 // O(Σ_k Σ_s n_s(k) + Σ_k Σ_{s<t meeting at k} (search of the tracks in the overlap) + hits).
+// `gauge` (optional) is told each large buffer before it is allocated (the index by time, each
+// block's hits as they grow, their merge, the output) and throws to refuse; on return it holds the
+// output's bytes (8 a pair), the rest released. The per-thread scratch of one scan (the tracks
+// valid there, O(Σ_s n_s(k))) is not counted.
 std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* const> sensors, double cap,
-                                                 double radius_scale = 1.0);
+                                                 double radius_scale = 1.0, AllocationGauge* gauge = nullptr);
 
 // The same by the O(n_a·n_b·K) scan (the naive peer for tests).
 CandidatePairs scan_candidate_pairs_all_pairs(const AlignedTracks& a, const AlignedTracks& b, double cap,
@@ -54,9 +59,11 @@ CandidatePairs scan_candidate_pairs_all_pairs(const AlignedTracks& a, const Alig
 // position block's term d_pᵀ C_pp⁻¹ d_p is at most the full dᵀC⁻¹d at every scan, so
 // Σ min(term_p, c) ≤ λ_c; a pair whose bound already exceeds G(n) (or, for kCalibrated, with no
 // scan below the cap) is out. O(pairs·K·m³) with m ≤ 3, against O(pairs·K·D³) for λ. Lossless;
-// the correlated form is passed through unpruned.
+// the correlated form is passed through unpruned. `gauge` (optional): the flags (a byte a pair) and
+// the output (8 bytes a kept pair) are added before they are allocated, the flags released after.
 CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTracks& b,
-                                       const CandidatePairs& pairs, const StatisticOptions& statistic);
+                                       const CandidatePairs& pairs, const StatisticOptions& statistic,
+                                       AllocationGauge* gauge = nullptr);
 
 // The lossless candidate index for the gate of `statistic`: scan_candidate_pairs for kCalibrated,
 // gated_candidate_pairs (the time-averaged bound of kernels/statistics/sparse_candidates.hpp) for
@@ -65,8 +72,10 @@ CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTrac
 CandidatePairs candidate_pairs_for_gate(const AlignedTracks& a, const AlignedTracks& b,
                                         const StatisticOptions& statistic, double radius_scale = 1.0);
 // The same for every pair s < t of `sensors` (slot s·S + t), through the multi-sensor index above.
+// `gauge` as for scan_candidate_pairs (kChiSquareSum: each slot's pairs are added once found).
 std::vector<CandidatePairs> candidate_pairs_for_gate(std::span<const AlignedTracks* const> sensors,
                                                      const StatisticOptions& statistic,
-                                                     double radius_scale = 1.0);
+                                                     double radius_scale = 1.0,
+                                                     AllocationGauge* gauge = nullptr);
 
 }  // namespace trackassoc

@@ -14,6 +14,7 @@
 
 #include "io/track_file.hpp"
 #include "tests/support/cli_runner.hpp"
+#include "tests/support/sanitizer.hpp"
 
 namespace trackassoc {
 namespace {
@@ -163,17 +164,7 @@ long peak_rss_kib(const std::string& args, const fs::path& dir, int& status) {
   return in[0];
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
+using testing_support::kAddressSanitizer;
 
 TEST_F(AssociateRecordings, AGiantComponentStaysWithinTheMemoryBudget) {
   // 3 sensors × 2500 targets 40 m apart on a line (σ 30 m): every track is gated with its

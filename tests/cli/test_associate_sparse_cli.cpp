@@ -96,23 +96,24 @@ TEST_F(AssociateSparseCli, SparseAndDenseGiveTheSameAssociation) {
 }
 
 TEST_F(AssociateSparseCli, DenseOverTheMemoryBudgetPointsToSparse) {
-  // seed 000 with 80 targets for 4 s (3 scans): a 80x80x80 dense tensor of floats is 2 MB, while
-  // the file's tables (720 track reports of 144 bytes, 104 KB) and the common time grid (about
-  // 120 KB) fit a budget of 0.5 MiB, the global --memory-budget that every reader also checks.
+  // seed 000 with 250 targets for 4 s (3 scans): a 250x250x250 dense tensor of floats is 62.5 MB,
+  // while the file's tables (2 250 track reports of 144 bytes, 324 KB), the common time grid and
+  // what the program holds beside them once it reads (the HDF5 library's caches: a few MiB) fit a
+  // budget of 32 MiB, the global --memory-budget that every reader and stage also checks.
   std::ifstream in(std::string(TRACKASSOC_SOURCE_DIR) + "/data/scenarios/seed000.json");
   nlohmann::json scenario = nlohmann::json::parse(in);
   scenario["duration"] = 4.0;
-  scenario["random_targets"]["count"] = 80;
+  scenario["random_targets"]["count"] = 250;
   const std::string json = write("many.json", scenario.dump());
   const std::string sim = path("sim.h5"), out = path("out.h5");
   ASSERT_EQ(run("simulate --scenario " + json + " --output " + sim).status, 0);
-  auto r = run("associate --input " + sim + " --output " + out + " --3d --memory-budget 0.5");
+  auto r = run("associate --input " + sim + " --output " + out + " --3d --memory-budget 32");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--sparse"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("80x80x80"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("250x250x250"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
   // The same budget is no obstacle to the sparse path (components of a few tracks).
-  r = run("associate --sparse --input " + sim + " --output " + out + " --memory-budget 0.5");
+  r = run("associate --sparse --input " + sim + " --output " + out + " --memory-budget 32");
   ASSERT_EQ(r.status, 0) << r.err;
   // Its answer is the dense path's on the same file (the documented equality: every gated component
   // of this file is balanced), computed here without the budget: the same tuples (80 targets, 3
@@ -125,20 +126,20 @@ TEST_F(AssociateSparseCli, DenseOverTheMemoryBudgetPointsToSparse) {
   const TrackFile sparse_file = read_track_file(out), dense_file = read_track_file(dense);
   const AssociationRecord &rs = only_association(sparse_file), &rd = only_association(dense_file);
   EXPECT_EQ(rs.solver, rd.solver);
-  ASSERT_GE(rs.num_tuples(), 80u);
+  ASSERT_GE(rs.num_tuples(), 250u);
   EXPECT_EQ(rs.num_tuples(), rd.num_tuples());
   expect_each_track_once(rs);
   EXPECT_EQ(tuple_set(rs), tuple_set(rd));
   double sum = 0.0;
   for (double c : rs.cost) sum += c;
-  if (rs.num_tuples() == 80u) EXPECT_NEAR(rs.objective, sum, 1e-5 * std::abs(sum));
+  if (rs.num_tuples() == 250u) EXPECT_NEAR(rs.objective, sum, 1e-5 * std::abs(sum));
   EXPECT_NEAR(rs.objective, rd.objective, 1e-5 * std::abs(rd.objective));
   // `run` shares the flags.
-  r = run("run --scenario " + json + " --output " + path("run.h5") + " --solvers greedy --memory-budget 0.5");
+  r = run("run --scenario " + json + " --output " + path("run.h5") + " --solvers greedy --memory-budget 32");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--sparse"), std::string::npos) << r.err;
   r = run("run --sparse --scenario " + json + " --output " + path("run.h5") +
-          " --solvers greedy,pairwise --memory-budget 0.5");
+          " --solvers greedy,pairwise --memory-budget 32");
   EXPECT_EQ(r.status, 0) << r.err;
   const TrackFile f = read_track_file(path("run.h5"));
   EXPECT_EQ(f.associations.size(), 2u);

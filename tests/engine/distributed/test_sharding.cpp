@@ -458,7 +458,8 @@ TEST(ShardedSparseSD, GatedStatisticsOverRanksAreThoseOfOneProcess) {
       EXPECT_GT(gated, 100u) << name;  // the statistics were exercised
       EXPECT_EQ(built.components.count, local.components.count);
       EXPECT_EQ(built.components.nodes, local.components.nodes);
-      EXPECT_EQ(built.bytes_held, local.bytes_held);
+      // (bytes_held is not compared: it is the larger of the stages' counts and the process's
+      // resident set, io/memory_budget.hpp, which differs between two builds in one process.)
     }
   }
 }

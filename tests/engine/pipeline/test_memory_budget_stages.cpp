@@ -1,0 +1,89 @@
+// --memory-budget bounds the default (sparse S-D) pipeline's stages before they allocate (issues 30
+// and 31; io/memory_budget.hpp, docs/design.md §7): the candidate search, whose size is known only
+// as it finds pairs, counts its buffers as they grow (kernels/core/allocation_gauge.hpp) and is
+// refused before the buffer that would cross the budget, measured as the process's peak resident
+// set; a budget it fits lets it finish.
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <string>
+
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "io/memory_budget.hpp"
+#include "io/track_file.hpp"
+#include "kernels/core/error.hpp"
+#include "tests/support/sanitizer.hpp"
+#include "tests/support/two_sensor_file.hpp"
+
+namespace trackassoc {
+namespace {
+
+using testing_support::kAddressSanitizer;
+
+constexpr std::size_t kMiB = std::size_t{1} << 20;
+
+// Two sensors (period 1 s) with n tracks each over [0, K − 1] s, all at the same place (x = t,
+// σ 5 m): every pair of the two sensors is a candidate at every scan.
+TrackFile crowd(int32_t n, int32_t K) {
+  TrackFile f = testing_support::two_sensor_file();
+  const Eigen::MatrixXd P = Eigen::Vector4d(25, 25, 1, 1).asDiagonal();
+  for (int32_t s = 0; s < 2; ++s)
+    for (int32_t i = 0; i < n; ++i)
+      for (int32_t k = 0; k < K; ++k) f.tracks.push_back(s, i, k, Eigen::Vector4d(k, 0, 1, 0), P, i);
+  return f;
+}
+
+double peak_resident_bytes() {
+  rusage u{};
+  ::getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) * 1024.0;  // Linux: KiB
+}
+
+// By hand: 1000 tracks a sensor over 16 common times, every one of the 10⁶ pairs within its bound
+// at each scan. Each of the search's two blocks of 8 scans holds at least its 10⁶ distinct hits of
+// 12 bytes until the merge, which reserves the 2·10⁶ of both beside them: at least 48 MB at once
+// (more with their growth and duplicates), and 16 MB of output: a search counted only once done
+// would be past a 32 MiB budget by then. The input (32 000 reports) and the aligned tracks (32 000
+// cells of 113 bytes) are ~8 MB.
+TEST(MemoryBudgetStages, TheCandidateSearchIsRefusedBeforeItsHitsAreAllocated) {
+  const TrackFile f = crowd(1000, 16);
+  const double hits_by_hand = 4.0 * 1e6 * 12.0;
+  const std::size_t budget = 32 * kMiB;
+  ASSERT_GT(hits_by_hand, static_cast<double>(budget));
+  const double peak_before = peak_resident_bytes();
+  set_memory_budget_bytes(budget);  // the baseline: what the process holds now (the file too)
+  const double start = std::max(peak_before, static_cast<double>(resident_bytes()));
+  std::string message;
+  try {
+    build_sparse_sd_problem(f, SparseSDOptions{});
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  const double grew = peak_resident_bytes() - start;
+  set_memory_budget_bytes(default_memory_budget_bytes());
+  EXPECT_NE(message.find("the candidate search of 2 sensors (2000 local tracks"), std::string::npos) << message;
+  EXPECT_NE(message.find("more than the memory budget of 32 MiB"), std::string::npos) << message;
+  // Refused before: the peak grew by at most the budget, not by the 48 MB of hits (not checked under
+  // ASan, whose shadow memory and quarantine of freed blocks are resident but not the program's).
+  std::cout << "peak resident grew by " << grew / kMiB << " MiB (budget 32 MiB, hits at least 48 MB by hand)\n";
+  if (!kAddressSanitizer) EXPECT_LE(grew, static_cast<double>(budget));
+}
+
+// The same stage within a budget it fits: 100 tracks a sensor, 10 000 pairs (by hand: all of them),
+// a few MB at most, finish under 32 MiB.
+TEST(MemoryBudgetStages, ABudgetTheStagesFitLetsThemFinish) {
+  const TrackFile f = crowd(100, 16);
+  set_memory_budget_bytes(32 * kMiB);
+  const SparseSDProblem p = build_sparse_sd_problem(f, SparseSDOptions{});
+  set_memory_budget_bytes(default_memory_budget_bytes());
+  ASSERT_EQ(p.S(), 2);
+  EXPECT_EQ(p.candidate_pairs[1], 10000u);
+  // The kept candidates' bytes (8 a pair) are what the candidates stage reports it holds.
+  const auto it = std::find_if(p.stages.begin(), p.stages.end(), [](const auto& s) { return s.name == "candidates"; });
+  ASSERT_NE(it, p.stages.end());
+  EXPECT_NEAR(it->data_mib * static_cast<double>(kMiB), 8.0 * 10000.0, 1.0);
+}
+
+}  // namespace
+}  // namespace trackassoc
