@@ -67,4 +67,14 @@ void gauged_push_back(std::vector<T>& v, const T& x, AllocationGauge* gauge) {
   v.push_back(x);
 }
 
+// v.reserve(n), its growth counted first (as a concurrent request) and the old buffer released.
+template <class T>
+void gauged_reserve(std::vector<T>& v, std::size_t n, AllocationGauge* gauge) {
+  if (n <= v.capacity()) return;
+  const std::size_t old_cap = v.capacity();
+  if (gauge) gauge->add(static_cast<double>(n * sizeof(T)), true);
+  v.reserve(n);
+  if (gauge) gauge->release(static_cast<double>(old_cap * sizeof(T)));
+}
+
 }  // namespace trackassoc

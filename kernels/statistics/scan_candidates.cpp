@@ -1,12 +1,13 @@
 // Per-scan candidate index for the calibrated gate; see kernels/statistics/scan_candidates.hpp.
 #include "kernels/statistics/scan_candidates.hpp"
 
+#include <oneapi/tbb/task_arena.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <limits>
-
-#include <oneapi/tbb/task_arena.h>
 
 #include "kernels/core/allocation_gauge.hpp"
 #include "kernels/core/error.hpp"
@@ -318,12 +319,24 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
   std::vector<std::vector<Hit>> per_block(blocks);
   parallel_for_range(blocks, 1, [&](std::size_t lo, std::size_t hi) {
     ScanScratch scratch;
+    // Each scan's hits are merged into the block's sorted set at once (a pair found at one scan is
+    // mostly found at the next: kept until the block ends, the copies made a block of recorded_30k
+    // ask for 768 MiB where its pairs take ~100 MiB).
+    std::vector<Hit> scan, merged;
     for (std::size_t bl = lo; bl < hi; ++bl) {
+      std::vector<Hit>& kept = per_block[bl];
       const auto k0 = static_cast<int32_t>(bl) * kBlock;
-      for (int32_t k = k0; k < std::min(K, k0 + kBlock); ++k)
-        scan_all_pairs(sensors, valid, k, c2, scratch, per_block[bl], gauge);
-      sort_unique(per_block[bl]);
+      for (int32_t k = k0; k < std::min(K, k0 + kBlock); ++k) {
+        scan.clear();
+        scan_all_pairs(sensors, valid, k, c2, scratch, scan, gauge);
+        sort_unique(scan);
+        gauged_reserve(merged, kept.size() + scan.size(), gauge);
+        merged.clear();
+        std::set_union(kept.begin(), kept.end(), scan.begin(), scan.end(), std::back_inserter(merged));
+        kept.swap(merged);
+      }
     }
+    gauge_release(gauge, static_cast<double>((scan.capacity() + merged.capacity()) * sizeof(Hit)));
   });
   gauge_release(gauge, scratch_bytes);  // freed with each thread's scratch
   std::vector<Hit> all;
@@ -476,7 +489,8 @@ std::vector<CandidatePairs> candidate_pairs_for_gate(std::span<const AlignedTrac
                                                      const StatisticOptions& statistic, double radius_scale,
                                                      AllocationGauge* gauge) {
   if (statistic.gate == GateMethod::kCalibrated && !sensors.empty())
-    return scan_candidate_pairs(sensors, SequentialGate(sensors[0]->dim, statistic).cap(), radius_scale, gauge);
+    return scan_candidate_pairs(sensors, SequentialGate(sensors[0]->dim, statistic).cap(), radius_scale,
+                                gauge);
   const std::size_t S = sensors.size();
   std::vector<CandidatePairs> out(S * S);
   for (std::size_t s = 0; s < S; ++s)
