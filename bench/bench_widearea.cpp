@@ -36,7 +36,8 @@ const TrackFile& track_file(int k) { return simulated_track_file(kScenarios[k]);
 void BM_WideAreaAssociation(benchmark::State& state) {
   const int k = static_cast<int>(state.range(0));
   if (k == 1 && !std::getenv("TRACKASSOC_BENCH_WIDEAREA")) {
-    state.SkipWithError("widearea: set TRACKASSOC_BENCH_WIDEAREA=1 (minutes, ~5 GB)");
+    state.SkipWithError(
+        "widearea: set TRACKASSOC_BENCH_WIDEAREA=1 (about a minute a run and 2 GB, plus the simulation)");
     return;
   }
   const TrackFile& recorded = track_file(k);
