@@ -71,9 +71,9 @@ inline std::vector<double> read_table_2d(const Group& g, const std::string& name
 inline std::vector<double> rows_from_columns(const std::vector<std::vector<double>>& columns,
                                              std::size_t rows) {
   const std::size_t d = columns.size();
-  require_memory_beside_held(0.0, static_cast<double>(rows) * static_cast<double>(d) * sizeof(double),
-                             "writing a table of " + std::to_string(rows) + " rows of " + std::to_string(d) +
-                                 " values");
+  require_memory_beside_held(
+      0.0, static_cast<double>(rows) * static_cast<double>(d) * sizeof(double),
+      "writing a table of " + std::to_string(rows) + " rows of " + std::to_string(d) + " values");
   std::vector<double> out(rows * d);
   for (std::size_t c = 0; c < d; ++c)
     for (std::size_t r = 0; r < rows; ++r) out[r * d + c] = columns[c][r];

@@ -29,8 +29,9 @@ std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
       IndexedCandidates& c = out[a * S + b];
       c.found = found[a * S + b].size();
       c.pairs = prune_by_position_bound(*x[a], *x[b], found[a * S + b], statistic, gauge);
-      const double freed = static_cast<double>(found[a * S + b].a.capacity() + found[a * S + b].b.capacity()) *
-                           sizeof(int32_t);
+      const double freed =
+          static_cast<double>(found[a * S + b].a.capacity() + found[a * S + b].b.capacity()) *
+          sizeof(int32_t);
       found[a * S + b] = CandidatePairs();
       gauge_release(gauge, freed);
     }

@@ -31,9 +31,9 @@ void TrackStitchOptions::validate() const {
           "expected a probability in (0, 1)");
   require(std::isfinite(turn_min_evidence), "stitching.turn_min_evidence",
           "expected a finite log-likelihood ratio");
-  require(start_reports >= 1 && start_reports <= 16, "stitching.start_reports",
-          "expected 1 to 16 reports");
-  require(std::isfinite(gap_bin_s) && gap_bin_s >= 0.0, "stitching.gap_bin_s", "expected a bin >= 0 [s] (0: none)");
+  require(start_reports >= 1 && start_reports <= 16, "stitching.start_reports", "expected 1 to 16 reports");
+  require(std::isfinite(gap_bin_s) && gap_bin_s >= 0.0, "stitching.gap_bin_s",
+          "expected a bin >= 0 [s] (0: none)");
 }
 
 namespace {
@@ -139,8 +139,7 @@ namespace {
 // The groups of the rule, in increasing target number: each target number of `target` that has
 // reports, with the rows of its earliest and latest report.
 std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec,
-                             const std::vector<int32_t>& target, double q,
-                             std::size_t start_reports) {
+                             const std::vector<int32_t>& target, double q, std::size_t start_reports) {
   const TrackTable& t = file.tracks;
   const std::size_t S = static_cast<std::size_t>(rec.num_sensors), K = rec.num_tuples();
   // (sensor id, track, target number), sorted; of a key listed twice, the later tuple's number.
@@ -380,7 +379,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
         const Candidate& k = candidates[next];
         const double c = cost_of(next);
         if (!(c < 0.0) || (!k.quiet && (rivals_of_end[k.end] > 1 || rivals_of_start[k.start] > 1 ||
-                                         -c < o.turn_min_evidence)))
+                                        -c < o.turn_min_evidence)))
           continue;
         col.push_back(k.start);
         cost.push_back(c);
@@ -413,7 +412,8 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     std::vector<double> count(B, 1.0);
     double total = static_cast<double>(B);
     for (std::size_t a = 0; a < G; ++a)
-      if (joins.row_to_col[a] >= 0) count[bin_of(gap_of(a, static_cast<std::size_t>(joins.row_to_col[a])))] += 1.0, total += 1.0;
+      if (joins.row_to_col[a] >= 0)
+        count[bin_of(gap_of(a, static_cast<std::size_t>(joins.row_to_col[a])))] += 1.0, total += 1.0;
     std::vector<double> log_factor(B);
     for (std::size_t k = 0; k < B; ++k) {
       const double width = std::min(o.gap_bin_s, W - static_cast<double>(k) * o.gap_bin_s);
@@ -421,7 +421,8 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     }
     joins = solve([&](std::size_t i) {
       const Candidate& k = candidates[i];
-      return k.cost - log_factor[bin_of(gap_of(static_cast<std::size_t>(k.end), static_cast<std::size_t>(k.start)))];
+      return k.cost -
+             log_factor[bin_of(gap_of(static_cast<std::size_t>(k.end), static_cast<std::size_t>(k.start)))];
     });
     if (joins.row_to_col.empty()) return summary;
   }

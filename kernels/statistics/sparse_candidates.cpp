@@ -354,7 +354,8 @@ SparsePairStatistic keep_in_gate(const SparsePairStatistic& s) {
   out.n_a = s.n_a;
   out.n_b = s.n_b;
   // Laid out at their number (the memory budget counts 21 bytes a kept pair, not a doubling's slack).
-  const auto kept = static_cast<std::size_t>(std::count_if(s.in_gate.begin(), s.in_gate.end(), [](uint8_t g) { return g != 0; }));
+  const auto kept = static_cast<std::size_t>(
+      std::count_if(s.in_gate.begin(), s.in_gate.end(), [](uint8_t g) { return g != 0; }));
   out.a.reserve(kept);
   out.b.reserve(kept);
   out.lambda.reserve(kept);

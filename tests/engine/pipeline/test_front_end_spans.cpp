@@ -41,7 +41,8 @@ TEST(FrontEndSpans, TheMemoryCheckCountsSpans) {
   // 4 MiB fits its grid (100 000 times, 800 000 bytes) and its spans (the same 9 152 bytes), not its
   // dense layout (4 tracks × 100 000 times × 113 bytes = 45.2 MB).
   set_memory_budget_bytes(4 * 1024 * 1024);
-  const AlignedSensors longer = align_sensors(long_recording_of_short_tracks(99990.0), po, SensorRule::kTwoOrMore);
+  const AlignedSensors longer =
+      align_sensors(long_recording_of_short_tracks(99990.0), po, SensorRule::kTwoOrMore);
   ASSERT_EQ(longer.common_times.size(), 100000u);
   int64_t longer_cells = 0;
   for (const AlignedTracks& x : longer.aligned) longer_cells += x.cells();

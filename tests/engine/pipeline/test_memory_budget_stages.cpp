@@ -62,11 +62,13 @@ TEST(MemoryBudgetStages, TheCandidateSearchIsRefusedBeforeItsHitsAreAllocated) {
   }
   const double grew = peak_resident_bytes() - start;
   set_memory_budget_bytes(default_memory_budget_bytes());
-  EXPECT_NE(message.find("the candidate search of 2 sensors (2000 local tracks"), std::string::npos) << message;
+  EXPECT_NE(message.find("the candidate search of 2 sensors (2000 local tracks"), std::string::npos)
+      << message;
   EXPECT_NE(message.find("more than the memory budget of 32 MiB"), std::string::npos) << message;
   // Refused before: the peak grew by at most the budget, not by the 48 MB of hits (not checked under
   // ASan, whose shadow memory and quarantine of freed blocks are resident but not the program's).
-  std::cout << "peak resident grew by " << grew / kMiB << " MiB (budget 32 MiB, hits at least 48 MB by hand)\n";
+  std::cout << "peak resident grew by " << grew / kMiB
+            << " MiB (budget 32 MiB, hits at least 48 MB by hand)\n";
   if (!kAddressSanitizer) EXPECT_LE(grew, static_cast<double>(budget));
 }
 
@@ -80,7 +82,8 @@ TEST(MemoryBudgetStages, ABudgetTheStagesFitLetsThemFinish) {
   ASSERT_EQ(p.S(), 2);
   EXPECT_EQ(p.candidate_pairs[1], 10000u);
   // The kept candidates' bytes (8 a pair) are what the candidates stage reports it holds.
-  const auto it = std::find_if(p.stages.begin(), p.stages.end(), [](const auto& s) { return s.name == "candidates"; });
+  const auto it =
+      std::find_if(p.stages.begin(), p.stages.end(), [](const auto& s) { return s.name == "candidates"; });
   ASSERT_NE(it, p.stages.end());
   EXPECT_NEAR(it->data_mib * static_cast<double>(kMiB), 8.0 * 10000.0, 1.0);
 }

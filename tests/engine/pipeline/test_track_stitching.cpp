@@ -331,8 +331,8 @@ TrackStitchSummary weak_long_join(double evidence, double gap_bin_s, Association
   const double m2 = 2.0 * (log_alternative - evidence) - log_det;  // −c = evidence
   const double delta = std::sqrt(m2 * s_pos);
   segments.push_back({0, 200, 0, 40, 0, 200, -2e5, 0});         // C
-  segments.push_back({1, 201, 190, 230, delta, 200, -2e5, 0});         // D, 150 s after C's end
-  segments.push_back({1, 300, 0, 400, 1e6, 200, 1e7, 0});  // background, coexisting
+  segments.push_back({1, 201, 190, 230, delta, 200, -2e5, 0});  // D, 150 s after C's end
+  segments.push_back({1, 300, 0, 400, 1e6, 200, 1e7, 0});       // background, coexisting
   keys.push_back({0, 200});
   keys.push_back({1, 201});
   keys.push_back({1, 300});
@@ -350,7 +350,7 @@ TEST(TrackStitching, TheGapPriorRefusesAWeakJoinAtAGapTheOtherJoinsDoNotHave) {
   EXPECT_EQ(rec.target[81], rec.target[80]);
   EXPECT_EQ(weak_long_join(1.00, 20.0, rec).stitches, 40);  // 1.00 − 1.0304 < 0
   EXPECT_NE(rec.target[81], rec.target[80]);
-  EXPECT_EQ(rec.target[1], rec.target[0]);  // the handovers stay joined
+  EXPECT_EQ(rec.target[1], rec.target[0]);                  // the handovers stay joined
   EXPECT_EQ(weak_long_join(1.06, 20.0, rec).stitches, 41);  // 1.06 − 1.0304 > 0
   EXPECT_EQ(rec.target[81], rec.target[80]);
 }
