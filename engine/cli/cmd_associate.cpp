@@ -31,6 +31,7 @@
 #include "engine/report/association_map.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "io/track_validation.hpp"
+#include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc::cli {
 namespace {
@@ -40,12 +41,10 @@ namespace {
 class PhaseClock {
  public:
   void lap(const char* name) {
-    const auto now = std::chrono::steady_clock::now();
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%s%s %.2f s", text_.empty() ? "" : ", ", name,
-                  std::chrono::duration<double>(now - t_).count());
+    std::snprintf(buf, sizeof buf, "%s%s %.2f s", text_.empty() ? "" : ", ", name, seconds_since(t_));
     text_ += buf;
-    t_ = now;
+    t_ = std::chrono::steady_clock::now();
   }
   const std::string& text() const { return text_; }
 

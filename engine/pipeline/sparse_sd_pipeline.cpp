@@ -150,7 +150,7 @@ std::vector<double> rival_link_costs(const SparsePairStatistic& st, const Aligne
       mb += sensors.coexist(oa + st.a[q], oa + st.a[of_b[k]]) || of_b[k] == static_cast<int32_t>(q);
     return std::max(ma, mb);
   };
-  // The tightened gates by m, built on demand; their thresholds are cached by n inside (on demand).
+  // The tightened gates by m, built on demand, and their thresholds G_{p(m)}(n) cached by (m, n).
   std::map<int32_t, SequentialGate> tightened;
   std::map<std::pair<int32_t, int32_t>, double> threshold;  // (m, n) -> G_{p(m)}(n)
   for (std::size_t q = 0; q < st.size(); ++q) {
@@ -171,11 +171,7 @@ std::vector<double> rival_link_costs(const SparsePairStatistic& st, const Aligne
       }
       it = threshold.emplace(std::pair{m, n}, g->second.threshold(n)).first;
     }
-    // SequentialGate::link_cost with the tightened threshold: per scan, or per independent scan.
-    const double per = statistic.link == LinkCost::kPerScan        ? static_cast<double>(n)
-                       : statistic.gate == GateMethod::kCalibrated ? statistic.scans_per_independent
-                                                                   : 1.0;
-    link[q] = (st.lambda[q] - it->second) / per;
+    link[q] = gate.excess_cost(st.lambda[q] - it->second, n);  // against the tightened threshold
   }
   return link;
 }

@@ -119,7 +119,11 @@ bool SequentialGate::accepts(double lambda, int32_t scans, int32_t below_cap) co
 
 double SequentialGate::link_cost(double lambda, int32_t scans) const {
   if (scans <= 0) return 0.0;
-  const double excess = enabled_ ? lambda - threshold(scans) : lambda;
+  return excess_cost(enabled_ ? lambda - threshold(scans) : lambda, scans);
+}
+
+double SequentialGate::excess_cost(double excess, int32_t scans) const {
+  if (scans <= 0) return 0.0;
   return per_scan_ ? excess / scans : excess / f_;
 }
 

@@ -251,6 +251,9 @@ class SequentialGate {
   // ≤ 0 inside the gate: the cost of linking two tracks in the S-D assignment, where not linking
   // costs 0; (λ − G(n))/n or (λ − G(n))/f by StatisticOptions::link (kChiSquareSum: f = 1).
   double link_cost(double lambda, int32_t scans) const;
+  // The same for an excess λ − G already taken against some threshold G (a tightened gate's:
+  // engine/pipeline/sparse_sd_pipeline.hpp, rival_link_costs): excess/n or excess/f.
+  double excess_cost(double excess, int32_t scans) const;
   bool enabled() const { return enabled_; }
 
  private:

@@ -419,18 +419,22 @@ TEST(TrackStitching, TheStartsRepresentativeReportRefusesAJoinThatItsFirstVeloci
   first.start_density_bins = false;
   first.gap_bin_s = 0.0;
   first.start_reports = 1;
-  AssociationRecord before = singletons({{0, 1}, {1, 99}, {1, 7}});
-  const TrackStitchSummary old_rule = stitch_fragments(f, before, first);
+  // Stitched from the three fragments alone: the summary and the targets.
+  auto stitched = [&](const TrackStitchOptions& o) {
+    AssociationRecord rec = singletons({{0, 1}, {1, 99}, {1, 7}});
+    const TrackStitchSummary summary = stitch_fragments(f, rec, o);
+    return std::pair{summary, rec.target};
+  };
+  const auto [old_rule, before] = stitched(first);
   EXPECT_EQ(old_rule.candidates, 1);
   EXPECT_EQ(old_rule.stitches, 1);
-  EXPECT_EQ(before.target, (std::vector<int32_t>{0, 1, 0}));
+  EXPECT_EQ(before, (std::vector<int32_t>{0, 1, 0}));
   TrackStitchOptions representative = first;
   representative.start_reports = 16;
-  AssociationRecord after = singletons({{0, 1}, {1, 99}, {1, 7}});
-  const TrackStitchSummary new_rule = stitch_fragments(f, after, representative);
+  const auto [new_rule, after] = stitched(representative);
   EXPECT_EQ(new_rule.candidates, 0);
   EXPECT_EQ(new_rule.stitches, 0);
-  EXPECT_EQ(after.target, (std::vector<int32_t>{0, 1, 2}));
+  EXPECT_EQ(after, (std::vector<int32_t>{0, 1, 2}));
 }
 
 TEST(TrackStitching, BadOptionsNameTheField) {
