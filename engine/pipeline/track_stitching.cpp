@@ -70,8 +70,20 @@ double log_sum_exp(double a, double b) {
 
 struct Group {
   int32_t target = 0;
-  std::size_t first = 0, last = 0;  // rows of the earliest and the latest report
-  std::size_t start = 0;            // the start's representative row (the header's x₁, P₁)
+  std::size_t first = 0, last = 0;          // rows of the earliest and the latest report
+  std::size_t start = 0;                    // the start's representative row (the header's x₁, P₁)
+  uint32_t spans_begin = 0, spans_end = 0;  // its members' spans in Groups::spans
+};
+
+// One member (local track) of a group: its sensor and the times of its first and last report.
+struct MemberSpan {
+  int32_t sensor = 0;
+  double first = 0.0, last = 0.0;
+};
+
+struct Groups {
+  std::vector<Group> groups;
+  std::vector<MemberSpan> spans;  // by group, in member (sensor, track) order
 };
 
 // The rows of a start track among which its representative is chosen: its earliest ones.
@@ -138,8 +150,8 @@ namespace {
 
 // The groups of the rule, in increasing target number: each target number of `target` that has
 // reports, with the rows of its earliest and latest report.
-std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec,
-                             const std::vector<int32_t>& target, double q, std::size_t start_reports) {
+Groups groups_of(const TrackFile& file, const AssociationRecord& rec, const std::vector<int32_t>& target,
+                 double q, std::size_t start_reports) {
   const TrackTable& t = file.tracks;
   const std::size_t S = static_cast<std::size_t>(rec.num_sensors), K = rec.num_tuples();
   // (sensor id, track, target number), sorted; of a key listed twice, the later tuple's number.
@@ -167,12 +179,16 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
   numbers.erase(std::unique(numbers.begin(), numbers.end()), numbers.end());
   std::vector<Group> all(numbers.size());
   std::vector<char> seen(numbers.size(), 0);
-  // Per sensor id, its members' group indices by track number: a table when its numbers are dense
-  // (at most 4 slots a member), else a binary search. Rows come in any order.
+  std::vector<int32_t> group_of_member(members.size());
+  for (std::size_t m = 0; m < members.size(); ++m)
+    group_of_member[m] = static_cast<int32_t>(
+        std::lower_bound(numbers.begin(), numbers.end(), members[m].target) - numbers.begin());
+  // Per sensor id, its members by track number: a table when its numbers are dense (at most 4
+  // slots a member), else a binary search. Rows come in any order.
   struct Lookup {
     int32_t sensor = 0, first_track = 0;
     std::size_t begin = 0, end = 0;  // its members
-    std::vector<int32_t> table;      // track − first_track -> group index or -1; empty: search
+    std::vector<int32_t> table;      // track − first_track -> member index or -1; empty: search
   };
   std::vector<Lookup> lookups;
   for (std::size_t i = 0; i < members.size();) {
@@ -184,12 +200,11 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
     if (span <= 4 * static_cast<int64_t>(l.end - l.begin) + 64) {
       l.table.assign(static_cast<std::size_t>(span), -1);
       for (std::size_t m = l.begin; m < l.end; ++m)
-        l.table[static_cast<std::size_t>(members[m].track - l.first_track)] = static_cast<int32_t>(
-            std::lower_bound(numbers.begin(), numbers.end(), members[m].target) - numbers.begin());
+        l.table[static_cast<std::size_t>(members[m].track - l.first_track)] = static_cast<int32_t>(m);
     }
     lookups.push_back(std::move(l));
   }
-  auto group_of = [&](const Lookup& l, int32_t track) -> std::ptrdiff_t {
+  auto member_of = [&](const Lookup& l, int32_t track) -> std::ptrdiff_t {
     if (!l.table.empty()) {
       const int64_t i = static_cast<int64_t>(track) - l.first_track;
       return i < 0 || i >= static_cast<int64_t>(l.table.size()) ? -1 : l.table[static_cast<std::size_t>(i)];
@@ -198,11 +213,9 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
                last = members.begin() + static_cast<std::ptrdiff_t>(l.end);
     const auto it =
         std::lower_bound(first, last, track, [](const Member& m, int32_t k) { return m.track < k; });
-    return it == last || it->track != track
-               ? -1
-               : std::lower_bound(numbers.begin(), numbers.end(), it->target) - numbers.begin();
+    return it == last || it->track != track ? -1 : it - members.begin();
   };
-  // Calls visit(row, group index) for every row of a member.
+  // Calls visit(row, group index, member index) for every row of a member.
   auto for_each_member_row = [&](auto&& visit) {
     const Lookup* lookup = nullptr;
     for (std::size_t r = 0; r < t.size(); ++r) {
@@ -212,11 +225,13 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
         if (it == lookups.end() || it->sensor != t.sensor[r]) continue;  // a sensor of no tuple
         lookup = &*it;
       }
-      const std::ptrdiff_t g = group_of(*lookup, t.track[r]);
-      if (g >= 0) visit(r, static_cast<std::size_t>(g));
+      const std::ptrdiff_t m = member_of(*lookup, t.track[r]);
+      if (m >= 0) visit(r, static_cast<std::size_t>(group_of_member[m]), static_cast<std::size_t>(m));
     }
   };
-  for_each_member_row([&](std::size_t r, std::size_t g) {
+  std::vector<MemberSpan> span(
+      members.size(), {0, std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()});
+  for_each_member_row([&](std::size_t r, std::size_t g, std::size_t m) {
     Group& G = all[g];
     if (!seen[g]) {
       seen[g] = 1;
@@ -224,6 +239,8 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
     }
     if (t.t[r] < t.t[G.first]) G.first = r;
     if (t.t[r] > t.t[G.last]) G.last = r;
+    span[m].sensor = t.sensor[r];
+    span[m].first = std::min(span[m].first, t.t[r]), span[m].last = std::max(span[m].last, t.t[r]);
   });
   // The start's representative: of the earliest kStartRows reports of the track that starts the
   // group, the one whose estimate, predicted back to the group's first report with the quiet model,
@@ -231,7 +248,7 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
   // it has converged. Chosen from the covariances alone, not from any residual.
   std::vector<std::array<std::size_t, kStartRows>> early(all.size());
   std::vector<uint8_t> n_early(all.size(), 0);
-  for_each_member_row([&](std::size_t r, std::size_t g) {
+  for_each_member_row([&](std::size_t r, std::size_t g, std::size_t) {
     const std::size_t f = all[g].first;
     if (t.sensor[r] != t.sensor[f] || t.track[r] != t.track[f]) return;
     auto& e = early[g];
@@ -259,11 +276,36 @@ std::vector<Group> groups_of(const TrackFile& file, const AssociationRecord& rec
       }
     }
   });
-  std::vector<Group> groups;
-  groups.reserve(all.size());
+  // The members' spans by group (a counting sort of the members by group, members with rows only).
+  std::vector<uint32_t> begin(all.size() + 1, 0);
+  for (std::size_t m = 0; m < members.size(); ++m)
+    if (span[m].first <= span[m].last) ++begin[static_cast<std::size_t>(group_of_member[m]) + 1];
+  std::partial_sum(begin.begin(), begin.end(), begin.begin());
+  Groups out;
+  out.spans.resize(begin.back());
+  std::vector<uint32_t> next(begin.begin(), begin.end() - 1);
+  for (std::size_t m = 0; m < members.size(); ++m)
+    if (span[m].first <= span[m].last)
+      out.spans[next[static_cast<std::size_t>(group_of_member[m])]++] = span[m];
+  out.groups.reserve(all.size());
   for (std::size_t g = 0; g < all.size(); ++g)
-    if (seen[g]) groups.push_back(all[g]);
-  return groups;
+    if (seen[g]) {
+      all[g].spans_begin = begin[g], all[g].spans_end = begin[g + 1];
+      out.groups.push_back(all[g]);
+    }
+  return out;
+}
+
+// Whether two groups hold tracks of one sensor that overlap by more than `overlap` seconds (the
+// joined target would have two simultaneous tracks of that sensor).
+bool share_a_sensor(const Groups& all, const Group& a, const Group& b, double overlap) {
+  for (uint32_t i = a.spans_begin; i < a.spans_end; ++i)
+    for (uint32_t j = b.spans_begin; j < b.spans_end; ++j) {
+      const MemberSpan &u = all.spans[i], &v = all.spans[j];
+      if (u.sensor == v.sensor && std::min(u.last, v.last) - std::max(u.first, v.first) > overlap)
+        return true;
+    }
+  return false;
 }
 
 // One gated pair: end group, start group, its cost c₁₂ (with the window's n / V) and whether the
@@ -289,8 +331,9 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     target.resize(K);
     std::iota(target.begin(), target.end(), 0);
   }
-  const std::vector<Group> groups = groups_of(file, rec, target, o.manoeuvre_sigma * o.manoeuvre_sigma,
-                                              static_cast<std::size_t>(o.start_reports));
+  const Groups grouped = groups_of(file, rec, target, o.manoeuvre_sigma * o.manoeuvre_sigma,
+                                   static_cast<std::size_t>(o.start_reports));
+  const std::vector<Group>& groups = grouped.groups;
   const std::size_t G = groups.size();
   summary.groups = static_cast<int32_t>(G);
   std::vector<std::size_t> by_start(G);
@@ -322,12 +365,28 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
       log_density[g] += std::log(count[bin_of(t.state[i][groups[g].start])] / (total * bin_width));
   }
   // Candidates (rows: ends, columns: starts): for each end, the starts of its window that the
-  // index (engine/pipeline/stitch_index.hpp) does not exclude, in start-time order, gated.
+  // index (engine/pipeline/stitch_index.hpp) does not exclude, in start-time order, gated. The
+  // index holds the starts' representatives (the rows join_cost's pre-gate takes), in their time
+  // order; a start of the window has its representative at most `transient` after its first report.
   const double gate = chi_square_quantile(o.gate_probability, D);
+  std::vector<double> start_times(G);  // by start position
+  std::vector<int32_t> start_position(G);
+  double transient = 0.0;
+  for (std::size_t p = 0; p < G; ++p) {
+    const Group& g = groups[by_start[p]];
+    start_times[p] = t.t[g.first];
+    start_position[by_start[p]] = static_cast<int32_t>(p);
+    transient = std::max(transient, t.t[g.start] - t.t[g.first]);
+  }
+  std::vector<std::size_t> by_representative(by_start);
+  std::stable_sort(by_representative.begin(), by_representative.end(),
+                   [&](std::size_t a, std::size_t b) { return t.t[groups[a].start] < t.t[groups[b].start]; });
   std::vector<std::size_t> start_rows(G);
-  for (std::size_t p = 0; p < G; ++p) start_rows[p] = groups[by_start[p]].first;
+  std::vector<double> representative_times(G);
+  for (std::size_t p = 0; p < G; ++p)
+    start_rows[p] = groups[by_representative[p]].start, representative_times[p] = t.t[start_rows[p]];
   const StitchStartIndex index(t, start_rows, o.turn_sigma * o.turn_sigma, gate, o.max_overlap_s,
-                               o.max_gap_s);
+                               o.max_gap_s + transient);
   start_rows = {};
   constexpr std::size_t kBlock = 1024;  // ends per task; the blocks are concatenated in order
   std::vector<std::vector<Candidate>> kept((G + kBlock - 1) / kBlock);
@@ -339,19 +398,40 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
         const double end = t.t[groups[a].last];
         // "A different target": any of the n starts of the window, each uniform over the box, so
         // the density of the alternative is n / V (the density of new starts of MHT's track score).
-        const auto [first, last] = index.window(end);
-        const double log_n = std::log(std::max<double>(1.0, static_cast<double>(last - first)));
+        // n: the starts of the window [L, end + max_gap_s], L = end − max_overlap_s. A start before
+        // the window (a transient overlap) is drawn from a wider set: those and the starts before L
+        // whose representative is not, #(first < L) − #(representative < L) (a representative never
+        // precedes its start).
+        const double window_start = end - o.max_overlap_s;
+        const auto first = std::lower_bound(start_times.begin(), start_times.end(), window_start);
+        const auto last = std::upper_bound(first, start_times.end(), end + o.max_gap_s);
+        const std::ptrdiff_t n = last - first,
+                             n_before = (first - start_times.begin()) -
+                                        (std::lower_bound(representative_times.begin(),
+                                                          representative_times.end(), window_start) -
+                                         representative_times.begin());
+        const double log_n = std::log(std::max<double>(1.0, static_cast<double>(n))),
+                     log_n_transient = std::log(std::max<double>(1.0, static_cast<double>(n + n_before)));
         index.query(t, groups[a].last, near);
+        for (int32_t& p : near) p = start_position[by_representative[static_cast<std::size_t>(p)]];
+        std::sort(near.begin(), near.end());
         for (int32_t p : near) {
           const std::size_t b = by_start[static_cast<std::size_t>(p)];
-          if (b == a || t.t[groups[b].last] <= end) continue;          // b must go on after a ends
-          if (t.t[groups[a].first] >= t.t[groups[b].first]) continue;  // and start after a starts
+          const double start = start_times[static_cast<std::size_t>(p)];
+          if (start > end + o.max_gap_s) continue;
+          // A start before the window overlaps the end by more than max_overlap_s, while its
+          // representative is within it: the overlap lies in the new track's transient.
+          if (start < end - o.max_overlap_s &&
+              (!o.transient_overlap || share_a_sensor(grouped, groups[a], groups[b], o.max_overlap_s)))
+            continue;
+          if (b == a || t.t[groups[b].last] <= end) continue;  // b must go on after a ends
+          if (t.t[groups[a].first] >= start) continue;         // and start after a starts
           bool quiet = false;
           const double c = join_cost(t, groups[a].last, groups[b].start, o, gate, &quiet);
           if (!std::isfinite(c)) continue;
           ++rivals_of_end[a];
           std::atomic_ref<int32_t>(rivals_of_start[b]).fetch_add(1, std::memory_order_relaxed);
-          const double cost = c + log_n + log_density[b];
+          const double cost = c + (start < window_start ? log_n_transient : log_n) + log_density[b];
           if (cost < 0.0 || o.gap_bin_s > 0.0)  // the gap prior may raise the evidence
             kept[k].push_back({static_cast<int32_t>(a), static_cast<int32_t>(b), cost, quiet});
         }

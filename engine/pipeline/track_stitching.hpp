@@ -14,9 +14,14 @@
 // with the quiet model, has the smallest ln det P (chosen from the covariances alone, never from a
 // residual, so the choice does not bias the statistic) stands for the start.
 // (G₁, G₂) is a candidate when G₂ starts within [t₀ − max_overlap_s, t₀ + max_gap_s], starts after
-// G₁ starts and goes on after G₁ ends; so groups that coexist longer than max_overlap_s are never
+// G₁ starts and goes on after G₁ ends; so groups that coexist longer than max_overlap_s are not
 // candidates (the association at common times has had its say on them), and every chain of joins
-// runs forward in time (no cycles).
+// runs forward in time (no cycles). One exception (transient_overlap): G₂ may start earlier when
+// its representative (below) comes at or after t₀ − max_overlap_s and no sensor has a track in
+// each group that overlap by more than max_overlap_s. The overlap then lies in G₂'s transient,
+// where the association's statistic over the common times could not judge them: a handover with a
+// short overlap whose new track's first velocities are those of two plots (recorded_recycled,
+// recorded_covscale: docs/design.md §4.10).
 //
 // Gap statistic (track segment association: Yeom, Kirubarajan, Bar-Shalom, "Track segment
 // association, fine-step IMM and initialization with Doppler for improved track performance", IEEE
@@ -70,8 +75,9 @@
 // Candidates are searched through an index of the starts (engine/pipeline/stitch_index.hpp: a k-d
 // tree over time and position with an exact bound of the pre-gate's reach), so an end looks only
 // at the starts it could gate, not at every start of its window; the candidates, their order and
-// the joins are those of the scan of the whole window with the pre-gate on each start's first
-// report (the candidates); their statistic then takes the representative. Ends are searched in
+// the joins are those of the scan of the whole window with join_cost's own pre-gate, on each
+// start's representative (the index holds the representatives, their window widened by the
+// longest time from a start to its representative). Ends are searched in
 // parallel.
 // Complexity: O(G log G) to build, per end the index's nodes near its window and reach, O(D³) per
 // start it returns, plus the sparse LAP's O(J·C log C) worst case for J joins of C candidates; in
@@ -105,6 +111,11 @@ struct TrackStitchOptions {
   // The start's representative is chosen among its track's first start_reports reports (1: the
   // first report).
   int start_reports = 16;
+  // A start may overlap the end by more than max_overlap_s when its representative report comes
+  // after the end (less max_overlap_s), the groups hold no two overlapping tracks of one sensor and
+  // the overlap is thus the new track's transient, which the association's statistic over common
+  // times could not judge (a handover of one target with a short overlap).
+  bool transient_overlap = true;
   void validate() const;
 };
 

@@ -437,6 +437,76 @@ TEST(TrackStitching, TheStartsRepresentativeReportRefusesAJoinThatItsFirstVeloci
   EXPECT_EQ(after, (std::vector<int32_t>{0, 1, 2}));
 }
 
+// A track whose first reports are a transient (P = diag(1000², 1000², 100², 100²) at 30-38 s),
+// then settled (P = diag(100², 100², 1, 1) from 40 s), all on the line x = 200 t, y = 0.
+void add_transient_track(TrackFile& f, int32_t sensor, int32_t track) {
+  Eigen::Matrix4d P0 = Eigen::Matrix4d::Zero(), P = Eigen::Matrix4d::Zero();
+  P0.diagonal() << 1e6, 1e6, 1e4, 1e4;
+  P.diagonal() << 1e4, 1e4, 1.0, 1.0;
+  for (double t = 30.0; t <= 100.0 + 1e-9; t += 2.0)
+    f.tracks.push_back(sensor, track, t, Eigen::Vector4d(200 * t, 0, 200, 0), t < 40.0 ? P0 : P, -1);
+}
+
+TEST(TrackStitching, AnOverlapWithinTheNewTracksTransientIsJoinedWhenNoSensorHoldsTwoTracks) {
+  // A (sensor 0) runs along +x at 200 m/s, 0-40 s; B (sensor 1) starts at 30 s on the same line: they
+  // overlap by 10 s (> max_overlap_s = 2 s), all of it B's transient. B's representative (predicted
+  // back to 30 s with q = 0: ln det 2 ln(1e6·1e4) for the transient reports, 2 ln(1e4) for every
+  // settled one, ties keep the earliest) is its report at 40 s, A's last time: e = 0,
+  // S = diag(2e4, 2e4, 2, 2), c = ½(4 ln 2π + 2 ln 4e4) ≈ 14.27 against ln V ≈ 34.05 (the box of A's
+  // start, B's representative and the background: 68 km · 60 km · 500 · 300 m/s): a join.
+  TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, kBackground});  // rows 0-20 A, 21-121 background
+  add_transient_track(f, 1, 7);                                   // rows 122-157, 40 s: row 127
+  const double c = 0.5 * (kLog2Pi4 + 2.0 * std::log(4e4));
+  EXPECT_NEAR(join_cost(f.tracks, 20, 127, no_manoeuvre(), kGate), c, 1e-9);
+  EXPECT_LT(c - (std::log(68000.0) + std::log(60000.0) + std::log(500.0) + std::log(300.0)), 0.0);
+  TrackStitchOptions o = no_manoeuvre();
+  o.start_density_bins = false;
+  o.gap_bin_s = 0.0;
+  auto stitched = [&](const TrackFile& file, AssociationRecord rec, const TrackStitchOptions& options) {
+    const TrackStitchSummary summary = stitch_fragments(file, rec, options);
+    return std::pair{summary.stitches, rec.target};
+  };
+  const AssociationRecord rec = singletons({{0, 1}, {1, 99}, {1, 7}});
+  EXPECT_EQ(stitched(f, rec, o), std::pair(1, std::vector<int32_t>{0, 1, 0}));
+  TrackStitchOptions within_max_overlap = o;  // the rule before: the 10 s overlap is never a candidate
+  within_max_overlap.transient_overlap = false;
+  EXPECT_EQ(stitched(f, rec, within_max_overlap), std::pair(0, std::vector<int32_t>{0, 1, 2}));
+  // B's group also holds a sensor-0 track over the same 10 s: the join would give the target two
+  // simultaneous sensor-0 tracks, so it is refused.
+  add_transient_track(f, 0, 5);
+  AssociationRecord two = singletons({{0, 1}, {1, 99}, {1, 7}});
+  two.tuples[4] = 5;  // the tuple of (1, 7) holds (0, 5) too
+  EXPECT_EQ(stitched(f, two, o), std::pair(0, std::vector<int32_t>{0, 1, 2}));
+}
+
+TEST(TrackStitching, TheCandidateSearchPreGatesTheStartsRepresentativeNotItsFirstReport) {
+  // A runs along +x at 200 m/s (0-40 s); B continues it from 60 s, but B's first report is a poor
+  // one: at (12 km, 0) with velocity 0 and P = diag(2e4, 2e4, 1, 1) (the rows after it: on A's line,
+  // P = diag(100², 100², 1, 1)). Its ln det is the larger, so B's representative is the report at
+  // 62 s. To the midpoint 50 s the first report is 2 km from A's end, beyond √(γ·tr S_pp) =
+  // √(23.51·2(1e4 + 100 + 2e4)) ≈ 1.19 km, and the index's reach (h/2)(|v_a| + |v_b|) + √(γ(τ_a + τ_b))
+  // ≈ 10·200 + 1.19 km is less than the 4 km between A's end and that report: a search on first
+  // reports finds nothing. The representative is on A's line: to the midpoint 51 s, e = 0 and
+  // S = diag(20 242, 20 242, 2, 2), a join.
+  TrackFile f = hand_made({{0, 1, 0, 40, 0, 200}, kBackground});
+  Eigen::Matrix4d P0 = Eigen::Matrix4d::Zero(), P = Eigen::Matrix4d::Zero();
+  P0.diagonal() << 2e4, 2e4, 1.0, 1.0;
+  P.diagonal() << 1e4, 1e4, 1.0, 1.0;
+  f.tracks.push_back(1, 7, 60.0, Eigen::Vector4d(12000, 0, 0, 0), P0, -1);  // row 122
+  for (double t = 62.0; t <= 100.0 + 1e-9; t += 2.0)
+    f.tracks.push_back(1, 7, t, Eigen::Vector4d(200 * t, 0, 200, 0), P, -1);
+  EXPECT_TRUE(gap_surely_outside(f.tracks, 20, 122, 0.0, kGate));
+  EXPECT_GT(2000.0 * 2000.0, kGate * 2 * (1e4 + 100 + 2e4));
+  EXPECT_NEAR(gap_statistic(f.tracks, 20, 123, 0.0).m2, 0.0, 1e-9);
+  EXPECT_NEAR(join_cost(f.tracks, 20, 123, no_manoeuvre(), kGate),
+              0.5 * (kLog2Pi4 + 2.0 * std::log(20242.0 * 2.0)), 1e-9);
+  AssociationRecord rec = singletons({{0, 1}, {1, 99}, {1, 7}});
+  const TrackStitchSummary s = stitch_fragments(f, rec, no_manoeuvre());
+  EXPECT_EQ(s.candidates, 1);
+  EXPECT_EQ(s.stitches, 1);
+  EXPECT_EQ(rec.target, (std::vector<int32_t>{0, 1, 0}));
+}
+
 TEST(TrackStitching, BadOptionsNameTheField) {
   const std::vector<std::pair<std::function<void(TrackStitchOptions&)>, std::string>> cases{
       {[](TrackStitchOptions& o) { o.max_gap_s = -1; }, "stitching.max_gap_s"},
