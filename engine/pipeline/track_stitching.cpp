@@ -9,9 +9,12 @@
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <string>
 
 #include "engine/pipeline/stitch_index.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/assignment/lap_sparse.hpp"
+#include "kernels/core/allocation_gauge.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/statistics/chi_square.hpp"
@@ -326,6 +329,21 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   if (!o.enabled || S != static_cast<int32_t>(file.sensors.size()) || rec.num_tuples() == 0) return summary;
   const TrackTable& t = file.tracks;
   const std::size_t K = rec.num_tuples();
+  // --memory-budget (io/memory_budget.hpp), before anything is allocated: per tuple (at most one
+  // group each) its group, the start representative's scratch, the start orderings and the index
+  // (StitchStartIndex: ~100 bytes a start); per member its key, span and group; the candidates are
+  // counted as they are found (below).
+  std::size_t members = 0;
+  for (int32_t track : rec.tuples) members += track >= 0;
+  const double per_group = sizeof(Group) + kStartRows * sizeof(std::size_t) + 2 + 6 * sizeof(double) + 100.0 +
+                           2 * sizeof(int32_t) + 4 * sizeof(std::size_t),
+               per_member = 3 * sizeof(int32_t) + sizeof(MemberSpan) + 2 * sizeof(int32_t);
+  const std::string what = "fragment stitching (" + std::to_string(K) + " tuples)";
+  require_memory_beside_held(
+      0.0, static_cast<double>(K) * per_group + static_cast<double>(members) * per_member, what);
+  const double beside = held_or_resident(0.0);
+  AllocationGauge gauge(
+      [&](double stage_bytes, double, bool) { require_memory_beside(beside, stage_bytes, what); });
   std::vector<int32_t> target = rec.target;
   if (target.empty()) {  // every tuple its own target
     target.resize(K);
@@ -433,15 +451,20 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
           std::atomic_ref<int32_t>(rivals_of_start[b]).fetch_add(1, std::memory_order_relaxed);
           const double cost = c + (start < window_start ? log_n_transient : log_n) + log_density[b];
           if (cost < 0.0 || o.gap_bin_s > 0.0)  // the gap prior may raise the evidence
-            kept[k].push_back({static_cast<int32_t>(a), static_cast<int32_t>(b), cost, quiet});
+            gauged_push_back(kept[k], {static_cast<int32_t>(a), static_cast<int32_t>(b), cost, quiet},
+                             &gauge);
         }
       }
   });
   // The gated pairs (of positive evidence without the gap prior), in order of their ends (then of
   // their starts' times).
   std::vector<Candidate> candidates;
+  std::size_t found = 0;
+  for (const auto& block : kept) found += block.size();
+  gauged_reserve(candidates, found, &gauge);
   for (auto& block : kept) {
     candidates.insert(candidates.end(), block.begin(), block.end());
+    gauge.release(static_cast<double>(block.capacity() * sizeof(Candidate)));
     block = {};
   }
   for (int32_t n : rivals_of_end) summary.candidates += n;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/track_stitching.hpp"
 #include "io/memory_budget.hpp"
 #include "io/track_file.hpp"
 #include "kernels/core/error.hpp"
@@ -69,7 +70,9 @@ TEST(MemoryBudgetStages, TheCandidateSearchIsRefusedBeforeItsHitsAreAllocated) {
   // ASan, whose shadow memory and quarantine of freed blocks are resident but not the program's).
   std::cout << "peak resident grew by " << grew / kMiB
             << " MiB (budget 32 MiB, hits at least 48 MB by hand)\n";
-  if (!kAddressSanitizer) EXPECT_LE(grew, static_cast<double>(budget));
+  if (!kAddressSanitizer) {
+    EXPECT_LE(grew, static_cast<double>(budget));
+  }
 }
 
 // The same stage within a budget it fits: 100 tracks a sensor, 10 000 pairs (by hand: all of them),
@@ -86,6 +89,43 @@ TEST(MemoryBudgetStages, ABudgetTheStagesFitLetsThemFinish) {
       std::find_if(p.stages.begin(), p.stages.end(), [](const auto& s) { return s.name == "candidates"; });
   ASSERT_NE(it, p.stages.end());
   EXPECT_NEAR(it->data_mib * static_cast<double>(kMiB), 8.0 * 10000.0, 1.0);
+}
+
+// Fragment stitching checks its groups before it allocates them. 20 000 one-track groups (10 000
+// tracks a sensor, 3 reports each at 0-2 s, far apart: no candidates) need, by hand, at least
+// 20 000 × (16 rows of start scratch × 8 bytes + ~100 bytes of index) ≈ 4.6 MB beside the file: a
+// budget of 1 MiB over what the process holds refuses it in one line naming the stage; 64 MiB lets it
+// finish.
+TEST(MemoryBudgetStages, FragmentStitchingIsRefusedBeforeItsGroupsAreAllocated) {
+  TrackFile f = testing_support::two_sensor_file();
+  const Eigen::MatrixXd P = Eigen::Vector4d(25, 25, 1, 1).asDiagonal();
+  AssociationRecord rec;
+  rec.num_sensors = 2;
+  for (int32_t i = 0; i < 10000; ++i)
+    for (int32_t s = 0; s < 2; ++s) {
+      for (int32_t k = 0; k < 3; ++k)
+        f.tracks.push_back(s, i, k, Eigen::Vector4d(1e5 * (2 * i + s), 0, 1, 0), P, -1);
+      rec.tuples.push_back(s == 0 ? i : -1);
+      rec.tuples.push_back(s == 1 ? i : -1);
+    }
+  ASSERT_GT(20000.0 * (16 * 8 + 100), 1.0 * kMiB);
+  std::string message;
+  set_memory_budget_bytes(kMiB);
+  try {
+    AssociationRecord copy = rec;
+    stitch_fragments(f, copy, TrackStitchOptions{});
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  set_memory_budget_bytes(64 * kMiB);
+  AssociationRecord within = rec;
+  const TrackStitchSummary summary = stitch_fragments(f, within, TrackStitchOptions{});
+  set_memory_budget_bytes(default_memory_budget_bytes());
+  EXPECT_NE(message.find("fragment stitching (20000 tuples)"), std::string::npos) << message;
+  EXPECT_NE(message.find("more than the memory budget of 1 MiB"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos);
+  EXPECT_EQ(summary.groups, 20000);
+  EXPECT_EQ(summary.stitches, 0);
 }
 
 }  // namespace
