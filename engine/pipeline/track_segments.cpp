@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <unordered_map>
 
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/track_hygiene.hpp"
+#include "io/memory_budget.hpp"
 #include "kernels/assignment/clusters.hpp"
 #include "kernels/assignment/lap.hpp"
 #include "kernels/core/error.hpp"
@@ -362,8 +364,24 @@ AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable
   options.validate();
   const int32_t S = p.S(), W = record.num_sensors;
   require(W == p.file_sensors, "join_track_segments", "the record's columns are not the problem's");
-  const SegmentGraph g = build_graph(p, tracks);
   const std::size_t K = record.num_tuples();
+  {
+    // --memory-budget (io/memory_budget.hpp), before the graph is built: per node its interval,
+    // rows and adjacency list; per gated pair two adjacency entries (their growth up to twice) and
+    // a hash entry (~64 bytes); per tuple a target of S member lists and at most two output rows.
+    double pairs = 0.0;
+    for (const SparsePairStatistic& st : p.pairs) pairs += static_cast<double>(st.size());
+    const double N = static_cast<double>(p.nodes());
+    const double bytes =
+        N * (2 * sizeof(double) + 2 * sizeof(std::size_t) + sizeof(std::vector<int>) + sizeof(int32_t)) +
+        pairs * (4 * sizeof(std::pair<int32_t, double>) + 64.0) +
+        static_cast<double>(K) * (sizeof(Target) + S * (sizeof(std::vector<int32_t>) + sizeof(int32_t)) +
+                                  2 * (W * sizeof(int32_t) + sizeof(double) + sizeof(int32_t)));
+    require_memory_beside_held(0.0, bytes,
+                               "the track segment pass (" + std::to_string(p.nodes()) + " local tracks, " +
+                                   std::to_string(static_cast<int64_t>(pairs)) + " gated pairs)");
+  }
+  const SegmentGraph g = build_graph(p, tracks);
 
   // Targets: the assignment's tuples of ≥ 2 members.
   std::vector<Target> targets;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/track_segments.hpp"
 #include "engine/pipeline/track_stitching.hpp"
 #include "io/memory_budget.hpp"
 #include "io/track_file.hpp"
@@ -126,6 +127,32 @@ TEST(MemoryBudgetStages, FragmentStitchingIsRefusedBeforeItsGroupsAreAllocated) 
   EXPECT_EQ(message.find('\n'), std::string::npos);
   EXPECT_EQ(summary.groups, 20000);
   EXPECT_EQ(summary.stitches, 0);
+}
+
+// The segment pass checks its graph before it builds it: crowd(100, 16) has 200 local tracks and
+// 10 000 gated pairs (by hand, as above), so its graph needs at least 10 000 × (4 adjacency entries of
+// 16 bytes + 64 bytes of hash entry) = 1.28 MB: refused in one line at a 1 MiB budget over what the
+// process holds, finished at 64 MiB (no tuples: nothing joined).
+TEST(MemoryBudgetStages, TheSegmentPassIsRefusedBeforeItsGraphIsBuilt) {
+  const TrackFile f = crowd(100, 16);
+  const SparseSDProblem p = build_sparse_sd_problem(f, SparseSDOptions{});
+  ASSERT_EQ(p.candidate_pairs[1], 10000u);
+  AssociationRecord rec;
+  rec.num_sensors = 2;
+  std::string message;
+  set_memory_budget_bytes(kMiB);
+  try {
+    join_track_segments(p, f.tracks, rec, SegmentOptions{});
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  set_memory_budget_bytes(64 * kMiB);
+  const AssociationRecord within = join_track_segments(p, f.tracks, rec, SegmentOptions{});
+  set_memory_budget_bytes(default_memory_budget_bytes());
+  EXPECT_NE(message.find("the track segment pass (200 local tracks, 10000 gated pairs)"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("more than the memory budget of 1 MiB"), std::string::npos) << message;
+  EXPECT_EQ(within.num_tuples(), 0u);
 }
 
 }  // namespace
