@@ -42,10 +42,11 @@ void print_fused_accuracy(TrackFile& file, std::ostream& os) {
   table.print(os);
 }
 
-// "88.0 % (12 of 14)", or "- (none)" when there is nothing to count.
+// "88.00 % (12 of 14)", or "- (none)" when there is nothing to count. Two decimals: the pair
+// figures are read against bars such as 99.5 %, which one decimal would round 99.46 % up to.
 std::string share(double rate, int64_t part, int64_t whole) {
   if (whole == 0) return "- (none)";
-  return percent(rate) + " (" + std::to_string(part) + " of " + std::to_string(whole) + ")";
+  return fmt(100.0 * rate, "%.2f %%") + " (" + std::to_string(part) + " of " + std::to_string(whole) + ")";
 }
 
 }  // namespace
