@@ -92,9 +92,9 @@ TEST_F(CliTest, EvaluateWritesTheHandCountedRates) {
     EXPECT_EQ(m.tables.at("n_linked_pairs_same_truth"), std::vector<double>{swap ? 5.0 : 7.0});
     EXPECT_EQ(m.tables.at("n_fragment_pairs"), std::vector<double>{0.0});
   }
-  EXPECT_NE(r.out.find("55.6 % (5 of 9)"), std::string::npos)
+  EXPECT_NE(r.out.find("55.56 % (5 of 9)"), std::string::npos)
       << r.out;  // swap's coexisting recall, precision
-  EXPECT_NE(r.out.find("100.0 % (7 of 7)"), std::string::npos) << r.out;  // split's precision
+  EXPECT_NE(r.out.find("100.00 % (7 of 7)"), std::string::npos) << r.out;  // split's precision
 }
 
 TEST_F(CliTest, SimulateAssociateEvaluate) {
