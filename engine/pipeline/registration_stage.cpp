@@ -8,7 +8,9 @@
 #include <map>
 #include <set>
 #include <span>
+#include <string>
 
+#include "io/memory_budget.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/statistics/chi_square.hpp"
 
@@ -18,8 +20,18 @@ namespace {
 
 using Key = std::pair<int32_t, int32_t>;  // (sensor id, track number)
 
-// Rows of every local track, in time order.
+// Rows of every local track, in time order. --memory-budget (io/memory_budget.hpp) is checked first:
+// per report its row number (a vector's growth up to twice), per local track a map node (~80
+// bytes); the tracks are counted as the changes of key from row to row (no allocation: exact when the
+// table is grouped by track, as files are written, and an upper bound otherwise).
 std::map<Key, std::vector<std::size_t>> rows_of_tracks(const TrackTable& t) {
+  std::size_t tracks = 0;
+  for (std::size_t r = 0; r < t.size(); ++r)
+    tracks += r == 0 || t.sensor[r] != t.sensor[r - 1] || t.track[r] != t.track[r - 1];
+  require_memory_beside_held(
+      0.0, static_cast<double>(t.size()) * 2.0 * sizeof(std::size_t) + static_cast<double>(tracks) * 80.0,
+      "the registration stage's rows per local track (" + std::to_string(t.size()) + " reports, at most " +
+          std::to_string(tracks) + " local tracks)");
   std::map<Key, std::vector<std::size_t>> rows;
   for (std::size_t r = 0; r < t.size(); ++r) rows[{t.sensor[r], t.track[r]}].push_back(r);
   for (auto& [k, v] : rows)

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <string>
 
+#include "engine/pipeline/registration_stage.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/track_segments.hpp"
 #include "engine/pipeline/track_stitching.hpp"
@@ -92,39 +93,56 @@ TEST(MemoryBudgetStages, ABudgetTheStagesFitLetsThemFinish) {
   EXPECT_NEAR(it->data_mib * static_cast<double>(kMiB), 8.0 * 10000.0, 1.0);
 }
 
+// n tracks on each of two sensors, 3 reports each at 0-2 s, 100 km apart: sensor s's track i at
+// x = 100 km · i when `together` (both sensors' track i one target, truth i), else at 100 km · (2i + s)
+// (all apart, false tracks).
+TrackFile short_tracks(int32_t n, bool together) {
+  TrackFile f = testing_support::two_sensor_file();
+  const Eigen::MatrixXd P = Eigen::Vector4d(25, 25, 1, 1).asDiagonal();
+  for (int32_t i = 0; i < n; ++i)
+    for (int32_t s = 0; s < 2; ++s)
+      for (int32_t k = 0; k < 3; ++k)
+        f.tracks.push_back(s, i, k, Eigen::Vector4d(1e5 * (together ? i : 2 * i + s), 0, 1, 0), P,
+                           together ? i : -1);
+  return f;
+}
+
+// Runs `stage` under a budget of 1 MiB over what the process holds, then of 64 MiB, and restores the
+// default: returns the first run's refusal (empty when it passed) and the second run's result, which
+// must pass.
+template <class Stage>
+auto refused_at_1_mib_then_run_at_64(Stage&& stage) {
+  std::string message;
+  set_memory_budget_bytes(kMiB);
+  try {
+    stage();
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  set_memory_budget_bytes(64 * kMiB);
+  auto within = stage();
+  set_memory_budget_bytes(default_memory_budget_bytes());
+  EXPECT_NE(message.find("more than the memory budget of 1 MiB"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  return std::pair{message, within};
+}
+
 // Fragment stitching checks its groups before it allocates them. 20 000 one-track groups (10 000
 // tracks a sensor, 3 reports each at 0-2 s, far apart: no candidates) need, by hand, at least
 // 20 000 × (16 rows of start scratch × 8 bytes + ~100 bytes of index) ≈ 4.6 MB beside the file: a
 // budget of 1 MiB over what the process holds refuses it in one line naming the stage; 64 MiB lets it
 // finish.
 TEST(MemoryBudgetStages, FragmentStitchingIsRefusedBeforeItsGroupsAreAllocated) {
-  TrackFile f = testing_support::two_sensor_file();
-  const Eigen::MatrixXd P = Eigen::Vector4d(25, 25, 1, 1).asDiagonal();
+  const TrackFile f = short_tracks(10000, false);
   AssociationRecord rec;
   rec.num_sensors = 2;
-  for (int32_t i = 0; i < 10000; ++i)
-    for (int32_t s = 0; s < 2; ++s) {
-      for (int32_t k = 0; k < 3; ++k)
-        f.tracks.push_back(s, i, k, Eigen::Vector4d(1e5 * (2 * i + s), 0, 1, 0), P, -1);
-      rec.tuples.push_back(s == 0 ? i : -1);
-      rec.tuples.push_back(s == 1 ? i : -1);
-    }
+  for (int32_t i = 0; i < 10000; ++i) rec.tuples.insert(rec.tuples.end(), {i, -1, -1, i});
   ASSERT_GT(20000.0 * (16 * 8 + 100), 1.0 * kMiB);
-  std::string message;
-  set_memory_budget_bytes(kMiB);
-  try {
+  const auto [message, summary] = refused_at_1_mib_then_run_at_64([&] {
     AssociationRecord copy = rec;
-    stitch_fragments(f, copy, TrackStitchOptions{});
-  } catch (const InputError& e) {
-    message = e.what();
-  }
-  set_memory_budget_bytes(64 * kMiB);
-  AssociationRecord within = rec;
-  const TrackStitchSummary summary = stitch_fragments(f, within, TrackStitchOptions{});
-  set_memory_budget_bytes(default_memory_budget_bytes());
+    return stitch_fragments(f, copy, TrackStitchOptions{});
+  });
   EXPECT_NE(message.find("fragment stitching (20000 tuples)"), std::string::npos) << message;
-  EXPECT_NE(message.find("more than the memory budget of 1 MiB"), std::string::npos) << message;
-  EXPECT_EQ(message.find('\n'), std::string::npos);
   EXPECT_EQ(summary.groups, 20000);
   EXPECT_EQ(summary.stitches, 0);
 }
@@ -139,20 +157,29 @@ TEST(MemoryBudgetStages, TheSegmentPassIsRefusedBeforeItsGraphIsBuilt) {
   ASSERT_EQ(p.candidate_pairs[1], 10000u);
   AssociationRecord rec;
   rec.num_sensors = 2;
-  std::string message;
-  set_memory_budget_bytes(kMiB);
-  try {
-    join_track_segments(p, f.tracks, rec, SegmentOptions{});
-  } catch (const InputError& e) {
-    message = e.what();
-  }
-  set_memory_budget_bytes(64 * kMiB);
-  const AssociationRecord within = join_track_segments(p, f.tracks, rec, SegmentOptions{});
-  set_memory_budget_bytes(default_memory_budget_bytes());
+  const auto [message, within] = refused_at_1_mib_then_run_at_64(
+      [&] { return join_track_segments(p, f.tracks, rec, SegmentOptions{}); });
   EXPECT_NE(message.find("the track segment pass (200 local tracks, 10000 gated pairs)"), std::string::npos)
       << message;
-  EXPECT_NE(message.find("more than the memory budget of 1 MiB"), std::string::npos) << message;
   EXPECT_EQ(within.num_tuples(), 0u);
+}
+
+// The registration stage checks its rows per local track before it builds them: 20 000 tracks of 3
+// reports (grouped by track, as files are written) need, by hand, 60 000 × 16 + 20 000 × 80 bytes =
+// 2.56 MB: refused in one line at a 1 MiB budget over what the process holds, finished at 64 MiB.
+TEST(MemoryBudgetStages, TheRegistrationStageIsRefusedBeforeItsRowsPerTrackAreAllocated) {
+  const TrackFile f = short_tracks(10000, true);
+  AssociationRecord rec;
+  rec.num_sensors = 2;
+  for (int32_t i = 0; i < 10000; ++i) rec.tuples.insert(rec.tuples.end(), {i, i});
+  ASSERT_GT(60000.0 * 16 + 20000.0 * 80, 1.0 * kMiB);
+  const auto [message, within] = refused_at_1_mib_then_run_at_64(
+      [&] { return registration_observations(f, rec, RegistrationStageOptions{}); });
+  EXPECT_NE(message.find(
+                "the registration stage's rows per local track (60000 reports, at most 20000 local tracks)"),
+            std::string::npos)
+      << message;
+  EXPECT_GT(within.size(), 0u);  // every tuple's pair gives observations at its 3 common times
 }
 
 }  // namespace
