@@ -50,7 +50,8 @@ class StitchStartIndex {
   // not exclude. The table must be the one the index was built on.
   void query(const TrackTable& t, std::size_t end, std::vector<int32_t>& out) const;
 
-  // The positions of the window alone, [first, last): the n of the "different targets" density.
+  // The positions of the window alone, [first, last): first is the number of starts before it
+  // (track_stitching.cpp counts with it the starts whose representative precedes the window).
   std::pair<int32_t, int32_t> window(double t_end) const;
 
  private:

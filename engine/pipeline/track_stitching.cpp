@@ -232,8 +232,10 @@ Groups groups_of(const TrackFile& file, const AssociationRecord& rec, const std:
       if (m >= 0) visit(r, static_cast<std::size_t>(group_of_member[m]), static_cast<std::size_t>(m));
     }
   };
-  std::vector<MemberSpan> span(
-      members.size(), {0, std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()});
+  std::vector<MemberSpan> span(members.size());
+  for (std::size_t m = 0; m < members.size(); ++m)
+    span[m] = {members[m].sensor, std::numeric_limits<double>::infinity(),
+               -std::numeric_limits<double>::infinity()};
   for_each_member_row([&](std::size_t r, std::size_t g, std::size_t m) {
     Group& G = all[g];
     if (!seen[g]) {
@@ -242,7 +244,6 @@ Groups groups_of(const TrackFile& file, const AssociationRecord& rec, const std:
     }
     if (t.t[r] < t.t[G.first]) G.first = r;
     if (t.t[r] > t.t[G.last]) G.last = r;
-    span[m].sensor = t.sensor[r];
     span[m].first = std::min(span[m].first, t.t[r]), span[m].last = std::max(span[m].last, t.t[r]);
   });
   // The start's representative: of the earliest kStartRows reports of the track that starts the
@@ -400,9 +401,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   std::stable_sort(by_representative.begin(), by_representative.end(),
                    [&](std::size_t a, std::size_t b) { return t.t[groups[a].start] < t.t[groups[b].start]; });
   std::vector<std::size_t> start_rows(G);
-  std::vector<double> representative_times(G);
-  for (std::size_t p = 0; p < G; ++p)
-    start_rows[p] = groups[by_representative[p]].start, representative_times[p] = t.t[start_rows[p]];
+  for (std::size_t p = 0; p < G; ++p) start_rows[p] = groups[by_representative[p]].start;
   const StitchStartIndex index(t, start_rows, o.turn_sigma * o.turn_sigma, gate, o.max_overlap_s,
                                o.max_gap_s + transient);
   start_rows = {};
@@ -423,11 +422,9 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
         const double window_start = end - o.max_overlap_s;
         const auto first = std::lower_bound(start_times.begin(), start_times.end(), window_start);
         const auto last = std::upper_bound(first, start_times.end(), end + o.max_gap_s);
+        // (#(representative < L) is where the index's window, over the representatives, begins.)
         const std::ptrdiff_t n = last - first,
-                             n_before = (first - start_times.begin()) -
-                                        (std::lower_bound(representative_times.begin(),
-                                                          representative_times.end(), window_start) -
-                                         representative_times.begin());
+                             n_before = (first - start_times.begin()) - index.window(end).first;
         const double log_n = std::log(std::max<double>(1.0, static_cast<double>(n))),
                      log_n_transient = std::log(std::max<double>(1.0, static_cast<double>(n + n_before)));
         index.query(t, groups[a].last, near);
@@ -439,7 +436,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
           if (start > end + o.max_gap_s) continue;
           // A start before the window overlaps the end by more than max_overlap_s, while its
           // representative is within it: the overlap lies in the new track's transient.
-          if (start < end - o.max_overlap_s &&
+          if (start < window_start &&
               (!o.transient_overlap || share_a_sensor(grouped, groups[a], groups[b], o.max_overlap_s)))
             continue;
           if (b == a || t.t[groups[b].last] <= end) continue;  // b must go on after a ends
