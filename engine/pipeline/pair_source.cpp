@@ -16,7 +16,8 @@ std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
                                                   AllocationGauge* gauge) {
   std::vector<const AlignedTracks*> x;
   for (const AlignedTracks& t : sensors.aligned) x.push_back(&t);
-  std::vector<CandidatePairs> found = candidate_pairs_for_gate(x, statistic, radius_scale, gauge);
+  std::vector<std::size_t> within;  // per slot, the pairs the index found before its count filter
+  std::vector<CandidatePairs> found = candidate_pairs_for_gate(x, statistic, radius_scale, gauge, &within);
   const std::size_t S = x.size();
   std::vector<IndexedCandidates> out(found.size());
   std::vector<std::pair<std::size_t, std::size_t>> sensor_pairs;
@@ -27,7 +28,7 @@ std::vector<IndexedCandidates> indexed_candidates(const AlignedSensors& sensors,
     for (std::size_t q = lo; q < hi; ++q) {
       const auto [a, b] = sensor_pairs[q];
       IndexedCandidates& c = out[a * S + b];
-      c.found = found[a * S + b].size();
+      c.found = within[a * S + b];
       c.pairs = prune_by_position_bound(*x[a], *x[b], found[a * S + b], statistic, gauge);
       const double freed =
           static_cast<double>(found[a * S + b].a.capacity() + found[a * S + b].b.capacity()) *

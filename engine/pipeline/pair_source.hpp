@@ -29,8 +29,9 @@ PairStatistic all_pairs_statistic(const AlignedSensors& sensors, int32_t a, int3
                                   const StatisticOptions& statistic);
 
 // The candidate index of every pair a < b of the sensors, in one pass over the common times
-// (kernels/statistics/scan_candidates.hpp): slot a·S + b holds the `found` pairs of sensors a and b
-// out of the index, and `pairs`, those the position bound keeps (sorted by (a, b)).
+// (kernels/statistics/scan_candidates.hpp): slot a·S + b holds the number of pairs of sensors a and b
+// `found` within their bound at some scan, and `pairs`, those the index's count filter and then the
+// position bound keep (sorted by (a, b); both filters lossless).
 struct IndexedCandidates {
   CandidatePairs pairs;
   std::size_t found = 0;

@@ -241,10 +241,12 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   // are shared out in the statistics stage (engine/pipeline/pair_statistics_sharded.hpp), so the
   // candidates held here are those found, before the prune.
   const bool sharded = options.ranks && options.ranks->size() > 1;
+  std::vector<std::size_t> held_pairs(slots, 0);  // more ranks: the candidates held here until their prune
   if (sharded) {
     std::vector<const AlignedTracks*> x;
     for (const AlignedTracks& t : p.aligned) x.push_back(&t);
-    cand = candidate_pairs_for_gate(x, po.statistic, options.radius_scale, &gauge);
+    cand = candidate_pairs_for_gate(x, po.statistic, options.radius_scale, &gauge, &p.candidate_pairs);
+    for (std::size_t slot = 0; slot < slots; ++slot) held_pairs[slot] = cand[slot].size();
   } else {
     std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale, &gauge);
     for (std::size_t slot = 0; slot < slots; ++slot) {
@@ -256,7 +258,6 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
-      if (sharded) p.candidate_pairs[slot] = cand[slot].size();
       bytes += cand[slot].size() * 2.0 * sizeof(int32_t);
     }
   held += bytes;
@@ -289,7 +290,7 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
       // The link costs, and the two nodes of each gated pair that the partition's edges take.
       bytes += static_cast<double>(st.bytes() + link.size() * sizeof(double)) + 8.0 * link.size();
       // The candidates, freed above (more ranks: those found, held here before the prune).
-      held -= (sharded ? static_cast<double>(p.candidate_pairs[slot]) : n) * 2 * sizeof(int32_t);
+      held -= (sharded ? static_cast<double>(held_pairs[slot]) : n) * 2 * sizeof(int32_t);
     }
   stage("statistics", t0, bytes);
   held += bytes;

@@ -141,18 +141,51 @@ bool cell_less(const Cell& x, const Cell& y) {
   return x[0] != y[0] ? x[0] < y[0] : (x[1] != y[1] ? x[1] < y[1] : x[2] < y[2]);
 }
 
-// A hit of the index: sensor pair slot, track of the first sensor, track of the second.
+// A hit of the index: sensor pair slot, track of the first sensor, track of the second, and the
+// number of scans at which the pair was within its bound (saturating at 65 535; the slot fits 16
+// bits since S ≤ 256 is checked), so a hit takes 12 bytes.
 struct Hit {
-  int32_t slot, a, b;
+  int32_t a, b;
+  uint16_t slot, count;
   friend bool operator<(const Hit& x, const Hit& y) {
     return x.slot != y.slot ? x.slot < y.slot : (x.a != y.a ? x.a < y.a : x.b < y.b);
   }
-  friend bool operator==(const Hit&, const Hit&) = default;
+  bool same_pair(const Hit& y) const { return slot == y.slot && a == y.a && b == y.b; }
 };
+static_assert(sizeof(Hit) == 12);
 
-void sort_unique(std::vector<Hit>& hits) {
+uint16_t saturating_sum(uint16_t x, uint16_t y) {
+  return static_cast<uint16_t>(std::min<uint32_t>(uint32_t{x} + y, std::numeric_limits<uint16_t>::max()));
+}
+
+// Sorted by pair, each pair once; its count the sum of its copies' counts.
+void sort_summing(std::vector<Hit>& hits) {
   std::sort(hits.begin(), hits.end());
-  hits.erase(std::unique(hits.begin(), hits.end()), hits.end());
+  std::size_t w = 0;
+  for (std::size_t r = 0; r < hits.size(); ++r) {
+    if (w > 0 && hits[w - 1].same_pair(hits[r]))
+      hits[w - 1].count = saturating_sum(hits[w - 1].count, hits[r].count);
+    else
+      hits[w++] = hits[r];
+  }
+  hits.resize(w);
+}
+
+// The union of two sorted, summed lists, counts of a pair in both summed.
+void merge_summing(const std::vector<Hit>& x, const std::vector<Hit>& y, std::vector<Hit>& out) {
+  auto i = x.begin(), j = y.begin();
+  while (i != x.end() && j != y.end()) {
+    if (*i < *j) {
+      out.push_back(*i++);
+    } else if (*j < *i) {
+      out.push_back(*j++);
+    } else {
+      out.push_back(*i++);
+      out.back().count = saturating_sum(out.back().count, j++->count);
+    }
+  }
+  out.insert(out.end(), i, x.end());
+  out.insert(out.end(), j, y.end());
 }
 
 // One pass at one scan: the points qi of `q` (queries) whose radius r_q is at least that of the
@@ -184,7 +217,9 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
       const double* xg = &g.pos[p * m];
       if (q_is_a ? within_points(xq, trace_q, xg, g.trace[p], m, c2)
                  : within_points(xg, g.trace[p], xq, trace_q, m, c2))
-        gauged_push_back(out, q_is_a ? Hit{slot, q.track[i], g.track[p]} : Hit{slot, g.track[p], q.track[i]},
+        gauged_push_back(out,
+                         q_is_a ? Hit{q.track[i], g.track[p], static_cast<uint16_t>(slot), 1}
+                                : Hit{g.track[p], q.track[i], static_cast<uint16_t>(slot), 1},
                          gauge);
     };
     // The cells within span of the query's cell are read row by row along the last axis (a row is
@@ -266,8 +301,12 @@ void scan_all_pairs(std::span<const AlignedTracks* const> x, std::span<const Val
 }  // namespace
 
 std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* const> sensors, double cap,
-                                                 double radius_scale, AllocationGauge* gauge) {
+                                                 double radius_scale, AllocationGauge* gauge,
+                                                 std::span<const int32_t> least_hits,
+                                                 std::vector<std::size_t>* found) {
   const auto S = static_cast<int32_t>(sensors.size());
+  require(S <= 256, "scan_candidate_pairs",
+          "at most 256 sensors (a sensor pair is held in 16 bits), got " + std::to_string(S));
   std::vector<CandidatePairs> out(static_cast<std::size_t>(S) * S);
   for (int32_t s = 0; s < S; ++s)
     for (int32_t t = s + 1; t < S; ++t) {
@@ -275,6 +314,7 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
       out[static_cast<std::size_t>(s) * S + t].n_a = sensors[s]->n_tracks();
       out[static_cast<std::size_t>(s) * S + t].n_b = sensors[t]->n_tracks();
     }
+  if (found) found->assign(out.size(), 0);
   if (S < 2) return out;
   const int32_t K = sensors[0]->n_times;
   const double c2 = cap * radius_scale * radius_scale;
@@ -329,10 +369,14 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
       for (int32_t k = k0; k < std::min(K, k0 + kBlock); ++k) {
         scan.clear();
         scan_all_pairs(sensors, valid, k, c2, scratch, scan, gauge);
-        sort_unique(scan);
+        // Each pair once per scan (count 1): a count is a number of scans.
+        std::sort(scan.begin(), scan.end());
+        scan.erase(
+            std::unique(scan.begin(), scan.end(), [](const Hit& x, const Hit& y) { return x.same_pair(y); }),
+            scan.end());
         gauged_reserve(merged, kept.size() + scan.size(), gauge);
         merged.clear();
-        std::set_union(kept.begin(), kept.end(), scan.begin(), scan.end(), std::back_inserter(merged));
+        merge_summing(kept, scan, merged);
         kept.swap(merged);
       }
     }
@@ -352,19 +396,47 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
   }
   std::vector<ValidByTime>().swap(valid);
   gauge_release(gauge, valid_bytes);
-  sort_unique(all);  // by slot, then (a, b): each slot's pairs sorted
+  sort_summing(all);  // by slot, then (a, b): each slot's pairs sorted, with their scans within
+  // The count filter (least_hits): a pair within its bound at fewer scans than the least for a
+  // lower bound of its common valid scans is dropped; n ≥ |span_a ∩ span_b| − gaps_a − gaps_b, the
+  // gaps being the invalid cells inside each track's span.
+  std::vector<std::vector<int32_t>> gaps(least_hits.empty() ? 0 : S);
+  for (std::size_t s = 0; s < gaps.size(); ++s) {
+    const AlignedTracks& x = *sensors[s];
+    gaps[s].assign(x.n_tracks(), 0);
+    for (int32_t i = 0; i < x.n_tracks(); ++i) {
+      const AlignedTracks::Span sp = x.span(i);
+      for (int32_t k = sp.begin; k < sp.end; ++k) gaps[s][i] += !x.valid[x.cell_base(i) + k];
+    }
+  }
+  auto kept = [&](const Hit& h) {
+    if (least_hits.empty()) return true;
+    const int32_t s = h.slot / S, t = h.slot % S;
+    const int64_t n = static_cast<int64_t>(common_span(sensors[s]->span(h.a), sensors[t]->span(h.b)).size()) -
+                      gaps[s][h.a] - gaps[t][h.b];
+    const auto at =
+        static_cast<std::size_t>(std::clamp<int64_t>(n, 0, static_cast<int64_t>(least_hits.size()) - 1));
+    return int32_t{h.count} >= std::min<int32_t>(least_hits[at], std::numeric_limits<uint16_t>::max());
+  };
   // Each slot's pairs counted, then laid out (exactly their size: 8 bytes a pair) beside the hits.
   std::vector<std::size_t> per_slot(out.size(), 0);
-  for (const Hit& h : all) ++per_slot[h.slot];
-  gauge_add(gauge, static_cast<double>(all.size() * 2 * sizeof(int32_t)));
+  if (found) found->assign(out.size(), 0);
+  for (const Hit& h : all) {
+    if (found) ++(*found)[h.slot];
+    per_slot[h.slot] += kept(h);
+  }
+  std::size_t total_kept = 0;
+  for (const std::size_t n : per_slot) total_kept += n;
+  gauge_add(gauge, static_cast<double>(total_kept * 2 * sizeof(int32_t)));
   for (std::size_t slot = 0; slot < out.size(); ++slot) {
     out[slot].a.reserve(per_slot[slot]);
     out[slot].b.reserve(per_slot[slot]);
   }
-  for (const Hit& h : all) {
-    out[h.slot].a.push_back(h.a);
-    out[h.slot].b.push_back(h.b);
-  }
+  for (const Hit& h : all)
+    if (kept(h)) {
+      out[h.slot].a.push_back(h.a);
+      out[h.slot].b.push_back(h.b);
+    }
   const double hits = static_cast<double>(all.capacity() * sizeof(Hit));
   std::vector<Hit>().swap(all);
   gauge_release(gauge, hits);
@@ -485,19 +557,53 @@ CandidatePairs candidate_pairs_for_gate(const AlignedTracks& a, const AlignedTra
   return gated_candidate_pairs(a, b, CandidateOptions{statistic.gate_probability, radius_scale});
 }
 
+std::vector<int32_t> least_scans_within_bound(int dim, const StatisticOptions& statistic, int32_t max_scans) {
+  if (statistic.gate != GateMethod::kCalibrated ||
+      (statistic.correlated && statistic.cross_correlation > 0.0) || statistic.common_process_noise > 0.0 ||
+      max_scans < 1)
+    return {};  // (prune_by_position_bound's conditions: the bound is for C = P_a + P_b)
+  const SequentialGate gate(dim, statistic, max_scans);
+  if (!gate.enabled()) return {};
+  const double c = gate.cap();
+  std::vector<int32_t> least(static_cast<std::size_t>(max_scans) + 1, 1);
+  for (int32_t n = 1; n <= max_scans; ++n) {
+    // (n − h)·c ≤ G(n), with a relative 10⁻⁹ for the round-off of the prune's sum of capped terms.
+    const double allowed_misses = (gate.threshold(n) * (1.0 + 1e-9) + 1e-9) / c;
+    least[n] = std::max<int32_t>(1, static_cast<int32_t>(std::ceil(n - allowed_misses)));
+  }
+  for (int32_t n = max_scans - 1; n >= 0; --n)
+    least[n] = std::min(least[n], least[n + 1]);  // a lower bound of n
+  return least;
+}
+
 std::vector<CandidatePairs> candidate_pairs_for_gate(std::span<const AlignedTracks* const> sensors,
                                                      const StatisticOptions& statistic, double radius_scale,
-                                                     AllocationGauge* gauge) {
-  if (statistic.gate == GateMethod::kCalibrated && !sensors.empty())
+                                                     AllocationGauge* gauge,
+                                                     std::vector<std::size_t>* found) {
+  if (statistic.gate == GateMethod::kCalibrated && !sensors.empty()) {
+    // A pair's common scans are at most the shorter of its sensors' longest spans, so at most the
+    // second largest of the longest spans.
+    int32_t most = 0, second = 0;
+    for (const AlignedTracks* x : sensors) {
+      const int32_t l = std::min(longest_span(*x), sensors[0]->n_times);
+      if (l > most)
+        second = most, most = l;
+      else
+        second = std::max(second, l);
+    }
+    const std::vector<int32_t> least = least_scans_within_bound(sensors[0]->dim, statistic, second);
     return scan_candidate_pairs(sensors, SequentialGate(sensors[0]->dim, statistic).cap(), radius_scale,
-                                gauge);
+                                gauge, least, found);
+  }
   const std::size_t S = sensors.size();
   std::vector<CandidatePairs> out(S * S);
+  if (found) found->assign(S * S, 0);
   for (std::size_t s = 0; s < S; ++s)
     for (std::size_t t = s + 1; t < S; ++t) {
       // The time-averaged index's own transient is not gauged (the pairs are counted once found).
       out[s * S + t] = candidate_pairs_for_gate(*sensors[s], *sensors[t], statistic, radius_scale);
       gauge_add(gauge, static_cast<double>(out[s * S + t].size() * 2 * sizeof(int32_t)));
+      if (found) (*found)[s * S + t] = out[s * S + t].size();
     }
   return out;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "kernels/core/random.hpp"
+#include "kernels/statistics/chi_square.hpp"
 #include "kernels/statistics/scan_candidates.hpp"
 
 namespace trackassoc {
@@ -118,6 +119,98 @@ TEST(ScanCandidatesSensors, OneAndThreeAxesWithSpreadRadiiEqualTheNaiveScan) {
     }
     EXPECT_GT(total, 500u) << D;
   }
+}
+
+// n tracks crossing one another: uniform start in a 6 km square, velocity ±150 m per step on each
+// axis, position variance 1e4..5e4 m², valid at ~80 % of a random span of the K common times. Most
+// pairs are within their per-scan bound at a few scans only (as they pass).
+AlignedTracks crossing_sensor(int32_t sensor, int32_t n, int32_t K, uint64_t seed) {
+  AlignedTracks x;
+  x.sensor = sensor;
+  x.dim = 4;
+  x.n_times = K;
+  CounterRng rng(seed, 0, 0);
+  std::vector<int32_t> begin, length;
+  for (int32_t i = 0; i < n; ++i) {
+    x.track.push_back(i);
+    x.truth.push_back(i);
+    const auto b = static_cast<int32_t>(rng.uniform(0.0, K / 2.0));
+    begin.push_back(b);
+    length.push_back(1 + static_cast<int32_t>(rng.uniform(K / 4.0, K - b - 1.0)));
+  }
+  x.allocate(begin, length);
+  for (int32_t i = 0; i < n; ++i) {
+    const double p0[2] = {rng.uniform(-3000.0, 3000.0), rng.uniform(-3000.0, 3000.0)};
+    const double v[2] = {rng.uniform(-150.0, 150.0), rng.uniform(-150.0, 150.0)};
+    const double var = rng.uniform(1e4, 5e4);
+    for (int32_t k = x.span(i).begin; k < x.span(i).end; ++k) {
+      const int64_t c = x.cell(i, k);
+      x.valid[c] = rng.uniform(0.0, 1.0) < 0.8;
+      double* st = x.state_at(c);
+      for (int d = 0; d < 2; ++d) st[d] = p0[d] + v[d] * k, st[2 + d] = v[d];
+      double* p = x.cov_at(c);
+      for (int r = 0; r < 4; ++r) p[packed_index(4, r, r)] = r < 2 ? var : 100.0;
+    }
+  }
+  return x;
+}
+
+std::vector<std::pair<int32_t, int32_t>> pairs_of(const CandidatePairs& c) {
+  std::vector<std::pair<int32_t, int32_t>> out;
+  for (std::size_t q = 0; q < c.size(); ++q) out.emplace_back(c.a[q], c.b[q]);
+  return out;
+}
+
+// The count filter of the calibrated gate: its table is the smallest h with (n − h)·c ≤ G(n)
+// found by counting h up (G(n) = f·χ²_p(n·D/f), f ≤ n), it drops most pairs of crossing tracks, and the
+// position-bound prune keeps exactly the same pairs from what it leaves as from every pair found.
+TEST(ScanCandidatesSensors, TheCountFilterDropsOnlyPairsThePruneDrops) {
+  const StatisticOptions statistic;  // the default calibrated gate
+  const int D = 4;
+  const double c = chi_square_quantile(statistic.cap_probability, D), f = statistic.scans_per_independent;
+  const std::vector<int32_t> least = least_scans_within_bound(D, statistic, 60);
+  ASSERT_EQ(least.size(), 61u);
+  for (int32_t n = 1; n <= 60; ++n) {
+    auto gate = [&](int32_t scans) {  // f ≤ n: n scans are at most n independent ones
+      const double fn = std::min(f, static_cast<double>(scans));
+      return fn * chi_square_quantile(statistic.gate_probability, scans * D / fn);
+    };
+    const double G = gate(n);
+    int32_t h = 1;
+    while ((n - h) * c > G) ++h;
+    int32_t smallest = h;  // over n' ≥ n, as the table holds a lower bound's least
+    for (int32_t m = n + 1; m <= 60; ++m) {
+      const double Gm = gate(m);
+      int32_t hm = 1;
+      while ((m - hm) * c > Gm) ++hm;
+      smallest = std::min(smallest, hm);
+    }
+    EXPECT_EQ(least[n], smallest) << n;
+  }
+  EXPECT_GT(least[60], 10);  // over 60 scans a pair must be within its bound at many of them
+
+  const int32_t K = 50;
+  const std::vector<AlignedTracks> x{crossing_sensor(0, 200, K, 21), crossing_sensor(1, 200, K, 22),
+                                     crossing_sensor(2, 150, K, 23)};
+  const std::vector<const AlignedTracks*> ptr{&x[0], &x[1], &x[2]};
+  std::vector<std::size_t> found;
+  const std::vector<CandidatePairs> filtered = candidate_pairs_for_gate(ptr, statistic, 1.0, nullptr, &found);
+  const std::vector<CandidatePairs> every = scan_candidate_pairs(ptr, c);
+  std::size_t dropped = 0, total = 0;
+  for (const auto& [s, t] : {std::pair{0, 1}, {0, 2}, {1, 2}}) {
+    SCOPED_TRACE(std::to_string(s) + "-" + std::to_string(t));
+    const CandidatePairs& all = every[s * 3 + t];
+    EXPECT_EQ(found[s * 3 + t], all.size());  // found counts the pairs before the filter
+    const auto kept = pairs_of(filtered[s * 3 + t]), everything = pairs_of(all);
+    EXPECT_TRUE(std::includes(everything.begin(), everything.end(), kept.begin(), kept.end()));
+    const auto pruned_kept = pairs_of(prune_by_position_bound(x[s], x[t], filtered[s * 3 + t], statistic));
+    const auto pruned_all = pairs_of(prune_by_position_bound(x[s], x[t], all, statistic));
+    EXPECT_EQ(pruned_kept, pruned_all);
+    EXPECT_GT(pruned_all.size(), 20u);
+    dropped += everything.size() - kept.size();
+    total += everything.size();
+  }
+  EXPECT_GT(dropped, total / 5);  // the filter does work here (28 % of 12 912 pairs)
 }
 
 }  // namespace
