@@ -13,7 +13,7 @@ import csv
 import math
 import sys
 
-STAGES = ("alignment", "candidates", "statistics", "clusters", "solve")
+STAGES = ("alignment", "candidates", "statistics", "components", "solve")
 
 
 def read_rows(path):

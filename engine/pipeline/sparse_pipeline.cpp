@@ -10,8 +10,8 @@
 #include <numeric>
 
 #include "engine/distributed/shard_items.hpp"
-#include "engine/pipeline/pair_source.hpp"
 #include "engine/pipeline/partition.hpp"
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/tuple_decoding.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
@@ -22,11 +22,6 @@ namespace trackassoc {
 namespace {
 
 constexpr double kMiB = 1024.0 * 1024.0;
-
-std::size_t aligned_bytes(const AlignedTracks& x) {
-  return x.state.size() * sizeof(double) + x.cov.size() * sizeof(double) + x.valid.size() +
-         (x.track.size() + x.truth.size()) * sizeof(int32_t);
-}
 
 }  // namespace
 
@@ -57,42 +52,27 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
                                                           const SparsePipelineOptions& options) {
   options.validate();
   const PipelineOptions& po = options.pipeline;
+  // The default path's front half over the three sensors (sparse_sd_pipeline.hpp): the same
+  // alignment, candidates, gated pairs and components, and the same memory budget. The 1-3 pairs are
+  // needed by the all-pairs cost and, in both forms, by the decoding of partial tuples
+  // (engine/pipeline/pipeline.hpp decodes a gated-in 1-3 pair).
+  SparseSDOptions front;
+  front.pipeline = po;
+  front.radius_scale = options.radius_scale;
+  front.max_component_entries = options.max_component_entries;
+  front.rival_exponent = 0.0;  // (the S-D link costs are not used here)
+  SparseSDProblem half = build_sparse_front_half(file, front, SensorRule::kThree);
   SparseAssociationProblem p;
-  auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, std::size_t bytes) {
-    p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), static_cast<double>(bytes) / kMiB});
-  };
-
-  auto t0 = std::chrono::steady_clock::now();
-  static_cast<AlignedSensors&>(p) = align_sensors(file, po, SensorRule::kThree);  // as the dense pipeline
-  std::size_t bytes = 0;
-  for (int d = 0; d < 3; ++d) bytes += aligned_bytes(p.aligned[d]);
-  stage("alignment", t0, bytes);
-
-  // Candidate pairs 1-2, 2-3, 1-3. The 1-3 pairs are needed by the all-pairs cost and, in both
-  // forms, by the decoding of partial tuples (engine/pipeline/pipeline.hpp decodes a gated-in 1-3 pair).
-  t0 = std::chrono::steady_clock::now();
+  static_cast<AlignedSensors&>(p) = std::move(static_cast<AlignedSensors&>(half));
   const std::array<std::pair<int, int>, 3> sensor_pairs{{{0, 1}, {1, 2}, {0, 2}}};
-  std::array<CandidatePairs, 3> cand;
-  bytes = 0;
-  // The default path's index in one pass for the three pairs (pair_source.hpp): the same gated pairs.
-  std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale);
-  for (int q = 0; q < 3; ++q) {
-    IndexedCandidates& c =
-        found[static_cast<std::size_t>(sensor_pairs[q].first) * 3 + sensor_pairs[q].second];
-    p.candidate_pairs[q] = c.found;
-    cand[q] = std::move(c.pairs);
-    bytes += cand[q].size() * 2 * sizeof(int32_t);
-  }
-  stage("candidates", t0, bytes);
-
-  t0 = std::chrono::steady_clock::now();
   std::array<SparsePairStatistic*, 3> out{&p.s12, &p.s23, &p.s13};
-  bytes = 0;
   for (int q = 0; q < 3; ++q) {
-    *out[q] =
-        gated_candidate_statistic(p, sensor_pairs[q].first, sensor_pairs[q].second, cand[q], po.statistic);
-    bytes += out[q]->bytes();
+    const std::size_t slot = static_cast<std::size_t>(sensor_pairs[q].first) * 3 + sensor_pairs[q].second;
+    p.candidate_pairs[q] = half.candidate_pairs[slot];
+    *out[q] = std::move(half.pairs[slot]);
   }
+  p.components = std::move(half.components);
+  p.stages = std::move(half.stages);
   // G, the dense rule over the matrices the cost form uses (kernels/statistics/cost_tensor.hpp).
   if (po.cost.gated_pair_cost > 0.0) {
     p.gated_pair_cost = po.cost.gated_pair_cost;
@@ -104,14 +84,6 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
         if (std::isfinite(l)) max_lambda = std::max(max_lambda, l);
     p.gated_pair_cost = std::min(std::max(10.0 * max_lambda, 1e3), 1e30);
   }
-  stage("statistics", t0, bytes);
-
-  t0 = std::chrono::steady_clock::now();
-  const GatedPairs gated[3] = {{0, 1, &p.s12}, {1, 2, &p.s23}, {0, 2, &p.s13}};
-  p.components = gated_pair_components(p, gated);
-  stage("clusters", t0,
-        (p.components.label.size() + p.components.nodes.size()) * sizeof(int32_t) +
-            p.components.begin.size() * sizeof(int64_t));
   return p;
 }
 

@@ -1,10 +1,12 @@
 // The sparse association pipeline for three sensors (docs/design.md §4.3, "Sparse form"): the path for
 // recorded track sets too large for the dense n1·n2·n3 tensor.
 //
-//   local tracks → sensors, common times, alignment        (the front end, engine/pipeline/front_end.hpp)
-//   → the default path's per-scan candidate index, λ on the candidates, the gate
-//                                                          (the pair source, engine/pipeline/pair_source.hpp)
-//   → connected components of the gated pair graph         (the partition, engine/pipeline/partition.hpp)
+//   the default path's front half over exactly three sensors (build_sparse_front_half,
+//   engine/pipeline/sparse_sd_pipeline.hpp; the same code, stage reports and memory budget):
+//     local tracks → sensors, common times, alignment    (the front end, engine/pipeline/front_end.hpp)
+//     → the per-scan candidate index, λ on the candidates, the gate
+//                                                        (the pair source, engine/pipeline/pair_source.hpp)
+//     → connected components of the gated pair graph     (the partition, engine/pipeline/partition.hpp)
 //   → per component, in parallel (TBB): a small dense sub-tensor, any registered solver
 //   → decoding into the same AssociationRecord as the dense pipeline.
 // Under MPI (options.ranks, more than one rank) the components are solved on the ranks and decoded
@@ -77,7 +79,7 @@ struct SparseAssociationProblem : AlignedSensors {
   SparsePairStatistic s12, s23, s13;             // in-gate pairs only
   Components components;
   double gated_pair_cost = 0.0;     // G used in every sub-tensor
-  std::vector<StageReport> stages;  // alignment, candidates, statistics, clusters
+  std::vector<StageReport> stages;  // alignment, candidates, statistics, components
 };
 
 SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,

@@ -178,6 +178,11 @@ std::vector<double> rival_link_costs(const SparsePairStatistic& st, const Aligne
 
 SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOptions& options) {
   options.validate();
+  return build_sparse_front_half(file, options, SensorRule::kTwoOrMore);
+}
+
+SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOptions& options,
+                                        SensorRule rule) {
   const PipelineOptions& po = options.pipeline;
   SparseSDProblem p;
   auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, double bytes) {
@@ -200,7 +205,8 @@ SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOpt
   };
 
   auto t0 = std::chrono::steady_clock::now();
-  static_cast<AlignedSensors&>(p) = align_sensors(file, po, SensorRule::kTwoOrMore, EmptySensors::kLeaveOut);
+  static_cast<AlignedSensors&>(p) = align_sensors(
+      file, po, rule, rule == SensorRule::kThree ? EmptySensors::kRefuse : EmptySensors::kLeaveOut);
   double bytes = 0;
   for (const AlignedTracks& x : p.aligned)
     bytes += static_cast<double>(x.state.size() + x.cov.size()) * sizeof(double) + x.valid.size();

@@ -123,6 +123,16 @@ std::vector<double> rival_link_costs(const SparsePairStatistic& st, const Aligne
 // common time at all.
 SparseSDProblem build_sparse_sd_problem(const TrackFile& file, const SparseSDOptions& options);
 
+// The front half of both sparse paths, written once (docs/design.md §4): the front end (the sensors
+// of `rule`: any two or more, a chosen sensor without tracks left out; or exactly three, as
+// --sparse), the pair source (the per-scan candidate index, λ on its candidates, the gate; the
+// link costs with options.rival_exponent), the partition (connected components of the gated
+// pairs), each with its StageReport and checked against the memory budget. Validates nothing
+// (build_sparse_sd_problem validates the S-D options, build_sparse_association_problem the 3-D
+// ones); options.segments are not used and options.ranks share the statistics.
+SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOptions& options,
+                                        SensorRule rule);
+
 // Solvers of the components: the registry's tensor S-D solvers (capabilities.sd_tensor), the
 // default first: lr+ls, lr, exact.
 const std::vector<std::string>& sparse_sd_solver_names();

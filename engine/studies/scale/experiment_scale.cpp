@@ -375,7 +375,7 @@ std::string scale_table(const std::vector<ScaleRow>& rows) {
     };
     std::snprintf(line, sizeof line, "%7d %9lld %9lld %8d %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %9.0f %7.1f%% ",
                   r.n, static_cast<long long>(r.candidate_pairs), static_cast<long long>(r.gated_pairs),
-                  r.components, st("alignment"), st("candidates"), st("statistics"), st("clusters"),
+                  r.components, st("alignment"), st("candidates"), st("statistics"), st("components"),
                   st("solve"), r.total_s, r.peak_mib, 100.0 * r.correct_rate);
     os << line;
     if (r.dense_run) {
@@ -420,7 +420,7 @@ void write_scale_outputs(const std::string& dir, const std::vector<ScaleRow>& ro
 std::string scale_csv(const std::vector<ScaleRow>& rows) {
   std::ostringstream os;
   os << "n,tracks1,tracks2,tracks3,candidate_pairs,gated_pairs,components,largest_component";
-  const std::vector<std::string> stages{"alignment", "candidates", "statistics", "clusters", "solve"};
+  const std::vector<std::string> stages{"alignment", "candidates", "statistics", "components", "solve"};
   for (const auto& s : stages) os << "," << s << "_s," << s << "_peak_mib," << s << "_data_mib";
   os << ",total_s,peak_mib,correct_rate,false_rate,missed_rate,dense_total_s,dense_peak_mib,dense_correct_"
         "rate,"
@@ -453,7 +453,7 @@ std::string scale_csv(const std::vector<ScaleRow>& rows) {
 
 void write_scale_h5(const std::string& path, const std::vector<ScaleRow>& rows, const nlohmann::json& options,
                     double loglog_slope) {
-  static const char* const kStages[5] = {"alignment", "candidates", "statistics", "clusters", "solve"};
+  static const char* const kStages[5] = {"alignment", "candidates", "statistics", "components", "solve"};
   const hsize_t K = rows.size();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<int32_t> n, tracks, components, largest, dense_run, dense_identical, ok;
@@ -527,7 +527,7 @@ void write_scale_h5(const std::string& path, const std::vector<ScaleRow>& rows, 
       doubles("dense_gated_pairs", dense_gated);
       ints("dense_identical", dense_identical);
       ints("ok", ok);
-      g.write_attribute("stages", std::string("alignment,candidates,statistics,clusters,solve"));
+      g.write_attribute("stages", std::string("alignment,candidates,statistics,components,solve"));
       g.write_attribute("errors", errors.dump());
     }
     f.close();

@@ -1,6 +1,6 @@
 // `trackassoc experiment scale` (issue 6): the sparse association path from 10² to 10⁴ (and more)
 // targets per sensor at a fixed, realistic density, with time and peak memory per stage
-// (alignment, candidates, statistics, clusters, solve) and the correct association rate; at the
+// (alignment, candidates, statistics, components, solve) and the correct association rate; at the
 // sizes where the dense path fits, the dense path with the same solver beside it and a check that
 // both give the same associations.
 //
@@ -75,7 +75,7 @@ struct ScaleRow {
   std::vector<int32_t> tracks;  // tracks per sensor
   int64_t candidate_pairs = 0, gated_pairs = 0;
   int32_t components = 0, largest_component = 0;
-  std::vector<std::string> stage;  // alignment, candidates, statistics, clusters, solve
+  std::vector<std::string> stage;  // alignment, candidates, statistics, components, solve
   std::vector<double> stage_s, stage_peak_mib, stage_data_mib;
   double total_s = 0.0, peak_mib = 0.0;
   double correct_rate = 0.0, false_rate = 0.0, missed_rate = 0.0;
@@ -103,7 +103,7 @@ std::string scale_csv(const std::vector<ScaleRow>& rows);
 //     n (K int32), tracks (K×3 int32, tracks per sensor), components, largest_component (K int32),
 //     candidate_pairs, gated_pairs (K float64, counts; exact below 2^53),
 //     stage_s, stage_peak_mib, stage_data_mib (K×5 float64, columns = attr `stages`:
-//       alignment, candidates, statistics, clusters, solve),
+//       alignment, candidates, statistics, components, solve),
 //     total_s, peak_mib, correct_rate, false_rate, missed_rate (K float64),
 //     dense_run (K int32, 1 = the dense path also ran), dense_total_s, dense_peak_mib,
 //     dense_correct_rate, dense_gated_pairs (K float64, NaN where the dense path did not run),

@@ -2,7 +2,7 @@
 // and 31; io/memory_budget.hpp, docs/design.md §7): the candidate search, whose size is known only
 // as it finds pairs, counts its buffers as they grow (kernels/core/allocation_gauge.hpp) and is
 // refused before the buffer that would cross the budget, measured as the process's peak resident
-// set; a budget it fits lets it finish.
+// set; a budget it fits lets it finish. --sparse shares the front half, so its search is refused too.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
@@ -10,6 +10,7 @@
 #include <string>
 
 #include "engine/pipeline/registration_stage.hpp"
+#include "engine/pipeline/sparse_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/track_segments.hpp"
 #include "engine/pipeline/track_stitching.hpp"
@@ -26,12 +27,13 @@ using testing_support::kAddressSanitizer;
 
 constexpr std::size_t kMiB = std::size_t{1} << 20;
 
-// Two sensors (period 1 s) with n tracks each over [0, K − 1] s, all at the same place (x = t,
-// σ 5 m): every pair of the two sensors is a candidate at every scan.
-TrackFile crowd(int32_t n, int32_t K) {
+// `sensors` sensors (period 1 s; two or three) with n tracks each over [0, K − 1] s, all at the
+// same place (x = t, σ 5 m): every pair of two sensors is a candidate at every scan.
+TrackFile crowd(int32_t n, int32_t K, int32_t sensors = 2) {
   TrackFile f = testing_support::two_sensor_file();
+  if (sensors == 3) f.sensors.push_back(Sensor{f.sensors[1]}), f.sensors.back().id = 2;
   const Eigen::MatrixXd P = Eigen::Vector4d(25, 25, 1, 1).asDiagonal();
-  for (int32_t s = 0; s < 2; ++s)
+  for (int32_t s = 0; s < sensors; ++s)
     for (int32_t i = 0; i < n; ++i)
       for (int32_t k = 0; k < K; ++k) f.tracks.push_back(s, i, k, Eigen::Vector4d(k, 0, 1, 0), P, i);
   return f;
@@ -75,6 +77,24 @@ TEST(MemoryBudgetStages, TheCandidateSearchIsRefusedBeforeItsHitsAreAllocated) {
   if (!kAddressSanitizer) {
     EXPECT_LE(grew, static_cast<double>(budget));
   }
+}
+
+// --sparse (the three-sensor path) shares the default path's front half, budget included: three
+// sensors of 1000 tracks, 3·10⁶ pairs at every scan, 144 MB of hits by the count above, refused
+// at 32 MiB (before the front half was shared, --sparse ran its own search unchecked and finished).
+TEST(MemoryBudgetStages, TheSparseThreeSensorPathIsRefusedToo) {
+  const TrackFile f = crowd(1000, 16, 3);
+  set_memory_budget_bytes(32 * kMiB);
+  std::string message;
+  try {
+    build_sparse_association_problem(f, SparsePipelineOptions{});
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  set_memory_budget_bytes(default_memory_budget_bytes());
+  EXPECT_NE(message.find("the candidate search of 3 sensors (3000 local tracks"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("more than the memory budget of 32 MiB"), std::string::npos) << message;
 }
 
 // The same stage within a budget it fits: 100 tracks a sensor, 10 000 pairs (by hand: all of them),

@@ -25,7 +25,7 @@ ScaleRow make_row(int32_t n, bool dense, bool identical) {
   r.gated_pairs = 3 * n;
   r.components = n - 3;
   r.largest_component = 4;
-  // Stages out of the table's order, and "clusters" missing: the columns go by name.
+  // Stages out of the table's order, and "components" missing: the columns go by name.
   r.stage = {"candidates", "alignment", "statistics", "solve"};
   r.stage_s = {0.25, 0.5, 0.125, 0.0625};
   r.stage_peak_mib = {11, 10, 12, 13};
@@ -74,14 +74,14 @@ TEST(ExperimentScaleH5, RowsReadBackExactly) {
   EXPECT_EQ(cand[0], 307.0);
   EXPECT_EQ(cand[2], 3007.0);
   EXPECT_TRUE(std::isnan(cand[3]));
-  // Stage columns in the attribute's order: alignment, candidates, statistics, clusters, solve.
-  EXPECT_EQ(g.read_string_attribute("stages"), "alignment,candidates,statistics,clusters,solve");
+  // Stage columns in the attribute's order: alignment, candidates, statistics, components, solve.
+  EXPECT_EQ(g.read_string_attribute("stages"), "alignment,candidates,statistics,components,solve");
   const auto st = doubles("stage_s", 2);
   ASSERT_EQ(dims, (std::vector<hsize_t>{4, 5}));
   EXPECT_EQ(st[0], 0.5);
   EXPECT_EQ(st[1], 0.25);
   EXPECT_EQ(st[2], 0.125);
-  EXPECT_TRUE(std::isnan(st[3]));  // no clusters stage in this row
+  EXPECT_TRUE(std::isnan(st[3]));  // no components stage in this row
   EXPECT_EQ(st[4], 0.0625);
   for (int q = 0; q < 5; ++q) EXPECT_TRUE(std::isnan(st[15 + q]));  // the failed size
   const auto data = doubles("stage_data_mib", 2);
