@@ -3,7 +3,8 @@
 // --help) and its pair recalls and precision (engine/pipeline/pair_metrics.hpp), written to
 // /metrics/<name>/, and with /truth the position RMSE
 // of every /fused group beside each sensor's (engine/fusion/fused_accuracy.hpp), written to the
-// /fused group (in place, atomically, by default).
+// /fused group, in a copy of the input at --output (atomically); without --output it only prints: no
+// output ever replaces an input (docs/design.md §2).
 #include <iostream>
 
 #include "engine/cli/common.hpp"
@@ -78,7 +79,8 @@ void register_evaluate(CLI::App& app) {
       "sensor's, over the same targets and times (the members' reports at the fused times).");
   cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks/truth and /associations")->required();
   cmd->add_option("--output,-o", args->output,
-                  "Where to write the file with /metrics (default: replace the input)");
+                  "Where to write a copy of the input with /metrics (and the /fused RMSE) added; without "
+                  "it, evaluate only prints (the input is never rewritten)");
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
@@ -118,7 +120,7 @@ void register_evaluate(CLI::App& app) {
     std::cout << "\n";
     pairs.print(std::cout);
     print_fused_accuracy(file, std::cout);
-    write_track_file(args->output.empty() ? args->input : args->output, file);
+    if (!args->output.empty()) write_track_file(args->output, file);
   });
 }
 

@@ -99,16 +99,17 @@ TEST_F(BadInputCli, DeeplyNestedJsonIsRefusedWithoutRecursion) {
 }
 
 TEST_F(BadInputCli, FullDiskWhileWritingKeepsTheOldOutputAndExitsCleanly) {
-  const std::string sim = path("sim.h5"), assoc = path("assoc.h5");
+  const std::string sim = path("sim.h5"), assoc = path("assoc.h5"), scored = path("scored.h5");
   ASSERT_EQ(run("simulate --output " + sim).status, 0);
   ASSERT_EQ(run("associate --input " + sim + " --output " + assoc).status, 0);
+  ASSERT_EQ(run("evaluate --input " + assoc + " --output " + scored).status, 0);
   const auto size = [](const std::string& p) { return fs::file_size(p); };
-  const auto sim_bytes = size(sim), assoc_bytes = size(assoc);
+  const auto sim_bytes = size(sim), assoc_bytes = size(assoc), scored_bytes = size(scored);
   ASSERT_GT(sim_bytes, 48u * 1024);  // so that a 32 KiB limit stops the writer halfway
   const std::string commands[] = {
-      "simulate --seed 2 --output " + sim,                // replaces sim.h5
-      "associate --input " + sim + " --output " + assoc,  // replaces assoc.h5
-      "evaluate --input " + assoc,                        // in place
+      "simulate --seed 2 --output " + sim,                 // replaces sim.h5
+      "associate --input " + sim + " --output " + assoc,   // replaces assoc.h5
+      "evaluate --input " + assoc + " --output " + scored  // replaces scored.h5
   };
   for (const std::string& c : commands) {
     int signal = 0;
@@ -118,7 +119,8 @@ TEST_F(BadInputCli, FullDiskWhileWritingKeepsTheOldOutputAndExitsCleanly) {
     EXPECT_EQ(r.err.find(".tmp"), std::string::npos) << "names the user's file: " << r.err;
     EXPECT_EQ(size(sim), sim_bytes) << c;
     EXPECT_EQ(size(assoc), assoc_bytes) << c;
-    EXPECT_FALSE(fs::exists(sim + ".tmp") || fs::exists(assoc + ".tmp")) << c;
+    EXPECT_EQ(size(scored), scored_bytes) << c;
+    EXPECT_FALSE(fs::exists(sim + ".tmp") || fs::exists(assoc + ".tmp") || fs::exists(scored + ".tmp")) << c;
   }
   // The old outputs are whole: they still read.
   EXPECT_EQ(run("evaluate --input " + assoc + " --output " + path("check.h5")).status, 0);

@@ -102,10 +102,16 @@ TEST_F(CliTest, SimulateAssociateEvaluate) {
   const Result a =
       run("associate --input " + path("sim.h5") + " --output " + path("assoc.h5") + " --solver greedy");
   ASSERT_EQ(a.status, 0) << a.err;
+  // Without --output evaluate only prints: the input is left byte for byte as it was.
+  const std::string before = slurp(path("assoc.h5"));
   const Result e = run("evaluate --input " + path("assoc.h5"));
   ASSERT_EQ(e.status, 0) << e.err;
   EXPECT_NE(e.out.find("greedy"), std::string::npos);
-  const auto file = trackassoc::read_track_file(path("assoc.h5"));
+  EXPECT_EQ(slurp(path("assoc.h5")), before);
+  EXPECT_TRUE(trackassoc::read_track_file(path("assoc.h5")).metrics.empty());
+  const Result o = run("evaluate --input " + path("assoc.h5") + " --output " + path("scored.h5"));
+  ASSERT_EQ(o.status, 0) << o.err;
+  const auto file = trackassoc::read_track_file(path("scored.h5"));
   ASSERT_EQ(file.metrics.size(), 1u);
   EXPECT_EQ(file.metrics[0].name, "greedy");
 }

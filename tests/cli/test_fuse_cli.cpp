@@ -41,10 +41,10 @@ TEST_F(FuseCli, EveryRuleThenEvaluateReportsFusedBelowEachSensor) {
   const testing_support::CliResult bsc = run("fuse --input " + file_ + " --rule bsc --name bsc");
   EXPECT_NE(bsc.out.find("sigma_a = 3 m/s² (the scenario's tracker.process_noise)"), std::string::npos)
       << bsc.out;
-  const testing_support::CliResult e = run("evaluate --input " + file_);
+  const testing_support::CliResult e = run("evaluate --input " + file_ + " --output " + file_ + ".scored.h5");
   ASSERT_EQ(e.status, 0) << e.err;
   EXPECT_NE(e.out.find("fused RMSE [m]"), std::string::npos) << e.out;
-  const TrackFile f = read_track_file(file_);
+  const TrackFile f = read_track_file(file_ + ".scored.h5");
   ASSERT_EQ(f.fused.size(), 3u);
   EXPECT_EQ(f.fused[0].name, assoc);
   for (const FusedTrackRecord& r : f.fused) {

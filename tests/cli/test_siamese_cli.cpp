@@ -76,9 +76,9 @@ TEST_F(SiameseCli, AssociatesTheSeed003SceneWithTheShippedModel) {
     std::printf("points=%s: correct pair rate %.3f\n", points, rate);
     EXPECT_GE(rate, 0.8) << points;
     // `evaluate` agrees (it counts the same thing for two sensors).
-    const CliResult e = run("evaluate --input " + out);
+    const CliResult e = run("evaluate --input " + out + " --output " + out + ".scored.h5");
     ASSERT_EQ(e.status, 0) << e.err;
-    const trackassoc::TrackFile g = trackassoc::read_track_file(out);
+    const trackassoc::TrackFile g = trackassoc::read_track_file(out + ".scored.h5");
     ASSERT_EQ(g.metrics.size(), 1u);
     EXPECT_DOUBLE_EQ(g.metrics[0].correct_rate, rate);
   }

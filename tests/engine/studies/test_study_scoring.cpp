@@ -224,9 +224,9 @@ TEST_F(Seed000Study, RowsEqualSimulateAssociateEvaluate) {
         run("associate --input " + path("sim.h5") + " --output " + path("a.h5") + " --solver " + row.solver +
             " --seed " + std::to_string(o.seed + row.run) + flags);
     ASSERT_EQ(a.status, 0) << a.err;
-    const CliResult e = run("evaluate --input " + path("a.h5"));
+    const CliResult e = run("evaluate --input " + path("a.h5") + " --output " + path("s.h5"));
     ASSERT_EQ(e.status, 0) << e.err;
-    const TrackFile f = read_track_file(path("a.h5"));
+    const TrackFile f = read_track_file(path("s.h5"));
     ASSERT_EQ(f.metrics.size(), 1u);
     EXPECT_DOUBLE_EQ(f.metrics[0].correct_rate, row.correct_rate);
     EXPECT_DOUBLE_EQ(f.metrics[0].false_rate, row.false_rate);
@@ -264,8 +264,8 @@ TEST_F(Seed000Study, Seed004RowsEqualAssociateSdEvaluate) {
             " --alignment forward --process-noise 1 --gate-method chi2-sum --common-span "
             "intersection --cost-form chain --link-cost per-independent-scan");
     ASSERT_EQ(a.status, 0) << a.err;
-    ASSERT_EQ(run("evaluate --input " + path("a.h5")).status, 0);
-    const TrackFile f = read_track_file(path("a.h5"));
+    ASSERT_EQ(run("evaluate --input " + path("a.h5") + " --output " + path("s.h5")).status, 0);
+    const TrackFile f = read_track_file(path("s.h5"));
     ASSERT_EQ(f.metrics.size(), 1u);
     EXPECT_DOUBLE_EQ(f.metrics[0].correct_rate, row.correct_rate);
   }
@@ -289,8 +289,8 @@ TEST_F(Seed000Study, Seed001RatesEqualAssociateFuzzyEvaluate) {
     const CliResult a = run("associate --input " + path("e.h5") + " --output " + path("a.h5") + " --solver " +
                             method + " --name again --options '" + options + "'");
     ASSERT_EQ(a.status, 0) << a.err;
-    ASSERT_EQ(run("evaluate --input " + path("a.h5")).status, 0);
-    const TrackFile f = read_track_file(path("a.h5"));
+    ASSERT_EQ(run("evaluate --input " + path("a.h5") + " --output " + path("s.h5")).status, 0);
+    const TrackFile f = read_track_file(path("s.h5"));
     for (const auto& m : f.metrics)
       if (m.name == "again") {
         EXPECT_DOUBLE_EQ(m.correct_rate, study_rate);
