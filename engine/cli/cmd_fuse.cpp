@@ -1,6 +1,7 @@
-// trackassoc fuse --input A.h5 [--association NAME] --rule naive|bsc|ci [--no-registration] [-o OUT]:
-// the fused tracks of an association, written to /fused/<name> (engine/fusion/track_fuser.hpp; in
-// place, atomically, by default), of the reports corrected by the association's /registration.
+// trackassoc fuse --input A.h5 [--association NAME] --rule naive|bsc|ci [--no-registration] -o OUT:
+// the fused tracks of an association, written to /fused/<name> of a copy of the input at OUT
+// (engine/fusion/track_fuser.hpp; atomically, never over the input: docs/design.md §2), of the
+// reports corrected by the association's /registration.
 #include <iostream>
 
 #include "engine/cli/common.hpp"
@@ -32,7 +33,9 @@ void register_fuse(CLI::App& app) {
       "sensor removed, the position covariance widened by the estimate's uncertainty), so the fused "
       "states are of the registered reports; otherwise the reports are fused as recorded.");
   cmd->add_option("--input,-i", args->input, "HDF5 file with /tracks and /associations")->required();
-  add_output_option(cmd, args->output, "Where to write the file with /fused (default: replace the input)");
+  add_output_option(cmd, args->output,
+                    "Where to write a copy of the input with /fused added (never the input itself)")
+      ->required();
   cmd->add_option("--association", args->association,
                   "The /associations group to fuse (default: the file's only association)");
   cmd->add_option("--name", args->name, "The /fused group to write (default: the association's name)");
@@ -63,7 +66,7 @@ void register_fuse(CLI::App& app) {
   add_common_options(cmd, args->common);
   cmd->callback([args] {
     ThreadScope threads(args->common.threads);
-    check_output_paths({{args->output, "--output"}});  // "" or the input: in place, by design
+    check_output_paths({{args->output, "--output"}}, {{args->input, "--input"}});  // never in place
     if (!args->name.empty())
       track_validation::check_object_name("--name", "/fused", args->name);  // before any work
     TrackFuserOptions o = args->o;
@@ -95,7 +98,7 @@ void register_fuse(CLI::App& app) {
                                          std::to_string(s.shrunk_cells) + " cells"
                                    : "")
                 << "\n";
-    const std::string out = args->output.empty() ? args->input : args->output;
+    const std::string& out = args->output;
     std::cout << s.rows << " fused rows in " << fmt(s.runtime_s * 1e3, "%.1f") << " ms -> " << out
               << ":/fused/" << rec.name << "\n";
     write_track_file(out, file);

@@ -224,7 +224,7 @@ TEST_F(BadInputPart3, NamesAreCheckedBeforeAnyWork) {
   const std::string a = slurp(path("a.h5"));
   for (const std::string name : {".", "a/b"}) {
     SCOPED_TRACE(name);
-    expect_refusal(run("fuse --input " + path("a.h5") + " --name '" + name + "'"),
+    expect_refusal(run("fuse --input " + path("a.h5") + " --name '" + name + "' -o " + path("f.h5")),
                    {"--name: /fused: invalid name '" + name + "'"});
     EXPECT_EQ(slurp(path("a.h5")), a);
     expect_refusal(
@@ -233,7 +233,8 @@ TEST_F(BadInputPart3, NamesAreCheckedBeforeAnyWork) {
     EXPECT_FALSE(fs::exists(path("b.h5")));
   }
   // A name with a real control byte: refused, and shown escaped.
-  const CliResult r = run("fuse --input " + path("a.h5") + " --name \"$(printf 'x\\033y')\"");
+  const CliResult r =
+      run("fuse --input " + path("a.h5") + " --name \"$(printf 'x\\033y')\" -o " + path("f.h5"));
   expect_refusal(r, {"invalid name 'x\\x1by'"});
   expect_printable(r.err);
 }

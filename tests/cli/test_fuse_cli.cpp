@@ -32,16 +32,30 @@ class FuseCli : public testing_support::CliFixture {
 
 TEST_F(FuseCli, EveryRuleThenEvaluateReportsFusedBelowEachSensor) {
   const std::string assoc = read_track_file(file_).associations.at(0).name;
-  for (const std::string args :
-       {"--rule naive", "--rule bsc --name bsc", "--rule ci --ci-criterion det --name ci"}) {
-    const testing_support::CliResult r = run("fuse --input " + file_ + " " + args);
+  // Each fusion into a new file (fuse never writes over its input), the next reading the last.
+  std::string last = file_;
+  int k = 0;
+  for (const std::string args : {"--rule naive", "--rule bsc --name bsc",
+                                 "--rule ci --ci-criterion det --name ci", "--rule bsc --name bsc"}) {
+    const std::string next = path("f" + std::to_string(++k) + ".h5");
+    const testing_support::CliResult r = run("fuse --input " + last + " " + args + " -o " + next);
     ASSERT_EQ(r.status, 0) << args << ": " << r.err;
     EXPECT_NE(r.out.find("fused rows"), std::string::npos) << r.out;
+    if (k == 4) {
+      EXPECT_NE(r.out.find("sigma_a = 3 m/s² (the scenario's tracker.process_noise)"), std::string::npos)
+          << r.out;
+    }
+    last = next;
   }
-  const testing_support::CliResult bsc = run("fuse --input " + file_ + " --rule bsc --name bsc");
-  EXPECT_NE(bsc.out.find("sigma_a = 3 m/s² (the scenario's tracker.process_noise)"), std::string::npos)
-      << bsc.out;
-  const testing_support::CliResult e = run("evaluate --input " + file_ + " --output " + file_ + ".scored.h5");
+  // The input itself is refused as the output, and --output is required.
+  const std::string before = slurp(last);
+  const testing_support::CliResult same = run("fuse --input " + last + " --rule naive -o " + last);
+  EXPECT_EQ(same.status, 2);
+  EXPECT_NE(same.err.find("--output"), std::string::npos) << same.err;
+  EXPECT_EQ(slurp(last), before);
+  EXPECT_NE(run("fuse --input " + last + " --rule naive").status, 0);
+  EXPECT_EQ(slurp(last), before);
+  const testing_support::CliResult e = run("evaluate --input " + last + " --output " + file_ + ".scored.h5");
   ASSERT_EQ(e.status, 0) << e.err;
   EXPECT_NE(e.out.find("fused RMSE [m]"), std::string::npos) << e.out;
   const TrackFile f = read_track_file(file_ + ".scored.h5");
@@ -83,21 +97,23 @@ TEST_F(FuseCli, RegisteredReportsByDefaultAsRecordedWithNoRegistration) {
         EXPECT_NEAR(std::sqrt(cov[(s * k + j) * k + j]), r.standard_error[s * k + j],
                     1e-12 * (1 + r.standard_error[s * k + j]));
   }
-  const testing_support::CliResult on = run("fuse --input " + file);
+  const testing_support::CliResult on = run("fuse --input " + file + " -o " + path("on.h5"));
   ASSERT_EQ(on.status, 0) << on.err;
   EXPECT_NE(on.out.find("registration: reports corrected by /registration"), std::string::npos) << on.out;
-  const testing_support::CliResult off = run("fuse --input " + file + " --no-registration --name raw");
+  const testing_support::CliResult off =
+      run("fuse --input " + path("on.h5") + " --no-registration --name raw -o " + path("both.h5"));
   ASSERT_EQ(off.status, 0) << off.err;
   EXPECT_NE(off.out.find("registration: not applied (switched off)"), std::string::npos) << off.out;
   // Without /registration in the file, the same fusion as --no-registration, to the bit.
   TrackFile plain = associated;
   plain.registration.reset();
   write_track_file(path("plain.h5"), plain);
-  const testing_support::CliResult recorded = run("fuse --input " + path("plain.h5") + " --name raw");
+  const testing_support::CliResult recorded =
+      run("fuse --input " + path("plain.h5") + " --name raw -o " + path("plain_fused.h5"));
   ASSERT_EQ(recorded.status, 0) << recorded.err;
   EXPECT_NE(recorded.out.find("registration: no /registration in the file"), std::string::npos)
       << recorded.out;
-  const TrackFile f = read_track_file(file), g = read_track_file(path("plain.h5"));
+  const TrackFile f = read_track_file(path("both.h5")), g = read_track_file(path("plain_fused.h5"));
   ASSERT_EQ(f.fused.size(), 2u);
   const FusedTrackRecord &registered = f.fused[0], &raw = f.fused[1];
   EXPECT_TRUE(nlohmann::json::parse(registered.options_json).at("registration").get<bool>());

@@ -16,9 +16,9 @@ from conftest import run_cli
 def results(simulated, tmp_path_factory):
     """recorded_formation associated (default pipeline) and fused (naive), as the CLI writes it."""
     folder = tmp_path_factory.mktemp("export")
-    out = folder / "a.h5"
-    run_cli("associate", "--input", simulated("recorded_formation"), "--output", out)
-    run_cli("fuse", "--input", out, "--rule", "naive")
+    associated, out = folder / "a.h5", folder / "f.h5"
+    run_cli("associate", "--input", simulated("recorded_formation"), "--output", associated)
+    run_cli("fuse", "--input", associated, "--rule", "naive", "--output", out)
     return out
 
 

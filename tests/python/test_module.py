@@ -154,8 +154,9 @@ def test_evaluate_matches_cli(simulated, tmp_path):
     path = simulated("recorded_formation")
     ours = trackassoc.evaluate(trackassoc.associate(trackassoc.read(path)))
     _, out = cli_association(tmp_path, path)
-    run_cli("evaluate", "--input", out)
-    with h5py.File(out, "r") as h:
+    scored = tmp_path / "scored.h5"
+    run_cli("evaluate", "--input", out, "--output", scored)
+    with h5py.File(scored, "r") as h:
         (m,) = h["metrics"].values()
         assert ours["correct_rate"] == m.attrs["correct_rate"]
         assert ours["false_rate"] == m.attrs["false_rate"]
@@ -168,8 +169,9 @@ def test_fuse_matches_cli(simulated, tmp_path, rule):
     path = simulated("recorded_sync")
     fused = trackassoc.fuse(trackassoc.associate(trackassoc.read(path)), rule=rule)
     _, out = cli_association(tmp_path, path)
-    run_cli("fuse", "--input", out, "--rule", rule)
-    (cli,) = trackassoc.read(str(out)).fused.values()
+    fused_out = tmp_path / "fused.h5"
+    run_cli("fuse", "--input", out, "--rule", rule, "--output", fused_out)
+    (cli,) = trackassoc.read(str(fused_out)).fused.values()
     assert len(fused) > 0 and fused.rule == rule
     for k, v in cli.arrays.items():
         assert fused.arrays[k].tobytes() == v.tobytes(), k
@@ -182,11 +184,12 @@ def test_write_then_cli_reads(simulated, tmp_path):
     out = tmp_path / "written.h5"
     trackassoc.write(str(out), f, associations=[a], fused=[fused])
     assert not (tmp_path / "written.h5.tmp").exists()
-    run_cli("evaluate", "--input", out)  # the command line reads and scores what the module wrote
+    scored = tmp_path / "scored.h5"  # the command line reads and scores what the module wrote
+    run_cli("evaluate", "--input", out, "--output", scored)
     back = trackassoc.read(str(out))
     np.testing.assert_array_equal(back.associations["mine"].tuples, a.tuples)
     assert back.fused["mine"].arrays["state"].tobytes() == fused.arrays["state"].tobytes()
-    with h5py.File(out, "r") as h:
+    with h5py.File(scored, "r") as h:
         assert h["metrics/mine"].attrs["correct_rate"] == trackassoc.evaluate(a)["correct_rate"]
 
 
