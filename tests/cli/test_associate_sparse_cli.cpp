@@ -132,7 +132,9 @@ TEST_F(AssociateSparseCli, DenseOverTheMemoryBudgetPointsToSparse) {
   EXPECT_EQ(tuple_set(rs), tuple_set(rd));
   double sum = 0.0;
   for (double c : rs.cost) sum += c;
-  if (rs.num_tuples() == 250u) EXPECT_NEAR(rs.objective, sum, 1e-5 * std::abs(sum));
+  if (rs.num_tuples() == 250u) {
+    EXPECT_NEAR(rs.objective, sum, 1e-5 * std::abs(sum));
+  }
   EXPECT_NEAR(rs.objective, rd.objective, 1e-5 * std::abs(rd.objective));
   // `run` shares the flags.
   r = run("run --scenario " + json + " --output " + path("run.h5") + " --solvers greedy --memory-budget 32");
