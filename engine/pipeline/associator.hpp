@@ -63,6 +63,10 @@ struct AssociatorOptions {
   // --sparse refuses it (SparseSDOptions, SparsePipelineOptions).
   double radius_scale = 1.0;
   std::size_t max_component_entries = std::size_t{1} << 24;
+  // The default (sparse S-D) path: the exponent κ ≥ 0 of the rival-weighted link cost
+  // (SparseSDOptions::rival_exponent, engine/pipeline/sparse_sd_pipeline.hpp; docs/design.md §4.9);
+  // 0 = every gated pair against the gate itself.
+  double rival_exponent = 2.0;
   // --sparse: the cost of a missing index in a component's sub-tensor (+inf: padded, every track
   // assigned; finite: the solvers' dummy index; engine/pipeline/sparse_pipeline.hpp). ≥ 0.
   float miss_cost = std::numeric_limits<float>::infinity();
@@ -81,7 +85,8 @@ struct AssociatorOptions {
   // serve_sparse_components, engine/pipeline/sparse_pipeline.hpp). Null: this process.
   distributed::Communicator* ranks = nullptr;
   // Throws InputError when more than one of sd, three_d, sparse is set, solver_options is not a
-  // JSON object, or radius_scale, max_component_entries or miss_cost is out of its range.
+  // JSON object, or radius_scale, max_component_entries, rival_exponent or miss_cost is out of its
+  // range.
   void validate() const;
 };
 
