@@ -4,11 +4,17 @@
 // local tracks left unassociated out.
 //
 // Paths (one implementation each, engine/pipeline/associators.cpp, wrapping the existing pipelines):
-//   sparse S-D   engine/pipeline/sparse_sd_pipeline.hpp: the default; every sensor, gated candidates,
-//                an S-D assignment with dummies per connected component
-//   dense S-D    engine/pipeline/pipeline_sd.hpp: --sd, chnn-pseudo, two or more than three --sensors
+//   sparse S-D   engine/pipeline/sparse_sd_pipeline.hpp: the default, for its solvers
+//                (sparse_sd_solver_names: lr+ls, lr, exact) without --sd, --3d or --sparse, whatever
+//                the number of --sensors (they select sensors, never the path); every sensor (or
+//                those of --sensors), gated candidates, an S-D assignment with dummies per connected
+//                component
+//   dense S-D    engine/pipeline/pipeline_sd.hpp: --sd, or chnn-pseudo; also a solver of no other
+//                rule (a 3-D solver, siamese) with two or more than three --sensors, which this path
+//                then refuses as it is not an S-D solver (require_sd_solver)
 //   dense 3-D    engine/pipeline/pipeline.hpp: a 3-D solver (engine/solvers/solver_registry.hpp) on
-//                the n1·n2·n3 tensor
+//                the n1·n2·n3 tensor (the file's three sensors or three --sensors; --3d for a
+//                default-path solver)
 //   sparse 3-D   engine/pipeline/sparse_pipeline.hpp: the same with --sparse, per connected component
 //   fusion       engine/fusion/fuzzy_pipeline.hpp: seed 001's fusion centre (fuzzy, ftaa); side
 //                output: the system tracks (/system_tracks/<name>/)
