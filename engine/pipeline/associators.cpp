@@ -12,7 +12,6 @@
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/siamese_track_file.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "io/siamese_model_file.hpp"
 #include "kernels/core/error.hpp"
