@@ -26,7 +26,6 @@
 #include "bench/simulated_files.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "engine/studies/autoferry/autoferry.hpp"
 

@@ -12,7 +12,7 @@
 #include <map>
 
 #include "engine/pipeline/pipeline_sd.hpp"
-#include "engine/pipeline/workflow.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "engine/solvers/chnn_pseudo_solver.hpp"
 #include "kernels/assignment/sd/lagrangian_sd.hpp"
 

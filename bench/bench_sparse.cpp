@@ -19,8 +19,8 @@
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "engine/studies/scale/experiment_scale.hpp"
 #include "kernels/statistics/sparse_candidates.hpp"
 

@@ -23,7 +23,6 @@
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pair_metrics.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
 
 namespace trackassoc::bench {

@@ -5,8 +5,8 @@
 #include <map>
 #include <string>
 
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "io/track_file.hpp"
 
 namespace trackassoc::bench {

@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "engine/cli/common.hpp"
-#include "engine/pipeline/workflow.hpp"
+#include "engine/simulation/simulation_io.hpp"
 
 namespace trackassoc::cli {
 

@@ -7,10 +7,10 @@
 
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/report/association_map.hpp"
 #include "engine/report/summary_chart.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "kernels/core/error.hpp"
 

@@ -4,11 +4,17 @@
 // local tracks left unassociated out.
 //
 // Paths (one implementation each, engine/pipeline/associators.cpp, wrapping the existing pipelines):
-//   sparse S-D   engine/pipeline/sparse_sd_pipeline.hpp: the default; every sensor, gated candidates,
-//                an S-D assignment with dummies per connected component
-//   dense S-D    engine/pipeline/pipeline_sd.hpp: --sd, chnn-pseudo, two or more than three --sensors
+//   sparse S-D   engine/pipeline/sparse_sd_pipeline.hpp: the default, for its solvers
+//                (sparse_sd_solver_names: lr+ls, lr, exact) without --sd, --3d or --sparse, whatever
+//                the number of --sensors (they select sensors, never the path); every sensor (or
+//                those of --sensors), gated candidates, an S-D assignment with dummies per connected
+//                component
+//   dense S-D    engine/pipeline/pipeline_sd.hpp: --sd, or chnn-pseudo; also a solver of no other
+//                rule (a 3-D solver, siamese) with two or more than three --sensors, which this path
+//                then refuses as it is not an S-D solver (require_sd_solver)
 //   dense 3-D    engine/pipeline/pipeline.hpp: a 3-D solver (engine/solvers/solver_registry.hpp) on
-//                the n1·n2·n3 tensor
+//                the n1·n2·n3 tensor (the file's three sensors or three --sensors; --3d for a
+//                default-path solver)
 //   sparse 3-D   engine/pipeline/sparse_pipeline.hpp: the same with --sparse, per connected component
 //   fusion       engine/fusion/fuzzy_pipeline.hpp: seed 001's fusion centre (fuzzy, ftaa); side
 //                output: the system tracks (/system_tracks/<name>/)
@@ -63,6 +69,10 @@ struct AssociatorOptions {
   // --sparse refuses it (SparseSDOptions, SparsePipelineOptions).
   double radius_scale = 1.0;
   std::size_t max_component_entries = std::size_t{1} << 24;
+  // The default (sparse S-D) path: the exponent κ ≥ 0 of the rival-weighted link cost
+  // (SparseSDOptions::rival_exponent, engine/pipeline/sparse_sd_pipeline.hpp; docs/design.md §4.9);
+  // 0 = every gated pair against the gate itself.
+  double rival_exponent = 2.0;
   // --sparse: the cost of a missing index in a component's sub-tensor (+inf: padded, every track
   // assigned; finite: the solvers' dummy index; engine/pipeline/sparse_pipeline.hpp). ≥ 0.
   float miss_cost = std::numeric_limits<float>::infinity();
@@ -81,7 +91,8 @@ struct AssociatorOptions {
   // serve_sparse_components, engine/pipeline/sparse_pipeline.hpp). Null: this process.
   distributed::Communicator* ranks = nullptr;
   // Throws InputError when more than one of sd, three_d, sparse is set, solver_options is not a
-  // JSON object, or radius_scale, max_component_entries or miss_cost is out of its range.
+  // JSON object, or radius_scale, max_component_entries, rival_exponent or miss_cost is out of its
+  // range.
   void validate() const;
 };
 

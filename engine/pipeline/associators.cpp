@@ -12,7 +12,6 @@
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/siamese_track_file.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/solvers/solver_registry.hpp"
 #include "io/siamese_model_file.hpp"
 #include "kernels/core/error.hpp"
@@ -60,6 +59,7 @@ class SparseSDAssociator final : public TrackAssociator {
     so.pipeline = o_.pipeline;
     so.radius_scale = o_.radius_scale;
     so.max_component_entries = o_.max_component_entries;
+    so.rival_exponent = o_.rival_exponent;
     so.segments = o_.segments;
     so.ranks = o_.ranks;
     AssociationOutcome out;
@@ -260,6 +260,9 @@ void AssociatorOptions::validate() const {
                      std::to_string(radius_scale));
   if (max_component_entries < 1)
     throw InputError("AssociatorOptions.max_component_entries: expected >= 1, got 0");
+  if (!(rival_exponent >= 0.0) || !std::isfinite(rival_exponent))
+    throw InputError("AssociatorOptions.rival_exponent: expected a finite exponent >= 0, got " +
+                     std::to_string(rival_exponent));
   if (std::isnan(miss_cost) || miss_cost < 0.f)
     throw InputError("AssociatorOptions.miss_cost: expected >= 0 (+inf: every track assigned), got " +
                      std::to_string(miss_cost));

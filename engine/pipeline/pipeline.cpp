@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <set>
 
 #include "engine/pipeline/pair_source.hpp"
 #include "engine/pipeline/tuple_decoding.hpp"
@@ -165,6 +167,39 @@ AssociationRecord solve_association(const AssociationProblem& p, const std::stri
       if (!seen[d][i]) left_over[d].push_back(i);
   pair_leftovers(lambda, left_over, emit);
   return rec;
+}
+
+namespace {
+
+// Distinct local tracks of each selected sensor: the dense tensor's n1, n2, n3.
+std::array<std::size_t, 3> dense_track_counts(const TrackFile& file, const PipelineOptions& options) {
+  const SensorSelection sel = select_sensors(file, options, SensorRule::kThree);
+  std::set<int32_t> tracks[3];
+  for (std::size_t r = 0; r < file.tracks.size(); ++r)
+    for (int d = 0; d < 3; ++d)
+      if (file.tracks.sensor[r] == sel.ids[d]) tracks[d].insert(file.tracks.track[r]);
+  return {tracks[0].size(), tracks[1].size(), tracks[2].size()};
+}
+
+double tensor_bytes(const std::array<std::size_t, 3>& n) {
+  return static_cast<double>(sizeof(float)) * static_cast<double>(n[0]) * static_cast<double>(n[1]) *
+         static_cast<double>(n[2]);
+}
+
+}  // namespace
+
+void require_dense_tensor_fits(const TrackFile& file, const PipelineOptions& options) {
+  const auto n = dense_track_counts(file, options);
+  const double bytes = tensor_bytes(n);
+  const double budget = static_cast<double>(options.cost.memory_budget_bytes);
+  if (bytes <= budget) return;
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "the dense %zux%zux%zu cost tensor needs %.4g MiB, over the memory budget of %.4g MiB "
+                "(--memory-budget); rerun with --sparse (gated candidate tuples, solved per connected "
+                "component), or raise --memory-budget",
+                n[0], n[1], n[2], bytes / 1048576.0, budget / 1048576.0);
+  throw InputError(text);
 }
 
 }  // namespace trackassoc

@@ -59,6 +59,11 @@ struct AssociationProblem : AlignedSensors {
   double statistics_time_s = 0.0, tensor_time_s = 0.0;
 };
 
+// Checks, before any statistic is computed, that the dense tensor fits
+// options.cost.memory_budget_bytes; otherwise throws an InputError naming the sizes and pointing
+// to the sparse path (`--sparse`, engine/pipeline/sparse_pipeline.hpp) and to --memory-budget.
+void require_dense_tensor_fits(const TrackFile& file, const PipelineOptions& options);
+
 // Builds the problem from a validated track file. Throws InputError when fewer than three sensors
 // exist, a chosen sensor is unknown, or the sensors never report at common times.
 AssociationProblem build_association_problem(const TrackFile& file, const PipelineOptions& options);

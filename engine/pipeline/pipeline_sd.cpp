@@ -66,11 +66,7 @@ const std::vector<std::string>& sd_solver_names() {
 }
 
 void require_sd_solver(const std::string& name) {
-  const auto& names = sd_solver_names();
-  if (std::find(names.begin(), names.end(), name) != names.end()) return;
-  std::string known;
-  for (const auto& n : names) known += " " + n;
-  throw InputError("--solver: '" + name + "' is not an S-D solver; S-D solvers:" + known);
+  require_solver_among(name, sd_solver_names(), "is not an S-D solver; S-D solvers");
 }
 
 SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options) {
@@ -123,11 +119,9 @@ SolutionSD solve_sd_tensor(const CostTensorSD& tensor, const std::string& solver
                            const nlohmann::json& options) {
   const auto t0 = std::chrono::steady_clock::now();
   const SolverEntry* entry = lookup_solver(solver);
-  if (!entry || !entry->capabilities.sd_tensor) {
-    std::string known;
-    for (const auto& n : solver_names_with(&SolverCapabilities::sd_tensor)) known += " " + n;
-    throw InputError("--solver: '" + solver + "' takes no cost tensor alone; tensor S-D solvers:" + known);
-  }
+  if (!entry || !entry->capabilities.sd_tensor)  // throws
+    require_solver_among(solver, solver_names_with(&SolverCapabilities::sd_tensor),
+                         "takes no cost tensor alone; tensor S-D solvers");
   SolutionSD sol = entry->solve_sd_tensor(tensor, options);
   sol.summary.wall_time_s = seconds_since(t0);
   return sol;

@@ -321,6 +321,14 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, co
   return rec;
 }
 
+std::set<std::vector<int32_t>> tuple_set(const AssociationRecord& record) {
+  std::set<std::vector<int32_t>> s;
+  for (std::size_t q = 0; q < record.num_tuples(); ++q)
+    s.emplace(record.tuples.begin() + q * record.num_sensors,
+              record.tuples.begin() + (q + 1) * record.num_sensors);
+  return s;
+}
+
 AssociationRecord solve_sparse_association(const SparseAssociationProblem& p, const ComponentSolver& solve,
                                            const std::string& solver, uint64_t seed,
                                            const SparsePipelineOptions& options,

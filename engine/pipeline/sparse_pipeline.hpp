@@ -40,6 +40,7 @@
 #include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -92,6 +93,11 @@ AssociationRecord solve_sparse_association(const SparseAssociationProblem& probl
                                            const nlohmann::json& solver_options, uint64_t seed,
                                            const SparsePipelineOptions& options,
                                            std::vector<StageReport>* stages = nullptr);
+
+// The record's tuples as a set, row order aside: what "identical associations" of the sparse and
+// the dense path means (tests/engine/pipeline/test_sparse_pipeline.cpp; experiment scale's
+// dense_identical, engine/studies/scale/experiment_scale.hpp).
+std::set<std::vector<int32_t>> tuple_set(const AssociationRecord& record);
 
 // The same with any solver callable (a custom or test solver): `solve(tensor, seed)`. `name` goes
 // to the record's solver attribute.

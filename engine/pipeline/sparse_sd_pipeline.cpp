@@ -113,13 +113,9 @@ const std::vector<std::string>& sparse_sd_solver_names() {
 }
 
 void require_sparse_sd_solver(const std::string& name) {
-  const auto& names = sparse_sd_solver_names();
-  if (std::find(names.begin(), names.end(), name) != names.end()) return;
-  std::string known;
-  for (const auto& n : names) known += " " + n;
-  throw InputError("--solver: '" + name +
-                   "' is not a solver of the default (sparse S-D) pipeline; its solvers:" + known +
-                   " (the 3-D solvers run with --solver NAME --3d)");
+  require_solver_among(name, sparse_sd_solver_names(),
+                       "is not a solver of the default (sparse S-D) pipeline; its solvers",
+                       " (the 3-D solvers run with --solver NAME --3d)");
 }
 
 std::vector<double> rival_link_costs(const SparsePairStatistic& st, const AlignedSensors& sensors, int32_t sa,

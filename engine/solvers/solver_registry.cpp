@@ -108,6 +108,14 @@ std::vector<std::string> solver_names_with(bool SolverCapabilities::*flag) {
   return names;
 }
 
+void require_solver_among(const std::string& name, const std::vector<std::string>& names,
+                          const std::string& refusal, const std::string& tail) {
+  if (std::find(names.begin(), names.end(), name) != names.end()) return;
+  std::string known;
+  for (const auto& n : names) known += " " + n;
+  throw InputError("--solver: '" + name + "' " + refusal + ":" + known + tail);
+}
+
 std::string list_names(const std::vector<std::string>& names, const std::string& last) {
   std::string list;
   for (std::size_t i = 0; i < names.size(); ++i)

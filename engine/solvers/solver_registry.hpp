@@ -84,6 +84,11 @@ const std::vector<SolverEntry>& all_solvers();
 const SolverEntry* lookup_solver(const std::string& name);
 // The names of the entries whose capability `flag` is set, in registry order.
 std::vector<std::string> solver_names_with(bool SolverCapabilities::*flag);
+// Returns when `name` is one of `names`; else throws InputError
+// "--solver: '<name>' <refusal>:" + " <n>" per name + `tail` (the S-D pipelines' checks:
+// require_sd_solver, require_sparse_sd_solver, solve_sd_tensor).
+void require_solver_among(const std::string& name, const std::vector<std::string>& names,
+                          const std::string& refusal, const std::string& tail = "");
 // "a, b and c" (`last` between the last two; ", " between the others).
 std::string list_names(const std::vector<std::string>& names, const std::string& last = " and ");
 

@@ -22,13 +22,6 @@ namespace {
 
 using testing_support::CliFixture;
 
-std::set<std::vector<int32_t>> tuple_set(const AssociationRecord& r) {
-  std::set<std::vector<int32_t>> s;
-  for (std::size_t k = 0; k < r.num_tuples(); ++k)
-    s.emplace(r.tuples.begin() + k * r.num_sensors, r.tuples.begin() + (k + 1) * r.num_sensors);
-  return s;
-}
-
 const AssociationRecord& only_association(const TrackFile& f) {
   EXPECT_EQ(f.associations.size(), 1u);
   return f.associations.front();

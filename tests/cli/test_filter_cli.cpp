@@ -10,8 +10,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "io/hdf5_wrapper.hpp"
 #include "io/track_file.hpp"
 #include "tests/support/cli_runner.hpp"

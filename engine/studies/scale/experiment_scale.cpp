@@ -191,14 +191,6 @@ ScaleRow ScaleRow::from_json(const nlohmann::json& j) {
 
 namespace {
 
-std::set<std::vector<int32_t>> tuple_set(const AssociationRecord& r) {
-  std::set<std::vector<int32_t>> s;
-  for (std::size_t q = 0; q < r.num_tuples(); ++q)
-    s.insert(std::vector<int32_t>(r.tuples.begin() + q * r.num_sensors,
-                                  r.tuples.begin() + (q + 1) * r.num_sensors));
-  return s;
-}
-
 // One size, in the current process.
 ScaleRow run_one_size(const ScaleExperimentOptions& o, int32_t n) {
   std::unique_ptr<tbb::global_control> gc;

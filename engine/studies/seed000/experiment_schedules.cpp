@@ -11,8 +11,8 @@
 
 #include "engine/distributed/sharding.hpp"
 #include "engine/pipeline/pipeline.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "engine/solvers/hopfield_json.hpp"
 #include "engine/studies/experiments.hpp"
 #include "io/atomic_file.hpp"

@@ -9,9 +9,9 @@
 
 #include "engine/distributed/sharding.hpp"
 #include "engine/pipeline/metrics.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/report/text_table.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/stopwatch.hpp"
 

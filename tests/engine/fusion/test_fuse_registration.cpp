@@ -12,9 +12,9 @@
 #include "engine/fusion/fused_accuracy.hpp"
 #include "engine/fusion/track_fuser.hpp"
 #include "engine/pipeline/associator.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/registration/registered_reports.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "kernels/core/error.hpp"
 
 namespace trackassoc {

@@ -16,7 +16,7 @@
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/siamese_track_file.hpp"
-#include "engine/pipeline/workflow.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "io/siamese_model_file.hpp"
 #include "kernels/core/error.hpp"
 #include "tests/support/cli_runner.hpp"

@@ -13,8 +13,8 @@
 
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "io/track_file.hpp"
 #include "kernels/statistics/association_statistic.hpp"
 #include "kernels/statistics/chi_square.hpp"

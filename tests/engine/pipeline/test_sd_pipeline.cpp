@@ -10,7 +10,7 @@
 
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
-#include "engine/pipeline/workflow.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "engine/studies/seed004/experiment_seed004.hpp"
 #include "io/track_file.hpp"
 #include "kernels/core/error.hpp"

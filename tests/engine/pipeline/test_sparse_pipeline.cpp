@@ -23,14 +23,6 @@
 namespace trackassoc {
 namespace {
 
-std::set<std::vector<int32_t>> tuple_set(const AssociationRecord& r) {
-  std::set<std::vector<int32_t>> s;
-  for (std::size_t q = 0; q < r.num_tuples(); ++q)
-    s.insert(std::vector<int32_t>(r.tuples.begin() + q * r.num_sensors,
-                                  r.tuples.begin() + (q + 1) * r.num_sensors));
-  return s;
-}
-
 bool all_components_balanced(const SparseAssociationProblem& p) {
   for (int32_t c = 0; c < p.components.count; ++c) {
     const auto n = component_track_counts(p, c);

@@ -16,11 +16,13 @@
 #include <map>
 #include <set>
 
+#include "engine/pipeline/associator.hpp"
+#include "engine/pipeline/associator_fields.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "io/track_file.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
@@ -287,6 +289,33 @@ TEST(SparseSDPipeline, EqualsTheBruteForceOptimumOverAllGroupings) {
       }
     }
   }
+}
+
+// The rival exponent κ is a field of the association request (AssociatorOptions, and the Python
+// module's keyword): on the default path it reaches the link costs, whose optimum is the brute
+// force's at that κ; the instance has rivals, so κ = 0 and κ = 2 give different optima.
+TEST(SparseSDPipeline, TheRivalExponentOfTheRequestIsTheLinkCostsExponent) {
+  const TrackFile file = formation_of_four(0);
+  AssociatorOptions o;
+  o.solver = "exact";
+  o.registration.enabled = false;  // the brute force is on the reports as recorded
+  o.stitching.enabled = false;
+  std::vector<double> optimum;
+  for (double kappa : {0.0, 2.0}) {
+    const double brute = brute_force_optimum(file, PipelineOptions{}, {0, 1, 2, 3}, kappa);
+    o.rival_exponent = kappa;
+    const AssociationOutcome out = make_associator(o)->associate(file);
+    EXPECT_NEAR(out.record.objective, brute, 1e-3 * std::max(1.0, std::fabs(brute))) << "kappa " << kappa;
+    optimum.push_back(brute);
+  }
+  EXPECT_GT(std::fabs(optimum[1] - optimum[0]), 1.0);
+  EXPECT_EQ(read_associator_options({{"rival_exponent", 0.5}}, "associate").rival_exponent, 0.5);
+  for (double bad :
+       {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    o.rival_exponent = bad;
+    EXPECT_THROW(make_associator(o), InputError) << bad;
+  }
+  EXPECT_THROW(read_associator_options({{"rival_exponent", -0.5}}, "associate"), InputError);
 }
 
 // A component over max_component_entries is solved over its listed allowed tuples

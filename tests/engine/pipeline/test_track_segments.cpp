@@ -22,8 +22,8 @@
 
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/metrics.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "io/track_file.hpp"
 #include "kernels/core/error.hpp"
 #include "tests/support/io_test_files.hpp"

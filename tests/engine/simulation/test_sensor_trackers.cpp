@@ -10,8 +10,8 @@
 #include <numbers>
 #include <string>
 
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "engine/simulation/simulation_truth.hpp"
 #include "io/scenario_json.hpp"
 #include "io/track_file.hpp"

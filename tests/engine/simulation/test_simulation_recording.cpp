@@ -10,8 +10,8 @@
 #include <numbers>
 #include <set>
 
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "engine/simulation/simulation_recording.hpp"
 #include "engine/simulation/simulation_truth.hpp"
 #include "kernels/core/error.hpp"

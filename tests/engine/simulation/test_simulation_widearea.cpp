@@ -9,8 +9,8 @@
 #include <numbers>
 #include <set>
 
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "engine/simulation/simulation_truth.hpp"
 #include "engine/simulation/simulation_widearea.hpp"
 #include "io/scenario_json.hpp"

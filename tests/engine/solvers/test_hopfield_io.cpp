@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/pipeline/pipeline.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "engine/solvers/hopfield_json.hpp"
 #include "io/track_file.hpp"
 #include "kernels/core/error.hpp"

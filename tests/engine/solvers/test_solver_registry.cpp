@@ -154,6 +154,39 @@ TEST(SolverRegistry, NameQueriesKeepTheirLists) {
   EXPECT_EQ(lookup_solver("nonexistent"), nullptr);
 }
 
+// The S-D pipelines' checks of a solver name (the dense and the default pipeline's, and the
+// tensor S-D solve's) share one helper, require_solver_among, and keep their messages, written out
+// here as they were before it.
+TEST(SolverRegistry, TheSDPipelinesRefuseOtherSolversWithTheirOwnMessages) {
+  auto message = [](auto check, const std::string& name) {
+    try {
+      check(name);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(require_sd_solver, "hopfield"),
+            "--solver: 'hopfield' is not an S-D solver; S-D solvers: lr lr+ls exact chnn-pseudo");
+  EXPECT_EQ(
+      message(require_sparse_sd_solver, "chnn-pseudo"),
+      "--solver: 'chnn-pseudo' is not a solver of the default (sparse S-D) pipeline; its solvers: lr+ls "
+      "lr exact (the 3-D solvers run with --solver NAME --3d)");
+  EXPECT_EQ(message(require_sparse_sd_solver, "lr"), "accepted");
+  EXPECT_EQ(message(
+                [](const std::string& n) {
+                  solve_sd_tensor(CostTensorSD({1, 1}), n, nlohmann::json::object());
+                },
+                "hopfield"),
+            "--solver: 'hopfield' takes no cost tensor alone; tensor S-D solvers: lr lr+ls exact");
+  EXPECT_EQ(message(
+                [](const std::string& n) {
+                  require_solver_among(n, {"a", "b"}, "is not a letter; letters");
+                },
+                "c"),
+            "--solver: 'c' is not a letter; letters: a b");
+}
+
 // The options listing of every entry (`trackassoc solvers`) and its unknown-key error come from the
 // same declaration: the keys the listing names are exactly the "known keys" of the error.
 TEST(SolverRegistry, OptionsHelpNamesExactlyTheKeysTheSolverAccepts) {

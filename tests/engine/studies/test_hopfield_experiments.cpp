@@ -10,7 +10,6 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "engine/studies/seed000/experiment_schedules.hpp"
 #include "engine/studies/seed000/experiment_seed000.hpp"

@@ -19,8 +19,8 @@
 
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/siamese_track_file.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "engine/studies/seed000/experiment_seed000.hpp"
 #include "engine/studies/seed003/experiment_seed003.hpp"
 #include "engine/studies/seed004/experiment_seed004.hpp"

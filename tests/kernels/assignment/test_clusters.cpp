@@ -100,14 +100,6 @@ Solution3 brute_force_exact(const CostTensor3& b, uint64_t) {
   return s;
 }
 
-std::set<std::vector<int32_t>> tuple_set(const AssociationRecord& r) {
-  std::set<std::vector<int32_t>> s;
-  for (std::size_t q = 0; q < r.num_tuples(); ++q)
-    s.insert(std::vector<int32_t>(r.tuples.begin() + q * r.num_sensors,
-                                  r.tuples.begin() + (q + 1) * r.num_sensors));
-  return s;
-}
-
 TEST(Clusters, UnionOfComponentSolutionsEqualsGlobalSolution) {
   int multi_track_components = 0, compared = 0;
   for (uint64_t seed = 1; seed <= 12; ++seed) {

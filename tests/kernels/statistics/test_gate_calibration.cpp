@@ -28,8 +28,8 @@
 #include <map>
 
 #include "engine/pipeline/pipeline.hpp"
-#include "engine/pipeline/workflow.hpp"
 #include "engine/simulation/simulation.hpp"
+#include "engine/simulation/simulation_io.hpp"
 #include "kernels/statistics/association_statistic.hpp"
 
 namespace trackassoc {

@@ -1,11 +1,10 @@
-// Glue shared by the CLI commands and the experiments: where scenarios come from, and how a
-// simulation becomes a schema v1 track file.
+// The simulation's input and output, shared by `simulate`, `run`, the studies, the benchmarks and
+// the tests: where scenarios come from (a JSON file or an embedded scenario), and how a simulation
+// becomes a schema v1 track file (docs/schema.md).
 #pragma once
 
-#include <cstddef>
 #include <string>
 
-#include "engine/pipeline/pipeline.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "io/track_file.hpp"
 #include "kernels/core/scenario.hpp"
@@ -20,10 +19,5 @@ Scenario load_scenario(const std::string& name_or_path);
 TrackFile simulation_to_track_file(const Scenario& scenario, const SimulationResult& result);
 // As above, moving the tables (no second copy of a large simulation in memory).
 TrackFile simulation_to_track_file(const Scenario& scenario, SimulationResult&& result);
-
-// Checks, before any statistic is computed, that the dense tensor fits
-// options.cost.memory_budget_bytes; otherwise throws an InputError naming the sizes and pointing
-// to the sparse path (`--sparse`, engine/pipeline/sparse_pipeline.hpp) and to --memory-budget.
-void require_dense_tensor_fits(const TrackFile& file, const PipelineOptions& options);
 
 }  // namespace trackassoc
