@@ -12,6 +12,7 @@
 #include <string>
 
 #include "engine/pipeline/stitch_index.hpp"
+#include "engine/pipeline/stitch_swap_margin.hpp"
 #include "io/memory_budget.hpp"
 #include "kernels/assignment/lap_sparse.hpp"
 #include "kernels/core/allocation_gauge.hpp"
@@ -32,6 +33,8 @@ void TrackStitchOptions::validate() const {
           "expected a probability in [0, 1]");
   require(gate_probability > 0.0 && gate_probability < 1.0, "stitching.gate_probability",
           "expected a probability in (0, 1)");
+  require(std::isfinite(swap_margin) && swap_margin >= 0.0, "stitching.swap_margin",
+          "expected a margin >= 0 [nats] (0: off)");
   require(std::isfinite(turn_min_evidence), "stitching.turn_min_evidence",
           "expected a finite log-likelihood ratio");
   require(start_reports >= 1 && start_reports <= 16, "stitching.start_reports", "expected 1 to 16 reports");
@@ -470,6 +473,10 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   // takes in unrelated starts where traffic is dense, while a lone turning fragment
   // (recorded_recycled) is still joined; see the header for the measurements.
   // `cost(i)`: candidate i's cost; the pairs of positive evidence enter one LAP.
+  auto eligible = [&](const Candidate& k, double c) {
+    return c < 0.0 && (k.quiet || (rivals_of_end[k.end] <= 1 && rivals_of_start[k.start] <= 1 &&
+                                   -c >= o.turn_min_evidence));
+  };
   auto solve = [&](auto&& cost_of) {
     std::vector<int32_t> row_start{0}, col;
     std::vector<double> cost;
@@ -478,9 +485,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
       for (; next < candidates.size() && candidates[next].end == static_cast<int32_t>(a); ++next) {
         const Candidate& k = candidates[next];
         const double c = cost_of(next);
-        if (!(c < 0.0) || (!k.quiet && (rivals_of_end[k.end] > 1 || rivals_of_start[k.start] > 1 ||
-                                        -c < o.turn_min_evidence)))
-          continue;
+        if (!eligible(k, c)) continue;
         col.push_back(k.start);
         cost.push_back(c);
       }
@@ -497,7 +502,10 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     lap.allow_unassigned = true;  // "no successor" / "no predecessor" at cost 0
     return solve_gated_lap(view, lap);
   };
-  LapResult joins = solve([&](std::size_t i) { return candidates[i].cost; });
+  std::vector<double> final_cost(candidates.size());  // the costs of the assignment that picks the joins
+  gauge.add(static_cast<double>(final_cost.size() * sizeof(double)));
+  for (std::size_t i = 0; i < candidates.size(); ++i) final_cost[i] = candidates[i].cost;
+  LapResult joins = solve([&](std::size_t i) { return final_cost[i]; });
   if (joins.row_to_col.empty()) return summary;
   if (o.gap_bin_s > 0.0) {
     // The gap prior: the same target's gaps follow its fades and re-initiations, a different
@@ -519,12 +527,35 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
       const double width = std::min(o.gap_bin_s, W - static_cast<double>(k) * o.gap_bin_s);
       log_factor[k] = std::log(W * count[k] / (total * width));
     }
-    joins = solve([&](std::size_t i) {
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
       const Candidate& k = candidates[i];
-      return k.cost -
-             log_factor[bin_of(gap_of(static_cast<std::size_t>(k.end), static_cast<std::size_t>(k.start)))];
-    });
+      final_cost[i] -=
+          log_factor[bin_of(gap_of(static_cast<std::size_t>(k.end), static_cast<std::size_t>(k.start)))];
+    }
+    joins = solve([&](std::size_t i) { return final_cost[i]; });
     if (joins.row_to_col.empty()) return summary;
+  }
+  if (o.swap_margin > 0.0) {
+    // The swap margin (engine/pipeline/stitch_swap_margin.hpp): a join that one exchange with a
+    // rival nearly matches is left unmade.
+    std::vector<int32_t> ends, starts;
+    std::vector<double> costs;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < candidates.size(); ++i) n += eligible(candidates[i], final_cost[i]);
+    // The eligible candidates (16 bytes each), their index by start (8) and the margins' per-group
+    // arrays (4 of 8 bytes a group), counted before they are allocated.
+    const double bytes = 24.0 * static_cast<double>(n) + 32.0 * static_cast<double>(G);
+    gauge.add(bytes);
+    ends.reserve(n), starts.reserve(n), costs.reserve(n);
+    for (std::size_t i = 0; i < candidates.size(); ++i)
+      if (eligible(candidates[i], final_cost[i]))
+        ends.push_back(candidates[i].end), starts.push_back(candidates[i].start),
+            costs.push_back(final_cost[i]);
+    const std::vector<double> margin =
+        stitch_swap_margins(static_cast<int32_t>(G), {ends, starts, costs}, joins.row_to_col);
+    for (std::size_t a = 0; a < G; ++a)
+      if (margin[a] < o.swap_margin) joins.row_to_col[a] = -1;
+    gauge.release(bytes);
   }
   // Union-find over group indices; the root keeps the earliest group's target number.
   std::vector<std::size_t> parent(G);

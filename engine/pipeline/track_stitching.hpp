@@ -64,6 +64,10 @@
 // optimal over the whole file (instead of per-pair rules). Joins are chained (G₁ → G₂ → G₃ is one
 // target) and the later groups take the earliest group's target number. The tuples are unchanged;
 // only `target` changes (filled when it was empty and a join was made).
+// Swap margin (swap_margin). A join that an exchange with a rival nearly matches (two targets that
+// fade near one another and come back near one another) is left unmade, so an ambiguous swap
+// fragments two targets instead of joining each to the other's chain
+// (engine/pipeline/stitch_swap_margin.hpp, with the measurements that chose 3.5 nats).
 // Gap prior (gap_bin_s). The same target's gap follows its fades and re-initiations
 // (widearea_small: 94 % of the true successors come within 120 s, in a window of 182 s), while a
 // different target's start is uniform over the window W = max_overlap_s + max_gap_s; the join's
@@ -103,6 +107,10 @@ struct TrackStitchOptions {
   // A join outside the quiet model's gate (only the manoeuvring one gates it) is made only when it
   // is unambiguous and its log-likelihood ratio −c is at least this (3: a ratio of e³ ≈ 20).
   double turn_min_evidence = 3.0;
+  // A join is made only when the assignment beats by at least this many nats every alternative that
+  // exchanges it with a rival (engine/pipeline/stitch_swap_margin.hpp; 3.5: odds of e^3.5 ≈ 33 to 1;
+  // 0: off).
+  double swap_margin = 3.5;
   // The gap prior's histogram bin [s] (0: none; the gaps uniform over the window).
   double gap_bin_s = 20.0;
   // The start-state density f of "a different target": a histogram per state component (true), or
