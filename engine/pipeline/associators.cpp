@@ -294,13 +294,14 @@ AssociationPath path_of(const AssociatorOptions& o) {
       throw InputError("--sparse: applies to the 3-D assignment solvers, not to '" + o.solver + "'");
     return AssociationPath::kFusionCentre;
   }
+  // Seed 003's Siamese classifier takes two sensors' plot sequences, named by --sensors or not.
+  if (o.solver == "siamese" && !o.sd) return AssociationPath::kSiamese;
   if (o.sd || o.solver == "chnn-pseudo" || n_sensors > 3 || n_sensors == 2) {
     if (o.sparse)
       throw InputError("--sparse: applies to the three-sensor pipeline, not to the S-D formulation (--sd)");
     require_sd_solver(o.solver);  // fail on an unknown name before reading anything
     return AssociationPath::kDenseSD;
   }
-  if (o.solver == "siamese") return AssociationPath::kSiamese;  // two sensors' plot sequences (seed 003)
   find_solver(o.solver);  // fail on an unknown name before reading anything
   return o.sparse ? AssociationPath::kSparse3D : AssociationPath::kDense3D;
 }

@@ -331,6 +331,7 @@ TEST(Associator, FactoryChoosesThePathsOfAssociate) {
   EXPECT_EQ(path_of("fuzzy", false, false, false), P::kFusionCentre);
   EXPECT_EQ(path_of("ftaa", true, false, false), P::kFusionCentre);
   EXPECT_EQ(path_of("siamese", false, false, false), P::kSiamese);
+  EXPECT_EQ(path_of("siamese", false, false, false, {0, 1}), P::kSiamese);  // was sent to dense S-D, refused
   EXPECT_EQ(error_of("lr", true, false, true),
             "--sd, --3d and --sparse choose different pipelines: give at most one");
   EXPECT_EQ(error_of("fuzzy", false, false, true),
