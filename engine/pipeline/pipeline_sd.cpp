@@ -16,46 +16,22 @@ namespace {
 
 constexpr float kForbidden = std::numeric_limits<float>::infinity();
 
-// Dense tensor from the links; parallel over the first sensor's index (dummy included).
+// Dense tensor from the links, by the one S-D rule (engine/pipeline/tuple_cost.hpp): the link is
+// +inf (kForbidden) for a pair that is not gated in.
 void fill_tensor(SDProblem& p, CostForm form) {
   const int32_t S = p.S();
   std::vector<int32_t> n(S);
   for (int32_t s = 0; s < S; ++s) n[s] = p.aligned[s].n_tracks();
   p.tensor = CostTensorSD(n, 0.f);
-  CostTensorSD& c = p.tensor;
-  parallel_for_range(static_cast<std::size_t>(n[0]) + 1, 1, [&](std::size_t b, std::size_t e) {
-    std::vector<int32_t> idx(S, 0), present;
-    present.reserve(S);
-    for (std::size_t i0 = b; i0 < e; ++i0) {
-      std::fill(idx.begin(), idx.end(), 0);
-      idx[0] = static_cast<int32_t>(i0);
-      const std::size_t base = i0 * c.stride[0];
-      for (std::size_t r = 0; r < c.stride[0]; ++r) {
-        present.clear();
-        for (int32_t s = 0; s < S; ++s)
-          if (idx[s] < n[s]) present.push_back(s);
-        // The one S-D tuple cost rule (engine/pipeline/tuple_cost.hpp); the link is +inf
-        // (kForbidden) for a pair that is not gated in.
-        const double v = sd_tuple_cost(
-            present.size(), form == CostForm::kAllPairs,
-            [&](std::size_t x, std::size_t y) {
-              const int32_t a = present[x], bb = present[y];
-              const float l = p.link[static_cast<std::size_t>(a) * S + bb]
-                                    [static_cast<std::size_t>(idx[a]) * n[bb] + idx[bb]];
-              return l == kForbidden ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(l);
-            },
-            [&](std::size_t x, std::size_t y) {
-              const int32_t a = present[x], bb = present[y];
-              return p.coexist(p.offset[a] + idx[a], p.offset[bb] + idx[bb]);
-            });
-        c.cost[base + r] = static_cast<float>(v);
-        for (int32_t s = S - 1; s > 0; --s) {  // odometer over sensors 1 … S−1
-          if (++idx[s] <= n[s]) break;
-          idx[s] = 0;
-        }
-      }
-    }
-  });
+  fill_sd_tensor(
+      p.tensor, form == CostForm::kAllPairs,
+      [&](int32_t a, int32_t i, int32_t b, int32_t j) {
+        const float l = p.link[static_cast<std::size_t>(a) * S + b][static_cast<std::size_t>(i) * n[b] + j];
+        return l == kForbidden ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(l);
+      },
+      [&](int32_t a, int32_t i, int32_t b, int32_t j) {
+        return p.coexist(p.offset[a] + i, p.offset[b] + j);
+      });
 }
 
 }  // namespace

@@ -44,21 +44,11 @@ SDComponentResult solve_dense_sd_component(const SDComponentView& v, const std::
   for (int32_t q = 0; q < P; ++q) np[q] = n[present[q]];
   CostTensorSD t(np, 0.f);
   r.entries = t.cost.size();
-  std::vector<int32_t> idx(P, 0);
-  std::vector<std::pair<int32_t, int32_t>> members;
-  for (std::size_t e = 0; e < t.cost.size(); ++e) {
-    // idx is the odometer of entry e in the tensor's own order (stride[P−1] = 1).
-    std::size_t rem = e;
-    for (int32_t q = 0; q < P; ++q) {
-      idx[q] = static_cast<int32_t>(rem / t.stride[q]);
-      rem %= t.stride[q];
-    }
-    members.clear();
-    for (int32_t q = 0; q < P; ++q)
-      if (idx[q] < np[q]) members.emplace_back(present[q], idx[q]);
-    const double c = sd_component_tuple_cost(v, members, all_pairs);
-    t.cost[e] = std::isfinite(c) ? static_cast<float>(c) : std::numeric_limits<float>::infinity();
-  }
+  // The one S-D rule over the component's tracks (engine/pipeline/tuple_cost.hpp).
+  fill_sd_tensor(
+      t, all_pairs,
+      [&](int32_t q, int32_t i, int32_t u, int32_t j) { return v.link_cost(present[q], i, present[u], j); },
+      [&](int32_t q, int32_t i, int32_t u, int32_t j) { return v.overlap(present[q], i, present[u], j); });
   const SolutionSD sol = solve_sd_tensor(t, solver, options);
   std::vector<std::vector<char>> used(S);
   for (int32_t s = 0; s < S; ++s) used[s].assign(n[s], 0);

@@ -19,6 +19,9 @@
 #include <limits>
 #include <vector>
 
+#include "kernels/assignment/sd/assignment_sd.hpp"
+#include "kernels/core/parallel.hpp"
+
 namespace trackassoc {
 
 // link(x, y) for members x < y: the link cost of the pair, NaN when it is not a gated-in pair;
@@ -57,6 +60,50 @@ double sd_tuple_cost(std::size_t k, bool all_pairs, Link link, Coexist coexist) 
       if (all_pairs || y == x + 1) cost += l;
     }
   return groups == 1 ? cost : std::numeric_limits<double>::infinity();
+}
+
+// The S-D tensor of this rule, written once for both S-D paths (the whole problem's tensor and each
+// component's): t.n tracks per dimension, the last index of each its dummy; every entry the tuple
+// cost of the members present. link(q, i, r, j), for dimensions q < r, is the link cost of track i
+// of dimension q and track j of dimension r (NaN: not a gated pair); coexist(q, i, r, j) whether
+// they have common valid times. Parallel over the first dimension's index (TBB) for a tensor of at
+// least 2^14 entries, in one pass otherwise (a component's is mostly a few entries); the entries
+// do not depend on it. O(Π(n_q + 1)·k²), k the dimensions.
+template <class Link, class Coexist>
+void fill_sd_tensor(CostTensorSD& t, bool all_pairs, Link link, Coexist coexist) {
+  const int32_t P = t.dims();
+  auto fill = [&](std::size_t b, std::size_t e) {
+    std::vector<int32_t> idx(P, 0), present;
+    present.reserve(P);
+    for (std::size_t i0 = b; i0 < e; ++i0) {
+      std::fill(idx.begin(), idx.end(), 0);
+      idx[0] = static_cast<int32_t>(i0);
+      const std::size_t base = i0 * t.stride[0];
+      for (std::size_t r = 0; r < t.stride[0]; ++r) {
+        present.clear();
+        for (int32_t q = 0; q < P; ++q)
+          if (idx[q] < t.n[q]) present.push_back(q);
+        const double v = sd_tuple_cost(
+            present.size(), all_pairs,
+            [&](std::size_t x, std::size_t y) {
+              return link(present[x], idx[present[x]], present[y], idx[present[y]]);
+            },
+            [&](std::size_t x, std::size_t y) {
+              return coexist(present[x], idx[present[x]], present[y], idx[present[y]]);
+            });
+        t.cost[base + r] = static_cast<float>(v);  // +inf stays +inf: not allowed
+        for (int32_t q = P - 1; q > 0; --q) {      // odometer over dimensions 1 … P−1
+          if (++idx[q] <= t.n[q]) break;
+          idx[q] = 0;
+        }
+      }
+    }
+  };
+  const auto rows = static_cast<std::size_t>(t.n[0]) + 1;
+  if (t.cost.size() < (std::size_t{1} << 14))
+    fill(0, rows);
+  else
+    parallel_for_range(rows, 1, fill);
 }
 
 }  // namespace trackassoc
