@@ -2,7 +2,7 @@
 #include "engine/pipeline/pair_source.hpp"
 
 #include "kernels/core/parallel.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
+#include "kernels/statistics/gate_candidates.hpp"
 
 namespace trackassoc {
 

@@ -4,7 +4,7 @@
 //   * all pairs (the dense paths, pipeline.hpp and pipeline_sd.hpp): λ for every n_a × n_b pair,
 //     independent_sequential_statistic; O(n_a·n_b·K·D³).
 //   * the per-scan candidate index (the sparse paths, sparse_pipeline.hpp and
-//     sparse_sd_pipeline.hpp): candidate_pairs_for_gate (kernels/statistics/scan_candidates.hpp; a
+//     sparse_sd_pipeline.hpp): candidate_pairs_for_gate (kernels/statistics/gate_candidates.hpp; a
 //     lossless bound for the gate of `statistic`), pruned by the position-block bound
 //     (prune_by_position_bound, also lossless), then λ on the candidates left and only the gated-in
 //     pairs kept; O(K·n log n + hits + kept·K·D³). Both sparse paths call it with the same options,
@@ -29,7 +29,7 @@ PairStatistic all_pairs_statistic(const AlignedSensors& sensors, int32_t a, int3
                                   const StatisticOptions& statistic);
 
 // The candidate index of every pair a < b of the sensors, in one pass over the common times
-// (kernels/statistics/scan_candidates.hpp): slot a·S + b holds the number of pairs of sensors a and b
+// (kernels/statistics/gate_candidates.hpp): slot a·S + b holds the number of pairs of sensors a and b
 // `found` within their bound at some scan, and `pairs`, those the index's count filter and then the
 // position bound keep (sorted by (a, b); both filters lossless).
 struct IndexedCandidates {

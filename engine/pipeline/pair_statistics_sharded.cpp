@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <string>
 
-#include "kernels/statistics/scan_candidates.hpp"
+#include "kernels/statistics/gate_candidates.hpp"
 
 namespace trackassoc {
 namespace {

@@ -24,7 +24,7 @@
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/random.hpp"
 #include "kernels/core/stopwatch.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
+#include "kernels/statistics/gate_candidates.hpp"
 
 namespace trackassoc {
 namespace {

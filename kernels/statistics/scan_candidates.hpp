@@ -52,52 +52,16 @@ CandidatePairs scan_candidate_pairs(const AlignedTracks& a, const AlignedTracks&
 // The count filter (least_hits, optional): each pair's scans within its bound are counted, and a
 // pair whose lower bound n of common valid scans (|span_a ∩ span_b| less the invalid cells inside
 // either span) has fewer than least_hits[min(n, size − 1)] is dropped (least_scans_within_bound
-// below: lossless for the calibrated gate). `found` (optional) gets, per slot, every pair within its
+// in kernels/statistics/gate_candidates.hpp:
+// lossless for the calibrated gate). `found` (optional) gets, per slot, every pair within its
 // bound at some scan, before the filter. Hits are 12 bytes (slot and count in 16 bits: S ≤ 256).
 std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* const> sensors, double cap,
                                                  double radius_scale = 1.0, AllocationGauge* gauge = nullptr,
                                                  std::span<const int32_t> least_hits = {},
                                                  std::vector<std::size_t>* found = nullptr);
 
-// The count filter of the calibrated gate, least[n] for n = 0 … max_scans (empty when the gate
-// is not kCalibrated, or when prune_by_position_bound passes pairs through unpruned). At a scan
-// where a pair is not within its bound, |d_p|² > (tr P_a,pp + tr P_b,pp)·c, so its position term
-// exceeds c and its capped term is c; a pair of n common scans within its bound at h of them
-// has λ_c ≥ (n − h)·c, and the gate λ_c ≤ G(n) needs h ≥ n − G(n)/c (and h ≥ 1, the scan below the
-// cap). least[n] is the smallest such h over n' ≥ n, so a lower bound of n may index it. Lossless:
-// a pair it drops, prune_by_position_bound drops too (tests/kernels/statistics/
-// test_scan_candidates_sensors.cpp). On the scale study's tracks at n = 1000 it keeps 6 % of the
-// 473 k pairs found (docs/performance.md).
-std::vector<int32_t> least_scans_within_bound(int dim, const StatisticOptions& statistic, int32_t max_scans);
-
 // The same by the O(n_a·n_b·K) scan (the naive peer for tests).
 CandidatePairs scan_candidate_pairs_all_pairs(const AlignedTracks& a, const AlignedTracks& b, double cap,
                                               double radius_scale = 1.0);
-
-// Drops the candidates that the gate must reject from their position components alone: the
-// position block's term d_pᵀ C_pp⁻¹ d_p is at most the full dᵀC⁻¹d at every scan, so
-// Σ min(term_p, c) ≤ λ_c; a pair whose bound already exceeds G(n) (or, for kCalibrated, with no
-// scan below the cap) is out. O(pairs·K·m³) with m ≤ 3, against O(pairs·K·D³) for λ. Lossless;
-// the correlated form is passed through unpruned. `gauge` (optional): the flags (a byte a pair) and
-// the output (8 bytes a kept pair) are added before they are allocated, the flags released after.
-CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTracks& b,
-                                       const CandidatePairs& pairs, const StatisticOptions& statistic,
-                                       AllocationGauge* gauge = nullptr);
-
-// The lossless candidate index for the gate of `statistic`: scan_candidate_pairs for kCalibrated,
-// gated_candidate_pairs (the time-averaged bound of kernels/statistics/sparse_candidates.hpp) for
-// kChiSquareSum. Every pair the gate can accept is returned
-// (tests/engine/pipeline/test_sparse_sd_pipeline.cpp, ScanCandidates).
-CandidatePairs candidate_pairs_for_gate(const AlignedTracks& a, const AlignedTracks& b,
-                                        const StatisticOptions& statistic, double radius_scale = 1.0);
-// The same for every pair s < t of `sensors` (slot s·S + t), through the multi-sensor index above
-// with the count filter of least_scans_within_bound. `gauge` as for scan_candidate_pairs
-// (kChiSquareSum: each slot's pairs are added once found); `found` (optional), per slot, the pairs
-// the index found before the count filter.
-std::vector<CandidatePairs> candidate_pairs_for_gate(std::span<const AlignedTracks* const> sensors,
-                                                     const StatisticOptions& statistic,
-                                                     double radius_scale = 1.0,
-                                                     AllocationGauge* gauge = nullptr,
-                                                     std::vector<std::size_t>* found = nullptr);
 
 }  // namespace trackassoc

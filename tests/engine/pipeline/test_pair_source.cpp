@@ -13,7 +13,7 @@
 #include "engine/pipeline/sparse_pipeline.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/studies/scale/experiment_scale.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
+#include "kernels/statistics/gate_candidates.hpp"
 
 namespace trackassoc {
 namespace {

@@ -26,7 +26,7 @@
 #include "io/track_file.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/random.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
+#include "kernels/statistics/gate_candidates.hpp"
 #include "tests/support/cli_runner.hpp"
 
 namespace trackassoc {

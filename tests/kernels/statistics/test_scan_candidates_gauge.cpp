@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "kernels/core/allocation_gauge.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
+#include "kernels/statistics/gate_candidates.hpp"
 
 namespace trackassoc {
 namespace {

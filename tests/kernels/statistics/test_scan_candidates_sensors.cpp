@@ -10,7 +10,7 @@
 
 #include "kernels/core/random.hpp"
 #include "kernels/statistics/chi_square.hpp"
-#include "kernels/statistics/scan_candidates.hpp"
+#include "kernels/statistics/gate_candidates.hpp"
 
 namespace trackassoc {
 namespace {
