@@ -243,12 +243,10 @@ SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOpt
   // are shared out in the statistics stage (engine/pipeline/pair_statistics_sharded.hpp), so the
   // candidates held here are those found, before the prune.
   const bool sharded = options.ranks && options.ranks->size() > 1;
-  std::vector<std::size_t> held_pairs(slots, 0);  // more ranks: the candidates held here until their prune
   if (sharded) {
     std::vector<const AlignedTracks*> x;
     for (const AlignedTracks& t : p.aligned) x.push_back(&t);
     cand = candidate_pairs_for_gate(x, po.statistic, options.radius_scale, &gauge, &p.candidate_pairs);
-    for (std::size_t slot = 0; slot < slots; ++slot) held_pairs[slot] = cand[slot].size();
   } else {
     std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale, &gauge);
     for (std::size_t slot = 0; slot < slots; ++slot) {
@@ -280,6 +278,7 @@ SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOpt
       // the link cost and both nodes of each gated one (16 bytes): at most 50 bytes a candidate.
       const std::size_t kept = sharded ? shared[slot].kept : cand[slot].size();
       const auto n = static_cast<double>(kept);
+      const auto candidates_held = static_cast<double>(cand[slot].size());  // (more ranks: before the prune)
       require_held(bytes + n * (21.0 + 8.0 + 21.0), "the statistics of the " + std::to_string(kept) +
                                                         " candidate pairs of " + pair_name(a, b));
       p.pairs[slot] = sharded ? std::move(shared[slot].gated)
@@ -292,7 +291,7 @@ SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOpt
       // The link costs, and the two nodes of each gated pair that the partition's edges take.
       bytes += static_cast<double>(st.bytes() + link.size() * sizeof(double)) + 8.0 * link.size();
       // The candidates, freed above (more ranks: those found, held here before the prune).
-      held -= (sharded ? static_cast<double>(held_pairs[slot]) : n) * 2 * sizeof(int32_t);
+      held -= candidates_held * 2 * sizeof(int32_t);
     }
   stage("statistics", t0, bytes);
   held += bytes;

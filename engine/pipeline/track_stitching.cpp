@@ -472,22 +472,21 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   // has another gated candidate) and its evidence is at least turn_min_evidence. Its wide gate
   // takes in unrelated starts where traffic is dense, while a lone turning fragment
   // (recorded_recycled) is still joined; see the header for the measurements.
-  // `cost(i)`: candidate i's cost; the pairs of positive evidence enter one LAP.
-  auto eligible = [&](const Candidate& k, double c) {
-    return c < 0.0 && (k.quiet || (rivals_of_end[k.end] <= 1 && rivals_of_start[k.start] <= 1 &&
-                                   -c >= o.turn_min_evidence));
+  // The pairs of positive evidence enter one LAP, at their candidates' costs.
+  auto eligible = [&](const Candidate& k) {
+    return k.cost < 0.0 && (k.quiet || (rivals_of_end[k.end] <= 1 && rivals_of_start[k.start] <= 1 &&
+                                        -k.cost >= o.turn_min_evidence));
   };
-  auto solve = [&](auto&& cost_of) {
+  auto solve = [&] {
     std::vector<int32_t> row_start{0}, col;
     std::vector<double> cost;
     std::size_t next = 0;
     for (std::size_t a = 0; a < G; ++a) {
       for (; next < candidates.size() && candidates[next].end == static_cast<int32_t>(a); ++next) {
         const Candidate& k = candidates[next];
-        const double c = cost_of(next);
-        if (!eligible(k, c)) continue;
+        if (!eligible(k)) continue;
         col.push_back(k.start);
-        cost.push_back(c);
+        cost.push_back(k.cost);
       }
       row_start.push_back(static_cast<int32_t>(col.size()));
     }
@@ -502,10 +501,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     lap.allow_unassigned = true;  // "no successor" / "no predecessor" at cost 0
     return solve_gated_lap(view, lap);
   };
-  std::vector<double> final_cost(candidates.size());  // the costs of the assignment that picks the joins
-  gauge.add(static_cast<double>(final_cost.size() * sizeof(double)));
-  for (std::size_t i = 0; i < candidates.size(); ++i) final_cost[i] = candidates[i].cost;
-  LapResult joins = solve([&](std::size_t i) { return final_cost[i]; });
+  LapResult joins = solve();
   if (joins.row_to_col.empty()) return summary;
   if (o.gap_bin_s > 0.0) {
     // The gap prior: the same target's gaps follow its fades and re-initiations, a different
@@ -527,30 +523,23 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
       const double width = std::min(o.gap_bin_s, W - static_cast<double>(k) * o.gap_bin_s);
       log_factor[k] = std::log(W * count[k] / (total * width));
     }
-    for (std::size_t i = 0; i < candidates.size(); ++i) {
-      const Candidate& k = candidates[i];
-      final_cost[i] -=
+    for (Candidate& k : candidates)  // the costs with the prior, in place (the first joins are counted)
+      k.cost -=
           log_factor[bin_of(gap_of(static_cast<std::size_t>(k.end), static_cast<std::size_t>(k.start)))];
-    }
-    joins = solve([&](std::size_t i) { return final_cost[i]; });
+    joins = solve();
     if (joins.row_to_col.empty()) return summary;
   }
   if (o.swap_margin > 0.0) {
     // The swap margin (engine/pipeline/stitch_swap_margin.hpp): a join that one exchange with a
     // rival nearly matches is left unmade.
+    // The candidates that entered the LAP (16 bytes each, at most every one), their index by start
+    // (8) and the margins' per-group arrays (4 of 8 bytes a group), counted before they are allocated.
+    const double bytes = 24.0 * static_cast<double>(candidates.size()) + 32.0 * static_cast<double>(G);
+    gauge.add(bytes);
     std::vector<int32_t> ends, starts;
     std::vector<double> costs;
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < candidates.size(); ++i) n += eligible(candidates[i], final_cost[i]);
-    // The eligible candidates (16 bytes each), their index by start (8) and the margins' per-group
-    // arrays (4 of 8 bytes a group), counted before they are allocated.
-    const double bytes = 24.0 * static_cast<double>(n) + 32.0 * static_cast<double>(G);
-    gauge.add(bytes);
-    ends.reserve(n), starts.reserve(n), costs.reserve(n);
-    for (std::size_t i = 0; i < candidates.size(); ++i)
-      if (eligible(candidates[i], final_cost[i]))
-        ends.push_back(candidates[i].end), starts.push_back(candidates[i].start),
-            costs.push_back(final_cost[i]);
+    for (const Candidate& k : candidates)
+      if (eligible(k)) ends.push_back(k.end), starts.push_back(k.start), costs.push_back(k.cost);
     const std::vector<double> margin =
         stitch_swap_margins(static_cast<int32_t>(G), {ends, starts, costs}, joins.row_to_col);
     for (std::size_t a = 0; a < G; ++a)

@@ -408,34 +408,29 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
       for (int32_t k = sp.begin; k < sp.end; ++k) gaps[s][i] += !x.valid[x.cell_base(i) + k];
     }
   }
-  auto kept = [&](const Hit& h) {
-    if (least_hits.empty()) return true;
+  auto dropped = [&](const Hit& h) {
     const int32_t s = h.slot / S, t = h.slot % S;
     const int64_t n = static_cast<int64_t>(common_span(sensors[s]->span(h.a), sensors[t]->span(h.b)).size()) -
                       gaps[s][h.a] - gaps[t][h.b];
     const auto at =
         static_cast<std::size_t>(std::clamp<int64_t>(n, 0, static_cast<int64_t>(least_hits.size()) - 1));
-    return int32_t{h.count} >= std::min<int32_t>(least_hits[at], std::numeric_limits<uint16_t>::max());
+    return int32_t{h.count} < std::min<int32_t>(least_hits[at], std::numeric_limits<uint16_t>::max());
   };
+  if (found)
+    for (const Hit& h : all) ++(*found)[h.slot];
+  if (!least_hits.empty()) std::erase_if(all, dropped);  // in place: no second buffer
   // Each slot's pairs counted, then laid out (exactly their size: 8 bytes a pair) beside the hits.
   std::vector<std::size_t> per_slot(out.size(), 0);
-  if (found) found->assign(out.size(), 0);
-  for (const Hit& h : all) {
-    if (found) ++(*found)[h.slot];
-    per_slot[h.slot] += kept(h);
-  }
-  std::size_t total_kept = 0;
-  for (const std::size_t n : per_slot) total_kept += n;
-  gauge_add(gauge, static_cast<double>(total_kept * 2 * sizeof(int32_t)));
+  for (const Hit& h : all) ++per_slot[h.slot];
+  gauge_add(gauge, static_cast<double>(all.size() * 2 * sizeof(int32_t)));
   for (std::size_t slot = 0; slot < out.size(); ++slot) {
     out[slot].a.reserve(per_slot[slot]);
     out[slot].b.reserve(per_slot[slot]);
   }
-  for (const Hit& h : all)
-    if (kept(h)) {
-      out[h.slot].a.push_back(h.a);
-      out[h.slot].b.push_back(h.b);
-    }
+  for (const Hit& h : all) {
+    out[h.slot].a.push_back(h.a);
+    out[h.slot].b.push_back(h.b);
+  }
   const double hits = static_cast<double>(all.capacity() * sizeof(Hit));
   std::vector<Hit>().swap(all);
   gauge_release(gauge, hits);
