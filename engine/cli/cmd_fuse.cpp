@@ -98,10 +98,9 @@ void register_fuse(CLI::App& app) {
                                          std::to_string(s.shrunk_cells) + " cells"
                                    : "")
                 << "\n";
-    const std::string& out = args->output;
-    std::cout << s.rows << " fused rows in " << fmt(s.runtime_s * 1e3, "%.1f") << " ms -> " << out
+    std::cout << s.rows << " fused rows in " << fmt(s.runtime_s * 1e3, "%.1f") << " ms -> " << args->output
               << ":/fused/" << rec.name << "\n";
-    write_track_file(out, file);
+    write_track_file(args->output, file);
   });
 }
 

@@ -21,14 +21,7 @@ Scenario load_scenario(const std::string& name_or_path) {
 }
 
 TrackFile simulation_to_track_file(const Scenario& scenario, const SimulationResult& result) {
-  TrackFile f;
-  f.created_by = created_by();
-  f.scenario_json = scenario_to_json(scenario);
-  f.sensors = scenario.sensors;
-  f.truth = result.truth;
-  f.measurements = result.measurements;
-  f.tracks = result.tracks;
-  return f;
+  return simulation_to_track_file(scenario, SimulationResult(result));  // a copy, then the move below
 }
 
 TrackFile simulation_to_track_file(const Scenario& scenario, SimulationResult&& result) {
