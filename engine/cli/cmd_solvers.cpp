@@ -8,7 +8,7 @@
 #include <iostream>
 
 #include "engine/cli/common.hpp"
-#include "engine/fusion/fuzzy_pipeline.hpp"
+#include "engine/pipeline/fuzzy_pipeline.hpp"
 #include "engine/pipeline/siamese_track_file.hpp"
 #include "engine/solvers/solver_registry.hpp"
 

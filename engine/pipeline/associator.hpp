@@ -16,7 +16,7 @@
 //                the n1·n2·n3 tensor (the file's three sensors or three --sensors; --3d for a
 //                default-path solver)
 //   sparse 3-D   engine/pipeline/sparse_pipeline.hpp: the same with --sparse, per connected component
-//   fusion       engine/fusion/fuzzy_pipeline.hpp: seed 001's fusion centre (fuzzy, ftaa); side
+//   fusion       engine/pipeline/fuzzy_pipeline.hpp: seed 001's fusion centre (fuzzy, ftaa); side
 //                output: the system tracks (/system_tracks/<name>/)
 //   siamese      engine/pipeline/siamese_track_file.hpp: seed 003's Siamese BiLSTM on two sensors
 // make_associator holds the rules that pick the path (choose_association_path), so a new path is

@@ -7,8 +7,8 @@
 #include <set>
 #include <utility>
 
-#include "engine/fusion/fuzzy_pipeline.hpp"
 #include "engine/pipeline/associator.hpp"
+#include "engine/pipeline/fuzzy_pipeline.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/siamese_track_file.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"

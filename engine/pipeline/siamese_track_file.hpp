@@ -8,7 +8,7 @@
 //   - "plot": the plot each row was updated with (the /measurements row of the same sensor, time
 //     and target, converted to Cartesian) — the input the network was trained on (seed 003 §1:
 //     the radars' plots). Needs /measurements and /tracks/truth (simulation output).
-// Both come from engine/fusion/fuzzy_pipeline.hpp's make_packets, so the two paths share one conversion.
+// Both come from engine/pipeline/fuzzy_pipeline.hpp's make_packets, so the two paths share one conversion.
 // Times are taken relative to "time_origin" [s] (default 0): the model's input map is absolute in
 // position and time (kernels/learning/siamese.hpp), so a scene must lie where the model was trained
 // (the shipped model: the 100 × 100 km area, 0–50 s). Points outside the model's training domain
@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/fusion/fuzzy_pipeline.hpp"
+#include "engine/pipeline/fuzzy_pipeline.hpp"
 #include "engine/pipeline/siamese_pipeline.hpp"
 #include "engine/solvers/option_fields.hpp"
 #include "io/track_file.hpp"

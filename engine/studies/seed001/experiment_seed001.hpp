@@ -53,7 +53,7 @@
 #include <vector>
 
 #include "engine/distributed/communicator.hpp"
-#include "engine/fusion/fuzzy_pipeline.hpp"
+#include "engine/pipeline/fuzzy_pipeline.hpp"
 #include "io/track_file.hpp"
 #include "kernels/core/scenario.hpp"
 #include "kernels/filters/alpha_beta.hpp"

@@ -12,8 +12,8 @@
 #include <sstream>
 #include <utility>
 
-#include "engine/fusion/fuzzy_pipeline.hpp"
 #include "engine/pipeline/associator.hpp"
+#include "engine/pipeline/fuzzy_pipeline.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/siamese_track_file.hpp"
 #include "engine/simulation/simulation_io.hpp"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/fusion/fuzzy_pipeline.hpp"
+#include "engine/pipeline/fuzzy_pipeline.hpp"
 #include "engine/pipeline/pipeline_sd.hpp"
 #include "engine/pipeline/siamese_track_file.hpp"
 #include "engine/solvers/chnn_pseudo_solver.hpp"

@@ -1,4 +1,4 @@
-#include "engine/fusion/fuzzy_pipeline.hpp"
+#include "engine/pipeline/fuzzy_pipeline.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// The seed 001 pipeline (engine/fusion/fuzzy_pipeline.hpp): packets from a track table (thinning),
+// The seed 001 pipeline (engine/pipeline/fuzzy_pipeline.hpp): packets from a track table (thinning),
 // tuples and mapping from the per-packet decisions (including a sensor's broken track), the
 // /system_tracks HDF5 round trip, and option parsing.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <set>
 
-#include "engine/fusion/fuzzy_pipeline.hpp"
+#include "engine/pipeline/fuzzy_pipeline.hpp"
 #include "kernels/core/error.hpp"
 #include "tests/support/fuzzy_test_scenes.hpp"
 
