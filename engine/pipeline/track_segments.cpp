@@ -10,6 +10,7 @@
 
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/track_hygiene.hpp"
+#include "engine/pipeline/tuple_cost.hpp"
 #include "io/memory_budget.hpp"
 #include "kernels/assignment/clusters.hpp"
 #include "kernels/assignment/lap.hpp"
@@ -172,12 +173,10 @@ double join_cost(const SegmentGraph& g, const Target& t, int32_t u, int32_t s, c
   for (std::size_t r = 0; r < t.members.size(); ++r) {
     if (static_cast<int32_t>(r) == s) continue;
     for (int32_t m : t.members[r]) {
-      const double* c = g.link(u, m);
-      if (!c) {
-        if (g.p.coexist(u, m)) return kInf;  // (c): tested, outside the gate
-        continue;
-      }
-      cost += *c;
+      const double c = sd_pair_term(g.link(u, m), [&] { return g.p.coexist(u, m); });
+      if (std::isinf(c)) return kInf;  // (c): tested, outside the gate
+      if (std::isnan(c)) continue;     // never together
+      cost += c;
       evidence |= g.overlap_s(u, m) > 0.0;  // (b)
     }
   }
@@ -291,12 +290,10 @@ double merge_cost(const SegmentGraph& g, const TrackTable& tracks, const Target&
       for (std::size_t r = 0; r < S; ++r) {
         if (r == s) continue;
         for (int32_t m : b.members[r]) {
-          const double* c = g.link(u, m);
-          if (!c) {
-            if (g.p.coexist(u, m)) return kInf;  // (c)
-            continue;
-          }
-          cost += *c;
+          const double c = sd_pair_term(g.link(u, m), [&] { return g.p.coexist(u, m); });
+          if (std::isinf(c)) return kInf;  // (c)
+          if (std::isnan(c)) continue;
+          cost += c;
           evidence = evidence || g.overlap_s(u, m) > 0.0;
         }
       }

@@ -24,6 +24,19 @@
 
 namespace trackassoc {
 
+// The rule for one pair of members, the one decision both the tuple cost below and the segment
+// pass's joins (engine/pipeline/track_segments.cpp) make: the pair's link cost when it is a gated-in
+// pair; +inf (the pair forbids the group) when the two coexist, so the gate tested them, and it
+// failed; NaN (no evidence either way) when they never coexist. `coexist()` is asked only for a
+// pair that is not gated in. The never-coexisting pair is neutral by measurement (docs/design.md
+// §4.3: forbidding it, as the dense S-D path once did, loses targets whose tracks start and end
+// at different times).
+template <class Coexist>
+double sd_pair_term(const double* link, Coexist coexist) {
+  if (link) return *link;
+  return coexist() ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
+}
+
 // link(x, y) for members x < y: the link cost of the pair, NaN when it is not a gated-in pair;
 // coexist(x, y): the two members have common valid times.
 template <class Link, class Coexist>
@@ -47,11 +60,10 @@ double sd_tuple_cost(std::size_t k, bool all_pairs, Link link, Coexist coexist) 
   std::size_t groups = k;
   for (std::size_t x = 0; x < k; ++x)
     for (std::size_t y = x + 1; y < k; ++y) {
-      const double l = link(x, y);
-      if (std::isnan(l)) {
-        if (coexist(x, y)) return std::numeric_limits<double>::infinity();
-        continue;  // never together: no evidence either way
-      }
+      const double gated = link(x, y);
+      const double l = sd_pair_term(std::isnan(gated) ? nullptr : &gated, [&] { return coexist(x, y); });
+      if (std::isinf(l)) return l;
+      if (std::isnan(l)) continue;  // never together: no evidence either way
       const int32_t rx = root(static_cast<int32_t>(x)), ry = root(static_cast<int32_t>(y));
       if (rx != ry) {
         parent[rx] = ry;

@@ -46,5 +46,18 @@ TEST(TupleCost, MembersNotConnectedThroughGatedPairsAreForbidden) {
   EXPECT_TRUE(std::isinf(cost3(link, apart, true)));
 }
 
+// The rule for one pair, shared with the segment pass (track_segments.cpp): a gated pair's link
+// cost (without asking whether the two coexist), +inf for a tested pair outside the gate, NaN for a
+// pair that never coexists.
+TEST(TupleCost, OnePairsTermIsItsLinkForbiddenOrNoEvidence) {
+  int asked = 0;
+  const double link = -2.5;
+  EXPECT_EQ(sd_pair_term(&link, [&] { return ++asked, true; }), -2.5);
+  EXPECT_EQ(asked, 0);
+  EXPECT_EQ(sd_pair_term(nullptr, [&] { return ++asked, true; }), std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(std::isnan(sd_pair_term(nullptr, [&] { return ++asked, false; })));
+  EXPECT_EQ(asked, 2);
+}
+
 }  // namespace
 }  // namespace trackassoc
