@@ -176,9 +176,10 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = trackassoc::kVersion;
   bind_results(m);
 
-  m.def("associate", &associate, py::arg("tracks"), py::arg("sensors") = py::none(),
-        py::arg("threads") = py::none(),
-        R"(associate(tracks, sensors=None, threads=None, **options) -> Association
+  // The keyword options are listed from the one field table (associator_fields.hpp), so the
+  // docstring names every key with its default and range, as option_help() and --options do.
+  static const std::string associate_doc =
+      R"(associate(tracks, sensors=None, threads=None, **options) -> Association
 
 Associates the local tracks of every sensor (the engine's association interface, the same code
 and results as `trackassoc associate`).
@@ -193,16 +194,14 @@ sensors  None (every sensor id of tracks, period = the median report interval of
          list of ids, or a dict of /sensors columns (id; period, position, ... optional). Only
          with arrays.
 threads  None (all cores) or the number of oneTBB workers; results are the same for any.
-options  the `associate` flags as keywords (trackassoc.option_help() lists them): solver='lr+ls',
-         sd, three_d, sparse, sensor_ids=[ids to associate] (--sensors), gate=0.99,
-         gate_method='calibrated', alignment='two-sided', cost_form='all-pairs', correlated,
-         common_period, process_noise, extent_sigma, common_span, link_cost, common_process_noise,
-         options={...} (the solver's own --options), seed=1, name, model, segments=True,
-         segment_overlap, duplicate_sensors. Unknown keys, wrong types and out-of-range values raise
-         ValueError with the one-line message of --options.
-
+options  the `associate` flags as keywords (also trackassoc.option_help()). Unknown keys, wrong
+         types and out-of-range values raise ValueError with the one-line message of --options:
+)" + trackassoc::associator_option_fields().help(trackassoc::AssociatorOptions{}, "  ") +
+      R"(
 Returns an Association: tuples (K x S), sensor_ids, target, cost, unassociated, summary, and
-to_pandas(). The GIL is released while the engine runs.)");
+to_pandas(). The GIL is released while the engine runs.)";
+  m.def("associate", &associate, py::arg("tracks"), py::arg("sensors") = py::none(),
+        py::arg("threads") = py::none(), associate_doc.c_str());
   m.def("evaluate", &evaluate, py::arg("association"), py::arg("tracks") = py::none(),
         R"(evaluate(association, tracks=None) -> dict
 

@@ -206,6 +206,12 @@ def test_docstrings():
         assert doc and len(doc) > 80, name
     assert "gate_method" in trackassoc.option_help()
     assert trackassoc.Association.to_pandas.__doc__
+    # associate's docstring lists every keyword option (built from the same table as option_help)
+    keys = [line.split()[0] for line in trackassoc.option_help().splitlines()[1:] if line.strip()]
+    assert len(keys) >= 30
+    doc = trackassoc.associate.__doc__
+    for key in keys:
+        assert "\n  " + key + " " in doc, key
 
 
 def test_import_without_stonesoup_is_lazy():
