@@ -282,7 +282,7 @@ FusedTrackRecord fuse_association(const TrackTable& tracks, const std::vector<Se
       require(it != rows.end(), "/associations/" + association.name + "/tuples",
               "row " + std::to_string(k) + ": sensor " + std::to_string(sensors[s].id) + " has no track " +
                   std::to_string(track) + " in /tracks");
-      members[k].push_back({s, sensors[s].id, track, &it->second});
+      members[k].push_back({s, sensors[s].id, track, &it->second, {}});
       const int32_t id = tracks.truth[it->second.back()];
       if (first) truth[k] = id;
       agree = agree && id == truth[k];

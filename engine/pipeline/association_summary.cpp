@@ -51,7 +51,10 @@ void registration_lines(std::ostream& os, const RegistrationRecord& r) {
 
 std::string AssociationSummary::BriefReport() const {
   std::string dims;
-  for (int32_t n : track_counts) dims += (dims.empty() ? "" : "x") + std::to_string(n);
+  for (int32_t n : track_counts) {
+    if (!dims.empty()) dims += 'x';
+    dims += std::to_string(n);
+  }
   std::string what, result = "objective " + fmt(objective) + ", ";
   switch (path) {
     case AssociationPath::kSparseSD:

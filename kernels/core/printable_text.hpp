@@ -63,7 +63,10 @@ inline std::string printable_text(std::string_view s) {
 // 'the first `max` bytes of s' (then "..." when longer), escaped by printable_text: the one form of
 // a quoted preview of input in an error message.
 inline std::string quoted_preview(std::string_view s, std::size_t max = 40) {
-  return "'" + printable_text(s.substr(0, max)) + (s.size() > max ? "...'" : "'");
+  std::string out(1, '\'');  // (appended, not "'" + string: GCC 12's -Wrestrict false positive)
+  out += printable_text(s.substr(0, max));
+  out += s.size() > max ? "...'" : "'";
+  return out;
 }
 
 // Why the start of a text input (CSV, JSON) is not UTF-8 text, or "" when it may be: a UTF-16

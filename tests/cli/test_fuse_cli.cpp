@@ -37,7 +37,7 @@ TEST_F(FuseCli, EveryRuleThenEvaluateReportsFusedBelowEachSensor) {
   int k = 0;
   for (const std::string args : {"--rule naive", "--rule bsc --name bsc",
                                  "--rule ci --ci-criterion det --name ci", "--rule bsc --name bsc"}) {
-    const std::string next = path("f" + std::to_string(++k) + ".h5");
+    const std::string next = path("f" + std::to_string(++k).append(".h5"));
     const testing_support::CliResult r = run("fuse --input " + last + " " + args + " -o " + next);
     ASSERT_EQ(r.status, 0) << args << ": " << r.err;
     EXPECT_NE(r.out.find("fused rows"), std::string::npos) << r.out;
