@@ -28,6 +28,12 @@ void write_all(int fd, const std::string& text) {
 
 }  // namespace
 
+namespace {
+bool g_in_isolated_child = false;
+}  // namespace
+
+bool in_isolated_child() { return g_in_isolated_child; }
+
 void run_isolated(const std::string& subject, const std::function<void()>& check, double timeout_s) {
   int fds[2];
   if (::pipe(fds) != 0) {
@@ -51,6 +57,7 @@ void run_isolated(const std::string& subject, const std::function<void()>& check
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (::getppid() != parent) ::_exit(4);
     ::close(fds[0]);
+    g_in_isolated_child = true;
     int status = 0;
     try {
       check();

@@ -21,6 +21,12 @@ namespace trackassoc {
 // (PR_SET_PDEATHSIG), so a parent killed by SIGKILL leaves no reader spinning.
 void run_isolated(const std::string& subject, const std::function<void()>& check, double timeout_s);
 
+// True inside the child of run_isolated. The child is there to exercise the library; the checks
+// of values that are pure computation on what was read (io/track_validation.hpp, check_tracks' rows)
+// run once, in the parent, on its own read of the same file. A forked child also never starts a
+// oneTBB task arena its parent may already hold.
+bool in_isolated_child();
+
 // The child's time limit for reading `path`: 10 s plus 1 s per 5 MB of file. A sound file reads
 // far faster: the 70 MB recorded_10k simulation is read twice (child, then parent) in 1.5 s on a
 // loaded 2-core machine, against its limit of 24 s; a damaged 33 KB file is given up after 10 s.

@@ -1,16 +1,20 @@
 #include "io/track_validation.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <set>
 #include <sstream>
 #include <tuple>
+#include <unordered_map>
 #include <unordered_set>
 
+#include "io/isolated_run.hpp"
 #include "kernels/assignment/assignment_types.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/parallel.hpp"
 #include "kernels/core/printable_text.hpp"
 
 namespace trackassoc::track_validation {
@@ -39,9 +43,32 @@ void check_length(const std::string& file, const std::string& dataset, std::size
              std::to_string(found));
 }
 
+// The least row r in [0, n) with bad(r), or n: the answer of the serial scan, found over blocks of
+// rows in parallel (oneTBB) so that a 6-million-row file is checked on every core; each block stops
+// at its first bad row or at one already found before it.
+template <class Bad>
+std::size_t first_bad_row(std::size_t n, Bad bad) {
+  if (in_isolated_child()) {  // no task arena in a forked child (io/isolated_run.hpp)
+    for (std::size_t r = 0; r < n; ++r)
+      if (bad(r)) return r;
+    return n;
+  }
+  std::atomic<std::size_t> first{n};
+  parallel_for_range(n, std::size_t{1} << 15, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t r = begin; r < end && r < first.load(std::memory_order_relaxed); ++r)
+      if (bad(r)) {
+        std::size_t seen = first.load(std::memory_order_relaxed);
+        while (r < seen && !first.compare_exchange_weak(seen, r, std::memory_order_relaxed)) {
+        }
+        return;
+      }
+  });
+  return first.load();
+}
+
 void check_finite(const std::string& file, const std::string& dataset, const std::vector<double>& v) {
-  for (std::size_t r = 0; r < v.size(); ++r)
-    if (!std::isfinite(v[r])) fail_row(file, dataset, r, "expected a finite value, found " + number(v[r]));
+  const std::size_t r = first_bad_row(v.size(), [&](std::size_t i) { return !std::isfinite(v[i]); });
+  if (r < v.size()) fail_row(file, dataset, r, "expected a finite value, found " + number(v[r]));
 }
 
 void check_finite_min(const std::string& file, const std::string& dataset, double v, std::size_t row,
@@ -60,22 +87,62 @@ std::set<int32_t> sensor_ids(const std::vector<Sensor>& sensors) {
 // error, naming both rows, whether the states differ (two different estimates of one track at one
 // instant: which one the alignment would use is arbitrary) or not (a repeated row).
 void check_unique_reports(const std::string& file, const TrackTable& t) {
-  std::vector<std::size_t> rows(t.sensor.size());
-  for (std::size_t r = 0; r < rows.size(); ++r) rows[r] = r;
-  auto key = [&](std::size_t r) { return std::make_tuple(t.sensor[r], t.track[r], t.t[r], r); };
-  std::sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
-  for (std::size_t k = 1; k < rows.size(); ++k) {
-    const std::size_t a = rows[k - 1], b = rows[k];
-    if (t.sensor[a] != t.sensor[b] || t.track[a] != t.track[b] || t.t[a] != t.t[b]) continue;
-    bool same = true;
-    for (const auto& c : t.state) same = same && c[a] == c[b];
-    for (const auto& c : t.cov) same = same && c[a] == c[b];
-    fail_row(file, "/tracks", b,
-             "sensor " + std::to_string(t.sensor[b]) + ", track " + std::to_string(t.track[b]) +
-                 ", t = " + number(t.t[b]) + " is also row " + std::to_string(a) +
-                 (same ? " (the same state repeated)" : " with a different state") +
-                 "; a local track reports at most once per time");
+  // The rows grouped by local track (sensor, track), in row order within each group (a counting sort
+  // by group), then each group's times checked: O(n) when each track's rows are in time order, as in
+  // every recording we have seen, the group sorted by (t, row) otherwise. (It was one sort of all n
+  // row indices by (sensor, track, t, row): 1.6 s of widearea's 6.2 s read.) The error is the same:
+  // the repeated (sensor, track, t) that sorts first, naming its two lowest rows.
+  const std::size_t n = t.sensor.size();
+  std::unordered_map<uint64_t, uint32_t> group_of;
+  std::vector<uint64_t> group_key;
+  std::vector<uint32_t> group(n);
+  for (std::size_t r = 0; r < n; ++r) {
+    const uint64_t key =
+        (static_cast<uint64_t>(static_cast<uint32_t>(t.sensor[r])) << 32) | static_cast<uint32_t>(t.track[r]);
+    const auto [it, fresh] = group_of.try_emplace(key, static_cast<uint32_t>(group_key.size()));
+    if (fresh) group_key.push_back(key);
+    group[r] = it->second;
   }
+  std::vector<std::size_t> start(group_key.size() + 1, 0);
+  for (std::size_t r = 0; r < n; ++r) ++start[group[r] + 1];
+  for (std::size_t g = 0; g < group_key.size(); ++g) start[g + 1] += start[g];
+  std::vector<uint32_t> rows(n);
+  {
+    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+    for (std::size_t r = 0; r < n; ++r) rows[next[group[r]]++] = static_cast<uint32_t>(r);
+  }
+  // The first repeated report in (sensor, track, t) order: rows a < b.
+  bool found = false;
+  std::size_t best_a = 0, best_b = 0;
+  auto earlier = [&](std::size_t a, std::size_t b) {  // (sensor, track, t) of row a before row b's
+    return std::make_tuple(t.sensor[a], t.track[a], t.t[a]) <
+           std::make_tuple(t.sensor[b], t.track[b], t.t[b]);
+  };
+  std::vector<uint32_t> sorted;
+  for (std::size_t g = 0; g < group_key.size(); ++g) {
+    const auto first = rows.begin() + static_cast<std::ptrdiff_t>(start[g]);
+    const auto last = rows.begin() + static_cast<std::ptrdiff_t>(start[g + 1]);
+    bool in_order = true;
+    for (auto it = first + 1; it < last && in_order; ++it) in_order = t.t[*(it - 1)] < t.t[*it];
+    if (in_order) continue;
+    sorted.assign(first, last);  // row order: a stable sort keeps it among equal times
+    std::stable_sort(sorted.begin(), sorted.end(), [&](uint32_t a, uint32_t b) { return t.t[a] < t.t[b]; });
+    for (std::size_t k = 1; k < sorted.size(); ++k)
+      if (t.t[sorted[k - 1]] == t.t[sorted[k]]) {
+        if (!found || earlier(sorted[k], best_b)) found = true, best_a = sorted[k - 1], best_b = sorted[k];
+        break;
+      }
+  }
+  if (!found) return;
+  const std::size_t a = best_a, b = best_b;
+  bool same = true;
+  for (const auto& c : t.state) same = same && c[a] == c[b];
+  for (const auto& c : t.cov) same = same && c[a] == c[b];
+  fail_row(file, "/tracks", b,
+           "sensor " + std::to_string(t.sensor[b]) + ", track " + std::to_string(t.track[b]) +
+               ", t = " + number(t.t[b]) + " is also row " + std::to_string(a) +
+               (same ? " (the same state repeated)" : " with a different state") +
+               "; a local track reports at most once per time");
 }
 
 }  // namespace
@@ -149,35 +216,50 @@ void check_tracks(const std::string& file, const TrackTable& t, const std::vecto
   for (const auto& c : t.state) check_length(file, "/tracks/state", c.size(), n, ref);
   for (const auto& c : t.cov) check_length(file, "/tracks/cov", c.size(), n, ref);
 
-  const std::set<int32_t> ids = sensor_ids(sensors);
-  for (std::size_t r = 0; r < n; ++r) {
-    if (!ids.count(t.sensor[r]))
+  const std::set<int32_t> id_set = sensor_ids(sensors);
+  const std::vector<int32_t> ids(id_set.begin(), id_set.end());  // sorted: a binary search per row
+  auto known = [&](std::size_t r) { return std::binary_search(ids.begin(), ids.end(), t.sensor[r]); };
+  const std::size_t bad_key =
+      first_bad_row(n, [&](std::size_t r) { return !known(r) || t.track[r] < 0 || t.truth[r] < -1; });
+  if (bad_key < n) {
+    const std::size_t r = bad_key;
+    if (!known(r))
       fail_row(file, "/tracks/sensor", r, "sensor " + std::to_string(t.sensor[r]) + " is not in /sensors/id");
     if (t.track[r] < 0)
       fail_row(file, "/tracks/track", r, "expected a track number >= 0, found " + std::to_string(t.track[r]));
-    if (t.truth[r] < -1)
-      fail_row(file, "/tracks/truth", r, "expected a target id >= -1, found " + std::to_string(t.truth[r]));
+    fail_row(file, "/tracks/truth", r, "expected a target id >= -1, found " + std::to_string(t.truth[r]));
   }
   check_finite(file, "/tracks/t", t.t);
   const char* names[] = {"x", "y", "z", "vx", "vy", "vz"};
   const int order4[] = {0, 1, 3, 4}, order6[] = {0, 1, 2, 3, 4, 5};
-  for (int c = 0; c < d; ++c)
-    for (std::size_t r = 0; r < n; ++r)
-      if (!std::isfinite(t.state[c][r]))
-        fail_row(file, "/tracks/state", r,
-                 "column " + std::to_string(c) + " (" + names[d == 4 ? order4[c] : order6[c]] +
-                     "): expected a finite value, found " + number(t.state[c][r]));
+  for (int c = 0; c < d; ++c) {
+    const std::vector<double>& x = t.state[c];
+    const std::size_t r = first_bad_row(n, [&](std::size_t i) { return !std::isfinite(x[i]); });
+    if (r < n)
+      fail_row(file, "/tracks/state", r,
+               "column " + std::to_string(c) + " (" + names[d == 4 ? order4[c] : order6[c]] +
+                   "): expected a finite value, found " + number(x[r]));
+  }
   const int p = packed_size(d);
-  double packed[21];
-  for (std::size_t r = 0; r < n; ++r) {
-    for (int k = 0; k < p; ++k) {
-      packed[k] = t.cov[k][r];
+  auto packed_row = [&](std::size_t r, double* packed) {
+    for (int k = 0; k < p; ++k) packed[k] = t.cov[k][r];
+  };
+  const std::size_t bad_cov = first_bad_row(n, [&](std::size_t r) {
+    double packed[21];
+    packed_row(r, packed);
+    for (int k = 0; k < p; ++k)
+      if (!std::isfinite(packed[k])) return true;
+    return !positive_definite_failure(packed, d).empty();
+  });
+  if (bad_cov < n) {
+    double packed[21];
+    packed_row(bad_cov, packed);
+    for (int k = 0; k < p; ++k)
       if (!std::isfinite(packed[k]))
-        fail_row(file, "/tracks/cov", r,
+        fail_row(file, "/tracks/cov", bad_cov,
                  "column " + std::to_string(k) + ": expected a finite value, found " + number(packed[k]));
-    }
-    const std::string why = positive_definite_failure(packed, d);
-    if (!why.empty()) fail_row(file, "/tracks/cov", r, "covariance is not positive definite: " + why);
+    fail_row(file, "/tracks/cov", bad_cov,
+             "covariance is not positive definite: " + positive_definite_failure(packed, d));
   }
   check_unique_reports(file, t);
 }
