@@ -8,12 +8,12 @@
 #include <set>
 #include <sstream>
 #include <tuple>
-#include <unordered_map>
 #include <unordered_set>
 
 #include "io/isolated_run.hpp"
 #include "kernels/assignment/assignment_types.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/local_track_rows.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/printable_text.hpp"
 
@@ -87,62 +87,25 @@ std::set<int32_t> sensor_ids(const std::vector<Sensor>& sensors) {
 // error, naming both rows, whether the states differ (two different estimates of one track at one
 // instant: which one the alignment would use is arbitrary) or not (a repeated row).
 void check_unique_reports(const std::string& file, const TrackTable& t) {
-  // The rows grouped by local track (sensor, track), in row order within each group (a counting sort
-  // by group), then each group's times checked: O(n) when each track's rows are in time order, as in
-  // every recording we have seen, the group sorted by (t, row) otherwise. (It was one sort of all n
-  // row indices by (sensor, track, t, row): 1.6 s of widearea's 6.2 s read.) The error is the same:
-  // the repeated (sensor, track, t) that sorts first, naming its two lowest rows.
-  const std::size_t n = t.sensor.size();
-  std::unordered_map<uint64_t, uint32_t> group_of;
-  std::vector<uint64_t> group_key;
-  std::vector<uint32_t> group(n);
-  for (std::size_t r = 0; r < n; ++r) {
-    const uint64_t key =
-        (static_cast<uint64_t>(static_cast<uint32_t>(t.sensor[r])) << 32) | static_cast<uint32_t>(t.track[r]);
-    const auto [it, fresh] = group_of.try_emplace(key, static_cast<uint32_t>(group_key.size()));
-    if (fresh) group_key.push_back(key);
-    group[r] = it->second;
+  // Each local track's rows in time order, ties in row order (kernels/core/local_track_rows.hpp):
+  // the first repeat met, tracks in (sensor, track) order, is the one that sorts first, and its two
+  // rows are the lowest with that time.
+  const LocalTrackRows tracks = local_track_rows(t);
+  for (std::size_t k = 0; k < tracks.size(); ++k) {
+    const std::span<const std::size_t> rows = tracks.rows(k);
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+      const std::size_t a = rows[i - 1], b = rows[i];
+      if (t.t[a] != t.t[b]) continue;
+      bool same = true;
+      for (const auto& c : t.state) same = same && c[a] == c[b];
+      for (const auto& c : t.cov) same = same && c[a] == c[b];
+      fail_row(file, "/tracks", b,
+               "sensor " + std::to_string(t.sensor[b]) + ", track " + std::to_string(t.track[b]) +
+                   ", t = " + number(t.t[b]) + " is also row " + std::to_string(a) +
+                   (same ? " (the same state repeated)" : " with a different state") +
+                   "; a local track reports at most once per time");
+    }
   }
-  std::vector<std::size_t> start(group_key.size() + 1, 0);
-  for (std::size_t r = 0; r < n; ++r) ++start[group[r] + 1];
-  for (std::size_t g = 0; g < group_key.size(); ++g) start[g + 1] += start[g];
-  std::vector<uint32_t> rows(n);
-  {
-    std::vector<std::size_t> next(start.begin(), start.end() - 1);
-    for (std::size_t r = 0; r < n; ++r) rows[next[group[r]]++] = static_cast<uint32_t>(r);
-  }
-  // The first repeated report in (sensor, track, t) order: rows a < b.
-  bool found = false;
-  std::size_t best_a = 0, best_b = 0;
-  auto earlier = [&](std::size_t a, std::size_t b) {  // (sensor, track, t) of row a before row b's
-    return std::make_tuple(t.sensor[a], t.track[a], t.t[a]) <
-           std::make_tuple(t.sensor[b], t.track[b], t.t[b]);
-  };
-  std::vector<uint32_t> sorted;
-  for (std::size_t g = 0; g < group_key.size(); ++g) {
-    const auto first = rows.begin() + static_cast<std::ptrdiff_t>(start[g]);
-    const auto last = rows.begin() + static_cast<std::ptrdiff_t>(start[g + 1]);
-    bool in_order = true;
-    for (auto it = first + 1; it < last && in_order; ++it) in_order = t.t[*(it - 1)] < t.t[*it];
-    if (in_order) continue;
-    sorted.assign(first, last);  // row order: a stable sort keeps it among equal times
-    std::stable_sort(sorted.begin(), sorted.end(), [&](uint32_t a, uint32_t b) { return t.t[a] < t.t[b]; });
-    for (std::size_t k = 1; k < sorted.size(); ++k)
-      if (t.t[sorted[k - 1]] == t.t[sorted[k]]) {
-        if (!found || earlier(sorted[k], best_b)) found = true, best_a = sorted[k - 1], best_b = sorted[k];
-        break;
-      }
-  }
-  if (!found) return;
-  const std::size_t a = best_a, b = best_b;
-  bool same = true;
-  for (const auto& c : t.state) same = same && c[a] == c[b];
-  for (const auto& c : t.cov) same = same && c[a] == c[b];
-  fail_row(file, "/tracks", b,
-           "sensor " + std::to_string(t.sensor[b]) + ", track " + std::to_string(t.track[b]) +
-               ", t = " + number(t.t[b]) + " is also row " + std::to_string(a) +
-               (same ? " (the same state repeated)" : " with a different state") +
-               "; a local track reports at most once per time");
 }
 
 }  // namespace

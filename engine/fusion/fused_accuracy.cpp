@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
+
+#include "kernels/core/local_track_rows.hpp"
 
 namespace trackassoc {
 
@@ -44,11 +47,7 @@ FusedAccuracy evaluate_fused(const TrackTable& tracks, const std::vector<Sensor>
   const int m = spatial_dim(tracks.layout);
   const int32_t S = fused.num_sensors;
   // (sensor id, track, t) → /tracks row, for the members' reports at the fused times.
-  std::map<std::pair<int32_t, int32_t>, std::vector<std::size_t>> rows;
-  for (std::size_t r = 0; r < tracks.size(); ++r) rows[{tracks.sensor[r], tracks.track[r]}].push_back(r);
-  for (auto& [key, v] : rows)
-    std::stable_sort(v.begin(), v.end(),
-                     [&](std::size_t a, std::size_t b) { return tracks.t[a] < tracks.t[b]; });
+  const LocalTrackRows rows = local_track_rows(tracks);
 
   FusedAccuracy out;
   double fused_sq = 0.0;
@@ -69,9 +68,9 @@ FusedAccuracy evaluate_fused(const TrackTable& tracks, const std::vector<Sensor>
     for (int32_t s = 0; s < S; ++s) {
       const int32_t track = fused.tuples[k * S + s];
       if (track < 0) continue;
-      const auto it = rows.find({sensors[s].id, track});
-      if (it == rows.end()) continue;
-      const auto& v = it->second;
+      const std::size_t it = rows.find({sensors[s].id, track});
+      if (it == rows.size()) continue;
+      const std::span<const std::size_t> v = rows.rows(it);
       const auto r = std::lower_bound(v.begin(), v.end(), fused.t[i],
                                       [&](std::size_t row, double x) { return tracks.t[row] < x; });
       if (r == v.end() || tracks.t[*r] != fused.t[i]) continue;  // no report of this member then

@@ -8,10 +8,12 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <span>
 
 #include "engine/registration/registered_reports.hpp"
 #include "io/scenario_json.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/local_track_rows.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/core/stopwatch.hpp"
 #include "kernels/statistics/association_statistic.hpp"
@@ -28,11 +30,11 @@ using Eigen::VectorXd;
 // the association's time slices give the target to them (engine/pipeline/track_segments.hpp).
 struct Member {
   int32_t column = 0, sensor = 0, track = 0;
-  const std::vector<std::size_t>* rows = nullptr;
+  std::span<const std::size_t> rows;  // its rows of /tracks in time order
   std::vector<std::pair<double, double>> handed_over;
   // The member holds its tuple's slot at time t: inside its span and not handed over.
   bool active(const TrackTable& tracks, double t) const {
-    if (t < tracks.t[rows->front()] || t > tracks.t[rows->back()]) return false;
+    if (t < tracks.t[rows.front()] || t > tracks.t[rows.back()]) return false;
     for (const auto& [a, b] : handed_over)
       if (a <= t && t <= b) return false;
     return true;
@@ -52,8 +54,8 @@ struct TupleRows {
 // The rows of one member as a track table of their own (align_tracks reads a whole table).
 TrackTable member_table(const TrackTable& tracks, const Member& m) {
   TrackTable sub(tracks.layout);
-  sub.reserve(m.rows->size());
-  for (std::size_t r : *m.rows) {
+  sub.reserve(m.rows.size());
+  for (std::size_t r : m.rows) {
     sub.sensor.push_back(m.sensor);
     sub.track.push_back(m.track);
     sub.t.push_back(tracks.t[r]);
@@ -80,7 +82,7 @@ MatrixXd principal_sqrt(const MatrixXd& P) {
 std::vector<double> fused_times(const TrackTable& tracks, const std::vector<Member>& members) {
   std::vector<double> times;
   for (const Member& m : members)
-    for (std::size_t r : *m.rows) times.push_back(tracks.t[r]);
+    for (std::size_t r : m.rows) times.push_back(tracks.t[r]);
   std::sort(times.begin(), times.end());
   times.erase(std::unique(times.begin(), times.end()), times.end());
   std::erase_if(times, [&](double t) {
@@ -125,7 +127,7 @@ TupleRows fuse_tuple(const TrackTable& tracks, const std::vector<Member>& member
       // times are then its filter's update times, where gain_complements is exact); on the grid,
       // that A at its report times and I elsewhere (its estimate there is a prediction).
       std::vector<double> own;
-      for (std::size_t r : *members[i].rows) own.push_back(tracks.t[r]);
+      for (std::size_t r : members[i].rows) own.push_back(tracks.t[r]);
       own.erase(std::unique(own.begin(), own.end()), own.end());
       const TrackTable sub = member_table(tracks, members[i]);
       const AlignedTracks at_own = align_tracks(sub, members[i].sensor, own, align);
@@ -262,11 +264,7 @@ FusedTrackRecord fuse_association(const TrackTable& tracks, const std::vector<Se
           "expected one column per /sensors entry (" + std::to_string(sensors.size()) + "), found " +
               std::to_string(S));
   // Rows of each (sensor, track), by time.
-  std::map<std::pair<int32_t, int32_t>, std::vector<std::size_t>> rows;
-  for (std::size_t r = 0; r < tracks.size(); ++r) rows[{tracks.sensor[r], tracks.track[r]}].push_back(r);
-  for (auto& [key, v] : rows)
-    std::stable_sort(v.begin(), v.end(),
-                     [&](std::size_t x, std::size_t y) { return tracks.t[x] < tracks.t[y]; });
+  const LocalTrackRows rows = local_track_rows(tracks);
 
   const std::size_t K = association.num_tuples();
   std::vector<std::vector<Member>> members(K);
@@ -278,12 +276,12 @@ FusedTrackRecord fuse_association(const TrackTable& tracks, const std::vector<Se
     for (int32_t s = 0; s < S; ++s) {
       const int32_t track = association.tuples[k * S + s];
       if (track < 0) continue;
-      const auto it = rows.find({sensors[s].id, track});
-      require(it != rows.end(), "/associations/" + association.name + "/tuples",
+      const std::size_t it = rows.find({sensors[s].id, track});
+      require(it != rows.size(), "/associations/" + association.name + "/tuples",
               "row " + std::to_string(k) + ": sensor " + std::to_string(sensors[s].id) + " has no track " +
                   std::to_string(track) + " in /tracks");
-      members[k].push_back({s, sensors[s].id, track, &it->second, {}});
-      const int32_t id = tracks.truth[it->second.back()];
+      members[k].push_back({s, sensors[s].id, track, rows.rows(it), {}});
+      const int32_t id = tracks.truth[rows.rows(it).back()];
       if (first) truth[k] = id;
       agree = agree && id == truth[k];
       first = false;
@@ -294,17 +292,19 @@ FusedTrackRecord fuse_association(const TrackTable& tracks, const std::vector<Se
   // Target numbers (segments and duplicates): a member yields its slot to the later-starting
   // tracks of its target on its sensor while they report, as the association's slices do.
   if (association.target.size() == K) {
-    std::map<std::pair<int32_t, int32_t>, std::vector<const std::vector<std::size_t>*>> of_target;
+    // (target, sensor) → the rows of its tracks, each track once (told apart by where its rows are)
+    std::map<std::pair<int32_t, int32_t>, std::vector<std::span<const std::size_t>>> of_target;
     for (std::size_t k = 0; k < K; ++k)
       for (const Member& m : members[k]) {
         auto& v = of_target[{association.target[k], m.sensor}];
-        if (std::find(v.begin(), v.end(), m.rows) == v.end()) v.push_back(m.rows);
+        if (std::none_of(v.begin(), v.end(), [&](auto o) { return o.data() == m.rows.data(); }))
+          v.push_back(m.rows);
       }
     for (std::size_t k = 0; k < K; ++k)
       for (Member& m : members[k])
-        for (const std::vector<std::size_t>* other : of_target[{association.target[k], m.sensor}])
-          if (tracks.t[other->front()] > tracks.t[m.rows->front()])
-            m.handed_over.emplace_back(tracks.t[other->front()], tracks.t[other->back()]);
+        for (const std::span<const std::size_t> other : of_target[{association.target[k], m.sensor}])
+          if (tracks.t[other.front()] > tracks.t[m.rows.front()])
+            m.handed_over.emplace_back(tracks.t[other.front()], tracks.t[other.back()]);
   }
 
   std::vector<TupleRows> fused(K);

@@ -12,31 +12,25 @@
 
 #include "io/memory_budget.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/local_track_rows.hpp"
 #include "kernels/statistics/chi_square.hpp"
 
 namespace trackassoc {
 
 namespace {
 
-using Key = std::pair<int32_t, int32_t>;  // (sensor id, track number)
-
-// Rows of every local track, in time order. --memory-budget (io/memory_budget.hpp) is checked first:
-// per report its row number (a vector's growth up to twice), per local track a map node (~80
-// bytes); the tracks are counted as the changes of key from row to row (no allocation: exact when the
-// table is grouped by track, as files are written, and an upper bound otherwise).
-std::map<Key, std::vector<std::size_t>> rows_of_tracks(const TrackTable& t) {
+// Rows of every local track, in time order (kernels/core/local_track_rows.hpp). --memory-budget
+// (io/memory_budget.hpp) is checked first; the tracks are counted as the changes of key from row to
+// row (no allocation: exact when the table is grouped by track, as files are written, and an upper
+// bound otherwise).
+LocalTrackRows rows_of_tracks(const TrackTable& t) {
   std::size_t tracks = 0;
   for (std::size_t r = 0; r < t.size(); ++r)
     tracks += r == 0 || t.sensor[r] != t.sensor[r - 1] || t.track[r] != t.track[r - 1];
-  require_memory_beside_held(
-      0.0, static_cast<double>(t.size()) * 2.0 * sizeof(std::size_t) + static_cast<double>(tracks) * 80.0,
-      "the registration stage's rows per local track (" + std::to_string(t.size()) + " reports, at most " +
-          std::to_string(tracks) + " local tracks)");
-  std::map<Key, std::vector<std::size_t>> rows;
-  for (std::size_t r = 0; r < t.size(); ++r) rows[{t.sensor[r], t.track[r]}].push_back(r);
-  for (auto& [k, v] : rows)
-    std::stable_sort(v.begin(), v.end(), [&](std::size_t a, std::size_t b) { return t.t[a] < t.t[b]; });
-  return rows;
+  require_memory_beside_held(0.0, bytes_of_local_track_rows(t.size(), tracks),
+                             "the registration stage's rows per local track (" + std::to_string(t.size()) +
+                                 " reports, at most " + std::to_string(tracks) + " local tracks)");
+  return local_track_rows(t);
 }
 
 bool positions_unknown(const TrackFile& file) {
@@ -128,9 +122,9 @@ namespace {
 
 // Appends the observations of one pair of local tracks, rows A (column a) and B (column b) in
 // time order: A's reports inside B's span, B interpolated between its reports around each.
-void add_pair_observations(RegistrationObservations& obs, const TrackTable& t,
-                           const std::vector<std::size_t>& A, const std::vector<std::size_t>& B, int32_t a,
-                           int32_t b, int64_t cluster, const RegistrationStageOptions& o) {
+void add_pair_observations(RegistrationObservations& obs, const TrackTable& t, std::span<const std::size_t> A,
+                           std::span<const std::size_t> B, int32_t a, int32_t b, int64_t cluster,
+                           const RegistrationStageOptions& o) {
   const int D = t.dim(), d = D / 2;
   auto position_cov = [&](std::size_t r, Eigen::MatrixXd& P) {
     for (int i = 0; i < d; ++i)
@@ -169,8 +163,7 @@ void add_pair_observations(RegistrationObservations& obs, const TrackTable& t,
 
 // A track's position at time tm (linear between its reports; tm inside its span) and the trace
 // of its position covariance there.
-void position_at(const TrackTable& t, const std::vector<std::size_t>& rows, double tm, double* x,
-                 double& var) {
+void position_at(const TrackTable& t, std::span<const std::size_t> rows, double tm, double* x, double& var) {
   const int D = t.dim(), d = D / 2;
   auto it =
       std::lower_bound(rows.begin(), rows.end(), tm, [&](std::size_t r, double v) { return t.t[r] < v; });
@@ -209,9 +202,9 @@ RegistrationObservations registration_observations(const TrackFile& file, const 
       for (int32_t b = a + 1; b < S; ++b) {
         const int32_t ta = rec.tuples[q * S + a], tb = rec.tuples[q * S + b];
         if (ta < 0 || tb < 0) continue;
-        const auto ia = rows.find({file.sensors[a].id, ta}), ib = rows.find({file.sensors[b].id, tb});
-        if (ia == rows.end() || ib == rows.end()) continue;
-        add_pair_observations(obs, file.tracks, ia->second, ib->second, a, b,
+        const std::size_t ia = rows.find({file.sensors[a].id, ta}), ib = rows.find({file.sensors[b].id, tb});
+        if (ia == rows.size() || ib == rows.size()) continue;
+        add_pair_observations(obs, file.tracks, rows.rows(ia), rows.rows(ib), a, b,
                               static_cast<int64_t>(q) * S * S + a * S + b, o);
       }
   return obs;
@@ -225,17 +218,17 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
   obs.dim = d;
   const auto rows = rows_of_tracks(t);
   const int32_t S = static_cast<int32_t>(file.sensors.size());
-  std::vector<std::vector<const std::pair<const Key, std::vector<std::size_t>>*>> keys(S);
+  std::vector<std::vector<std::span<const std::size_t>>> keys(S);  // per sensor column: its tracks' rows
   std::map<int32_t, int32_t> column;
   for (int32_t s = 0; s < S; ++s) column[file.sensors[s].id] = s;
-  for (const auto& kv : rows) keys[column.at(kv.first.first)].push_back(&kv);
+  for (std::size_t k = 0; k < rows.size(); ++k) keys[column.at(rows.key[k].first)].push_back(rows.rows(k));
   // Each track's bounding box, so that pairs farther apart than pattern_radius everywhere are
   // skipped without interpolating them (the pattern step is O(sample · n) box tests).
   std::vector<std::vector<std::array<double, 6>>> box(S);
   for (int32_t s = 0; s < S; ++s)
-    for (const auto* kv : keys[s]) {
+    for (const std::span<const std::size_t> track_rows : keys[s]) {
       std::array<double, 6> b{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
-      for (std::size_t r : kv->second)
+      for (std::size_t r : track_rows)
         for (int i = 0; i < d; ++i)
           b[i] = std::min(b[i], t.state[i][r]), b[3 + i] = std::max(b[3 + i], t.state[i][r]);
       box[s].push_back(b);
@@ -257,10 +250,10 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
     std::vector<Candidate> cand;
     for (std::size_t i = 0; i < sample; ++i) {
       const std::size_t ia = sample == ref.size() ? i : i * ref.size() / sample;
-      const auto& A = ref[ia]->second;
+      const std::span<const std::size_t> A = ref[ia];
       for (std::size_t ib = 0; ib < keys[s].size(); ++ib) {
         if (!near(box[reference][ia], box[s][ib])) continue;
-        const auto& B = keys[s][ib]->second;
+        const std::span<const std::size_t> B = keys[s][ib];
         const double lo = std::max(t.t[A.front()], t.t[B.front()]),
                      hi = std::min(t.t[A.back()], t.t[B.back()]);
         if (lo > hi) continue;
@@ -324,7 +317,7 @@ RegistrationObservations pattern_observations(const TrackFile& file, int32_t ref
     for (const auto& [a, e] : best_of_a) {
       const Candidate& c = cand[e.second];
       if (best_of_b.at(c.b).second != e.second) continue;
-      add_pair_observations(obs, t, ref[c.a]->second, keys[s][c.b]->second, reference, s,
+      add_pair_observations(obs, t, ref[c.a], keys[s][c.b], reference, s,
                             static_cast<int64_t>(s) * (1 << 30) + static_cast<int64_t>(e.second), o);
     }
   }

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <span>
 
 #include "kernels/core/error.hpp"
+#include "kernels/core/local_track_rows.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/statistics/chi_square.hpp"
 
@@ -52,20 +54,10 @@ double continuation_statistic(const TrackTable& t, std::size_t before, std::size
 
 namespace {
 
-using Key = std::pair<int32_t, int32_t>;  // (sensor, track)
-
-// Every key's rows in time order, keys in (sensor, track) order.
-std::vector<std::pair<Key, std::vector<std::size_t>>> rows_by_key(const TrackTable& t) {
-  std::map<Key, std::vector<std::size_t>> rows;
-  for (std::size_t r = 0; r < t.size(); ++r) rows[{t.sensor[r], t.track[r]}].push_back(r);
-  std::vector<std::pair<Key, std::vector<std::size_t>>> out(rows.begin(), rows.end());
-  for (auto& [key, v] : out)
-    std::stable_sort(v.begin(), v.end(), [&](std::size_t a, std::size_t b) { return t.t[a] < t.t[b]; });
-  return out;
-}
+using Key = LocalTrackRows::Key;  // (sensor, track)
 
 // The gap of a key (its rows in time order): max(min_gap_s, gap_factor × median report interval).
-double gap_of(const TrackTable& t, const std::vector<std::size_t>& v, const TrackSplitOptions& o) {
+double gap_of(const TrackTable& t, std::span<const std::size_t> v, const TrackSplitOptions& o) {
   std::vector<double> intervals;
   for (std::size_t i = 1; i < v.size(); ++i) intervals.push_back(t.t[v[i]] - t.t[v[i - 1]]);
   std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
@@ -75,7 +67,7 @@ double gap_of(const TrackTable& t, const std::vector<std::size_t>& v, const Trac
 // Gives the rows of key k from each of cuts[k] (positions in its rows, ascending) on a new number:
 // one above the sensor's largest, in order of cuts by sensor, key and time; source_track keeps
 // the recorded numbers. Returns the number of cuts.
-int32_t renumber_at_cuts(TrackFile& file, const std::vector<std::pair<Key, std::vector<std::size_t>>>& keys,
+int32_t renumber_at_cuts(TrackFile& file, const LocalTrackRows& keys,
                          const std::vector<std::vector<std::size_t>>& cuts) {
   TrackTable& t = file.tracks;
   std::map<int32_t, int32_t> next_number;  // per sensor: one above its largest number
@@ -86,7 +78,8 @@ int32_t renumber_at_cuts(TrackFile& file, const std::vector<std::pair<Key, std::
   std::vector<int32_t> source = file.source_track.empty() ? t.track : file.source_track;
   int32_t count = 0;
   for (std::size_t k = 0; k < keys.size(); ++k) {
-    const auto& [key, v] = keys[k];
+    const Key key = keys.key[k];
+    const std::span<const std::size_t> v = keys.rows(k);
     int32_t number = key.second;
     std::size_t next = 0;
     for (std::size_t i = 0; i < v.size(); ++i) {
@@ -109,12 +102,12 @@ TrackSplitSummary split_recycled_tracks(TrackFile& file, const TrackSplitOptions
   TrackSplitSummary summary;
   if (!o.enabled) return summary;
   const TrackTable& t = file.tracks;
-  const auto keys = rows_by_key(t);
+  const LocalTrackRows keys = local_track_rows(t);
   const double gate = chi_square_quantile(o.gate_probability, t.dim());
   const double q = o.manoeuvre_sigma * o.manoeuvre_sigma;
   std::vector<std::vector<std::size_t>> cuts(keys.size());
   for (std::size_t k = 0; k < keys.size(); ++k) {
-    const auto& v = keys[k].second;
+    const std::span<const std::size_t> v = keys.rows(k);
     if (v.size() < 2) continue;
     const double gap = gap_of(t, v, o);
     for (std::size_t i = 1; i < v.size(); ++i)
@@ -131,7 +124,7 @@ int32_t split_swapped_tracks(TrackFile& file, const TrackSplitOptions& o) {
   o.validate();
   if (!o.enabled) return 0;
   const TrackTable& t = file.tracks;
-  const auto keys = rows_by_key(t);
+  const LocalTrackRows keys = local_track_rows(t);
   const double q = o.manoeuvre_sigma * o.manoeuvre_sigma;
   const double jump = chi_square_quantile(o.jump_probability, t.dim());
   const double pair_gate = chi_square_quantile(o.gate_probability, 2 * t.dim());
@@ -143,7 +136,7 @@ int32_t split_swapped_tracks(TrackFile& file, const TrackSplitOptions& o) {
   std::vector<std::vector<Jump>> per_key(keys.size());
   parallel_for_range(keys.size(), 16, [&](std::size_t b, std::size_t e) {
     for (std::size_t k = b; k < e; ++k) {
-      const auto& v = keys[k].second;
+      const std::span<const std::size_t> v = keys.rows(k);
       if (v.size() < 2) continue;
       const double gap = gap_of(t, v, o);
       for (std::size_t i = 1; i < v.size(); ++i) {
@@ -156,7 +149,7 @@ int32_t split_swapped_tracks(TrackFile& file, const TrackSplitOptions& o) {
   std::vector<Jump> jumps;  // by sensor, then by the time of their first report
   for (const auto& j : per_key) jumps.insert(jumps.end(), j.begin(), j.end());
   std::stable_sort(jumps.begin(), jumps.end(), [&](const Jump& x, const Jump& y) {
-    const int32_t sx = keys[x.key].first.first, sy = keys[y.key].first.first;
+    const int32_t sx = keys.key[x.key].first, sy = keys.key[y.key].first;
     return sx != sy ? sx < sy : t.t[x.r0] < t.t[y.r0];
   });
   // Pairs of one sensor's jumps whose intervals overlap, explained by crossing the keys over.
@@ -169,7 +162,7 @@ int32_t split_swapped_tracks(TrackFile& file, const TrackSplitOptions& o) {
     const Jump& a = jumps[x];
     for (std::size_t y = x + 1; y < jumps.size(); ++y) {
       const Jump& b = jumps[y];
-      if (keys[b.key].first.first != keys[a.key].first.first || t.t[b.r0] > t.t[a.r1]) break;
+      if (keys.key[b.key].first != keys.key[a.key].first || t.t[b.r0] > t.t[a.r1]) break;
       if (b.key == a.key) continue;
       const double own = a.own + b.own;
       if (own <= pair_gate) continue;
