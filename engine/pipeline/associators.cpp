@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <unordered_set>
 #include <utility>
 
 #include "engine/pipeline/associator.hpp"
@@ -374,10 +375,16 @@ std::vector<UnassociatedTracks> unassociated_tracks(const TrackFile& file,
     require(column.count(id), "sensor id", "id " + std::to_string(id) + " is not in /sensors/id");
     alone[id];
   }
-  for (std::size_t r = 0; r < file.tracks.size(); ++r) {  // one pass over the rows
-    auto it = alone.find(file.tracks.sensor[r]);
-    if (it != alone.end() && !linked.count({column.at(it->first), file.tracks.track[r]}))
-      it->second.insert(file.tracks.track[r]);
+  // One pass over the rows, each local track looked at once (a hash of the keys seen: the rows of
+  // a track need not be adjacent).
+  std::unordered_set<uint64_t> seen;
+  for (std::size_t r = 0; r < file.tracks.size(); ++r) {
+    const int32_t id = file.tracks.sensor[r], track = file.tracks.track[r];
+    if (!seen.insert((static_cast<uint64_t>(static_cast<uint32_t>(id)) << 32) | static_cast<uint32_t>(track))
+             .second)
+      continue;
+    auto it = alone.find(id);
+    if (it != alone.end() && !linked.count({column.at(id), track})) it->second.insert(track);
   }
   std::vector<UnassociatedTracks> out;
   for (int32_t id : sensor_ids) out.push_back({id, {alone[id].begin(), alone[id].end()}});

@@ -25,22 +25,24 @@ void TrackSplitOptions::validate() const {
           "expected a probability in (0, 1)");
 }
 
-double continuation_statistic(const TrackTable& t, std::size_t before, std::size_t after, double q) {
-  // Fixed-capacity matrices (D ≤ 6): no heap allocation, as the swap rule evaluates this on every
-  // report transition.
-  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-  const int D = t.dim(), d = D / 2;
+namespace {
+
+// The statistic for a fixed state dimension D (4 or 6): fixed-size matrices, unrolled by Eigen.
+template <int D>
+double continuation_statistic_of(const TrackTable& t, std::size_t before, std::size_t after, double q) {
+  using Vector = Eigen::Matrix<double, D, 1>;
+  using Matrix = Eigen::Matrix<double, D, D>;
+  constexpr int d = D / 2;
   const double dt = t.t[after] - t.t[before];
   const double adt = std::fabs(dt), sgn = dt < 0 ? -1.0 : 1.0;  // Q's cross term follows F's direction
-  Matrix F = Matrix::Identity(D, D), Q = Matrix::Zero(D, D), P0(D, D), P1(D, D);
+  Matrix F = Matrix::Identity(), Q = Matrix::Zero(), P0, P1;
   for (int i = 0; i < d; ++i) {
     F(i, d + i) = dt;
     Q(i, i) = q * adt * adt * adt / 3.0;
     Q(i, d + i) = Q(d + i, i) = sgn * q * adt * adt / 2.0;
     Q(d + i, d + i) = q * adt;
   }
-  Vector x0(D), x1(D);
+  Vector x0, x1;
   for (int r = 0; r < D; ++r) x0[r] = t.state[r][before], x1[r] = t.state[r][after];
   for (int r = 0, k = 0; r < D; ++r)
     for (int c = r; c < D; ++c, ++k) {
@@ -50,6 +52,13 @@ double continuation_statistic(const TrackTable& t, std::size_t before, std::size
   const Vector e = x1 - F * x0;
   const Matrix C = F * P0 * F.transpose() + Q + P1;
   return e.dot(C.ldlt().solve(e));
+}
+
+}  // namespace
+
+double continuation_statistic(const TrackTable& t, std::size_t before, std::size_t after, double q) {
+  return t.dim() == 4 ? continuation_statistic_of<4>(t, before, after, q)
+                      : continuation_statistic_of<6>(t, before, after, q);
 }
 
 namespace {
