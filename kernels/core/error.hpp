@@ -5,8 +5,10 @@
 // Internal invariants use assertions instead.
 #pragma once
 
+#include <concepts>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace trackassoc {
 
@@ -16,9 +18,18 @@ class InputError : public std::runtime_error {
 };
 
 // Throws InputError("<where>: <message>") when `condition` is false. Used by the validate()
-// methods of every Options struct, so the message names the field.
-inline void require(bool condition, const std::string& where, const std::string& message) {
-  if (!condition) throw InputError(where + ": " + message);
+// methods of every Options struct, so the message names the field. Views, so that a check that
+// passes allocates nothing for its literals.
+inline void require(bool condition, std::string_view where, std::string_view message) {
+  if (!condition) throw InputError(std::string(where) + ": " + std::string(message));
+}
+
+// The same with the message made only on failure, make() returning it: for checks on hot paths
+// whose message formats numbers (a validate() called per block of pairs, a χ² quantile).
+template <class MakeMessage>
+requires std::invocable<MakeMessage>
+inline void require(bool condition, std::string_view where, MakeMessage&& make) {
+  if (!condition) throw InputError(std::string(where) + ": " + std::string(make()));
 }
 
 }  // namespace trackassoc

@@ -37,6 +37,7 @@
 #include <cstdlib>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "kernels/core/error.hpp"
@@ -65,25 +66,25 @@ void AlignmentOptions::validate() const {
 void StatisticOptions::validate() const {
   require(std::isfinite(cross_correlation) && cross_correlation >= 0.0 && cross_correlation < 1.0,
           "StatisticOptions.cross_correlation",
-          "must be in [0, 1), got " + std::to_string(cross_correlation));
+          [&] { return "must be in [0, 1), got " + std::to_string(cross_correlation); });
   require(std::isfinite(common_process_noise) && common_process_noise >= 0.0 && common_process_noise <= 1e3,
           "StatisticOptions.common_process_noise",
-          "must be in [0, 1000] m/s², got " + std::to_string(common_process_noise));
+          [&] { return "must be in [0, 1000] m/s², got " + std::to_string(common_process_noise); });
   require(!(common_process_noise > 0.0 && correlated && cross_correlation > 0.0), "StatisticOptions",
           "choose one cross-covariance: common_process_noise (Bar-Shalom–Campo recursion) or "
           "cross_correlation (ρ)");
   require(gate_probability > 0.0 && gate_probability <= 1.0, "StatisticOptions.gate_probability",
-          "must be in (0, 1] (1 disables gating), got " + std::to_string(gate_probability));
+          [&] { return "must be in (0, 1] (1 disables gating), got " + std::to_string(gate_probability); });
   require(gate == GateMethod::kCalibrated || gate == GateMethod::kChiSquareSum, "StatisticOptions.gate",
           "unknown gate method");
   require(link == LinkCost::kPerScan || link == LinkCost::kPerIndependentScan, "StatisticOptions.link",
           "unknown link cost");
   require(cap_probability > 0.0 && cap_probability < 1.0, "StatisticOptions.cap_probability",
-          "must be in (0, 1), got " + std::to_string(cap_probability));
+          [&] { return "must be in (0, 1), got " + std::to_string(cap_probability); });
   require(
       std::isfinite(scans_per_independent) && scans_per_independent >= 1.0 && scans_per_independent <= 1e3,
       "StatisticOptions.scans_per_independent",
-      "must be in [1, 1000], got " + std::to_string(scans_per_independent));
+      [&] { return "must be in [1, 1000], got " + std::to_string(scans_per_independent); });
 }
 
 SequentialGate::SequentialGate(int dim, const StatisticOptions& o, int32_t max_scans)
@@ -437,7 +438,7 @@ class PairTerms {
 
 template <int D>
 PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
-                                   const StatisticOptions& opt) {
+                                   const StatisticOptions& opt, const SequentialGate* shared_gate) {
   const int d = a.dim;
   const int32_t K = a.n_times, na = a.n_tracks(), nb = b.n_tracks();
   PairStatistic s;
@@ -452,7 +453,9 @@ PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& 
   // A pair has at most min(longest spans) common times: thresholds up to there only (each is a χ²
   // quantile; a 2-hour grid has 600 times, a wide-area track's span a few dozen).
   const int32_t most = std::min({K, longest_span(a), longest_span(b)});
-  const SequentialGate gate(d, opt, most);
+  const std::optional<SequentialGate> own =
+      shared_gate ? std::nullopt : std::optional<SequentialGate>(std::in_place, d, opt, most);
+  const SequentialGate& gate = shared_gate ? *shared_gate : *own;
   std::vector<double> threshold(most + 1, 0.0);
   for (int32_t k = 1; k <= most; ++k) threshold[k] = gate.threshold(k);
   const double cap = gate.cap();
@@ -480,29 +483,52 @@ PairStatistic sequential_statistic(const AlignedTracks& a, const AlignedTracks& 
 }
 
 void check_aligned_pair(const AlignedTracks& a, const AlignedTracks& b, const char* who) {
-  require(a.dim == b.dim, who,
-          "state dimensions differ: " + std::to_string(a.dim) + " vs " + std::to_string(b.dim));
-  require(
-      a.n_times == b.n_times, who,
-      "numbers of common times differ: " + std::to_string(a.n_times) + " vs " + std::to_string(b.n_times));
+  require(a.dim == b.dim, who, [&] {
+    return "state dimensions differ: " + std::to_string(a.dim) + " vs " + std::to_string(b.dim);
+  });
+  require(a.n_times == b.n_times, who, [&] {
+    return "numbers of common times differ: " + std::to_string(a.n_times) + " vs " +
+           std::to_string(b.n_times);
+  });
   a.check_layout(who);
   b.check_layout(who);
 }
 
 }  // namespace
 
-PairStatistic independent_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
-                                               const StatisticOptions& options) {
+namespace {
+
+PairStatistic statistic_with_gate(const AlignedTracks& a, const AlignedTracks& b,
+                                  const StatisticOptions& options, const SequentialGate* gate) {
   options.validate();
   check_aligned_pair(a, b, "independent_sequential_statistic");
   switch (a.dim) {
     case 4:
-      return sequential_statistic<4>(a, b, options);
+      return sequential_statistic<4>(a, b, options, gate);
     case 6:
-      return sequential_statistic<6>(a, b, options);
+      return sequential_statistic<6>(a, b, options, gate);
     default:
-      return sequential_statistic<Eigen::Dynamic>(a, b, options);
+      return sequential_statistic<Eigen::Dynamic>(a, b, options, gate);
   }
+}
+
+}  // namespace
+
+PairStatistic independent_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
+                                               const StatisticOptions& options) {
+  return statistic_with_gate(a, b, options, nullptr);
+}
+
+PairStatistic independent_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
+                                               const StatisticOptions& options, const SequentialGate& gate) {
+  return statistic_with_gate(a, b, options, &gate);
+}
+
+SequentialGate sequential_gate_for(const AlignedTracks& a, const AlignedTracks& b,
+                                   const StatisticOptions& options) {
+  options.validate();
+  check_aligned_pair(a, b, "sequential_gate_for");
+  return SequentialGate(a.dim, options, std::min({a.n_times, longest_span(a), longest_span(b)}));
 }
 
 std::vector<double> scan_terms(const AlignedTracks& a, int32_t ia, const AlignedTracks& b, int32_t ib,

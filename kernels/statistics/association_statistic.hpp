@@ -275,6 +275,15 @@ struct PairStatistic {
 PairStatistic independent_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
                                                const StatisticOptions& options);
 
+// The gate independent_sequential_statistic(a, b, options) makes for itself (its thresholds
+// computed up to the longest common span of a and b), to be made once and shared by calls on
+// tables of rows of a and b (sparse_sequential_statistic's blocks): a threshold is the same number
+// whichever gate computed it, so the statistic is identical.
+SequentialGate sequential_gate_for(const AlignedTracks& a, const AlignedTracks& b,
+                                   const StatisticOptions& options);
+PairStatistic independent_sequential_statistic(const AlignedTracks& a, const AlignedTracks& b,
+                                               const StatisticOptions& options, const SequentialGate& gate);
+
 // Per-scan terms dᵀC⁻¹d of one pair at every common time (NaN where either track is invalid):
 // the raw series behind λ, for calibration studies and tests.
 std::vector<double> scan_terms(const AlignedTracks& a, int32_t ia, const AlignedTracks& b, int32_t ib,

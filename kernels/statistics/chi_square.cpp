@@ -45,12 +45,12 @@ double regularized_gamma_p(double a, double x) {
 double chi_square_quantile(double p, int dof) { return chi_square_quantile(p, static_cast<double>(dof)); }
 
 double chi_square_quantile(double p, double dof) {
-  // (The messages are built only on failure: the gate asks for hundreds of quantiles per pair of
-  // sensors, and formatting two numbers each time was 1-2 % of an association.)
-  if (!(std::isfinite(dof) && dof > 0))
-    require(false, "chi_square_quantile", "degrees of freedom must be positive, got " + std::to_string(dof));
-  if (!(p > 0.0 && p < 1.0))
-    require(false, "chi_square_quantile", "probability must be in (0, 1), got " + std::to_string(p));
+  // (Messages made only on failure: the gate asks for hundreds of quantiles per pair of sensors,
+  // and formatting two numbers each time was 1-2 % of an association.)
+  require(std::isfinite(dof) && dof > 0, "chi_square_quantile",
+          [&] { return "degrees of freedom must be positive, got " + std::to_string(dof); });
+  require(p > 0.0 && p < 1.0, "chi_square_quantile",
+          [&] { return "probability must be in (0, 1), got " + std::to_string(p); });
   const double k = dof;
   // Wilson–Hilferty start: x ≈ k (1 − 2/(9k) + z √(2/(9k)))³, z the normal quantile (Acklam-free:
   // a bisection-safe Newton refinement below makes the start's accuracy unimportant).

@@ -18,7 +18,7 @@ CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTrac
   };
   if ((statistic.correlated && statistic.cross_correlation > 0.0) || statistic.common_process_noise > 0.0)
     return copy();  // the bound is for C = P_a + P_b
-  const SequentialGate gate(a.dim, statistic, std::min({a.n_times, longest_span(a), longest_span(b)}));
+  const SequentialGate gate = sequential_gate_for(a, b, statistic);
   if (!gate.enabled()) return copy();
   gauge_add(gauge, static_cast<double>(pairs.size()), true);  // (sensor pairs are pruned in parallel)
   const int D = a.dim, m = D / 2;

@@ -319,7 +319,7 @@ SparsePairStatistic sparse_sequential_statistic(const AlignedTracks& a, const Al
   s.in_gate.assign(n, 0);
   for (std::size_t q = 0; q < n; ++q) {
     require(pairs.a[q] >= 0 && pairs.a[q] < pairs.n_a && pairs.b[q] >= 0 && pairs.b[q] < pairs.n_b,
-            "sparse_sequential_statistic", "pair " + std::to_string(q) + " is out of range");
+            "sparse_sequential_statistic", [&] { return "pair " + std::to_string(q) + " is out of range"; });
     require(q == 0 || pairs.a[q] > pairs.a[q - 1] ||
                 (pairs.a[q] == pairs.a[q - 1] && pairs.b[q] > pairs.b[q - 1]),
             "sparse_sequential_statistic", "pairs must be sorted by (a, b) without repeats");
@@ -329,6 +329,7 @@ SparsePairStatistic sparse_sequential_statistic(const AlignedTracks& a, const Al
   for (std::size_t q = 0; q < n; ++q)
     if (q == 0 || pairs.a[q] != pairs.a[q - 1]) row_begin.push_back(q);
   row_begin.push_back(n);
+  const SequentialGate gate = sequential_gate_for(a, b, options);  // one set of χ² thresholds for all rows
   parallel_for_range(row_begin.size() - 1, 16, [&](std::size_t lo, std::size_t hi) {
     AlignedTracks one, many;
     for (std::size_t r = lo; r < hi; ++r) {
@@ -337,7 +338,7 @@ SparsePairStatistic sparse_sequential_statistic(const AlignedTracks& a, const Al
       copy_rows(a, std::span<const int32_t>(&ia, 1), one);
       copy_rows(b, std::span<const int32_t>(&pairs.b[q0], q1 - q0), many);
       // seed 000 Eq. 1–2 and the gate of the dense kernel (one SequentialGate decides both).
-      const PairStatistic ps = independent_sequential_statistic(one, many, options);
+      const PairStatistic ps = independent_sequential_statistic(one, many, options, gate);
       for (std::size_t q = q0; q < q1; ++q) {
         const std::size_t c = q - q0;
         s.lambda[q] = ps.lambda[c];
