@@ -336,7 +336,7 @@ TEST(ShardItems, ResultsAtNRanksAreThoseOfOneProcessInPlanOrder) {
       for (std::size_t j = 0; j <= k % 4; ++j) sum += static_cast<double>(k + j);
       EXPECT_EQ(results[k].sum, sum) << ranks << " ranks, item " << k;
       EXPECT_EQ(results[k].largest, static_cast<double>(k + k % 4));
-      EXPECT_EQ(results[k].tag, "x" + std::to_string(10 * k));
+      EXPECT_EQ(results[k].tag, std::string("x").append(std::to_string(10 * k)));
     }
   }
 }
