@@ -77,9 +77,12 @@ void check_finite_min(const std::string& file, const std::string& dataset, doubl
     fail_row(file, dataset, row, "expected a finite value >= " + number(min) + ", found " + number(v));
 }
 
-std::set<int32_t> sensor_ids(const std::vector<Sensor>& sensors) {
-  std::set<int32_t> ids;
-  for (const Sensor& s : sensors) ids.insert(s.id);
+// The /sensors ids, sorted and unique: a binary search per row.
+std::vector<int32_t> sensor_ids(const std::vector<Sensor>& sensors) {
+  std::vector<int32_t> ids;
+  for (const Sensor& s : sensors) ids.push_back(s.id);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
   return ids;
 }
 
@@ -179,8 +182,7 @@ void check_tracks(const std::string& file, const TrackTable& t, const std::vecto
   for (const auto& c : t.state) check_length(file, "/tracks/state", c.size(), n, ref);
   for (const auto& c : t.cov) check_length(file, "/tracks/cov", c.size(), n, ref);
 
-  const std::set<int32_t> id_set = sensor_ids(sensors);
-  const std::vector<int32_t> ids(id_set.begin(), id_set.end());  // sorted: a binary search per row
+  const std::vector<int32_t> ids = sensor_ids(sensors);
   auto known = [&](std::size_t r) { return std::binary_search(ids.begin(), ids.end(), t.sensor[r]); };
   const std::size_t bad_key =
       first_bad_row(n, [&](std::size_t r) { return !known(r) || t.track[r] < 0 || t.truth[r] < -1; });
@@ -266,9 +268,9 @@ void check_measurements(const std::string& file, const Measurements& m, const st
   check_length(file, "/measurements/target", m.target.size(), n, ref);
   if (!m.elevation.empty())
     check_length(file, "/measurements/elevation", m.elevation.size(), n, ref + " (or 0 for 2-D)");
-  const std::set<int32_t> ids = sensor_ids(sensors);
+  const std::vector<int32_t> ids = sensor_ids(sensors);
   for (std::size_t r = 0; r < n; ++r) {
-    if (!ids.count(m.sensor[r]))
+    if (!std::binary_search(ids.begin(), ids.end(), m.sensor[r]))
       fail_row(file, "/measurements/sensor", r,
                "sensor " + std::to_string(m.sensor[r]) + " is not in /sensors/id");
     if (m.target[r] < -1)

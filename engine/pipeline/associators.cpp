@@ -16,6 +16,7 @@
 #include "engine/solvers/solver_registry.hpp"
 #include "io/siamese_model_file.hpp"
 #include "kernels/core/error.hpp"
+#include "kernels/core/local_track_rows.hpp"
 #include "kernels/core/stopwatch.hpp"
 
 namespace trackassoc {
@@ -380,9 +381,7 @@ std::vector<UnassociatedTracks> unassociated_tracks(const TrackFile& file,
   std::unordered_set<uint64_t> seen;
   for (std::size_t r = 0; r < file.tracks.size(); ++r) {
     const int32_t id = file.tracks.sensor[r], track = file.tracks.track[r];
-    if (!seen.insert((static_cast<uint64_t>(static_cast<uint32_t>(id)) << 32) | static_cast<uint32_t>(track))
-             .second)
-      continue;
+    if (!seen.insert(packed_local_track(id, track)).second) continue;
     auto it = alone.find(id);
     if (it != alone.end() && !linked.count({column.at(id), track})) it->second.insert(track);
   }

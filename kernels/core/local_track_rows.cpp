@@ -19,9 +19,8 @@ LocalTrackRows local_track_rows(const TrackTable& t) {
   std::unordered_map<uint64_t, uint32_t> track_of;
   std::vector<uint32_t> track(n);
   for (std::size_t r = 0; r < n; ++r) {
-    const uint64_t packed =
-        (static_cast<uint64_t>(static_cast<uint32_t>(t.sensor[r])) << 32) | static_cast<uint32_t>(t.track[r]);
-    const auto [it, fresh] = track_of.try_emplace(packed, static_cast<uint32_t>(out.key.size()));
+    const auto [it, fresh] = track_of.try_emplace(packed_local_track(t.sensor[r], t.track[r]),
+                                                  static_cast<uint32_t>(out.key.size()));
     if (fresh) out.key.emplace_back(t.sensor[r], t.track[r]);
     track[r] = it->second;
   }

@@ -39,6 +39,11 @@ struct LocalTrackRows {
 
 LocalTrackRows local_track_rows(const TrackTable& t);
 
+// A local track's key as one 64-bit number (sensor id in the high half), for hashing.
+inline uint64_t packed_local_track(int32_t sensor, int32_t track) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(sensor)) << 32) | static_cast<uint32_t>(track);
+}
+
 // An upper bound on the bytes local_track_rows holds while it builds its result, for a table of
 // `rows` reports and at most `tracks` local tracks (for --memory-budget checks).
 double bytes_of_local_track_rows(std::size_t rows, std::size_t tracks);
