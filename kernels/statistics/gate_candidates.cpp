@@ -36,36 +36,11 @@ CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTrac
         const int64_t ca = base_a + k, cb = base_b + k;
         if (!a.valid[ca] || !b.valid[cb]) continue;
         ++n;
-        // d_pᵀ C_pp⁻¹ d_p ≤ dᵀC⁻¹d: the position block alone (m ≤ 3, by Cholesky).
-        double L[3][3] = {}, y[3] = {};
-        double dp[3];
-        const double *xa = a.state_at(ca), *xb = b.state_at(cb), *pa = a.cov_at(ca), *pb = b.cov_at(cb);
-        for (int r = 0; r < m; ++r) dp[r] = xa[r] - xb[r];
-        bool ok = true;
-        for (int r = 0; r < m && ok; ++r)
-          for (int c = 0; c <= r; ++c) {
-            double v = pa[packed_index(D, c, r)] + pb[packed_index(D, c, r)];
-            for (int t = 0; t < c; ++t) v -= L[r][t] * L[c][t];
-            if (r == c) {
-              if (!(v > 0.0)) {
-                ok = false;
-                break;
-              }
-              L[r][r] = std::sqrt(v);
-            } else {
-              L[r][c] = v / L[c][c];
-            }
-          }
-        if (!ok) {  // leave the decision (and the error message) to the full statistic
-          n = -1;
-          break;
-        }
+        // d_pᵀ C_pp⁻¹ d_p ≤ dᵀC⁻¹d: the position block alone (m ≤ 3).
         double term = 0.0;
-        for (int r = 0; r < m; ++r) {
-          double v = dp[r];
-          for (int t = 0; t < r; ++t) v -= L[r][t] * y[t];
-          y[r] = v / L[r][r];
-          term += y[r] * y[r];
+        if (!position_block_term(a.state_at(ca), a.cov_at(ca), b.state_at(cb), b.cov_at(cb), D, m, term)) {
+          n = -1;  // leave the decision (and the error message) to the full statistic
+          break;
         }
         below += term <= cap;
         bound += std::min(term, cap);

@@ -34,20 +34,27 @@ void check_inputs(const AlignedTracks& a, const AlignedTracks& b, double cap, do
   b.check_layout("scan_candidate_pairs");
 }
 
-// |d_p|² ≤ (tr P_a,pp + tr P_b,pp)·c for positions xa, xb and position traces tra, trb.
-bool within_points(const double* xa, double tra, const double* xb, double trb, int m, double c2) {
+// The per-scan bound: |d_p|² ≤ (tr P_a,pp + tr P_b,pp)·c for positions xa, xb and position traces
+// tra, trb (the circle, cheap), then d_pᵀ C_pp⁻¹ d_p ≤ c (the ellipse inside it, for the covariances
+// pa, pb of dimension D; a C_pp that is not positive definite counts as within, leaving the
+// decision to the statistic). On elongated radar covariances the ellipse holds a small part of the
+// circle's pairs.
+bool within_points(const double* xa, double tra, const double* pa, const double* xb, double trb,
+                   const double* pb, int D, int m, double c2) {
   double d2 = 0.0;
   for (int c = 0; c < m; ++c) {
     const double d = xa[c] - xb[c];
     d2 += d * d;
   }
-  return d2 <= (tra + trb) * c2;
+  if (!(d2 <= (tra + trb) * c2)) return false;
+  double term = 0.0;
+  return !position_block_term(xa, pa, xb, pb, D, m, term) || term <= c2;
 }
 
 bool within(const AlignedTracks& a, int64_t ca, const AlignedTracks& b, int64_t cb, int m, double c2) {
   const int D = a.dim;
-  return within_points(a.state_at(ca), position_trace(a.cov_at(ca), D, m), b.state_at(cb),
-                       position_trace(b.cov_at(cb), D, m), m, c2);
+  return within_points(a.state_at(ca), position_trace(a.cov_at(ca), D, m), a.cov_at(ca), b.state_at(cb),
+                       position_trace(b.cov_at(cb), D, m), b.cov_at(cb), D, m, c2);
 }
 
 // The tracks valid at each common time, ascending: tracks at(k). Built from the spans, O(Σ spans + K).
@@ -102,14 +109,18 @@ namespace {
 struct ScanSet {
   std::vector<int32_t> track;
   std::vector<double> pos, trace, radius;
+  std::vector<const double*> cov;  // the packed covariance (dimension D)
+  int D = 0;
   std::array<double, 3> lo{}, hi{};
   double max_trace = 0.0;
   std::size_t size() const { return track.size(); }
 
   void gather(const AlignedTracks& x, std::span<const int32_t> at, int32_t k, double c2) {
-    const int D = x.dim, m = D / 2;
+    D = x.dim;
+    const int m = D / 2;
     track.assign(at.begin(), at.end());
     pos.resize(at.size() * m);
+    cov.resize(at.size());
     trace.resize(at.size());
     radius.resize(at.size());
     lo.fill(std::numeric_limits<double>::infinity());
@@ -123,7 +134,8 @@ struct ScanSet {
         lo[c] = std::min(lo[c], xs[c]);  // a NaN coordinate (never within) leaves the box as it is
         hi[c] = std::max(hi[c], xs[c]);
       }
-      trace[p] = position_trace(x.cov_at(cell), D, m);
+      cov[p] = x.cov_at(cell);
+      trace[p] = position_trace(cov[p], D, m);
       radius[p] = std::sqrt(2.0 * trace[p] * c2);
       max_trace = std::max(max_trace, trace[p]);
     }
@@ -214,8 +226,8 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
       // Each pair once: from the side with the larger radius (ties: from a).
       if (q_is_a ? g.radius[p] > rq : g.radius[p] >= rq) return;
       const double* xg = &g.pos[p * m];
-      if (q_is_a ? within_points(xq, trace_q, xg, g.trace[p], m, c2)
-                 : within_points(xg, g.trace[p], xq, trace_q, m, c2))
+      if (q_is_a ? within_points(xq, trace_q, q.cov[i], xg, g.trace[p], g.cov[p], q.D, m, c2)
+                 : within_points(xg, g.trace[p], g.cov[p], xq, trace_q, q.cov[i], q.D, m, c2))
         gauged_push_back(out,
                          q_is_a ? Hit{q.track[i], g.track[p], static_cast<uint16_t>(slot), 1}
                                 : Hit{g.track[p], q.track[i], static_cast<uint16_t>(slot), 1},

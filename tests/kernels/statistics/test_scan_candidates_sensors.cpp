@@ -4,6 +4,7 @@
 // asynchronous spans, gaps of validity and one wide covariance among small ones.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -211,6 +212,43 @@ TEST(ScanCandidatesSensors, TheCountFilterDropsOnlyPairsThePruneDrops) {
     total += everything.size();
   }
   EXPECT_GT(dropped, total / 5);  // the filter does work here (28 % of 12 912 pairs)
+}
+
+// The per-scan bound is the position ellipse d_pᵀ C_pp⁻¹ d_p ≤ c inside the circle of the traces:
+// with covariances long on the first axis (σ² 10⁶ m²) and short on the second (10² m²), a track
+// 200 m off along the long axis is within (term 200²/(2·10⁶) = 0.02 ≤ c), one 200 m off along the
+// short axis is not (200²/(2·10²) = 200 > c = 18.5), though both lie inside the circle
+// (|d|² = 4·10⁴ ≤ 2·(10⁶ + 10²)·c): the circle alone found both.
+TEST(ScanCandidatesSensors, TheBoundIsThePositionEllipse) {
+  const int32_t K = 5;
+  auto sensor = [&](int32_t id, std::vector<std::array<double, 2>> at) {
+    AlignedTracks x;
+    x.sensor = id;
+    x.dim = 4;
+    x.n_times = K;
+    const auto n = static_cast<int32_t>(at.size());
+    for (int32_t i = 0; i < n; ++i) x.track.push_back(i), x.truth.push_back(i);
+    x.allocate(std::vector<int32_t>(at.size(), 0), std::vector<int32_t>(at.size(), K));
+    for (int32_t i = 0; i < n; ++i)
+      for (int32_t k = 0; k < K; ++k) {
+        const int64_t c = x.cell(i, k);
+        x.valid[c] = 1;
+        double* st = x.state_at(c);
+        st[0] = at[i][0], st[1] = at[i][1], st[2] = st[3] = 0.0;
+        double* p = x.cov_at(c);
+        const double var[4] = {1e6, 1e2, 1.0, 1.0};
+        for (int r = 0; r < 4; ++r) p[packed_index(4, r, r)] = var[r];
+      }
+    return x;
+  };
+  const AlignedTracks a = sensor(0, {{0.0, 0.0}, {0.0, 50000.0}});
+  const AlignedTracks b = sensor(1, {{200.0, 0.0}, {0.0, 50200.0}});
+  const double c = chi_square_quantile(StatisticOptions{}.cap_probability, 4);
+  ASSERT_LT(c, 200.0);
+  ASSERT_LE(200.0 * 200.0, 2.0 * (1e6 + 1e2) * c);  // both pairs inside the circle
+  const std::vector<std::pair<int32_t, int32_t>> along_the_long_axis{{0, 0}};
+  EXPECT_EQ(pairs_of(scan_candidate_pairs(a, b, c)), along_the_long_axis);
+  EXPECT_EQ(pairs_of(scan_candidate_pairs_all_pairs(a, b, c)), along_the_long_axis);
 }
 
 }  // namespace
