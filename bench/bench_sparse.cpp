@@ -128,30 +128,35 @@ void BM_SparseProblem(benchmark::State& state) {
   std::unique_ptr<tbb::global_control> gc;
   set_threads(state, gc);
   const auto o = pipeline_options();
+  std::size_t gated = 0;
   for (auto _ : state) {
     const SparseAssociationProblem p = build_sparse_association_problem(f.file, o);
+    gated = p.s12.size();
     benchmark::DoNotOptimize(p.components.count);
   }
+  state.counters["gated_12"] = static_cast<double>(gated);
   state.counters["tracks_per_s"] =
       benchmark::Counter(3.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // Builds a sparse problem per iteration; counters: the candidate pairs of sensors 1–2 (its slot
-// `slot12`) and the last iteration's stage times.
+// `slot12`), the gated pairs 1–2 of a three-sensor problem, and the last iteration's stage times.
 template <class Build>
 void build_problems(benchmark::State& state, std::size_t slot12, Build build) {
   const Fixture& f = fixture(static_cast<int32_t>(state.range(0)));
   std::unique_ptr<tbb::global_control> gc;
   set_threads(state, gc);
-  std::size_t candidates = 0;
+  std::size_t candidates = 0, gated = 0;
   std::vector<StageReport> stages;
   for (auto _ : state) {
     const auto p = build(f.file);
     candidates = p.candidate_pairs[slot12];
+    if constexpr (requires { p.s12; }) gated = p.s12.size();
     stages = p.stages;
     benchmark::DoNotOptimize(p.components.count);
   }
   state.counters["candidates_12"] = static_cast<double>(candidates);
+  if (gated > 0) state.counters["gated_12"] = static_cast<double>(gated);
   for (const StageReport& s : stages) state.counters[s.name + "_s"] = s.seconds;
 }
 
