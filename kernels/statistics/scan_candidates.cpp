@@ -165,10 +165,13 @@ struct ScanSet {
   }
 };
 
-// Scratch of one scan's grid: (grid cell, index into the grid's ScanSet), sorted.
+// Scratch of one scan's grid: (grid cell, index into the grid's ScanSet), sorted; and, when the
+// cells of the points' bounding box are few (at most 4 a point), the same as a table: the points
+// of each cell of the box contiguous in `order`, cell q's at [first[q], first[q + 1]).
 struct GridScratch {
   std::vector<std::pair<Cell, int32_t>> cells;
   std::vector<double> r;
+  std::vector<int32_t> first, order, r_next;
 };
 
 bool cell_less(const Cell& x, const Cell& y) {
@@ -229,7 +232,8 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
                int m, double c2, bool q_is_a, int32_t slot, GridScratch& scratch, std::vector<Hit>& out,
                AllocationGauge* gauge) {
   if (gi.empty() || qi.empty()) return;
-  auto& [cells, r] = scratch;
+  std::vector<std::pair<Cell, int32_t>>& cells = scratch.cells;
+  std::vector<double>& r = scratch.r;
   r.clear();
   for (const int32_t p : gi) r.push_back(g.radius[p]);
   std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
@@ -237,9 +241,39 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
   if (!(h > 0.0) || !std::isfinite(h)) h = 1e-9;
   cells.clear();
   for (const int32_t p : gi) cells.emplace_back(cell_of(&g.pos[p * m], m, h), p);
-  std::sort(cells.begin(), cells.end(), [](const auto& x, const auto& y) {
-    return cell_less(x.first, y.first) || (x.first == y.first && x.second < y.second);
-  });
+  // The table of the box's cells (row-major, the last axis fastest) when they are few: a row of
+  // cells is then one contiguous range, found without a search.
+  Cell lo_cell = cells.front().first, hi_cell = lo_cell;
+  for (const auto& e : cells)
+    for (int d = 0; d < m; ++d)
+      lo_cell[d] = std::min(lo_cell[d], e.first[d]), hi_cell[d] = std::max(hi_cell[d], e.first[d]);
+  Cell extent{1, 1, 1};
+  double box_cells = 1.0;
+  for (int d = 0; d < m; ++d) {
+    box_cells *= static_cast<double>(hi_cell[d]) - static_cast<double>(lo_cell[d]) + 1.0;
+    extent[d] = hi_cell[d] - lo_cell[d] + 1;
+  }
+  const bool table = box_cells <= 4.0 * static_cast<double>(cells.size()) + 64.0;
+  auto table_index = [&](const Cell& c) {
+    int64_t index = 0;
+    for (int d = 0; d < m; ++d) index = index * extent[d] + (c[d] - lo_cell[d]);
+    return index;
+  };
+  std::vector<int32_t>&first = scratch.first, &order = scratch.order;
+  if (table) {
+    first.assign(static_cast<std::size_t>(box_cells) + 1, 0);
+    for (const auto& e : cells) ++first[table_index(e.first) + 1];
+    for (std::size_t k = 1; k < first.size(); ++k) first[k] += first[k - 1];
+    order.resize(cells.size());
+    std::vector<int32_t>& next = scratch.r_next;
+    next.assign(first.begin(), first.end() - 1);
+    for (const auto& e : cells)
+      order[next[table_index(e.first)]++] = e.second;  // gi ascending: p ascending per cell
+  } else {
+    std::sort(cells.begin(), cells.end(), [](const auto& x, const auto& y) {
+      return cell_less(x.first, y.first) || (x.first == y.first && x.second < y.second);
+    });
+  }
   const double n_g = static_cast<double>(cells.size()), search_cost = std::max(1.0, std::log2(n_g));
   for (const int32_t i : qi) {
     const double* xq = &q.pos[i * m];
@@ -275,6 +309,17 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
         Cell key{c[0] + dx, c[1] + dy, c[2]};
         key[last] = c[last] - span;
         const int64_t row_end = c[last] + span;
+        if (table) {  // the row's cells inside the box, one range of `order`
+          bool inside = key[last] <= hi_cell[last] && row_end >= lo_cell[last];
+          for (int d = 0; d < last; ++d) inside = inside && key[d] >= lo_cell[d] && key[d] <= hi_cell[d];
+          if (!inside) continue;
+          Cell from = key, to = key;
+          from[last] = std::max(key[last], lo_cell[last]);
+          to[last] = std::min(row_end, hi_cell[last]);
+          for (int32_t e = first[table_index(from)], stop = first[table_index(to) + 1]; e < stop; ++e)
+            consider(order[e]);
+          continue;
+        }
         auto it = std::lower_bound(cells.begin(), cells.end(), key,
                                    [](const auto& e, const Cell& k) { return cell_less(e.first, k); });
         for (; it != cells.end(); ++it) {
@@ -385,7 +430,9 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     scratch_bytes += static_cast<double>(most) * (4.0 + 8.0 * (sensors[s]->dim / 2) + 16.0);
     widest = std::max(widest, most);
   }
-  scratch_bytes += static_cast<double>(widest) * (2 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0);
+  // (and the grid's table: at most 4 cells a point and 64, two int32 each, and its order)
+  scratch_bytes +=
+      static_cast<double>(widest) * (2 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 36.0) + 520.0;
   scratch_bytes *= static_cast<double>(std::max(1, tbb::this_task_arena::max_concurrency()));
   gauge_add(gauge, scratch_bytes);
   constexpr int32_t kBlock = 8;

@@ -19,8 +19,9 @@
 // trace), with their bounding box; a pair of sensors whose boxes, widened by the largest bound
 // √((max tr_a + max tr_b)·c), do not meet is skipped at k (radars far apart), and otherwise only the
 // tracks inside the other's widened box are searched: a uniform grid of cell size the median radius
-// √(2·tr·c) over one side's tracks (sorted by cell), each track of the other side looking at the
-// cells its own radius covers. Hits are collected per block of consecutive scans (parallel over
+// √(2·tr·c) over one side's tracks (a table of the cells of their box when it has at most 4 cells a
+// track, each row of cells one range; sorted by cell otherwise, a row found by binary search),
+// each track of the other side looking at the cells its own radius covers. Hits are collected per block of consecutive scans (parallel over
 // blocks, TBB), deduplicated, then sorted, so the output does not depend on the thread count.
 // Each scan indexes only the tracks valid there, listed from their spans (O(Σ spans + K)).
 // Complexity: O(Σ_k Σ_s n_s(k) + Σ_k Σ_{s<t meeting at k} (n'_s + n'_t)·log n'_t + hits) time, n_s(k) the
