@@ -34,24 +34,30 @@ void check_inputs(const AlignedTracks& a, const AlignedTracks& b, double cap, do
   b.check_layout("scan_candidate_pairs");
 }
 
-// The per-scan bound: |d_p|² ≤ (tr P_a,pp + tr P_b,pp)·c for positions xa, xb and position traces
-// tra, trb (the circle, cheap), then d_pᵀ C_pp⁻¹ d_p ≤ c (the ellipse inside it, for the covariances
-// pa, pb of dimension D; a C_pp that is not positive definite counts as within, leaving the
-// decision to the statistic). On elongated radar covariances the ellipse holds a small part of the
-// circle's pairs.
-// d_pᵀ C_pp⁻¹ d_p ≤ c2 by the adjugate of C_pp (m = 2 or 3, no square root): a superset, by a
-// relative 10⁻⁹, of position_block_term's test, so that nothing the prune counts within is missed.
-// True when C_pp is not positive definite (as position_block_term's callers decide).
-bool within_ellipse(const double* d, const double* pa, const double* pb, int D, int m, double c2) {
-  auto C = [&](int r, int c) { return pa[packed_index(D, r, c)] + pb[packed_index(D, r, c)]; };
+// The position block of a packed covariance of dimension D (positions the first m ≤ 3
+// components), upper triangle by rows in 6 doubles: m = 2 (xx, xy, yy, ...), m = 3 (xx, xy, xz,
+// yy, yz, zz).
+constexpr int kPositionBlock = 6;
+void position_block(const double* packed, int D, int m, double* out) {
+  int k = 0;
+  for (int r = 0; r < m; ++r)
+    for (int c = r; c < m; ++c) out[k++] = packed[packed_index(D, r, c)];
+}
+
+// d_pᵀ C_pp⁻¹ d_p ≤ c2 for C_pp = the sum of the position blocks pa, pb, by the adjugate (m = 2
+// or 3, no square root): a superset, by a relative 10⁻⁹, of position_block_term's test, so that
+// nothing the prune counts within is missed. True when C_pp is not positive definite (as
+// position_block_term's callers decide: the statistic then reports it).
+bool within_ellipse(const double* d, const double* pa, const double* pb, int m, double c2) {
   const double bound = c2 * (1.0 + 1e-9);
   if (m == 2) {
-    const double a = C(0, 0), b = C(0, 1), e = C(1, 1), det = a * e - b * b;
+    const double a = pa[0] + pb[0], b = pa[1] + pb[1], e = pa[2] + pb[2], det = a * e - b * b;
     if (!(a > 0.0) || !(det > 0.0)) return true;
     return d[0] * d[0] * e - 2.0 * d[0] * d[1] * b + d[1] * d[1] * a <= bound * det;
   }
   if (m == 3) {
-    const double a = C(0, 0), b = C(0, 1), c = C(0, 2), e = C(1, 1), f = C(1, 2), g = C(2, 2);
+    const double a = pa[0] + pb[0], b = pa[1] + pb[1], c = pa[2] + pb[2], e = pa[3] + pb[3],
+                 f = pa[4] + pb[4], g = pa[5] + pb[5];
     const double A = e * g - f * f, B = c * f - b * g, Cc = b * f - c * e;  // first row of the adjugate
     const double det = a * A + b * B + c * Cc, minor2 = a * e - b * b;
     if (!(a > 0.0) || !(minor2 > 0.0) || !(det > 0.0)) return true;
@@ -63,21 +69,28 @@ bool within_ellipse(const double* d, const double* pa, const double* pb, int D, 
   return true;  // (m = 1: the circle is the ellipse)
 }
 
+// The per-scan bound: |d_p|² ≤ (tr P_a,pp + tr P_b,pp)·c for positions xa, xb and position traces
+// tra, trb (the circle, cheap), then d_pᵀ C_pp⁻¹ d_p ≤ c (the ellipse inside it, for the position
+// blocks pa, pb). On elongated radar covariances the ellipse holds a small part of the circle's
+// pairs.
 bool within_points(const double* xa, double tra, const double* pa, const double* xb, double trb,
-                   const double* pb, int D, int m, double c2) {
+                   const double* pb, int m, double c2) {
   double d[3] = {}, d2 = 0.0;
   for (int c = 0; c < m; ++c) {
     d[c] = xa[c] - xb[c];
     d2 += d[c] * d[c];
   }
   if (!(d2 <= (tra + trb) * c2)) return false;
-  return within_ellipse(d, pa, pb, D, m, c2);
+  return within_ellipse(d, pa, pb, m, c2);
 }
 
 bool within(const AlignedTracks& a, int64_t ca, const AlignedTracks& b, int64_t cb, int m, double c2) {
   const int D = a.dim;
-  return within_points(a.state_at(ca), position_trace(a.cov_at(ca), D, m), a.cov_at(ca), b.state_at(cb),
-                       position_trace(b.cov_at(cb), D, m), b.cov_at(cb), D, m, c2);
+  double pa[kPositionBlock], pb[kPositionBlock];
+  position_block(a.cov_at(ca), D, m, pa);
+  position_block(b.cov_at(cb), D, m, pb);
+  return within_points(a.state_at(ca), position_trace(a.cov_at(ca), D, m), pa, b.state_at(cb),
+                       position_trace(b.cov_at(cb), D, m), pb, m, c2);
 }
 
 // The tracks valid at each common time, ascending: tracks at(k). Built from the spans, O(Σ spans + K).
@@ -132,18 +145,16 @@ namespace {
 struct ScanSet {
   std::vector<int32_t> track;
   std::vector<double> pos, trace, radius;
-  std::vector<const double*> cov;  // the packed covariance (dimension D)
-  int D = 0;
+  std::vector<double> block;  // kPositionBlock a track: its position block (position_block)
   std::array<double, 3> lo{}, hi{};
   double max_trace = 0.0;
   std::size_t size() const { return track.size(); }
 
   void gather(const AlignedTracks& x, std::span<const int32_t> at, int32_t k, double c2) {
-    D = x.dim;
-    const int m = D / 2;
+    const int D = x.dim, m = D / 2;
     track.assign(at.begin(), at.end());
     pos.resize(at.size() * m);
-    cov.resize(at.size());
+    block.resize(at.size() * kPositionBlock);
     trace.resize(at.size());
     radius.resize(at.size());
     lo.fill(std::numeric_limits<double>::infinity());
@@ -157,8 +168,8 @@ struct ScanSet {
         lo[c] = std::min(lo[c], xs[c]);  // a NaN coordinate (never within) leaves the box as it is
         hi[c] = std::max(hi[c], xs[c]);
       }
-      cov[p] = x.cov_at(cell);
-      trace[p] = position_trace(cov[p], D, m);
+      position_block(x.cov_at(cell), D, m, &block[p * kPositionBlock]);
+      trace[p] = position_trace(x.cov_at(cell), D, m);
       radius[p] = std::sqrt(2.0 * trace[p] * c2);
       max_trace = std::max(max_trace, trace[p]);
     }
@@ -283,8 +294,9 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
       // Each pair once: from the side with the larger radius (ties: from a).
       if (q_is_a ? g.radius[p] > rq : g.radius[p] >= rq) return;
       const double* xg = &g.pos[p * m];
-      if (q_is_a ? within_points(xq, trace_q, q.cov[i], xg, g.trace[p], g.cov[p], q.D, m, c2)
-                 : within_points(xg, g.trace[p], g.cov[p], xq, trace_q, q.cov[i], q.D, m, c2))
+      const double *bq = &q.block[i * kPositionBlock], *bg = &g.block[p * kPositionBlock];
+      if (q_is_a ? within_points(xq, trace_q, bq, xg, g.trace[p], bg, m, c2)
+                 : within_points(xg, g.trace[p], bg, xq, trace_q, bq, m, c2))
         gauged_push_back(out,
                          q_is_a ? Hit{q.track[i], g.track[p], static_cast<uint16_t>(slot), 1}
                                 : Hit{g.track[p], q.track[i], static_cast<uint16_t>(slot), 1},
@@ -420,14 +432,15 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     for (std::size_t s = lo; s < hi; ++s) valid[s] = valid_by_time(*sensors[s]);
   });
   // Each thread's scratch of one scan (its sensors' valid tracks gathered: track, m coordinates,
-  // trace, radius; the points near the other sensor; the grid's cells and radii), at most the
+  // trace, radius, position block; the points near the other sensor; the grid's cells and radii), at most the
   // largest number of tracks valid at one time, counted before the scans for every thread.
   double scratch_bytes = 0.0;
   std::size_t widest = 0;
   for (int32_t s = 0; s < S; ++s) {
     std::size_t most = 0;
     for (int32_t k = 0; k < K; ++k) most = std::max(most, valid[s].at(k).size());
-    scratch_bytes += static_cast<double>(most) * (4.0 + 8.0 * (sensors[s]->dim / 2) + 16.0);
+    scratch_bytes +=
+        static_cast<double>(most) * (4.0 + 8.0 * (sensors[s]->dim / 2) + 16.0 + 8.0 * kPositionBlock);
     widest = std::max(widest, most);
   }
   // (and the grid's table: at most 4 cells a point and 64, two int32 each, and its order)
