@@ -182,7 +182,7 @@ struct ScanSet {
 struct GridScratch {
   std::vector<std::pair<Cell, int32_t>> cells;
   std::vector<double> r;
-  std::vector<int32_t> first, order, r_next;
+  std::vector<int32_t> first, order, cursor;
 };
 
 bool cell_less(const Cell& x, const Cell& y) {
@@ -276,7 +276,7 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
     for (const auto& e : cells) ++first[table_index(e.first) + 1];
     for (std::size_t k = 1; k < first.size(); ++k) first[k] += first[k - 1];
     order.resize(cells.size());
-    std::vector<int32_t>& next = scratch.r_next;
+    std::vector<int32_t>& next = scratch.cursor;
     next.assign(first.begin(), first.end() - 1);
     for (const auto& e : cells)
       order[next[table_index(e.first)]++] = e.second;  // gi ascending: p ascending per cell
@@ -432,8 +432,9 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     for (std::size_t s = lo; s < hi; ++s) valid[s] = valid_by_time(*sensors[s]);
   });
   // Each thread's scratch of one scan (its sensors' valid tracks gathered: track, m coordinates,
-  // trace, radius, position block; the points near the other sensor; the grid's cells and radii), at most the
-  // largest number of tracks valid at one time, counted before the scans for every thread.
+  // trace, radius, position block; the points near the other sensor; the grid's cells and radii),
+  // at most the largest number of tracks valid at one time, counted before the scans for every
+  // thread.
   double scratch_bytes = 0.0;
   std::size_t widest = 0;
   for (int32_t s = 0; s < S; ++s) {
@@ -443,7 +444,8 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
         static_cast<double>(most) * (4.0 + 8.0 * (sensors[s]->dim / 2) + 16.0 + 8.0 * kPositionBlock);
     widest = std::max(widest, most);
   }
-  // (and the grid's table: at most 4 cells a point and 64, two int32 each, and its order)
+  // (and the grid's table: at most 4 cells a point and 64, an offset and a cursor each, and its
+  // order of the points)
   scratch_bytes +=
       static_cast<double>(widest) * (2 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 36.0) + 520.0;
   scratch_bytes *= static_cast<double>(std::max(1, tbb::this_task_arena::max_concurrency()));

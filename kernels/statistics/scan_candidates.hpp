@@ -21,8 +21,10 @@
 // tracks inside the other's widened box are searched: a uniform grid of cell size the median radius
 // √(2·tr·c) over one side's tracks (a table of the cells of their box when it has at most 4 cells a
 // track, each row of cells one range; sorted by cell otherwise, a row found by binary search),
-// each track of the other side looking at the cells its own radius covers. Hits are collected per block of consecutive scans (parallel over
-// blocks, TBB), deduplicated, then sorted, so the output does not depend on the thread count.
+// each track of the other side looking at the cells its own radius covers, the ellipse tested by
+// its adjugate (a superset of position_block_term's test by a relative 10⁻⁹). Hits are collected
+// per block of consecutive scans (parallel over blocks, TBB), deduplicated, then sorted, so the
+// output does not depend on the thread count.
 // Each scan indexes only the tracks valid there, listed from their spans (O(Σ spans + K)).
 // Complexity: O(Σ_k Σ_s n_s(k) + Σ_k Σ_{s<t meeting at k} (n'_s + n'_t)·log n'_t + hits) time, n_s(k) the
 // tracks of sensor s valid at scan k, n' those in the other's widened box; O(Σ spans + hits) memory.
@@ -44,8 +46,9 @@ namespace trackassoc {
 
 // The position block's term d_pᵀ C_pp⁻¹ d_p of the states xa, xb (dimension D, positions the
 // first m ≤ 3 components) with C = P_a + P_b (packed covariances pa, pb), by Cholesky; false when
-// C_pp is not positive definite. It is at most the full dᵀC⁻¹d, so both the per-scan bound of the
-// index and the position-bound prune (kernels/statistics/gate_candidates.hpp) may use it.
+// C_pp is not positive definite. It is at most the full dᵀC⁻¹d: the position-bound prune
+// (kernels/statistics/gate_candidates.hpp) sums it capped, and the index's per-scan bound is this
+// term at most c (tested in the index without square roots, as a superset).
 inline bool position_block_term(const double* xa, const double* pa, const double* xb, const double* pb, int D,
                                 int m, double& term) {
   double L[3][3] = {}, y[3] = {};
