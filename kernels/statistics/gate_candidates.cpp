@@ -8,6 +8,38 @@
 #include "kernels/core/parallel.hpp"
 
 namespace trackassoc {
+namespace {
+
+// The position block's term d_pᵀ C_pp⁻¹ d_p of the states xa, xb (dimension D, positions the
+// first m ≤ 3 components) with C = P_a + P_b (packed covariances pa, pb), by Cholesky; false when
+// C_pp is not positive definite. It is at most the full dᵀC⁻¹d, so the prune may sum it capped;
+// the index's per-scan bound (scan_candidates.hpp) is this term at most c, tested there by the
+// adjugate as a superset.
+bool position_block_term(const double* xa, const double* pa, const double* xb, const double* pb, int D, int m,
+                         double& term) {
+  double L[3][3] = {}, y[3] = {};
+  for (int r = 0; r < m; ++r)
+    for (int c = 0; c <= r; ++c) {
+      double v = pa[packed_index(D, c, r)] + pb[packed_index(D, c, r)];
+      for (int t = 0; t < c; ++t) v -= L[r][t] * L[c][t];
+      if (r == c) {
+        if (!(v > 0.0)) return false;
+        L[r][r] = std::sqrt(v);
+      } else {
+        L[r][c] = v / L[c][c];
+      }
+    }
+  term = 0.0;
+  for (int r = 0; r < m; ++r) {
+    double v = xa[r] - xb[r];
+    for (int t = 0; t < r; ++t) v -= L[r][t] * y[t];
+    y[r] = v / L[r][r];
+    term += y[r] * y[r];
+  }
+  return true;
+}
+
+}  // namespace
 
 CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTracks& b,
                                        const CandidatePairs& pairs, const StatisticOptions& statistic,

@@ -18,13 +18,6 @@ namespace {
 using Cell = GridCell;
 constexpr auto cell_of = grid_cell_of;
 
-// Trace of the position block of a packed covariance (the first m of D components).
-double position_trace(const double* packed, int D, int m) {
-  double t = 0.0;
-  for (int c = 0; c < m; ++c) t += packed[packed_index(D, c, c)];
-  return t;
-}
-
 void check_inputs(const AlignedTracks& a, const AlignedTracks& b, double cap, double scale) {
   require(a.dim == b.dim && a.dim % 2 == 0 && a.dim >= 2, "scan_candidate_pairs", "state dimensions differ");
   require(a.n_times == b.n_times, "scan_candidate_pairs", "numbers of common times differ");
@@ -44,10 +37,15 @@ void position_block(const double* packed, int D, int m, double* out) {
     for (int c = r; c < m; ++c) out[k++] = packed[packed_index(D, r, c)];
 }
 
+// The trace of a position block (its diagonal, in the order of the axes).
+double block_trace(const double* block, int m) {
+  return m == 1 ? block[0] : m == 2 ? block[0] + block[2] : block[0] + block[3] + block[5];
+}
+
 // d_pᵀ C_pp⁻¹ d_p ≤ c2 for C_pp = the sum of the position blocks pa, pb, by the adjugate (m = 2
-// or 3, no square root): a superset, by a relative 10⁻⁹, of position_block_term's test, so that
-// nothing the prune counts within is missed. True when C_pp is not positive definite (as
-// position_block_term's callers decide: the statistic then reports it).
+// or 3, no square root): a superset, by a relative 10⁻⁹, of the prune's Cholesky test
+// (kernels/statistics/gate_candidates.cpp), so that nothing the prune counts within is missed.
+// True when C_pp is not positive definite (as the prune decides: the statistic then reports it).
 bool within_ellipse(const double* d, const double* pa, const double* pb, int m, double c2) {
   const double bound = c2 * (1.0 + 1e-9);
   if (m == 2) {
@@ -89,8 +87,7 @@ bool within(const AlignedTracks& a, int64_t ca, const AlignedTracks& b, int64_t 
   double pa[kPositionBlock], pb[kPositionBlock];
   position_block(a.cov_at(ca), D, m, pa);
   position_block(b.cov_at(cb), D, m, pb);
-  return within_points(a.state_at(ca), position_trace(a.cov_at(ca), D, m), pa, b.state_at(cb),
-                       position_trace(b.cov_at(cb), D, m), pb, m, c2);
+  return within_points(a.state_at(ca), block_trace(pa, m), pa, b.state_at(cb), block_trace(pb, m), pb, m, c2);
 }
 
 // The tracks valid at each common time, ascending: tracks at(k). Built from the spans, O(Σ spans + K).
@@ -169,7 +166,7 @@ struct ScanSet {
         hi[c] = std::max(hi[c], xs[c]);
       }
       position_block(x.cov_at(cell), D, m, &block[p * kPositionBlock]);
-      trace[p] = position_trace(x.cov_at(cell), D, m);
+      trace[p] = block_trace(&block[p * kPositionBlock], m);
       radius[p] = std::sqrt(2.0 * trace[p] * c2);
       max_trace = std::max(max_trace, trace[p]);
     }

@@ -9,7 +9,7 @@
 // common scan cannot pass the gate. The bound is per scan, so it holds for any pattern of validity
 // (late starts, early ends, asynchronous coverage), unlike a bound on time-averaged positions.
 // A pair inside that circle is within its bound at k when also d_pᵀ C_pp⁻¹ d_p ≤ c (the ellipse
-// inside the circle, position_block_term below, the term the position-bound prune sums): radar
+// inside the circle; the position term the position-bound prune of gate_candidates.hpp sums): radar
 // covariances are long across the line of sight, and the circle around the long axis holds
 // several times the ellipse's pairs (recorded_10k: 983 k pairs within the circle at some scan,
 // 386 k within the ellipse, 31 539 gated either way; the count filter and the prune keep the same
@@ -22,7 +22,7 @@
 // √(2·tr·c) over one side's tracks (a table of the cells of their box when it has at most 4 cells a
 // track, each row of cells one range; sorted by cell otherwise, a row found by binary search),
 // each track of the other side looking at the cells its own radius covers, the ellipse tested by
-// its adjugate (a superset of position_block_term's test by a relative 10⁻⁹). Hits are collected
+// its adjugate (a superset of the prune's Cholesky test by a relative 10⁻⁹). Hits are collected
 // per block of consecutive scans (parallel over blocks, TBB), deduplicated, then sorted, so the
 // output does not depend on the thread count.
 // Each scan indexes only the tracks valid there, listed from their spans (O(Σ spans + K)).
@@ -35,7 +35,6 @@
 // tests/kernels/statistics/test_scan_candidates_sensors.cpp checks every slot against the naive scan.)
 #pragma once
 
-#include <cmath>
 #include <span>
 #include <vector>
 
@@ -44,35 +43,6 @@
 #include "kernels/statistics/sparse_candidates.hpp"
 
 namespace trackassoc {
-
-// The position block's term d_pᵀ C_pp⁻¹ d_p of the states xa, xb (dimension D, positions the
-// first m ≤ 3 components) with C = P_a + P_b (packed covariances pa, pb), by Cholesky; false when
-// C_pp is not positive definite. It is at most the full dᵀC⁻¹d: the position-bound prune
-// (kernels/statistics/gate_candidates.hpp) sums it capped, and the index's per-scan bound is this
-// term at most c (tested in the index without square roots, as a superset).
-inline bool position_block_term(const double* xa, const double* pa, const double* xb, const double* pb, int D,
-                                int m, double& term) {
-  double L[3][3] = {}, y[3] = {};
-  for (int r = 0; r < m; ++r)
-    for (int c = 0; c <= r; ++c) {
-      double v = pa[packed_index(D, c, r)] + pb[packed_index(D, c, r)];
-      for (int t = 0; t < c; ++t) v -= L[r][t] * L[c][t];
-      if (r == c) {
-        if (!(v > 0.0)) return false;
-        L[r][r] = std::sqrt(v);
-      } else {
-        L[r][c] = v / L[c][c];
-      }
-    }
-  term = 0.0;
-  for (int r = 0; r < m; ++r) {
-    double v = xa[r] - xb[r];
-    for (int t = 0; t < r; ++t) v -= L[r][t] * y[t];
-    y[r] = v / L[r][r];
-    term += y[r] * y[r];
-  }
-  return true;
-}
 
 // `cap`: the per-scan cap c of the gate (SequentialGate::cap()); radius_scale ≥ 1 widens the bound.
 CandidatePairs scan_candidate_pairs(const AlignedTracks& a, const AlignedTracks& b, double cap,
