@@ -422,12 +422,13 @@ TrackFile read_track_file_in_process(const std::string& path) {
     for (const std::string& name : g.children()) file.metrics.push_back(read_metrics(g, name));
   }
   file.system_tracks = read_system_tracks(root);
-  for (const auto& r : file.system_tracks)
-    if (check) check_system_tracks(path, r, file.sensors);
+  if (check)
+    for (const auto& r : file.system_tracks) check_system_tracks(path, r, file.sensors);
   file.registration = read_registration(root, path);
   file.fused = read_fused_tracks(root, path);
-  for (const auto& r : file.fused)
-    if (check) check_fused_tracks(path, r, file.sensors, file.associations, file.tracks.layout);
+  if (check)
+    for (const auto& r : file.fused)
+      check_fused_tracks(path, r, file.sensors, file.associations, file.tracks.layout);
   return file;
 }
 
