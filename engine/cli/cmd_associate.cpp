@@ -75,7 +75,8 @@ void register_associate(CLI::App& app) {
     bool svg = false;
     HopfieldFlags hopfield;  // merged into --options
     bool sd = false, three_d = false;
-    bool no_segments = false, no_registration = false, no_split = false, no_stitch = false;
+    bool no_segments = false, no_registration = false, no_split = false, no_stitch = false,
+         no_family_wise_veto = false;
     double segment_overlap = SegmentOptions{}.max_overlap_s;
     int32_t reference_sensor = -1;
     std::vector<int32_t> duplicate_sensors;
@@ -133,6 +134,11 @@ void register_associate(CLI::App& app) {
       "of one sensor that jump at one scan where each continues the other, a swap at a crossing, are "
       "split into new local tracks before the association; /tracks/source_track keeps the recorded number; "
       "engine/pipeline/track_hygiene.hpp)");
+  cmd->add_flag("--no-family-wise-veto", args->no_family_wise_veto,
+                "Default pipeline: a coexisting pair outside the gate forbids every tuple that holds it "
+                "(default: only when it fails the family-wise gate 1 - (1 - p)/(S(S-1)/2) of a tuple of "
+                "the S sensors too, Bonferroni's level; between the two it may join a tuple linked through "
+                "gated-in pairs, at its positive link cost; docs/design.md 4.3)");
   cmd->add_flag("--no-stitch", args->no_stitch,
                 "Default pipeline: keep output targets that never coexist apart (default: track segment "
                 "association joins a target whose first report continues another's last, within 180 s, "
@@ -183,6 +189,7 @@ void register_associate(CLI::App& app) {
     request.registration.enabled = !args->no_registration;
     request.split.enabled = !args->no_split;
     request.stitching.enabled = !args->no_stitch;
+    request.family_wise_veto = !args->no_family_wise_veto;
     request.segments.max_overlap_s = args->segment_overlap;
     request.registration.reference_sensor = args->reference_sensor;
     request.segments.duplicate_sensors = args->duplicate_sensors;

@@ -73,6 +73,9 @@ struct AssociatorOptions {
   // (SparseSDOptions::rival_exponent, engine/pipeline/sparse_sd_pipeline.hpp; docs/design.md §4.9);
   // 0 = every gated pair against the gate itself.
   double rival_exponent = 2.0;
+  // The default (sparse S-D) path: a coexisting pair outside the gate forbids a tuple only when it
+  // fails the family-wise gate too (SparseSDOptions::family_wise_veto; docs/design.md §4.3).
+  bool family_wise_veto = true;
   // --sparse: the cost of a missing index in a component's sub-tensor (+inf: padded, every track
   // assigned; finite: the solvers' dummy index; engine/pipeline/sparse_pipeline.hpp). ≥ 0.
   float miss_cost = std::numeric_limits<float>::infinity();

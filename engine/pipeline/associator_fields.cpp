@@ -84,6 +84,9 @@ const OptionFields<AssociatorOptions>& associator_option_fields() {
       field("max_component_entries", &O::max_component_entries, ">= 1",
             "sparse paths: the largest dense sub-tensor of a component, prod(n_s + 1) entries (default: "
             "LAP merging above it; --sparse: refused)"),
+      field("family_wise_veto", &O::family_wise_veto, "",
+            "default pipeline: a coexisting pair outside the gate forbids a tuple only when it fails the "
+            "family-wise gate 1 - (1 - p)/(S(S-1)/2) too (false: always)"),
       field("rival_exponent", &O::rival_exponent, ">= 0",
             "default pipeline: exponent of the rival-weighted link cost, gate 1 - (1 - p)*m^k for m "
             "rivals (0 = the gate itself)"),

@@ -62,6 +62,7 @@ class SparseSDAssociator final : public TrackAssociator {
     so.radius_scale = o_.radius_scale;
     so.max_component_entries = o_.max_component_entries;
     so.rival_exponent = o_.rival_exponent;
+    so.family_wise_veto = o_.family_wise_veto;
     so.segments = o_.segments;
     so.ranks = o_.ranks;
     AssociationOutcome out;

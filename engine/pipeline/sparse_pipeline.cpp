@@ -60,7 +60,8 @@ SparseAssociationProblem build_sparse_association_problem(const TrackFile& file,
   front.pipeline = po;
   front.radius_scale = options.radius_scale;
   front.max_component_entries = options.max_component_entries;
-  front.rival_exponent = 0.0;  // (the S-D link costs are not used here)
+  front.rival_exponent = 0.0;      // (the S-D link costs are not used here,
+  front.family_wise_veto = false;  // nor the S-D tuple rule)
   SparseSDProblem half = build_sparse_front_half(file, front, SensorRule::kThree);
   SparseAssociationProblem p;
   static_cast<AlignedSensors&>(p) = std::move(static_cast<AlignedSensors&>(half));

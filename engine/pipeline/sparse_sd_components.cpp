@@ -243,6 +243,16 @@ SDComponentView sd_component_view(const SparseSDProblem& p, int32_t c) {
                                  p.link[slot][q]);
         }
       }
+      // The doubtful pairs of the family-wise veto among the component's tracks, tagged
+      // (engine/pipeline/tuple_cost.hpp).
+      if (slot < p.doubtful.size())
+        for (const DoubtfulPair& d : p.doubtful[slot]) {
+          const auto ia = std::lower_bound(v.tracks[a].begin(), v.tracks[a].end(), d.a);
+          const auto ib = std::lower_bound(v.tracks[b].begin(), v.tracks[b].end(), d.b);
+          if (ia != v.tracks[a].end() && *ia == d.a && ib != v.tracks[b].end() && *ib == d.b)
+            entries.emplace_back(static_cast<int32_t>(ia - v.tracks[a].begin()),
+                                 static_cast<int32_t>(ib - v.tracks[b].begin()), doubtful_pair_entry(d.link));
+        }
       v.link[slot] = SDLinkMatrix::from_entries(static_cast<int32_t>(v.tracks[a].size()),
                                                 static_cast<int32_t>(v.tracks[b].size()), entries);
     }

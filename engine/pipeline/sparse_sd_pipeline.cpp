@@ -97,6 +97,7 @@ nlohmann::json SparseSDOptions::to_json() const {
   j["radius_scale"] = radius_scale;
   j["max_component_entries"] = max_component_entries;
   j["rival_exponent"] = rival_exponent;
+  j["family_wise_veto"] = family_wise_veto;
   j["segments"] = segments.to_json();
   return j;
 }
@@ -117,6 +118,41 @@ void require_sparse_sd_solver(const std::string& name) {
                        "is not a solver of the default (sparse S-D) pipeline; its solvers",
                        " (the 3-D solvers run with --solver NAME --3d)");
 }
+
+double family_wise_gate_probability(double p, int32_t S) {
+  if (S <= 2) return p;
+  return 1.0 - (1.0 - p) / (0.5 * static_cast<double>(S) * static_cast<double>(S - 1));
+}
+
+namespace {
+
+// Moves the pairs of `st` outside `gate` (λ > G(n)) out: returns them with their link costs
+// (positive), and keeps the gated ones in order.
+std::vector<DoubtfulPair> split_doubtful_pairs(SparsePairStatistic& st, const SequentialGate& gate, int dim) {
+  std::vector<DoubtfulPair> doubtful;
+  std::size_t w = 0;
+  for (std::size_t q = 0; q < st.size(); ++q) {
+    const int32_t n = st.dof[q] / dim;
+    if (st.lambda[q] <= gate.threshold(n)) {
+      st.a[w] = st.a[q];
+      st.b[w] = st.b[q];
+      st.lambda[w] = st.lambda[q];
+      st.dof[w] = st.dof[q];
+      st.in_gate[w] = st.in_gate[q];
+      ++w;
+    } else {
+      doubtful.push_back({st.a[q], st.b[q], gate.link_cost(st.lambda[q], n)});
+    }
+  }
+  st.a.resize(w);
+  st.b.resize(w);
+  st.lambda.resize(w);
+  st.dof.resize(w);
+  st.in_gate.resize(w);
+  return doubtful;
+}
+
+}  // namespace
 
 std::vector<double> rival_link_costs(const SparsePairStatistic& st, const AlignedSensors& sensors, int32_t sa,
                                      int32_t sb, const SequentialGate& gate,
@@ -243,12 +279,17 @@ SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOpt
   // are shared out in the statistics stage (engine/pipeline/pair_statistics_sharded.hpp), so the
   // candidates held here are those found, before the prune.
   const bool sharded = options.ranks && options.ranks->size() > 1;
+  // With the family-wise veto the candidates and statistics are those of the family-wise gate (a
+  // superset); the gated pairs are then those inside the gate, the others doubtful.
+  StatisticOptions searched = po.statistic;
+  if (options.family_wise_veto)
+    searched.gate_probability = family_wise_gate_probability(po.statistic.gate_probability, S);
   if (sharded) {
     std::vector<const AlignedTracks*> x;
     for (const AlignedTracks& t : p.aligned) x.push_back(&t);
-    cand = candidate_pairs_for_gate(x, po.statistic, options.radius_scale, &gauge, &p.candidate_pairs);
+    cand = candidate_pairs_for_gate(x, searched, options.radius_scale, &gauge, &p.candidate_pairs);
   } else {
-    std::vector<IndexedCandidates> found = indexed_candidates(p, po.statistic, options.radius_scale, &gauge);
+    std::vector<IndexedCandidates> found = indexed_candidates(p, searched, options.radius_scale, &gauge);
     for (std::size_t slot = 0; slot < slots; ++slot) {
       p.candidate_pairs[slot] = found[slot].found;
       cand[slot] = std::move(found[slot].pairs);
@@ -269,7 +310,8 @@ SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOpt
   std::size_t gated_pairs = 0;
   bytes = 0;
   std::vector<PairStatisticsResult> shared;  // more ranks: each slot's pruned count and gated pairs
-  if (sharded) shared = gated_statistics_sharded(*options.ranks, p, cand, po.statistic);
+  if (sharded) shared = gated_statistics_sharded(*options.ranks, p, cand, searched);
+  p.doubtful.assign(slots, {});
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
@@ -281,8 +323,9 @@ SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOpt
       const auto candidates_held = static_cast<double>(cand[slot].size());  // (more ranks: before the prune)
       require_held(bytes + n * (21.0 + 8.0 + 21.0), "the statistics of the " + std::to_string(kept) +
                                                         " candidate pairs of " + pair_name(a, b));
-      p.pairs[slot] = sharded ? std::move(shared[slot].gated)
-                              : gated_candidate_statistic(p, a, b, cand[slot], po.statistic);
+      p.pairs[slot] =
+          sharded ? std::move(shared[slot].gated) : gated_candidate_statistic(p, a, b, cand[slot], searched);
+      if (options.family_wise_veto) p.doubtful[slot] = split_doubtful_pairs(p.pairs[slot], gate, p.dim);
       const SparsePairStatistic& st = p.pairs[slot];
       gated.push_back({a, b, &st});
       gated_pairs += st.size();

@@ -69,6 +69,12 @@ struct SparseSDOptions {
   // tracks have up to m gated partners on the other's sensor counts as evidence only below the
   // gate of probability 1 − (1 − p)·m^κ. 0 = every pair against the gate itself.
   double rival_exponent = 2.0;
+  // The family-wise veto (docs/design.md §4.3): a coexisting pair outside the gate of probability p
+  // forbids a tuple only when it also fails the gate at the tuple's family-wise level
+  // family_wise_gate_probability(p, S); a pair between the two (doubtful) may join a tuple that is
+  // linked through gated-in pairs, at its positive link cost (engine/pipeline/tuple_cost.hpp).
+  // false: every pair outside the gate forbids.
+  bool family_wise_veto = true;
   // After the assignment, the segments of one target on one sensor joined to it
   // (engine/pipeline/track_segments.hpp); associate_sparse_sd runs it, solve_sparse_sd_association not.
   SegmentOptions segments;
@@ -82,11 +88,26 @@ struct SparseSDOptions {
 // The front end's aligned sensors (engine/pipeline/front_end.hpp; a chosen sensor without local
 // tracks is left out: empty_sensor_ids), the gated pairs of the per-scan candidate index with
 // their link costs, and their connected components.
+// Bonferroni's family-wise level for the pairs of a tuple of S sensors, S(S − 1)/2 tests at the
+// gate probability p each: 1 − (1 − p)/(S(S − 1)/2), so that a true tuple of every sensor keeps
+// all its pairs with probability ≥ p (Bonferroni's inequality; a tuple of fewer sensors is held to
+// a stricter level than it needs). p itself for S ≤ 2.
+double family_wise_gate_probability(double p, int32_t S);
+
+struct DoubtfulPair {
+  int32_t a, b;
+  double link;
+};
+
 struct SparseSDProblem : AlignedSensors {
   // Gated-in pairs of every sensor pair a < b, slot a·S + b, with their link cost.
   std::vector<SparsePairStatistic> pairs;
   std::vector<std::vector<double>> link;
   std::vector<std::size_t> candidate_pairs;  // index output before the gate, per slot
+  // Doubtful pairs per slot (SparseSDOptions::family_wise_veto): outside the gate, inside the
+  // family-wise gate; (track of a, track of b, link cost > 0). Only the components' tuple costs
+  // read them (sd_component_view); the gated pairs, their links and every other stage do not.
+  std::vector<std::vector<DoubtfulPair>> doubtful;
   Components components;
   std::vector<StageReport> stages;  // alignment, candidates, statistics, components
   double bytes_held = 0.0;          // the input and the problem [bytes], counted against the memory budget

@@ -7,6 +7,11 @@
 // It is forbidden (+inf) when
 //   * two members coexist (common valid times, so the gate tested them) and fail the gate, or
 //   * its members are not connected through gated-in pairs.
+// A *doubtful* pair (the default path's family-wise veto, engine/pipeline/sparse_sd_pipeline.hpp:
+// outside the gate, inside the gate at the tuple's family-wise level) does not forbid the tuple: it
+// adds its positive link cost and links nothing (the tuple must still be connected through gated-in
+// pairs). Its link entry carries the tag kDoubtfulPairTag (doubtful_pair_entry), so that it travels
+// in the link matrices with the gated ones (and to other ranks with their codecs).
 // A pair that never coexists carries no evidence either way (neither in the gate nor out): it
 // neither forbids the tuple nor links it, so a target seen by sensor A early and sensor C late
 // joins through a sensor B that saw both. A tuple of one track costs 0.
@@ -23,6 +28,12 @@
 #include "kernels/core/parallel.hpp"
 
 namespace trackassoc {
+
+// The link entry of a doubtful pair: its (positive) link cost plus this tag; link costs are
+// (λ − G(n))/n, at most the per-scan cap, far below it.
+inline constexpr double kDoubtfulPairTag = 1e6;
+inline double doubtful_pair_entry(double link_cost) { return link_cost + kDoubtfulPairTag; }
+inline bool is_doubtful_pair_entry(double entry) { return entry >= kDoubtfulPairTag / 2; }
 
 // The rule for one pair of members, the one decision both the tuple cost below and the segment
 // pass's joins (engine/pipeline/track_segments.cpp) make: the pair's link cost when it is a gated-in
@@ -61,6 +72,10 @@ double sd_tuple_cost(std::size_t k, bool all_pairs, Link link, Coexist coexist) 
   for (std::size_t x = 0; x < k; ++x)
     for (std::size_t y = x + 1; y < k; ++y) {
       const double gated = link(x, y);
+      if (!std::isnan(gated) && is_doubtful_pair_entry(gated)) {  // outside the gate, not vetoed
+        if (all_pairs || y == x + 1) cost += gated - kDoubtfulPairTag;
+        continue;
+      }
       const double l = sd_pair_term(std::isnan(gated) ? nullptr : &gated, [&] { return coexist(x, y); });
       if (std::isinf(l)) return l;
       if (std::isnan(l)) continue;  // never together: no evidence either way

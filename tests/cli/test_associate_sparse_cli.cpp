@@ -59,7 +59,10 @@ TEST_F(AssociateSparseCli, SparseAndDenseGiveTheSameAssociation) {
       const bool balanced = all_components_balanced(sim);
       for (const std::string solver : {"pairwise", "exact"}) {
         const std::string dense = path("dense.h5"), sparse = path("sparse.h5");
-        const auto d = run("associate --input " + sim + " --output " + dense + " --solver " + solver);
+        // (the default path's family-wise veto off: --sparse holds every pair outside the gate as
+        // forbidding, docs/design.md §4.3)
+        const auto d = run("associate --no-family-wise-veto --input " + sim + " --output " + dense +
+                           " --solver " + solver);
         ASSERT_EQ(d.status, 0) << d.err;
         const auto s =
             run("associate --sparse --input " + sim + " --output " + sparse + " --solver " + solver);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/tuple_cost.hpp"
 
 namespace trackassoc {
@@ -57,6 +58,32 @@ TEST(TupleCost, OnePairsTermIsItsLinkForbiddenOrNoEvidence) {
   EXPECT_EQ(sd_pair_term(nullptr, [&] { return ++asked, true; }), std::numeric_limits<double>::infinity());
   EXPECT_TRUE(std::isnan(sd_pair_term(nullptr, [&] { return ++asked, false; })));
   EXPECT_EQ(asked, 2);
+}
+
+TEST(TupleCost, ADoubtfulPairAddsItsCostAndLinksNothing) {
+  // The family-wise veto's doubtful pair (tagged entry): 0-1 gated at -3, 1-2 gated at -2, 0-2
+  // doubtful at +1.5: allowed, -3 - 2 + 1.5 = -3.5 with all pairs; the chain form counts 0-1 and
+  // 1-2 only (-5).
+  const bool all[3][3] = {{false, true, true}, {false, false, true}, {false, false, false}};
+  const double doubtful[3][3] = {{kNone, -3.0, doubtful_pair_entry(1.5)}, {kNone, kNone, -2.0}, {}};
+  EXPECT_DOUBLE_EQ(cost3(doubtful, all, true), -3.5);
+  EXPECT_DOUBLE_EQ(cost3(doubtful, all, false), -5.0);
+  // A doubtful pair does not connect: 0-1 gated, 0-2 doubtful, 1-2 never together: 2 is linked to
+  // no member through a gated pair, so the tuple is forbidden.
+  const bool apart[3][3] = {{false, true, true}, {false, false, false}, {false, false, false}};
+  const double only[3][3] = {{kNone, -3.0, doubtful_pair_entry(1.5)}, {kNone, kNone, kNone}, {}};
+  EXPECT_TRUE(std::isinf(cost3(only, apart, true)));
+  // Without the tag the same coexisting pair outside the gate forbids the tuple.
+  const double vetoed[3][3] = {{kNone, -3.0, kNone}, {kNone, kNone, -2.0}, {}};
+  EXPECT_TRUE(std::isinf(cost3(vetoed, all, true)));
+}
+
+TEST(TupleCost, TheFamilyWiseGateIsBonferronisLevel) {
+  // 1 - (1 - p)/(S(S - 1)/2): 10 pairs for 5 sensors, 3 for 3, none looser for 2.
+  EXPECT_NEAR(family_wise_gate_probability(0.99, 5), 0.999, 1e-15);
+  EXPECT_NEAR(family_wise_gate_probability(0.99, 3), 1.0 - 0.01 / 3.0, 1e-15);
+  EXPECT_EQ(family_wise_gate_probability(0.99, 2), 0.99);
+  EXPECT_NEAR(family_wise_gate_probability(0.95, 16), 1.0 - 0.05 / 120.0, 1e-15);
 }
 
 }  // namespace
