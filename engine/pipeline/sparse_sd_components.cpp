@@ -231,28 +231,23 @@ SDComponentView sd_component_view(const SparseSDProblem& p, int32_t c) {
   for (int32_t a = 0; a < v.S; ++a)
     for (int32_t b = a + 1; b < v.S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * v.S + b;
-      const SparsePairStatistic& st = p.pairs[slot];
       entries.clear();
-      for (std::size_t i = 0; i < v.tracks[a].size(); ++i) {
-        const int32_t ia = v.tracks[a][i];
-        auto lo = std::lower_bound(st.a.begin(), st.a.end(), ia);
-        for (std::size_t q = lo - st.a.begin(); q < st.size() && st.a[q] == ia; ++q) {
-          auto it = std::lower_bound(v.tracks[b].begin(), v.tracks[b].end(), st.b[q]);
-          if (it != v.tracks[b].end() && *it == st.b[q])
-            entries.emplace_back(static_cast<int32_t>(i), static_cast<int32_t>(it - v.tracks[b].begin()),
-                                 p.link[slot][q]);
+      // The pairs of `st` (sorted by the track of a) among the component's tracks, with their link
+      // costs; the doubtful ones of the family-wise veto tagged (engine/pipeline/tuple_cost.hpp).
+      auto add = [&](const SparsePairStatistic& st, const std::vector<double>& link, bool doubtful) {
+        for (std::size_t i = 0; i < v.tracks[a].size(); ++i) {
+          const int32_t ia = v.tracks[a][i];
+          auto lo = std::lower_bound(st.a.begin(), st.a.end(), ia);
+          for (std::size_t q = lo - st.a.begin(); q < st.size() && st.a[q] == ia; ++q) {
+            auto it = std::lower_bound(v.tracks[b].begin(), v.tracks[b].end(), st.b[q]);
+            if (it != v.tracks[b].end() && *it == st.b[q])
+              entries.emplace_back(static_cast<int32_t>(i), static_cast<int32_t>(it - v.tracks[b].begin()),
+                                   doubtful ? doubtful_pair_entry(link[q]) : link[q]);
+          }
         }
-      }
-      // The doubtful pairs of the family-wise veto among the component's tracks, tagged
-      // (engine/pipeline/tuple_cost.hpp).
-      if (slot < p.doubtful.size())
-        for (const DoubtfulPair& d : p.doubtful[slot]) {
-          const auto ia = std::lower_bound(v.tracks[a].begin(), v.tracks[a].end(), d.a);
-          const auto ib = std::lower_bound(v.tracks[b].begin(), v.tracks[b].end(), d.b);
-          if (ia != v.tracks[a].end() && *ia == d.a && ib != v.tracks[b].end() && *ib == d.b)
-            entries.emplace_back(static_cast<int32_t>(ia - v.tracks[a].begin()),
-                                 static_cast<int32_t>(ib - v.tracks[b].begin()), doubtful_pair_entry(d.link));
-        }
+      };
+      add(p.pairs[slot], p.link[slot], false);
+      if (slot < p.doubtful.size()) add(p.doubtful[slot], p.doubtful_link[slot], true);
       v.link[slot] = SDLinkMatrix::from_entries(static_cast<int32_t>(v.tracks[a].size()),
                                                 static_cast<int32_t>(v.tracks[b].size()), entries);
     }

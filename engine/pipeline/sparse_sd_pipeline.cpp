@@ -126,29 +126,14 @@ double family_wise_gate_probability(double p, int32_t S) {
 
 namespace {
 
-// Moves the pairs of `st` outside `gate` (λ > G(n)) out: returns them with their link costs
-// (positive), and keeps the gated ones in order.
-std::vector<DoubtfulPair> split_doubtful_pairs(SparsePairStatistic& st, const SequentialGate& gate, int dim) {
-  std::vector<DoubtfulPair> doubtful;
-  std::size_t w = 0;
-  for (std::size_t q = 0; q < st.size(); ++q) {
-    const int32_t n = st.dof[q] / dim;
-    if (st.lambda[q] <= gate.threshold(n)) {
-      st.a[w] = st.a[q];
-      st.b[w] = st.b[q];
-      st.lambda[w] = st.lambda[q];
-      st.dof[w] = st.dof[q];
-      st.in_gate[w] = st.in_gate[q];
-      ++w;
-    } else {
-      doubtful.push_back({st.a[q], st.b[q], gate.link_cost(st.lambda[q], n)});
-    }
-  }
-  st.a.resize(w);
-  st.b.resize(w);
-  st.lambda.resize(w);
-  st.dof.resize(w);
-  st.in_gate.resize(w);
+// Splits the pairs of `st` (gated at the family-wise level) into those inside `gate` (λ ≤ G(n)),
+// left in `st`, and the doubtful rest, returned; keep_in_gate keeps each side in order.
+SparsePairStatistic split_doubtful_pairs(SparsePairStatistic& st, const SequentialGate& gate, int dim) {
+  for (std::size_t q = 0; q < st.size(); ++q) st.in_gate[q] = st.lambda[q] <= gate.threshold(st.dof[q] / dim);
+  SparsePairStatistic inside = keep_in_gate(st);
+  for (uint8_t& g : st.in_gate) g = !g;
+  SparsePairStatistic doubtful = keep_in_gate(st);
+  st = std::move(inside);
   return doubtful;
 }
 
@@ -312,6 +297,7 @@ SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOpt
   std::vector<PairStatisticsResult> shared;  // more ranks: each slot's pruned count and gated pairs
   if (sharded) shared = gated_statistics_sharded(*options.ranks, p, cand, searched);
   p.doubtful.assign(slots, {});
+  p.doubtful_link.assign(slots, {});
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
       const std::size_t slot = static_cast<std::size_t>(a) * S + b;
@@ -325,7 +311,11 @@ SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOpt
                                                         " candidate pairs of " + pair_name(a, b));
       p.pairs[slot] =
           sharded ? std::move(shared[slot].gated) : gated_candidate_statistic(p, a, b, cand[slot], searched);
-      if (options.family_wise_veto) p.doubtful[slot] = split_doubtful_pairs(p.pairs[slot], gate, p.dim);
+      if (options.family_wise_veto) {
+        const SparsePairStatistic& d = p.doubtful[slot] = split_doubtful_pairs(p.pairs[slot], gate, p.dim);
+        for (std::size_t q = 0; q < d.size(); ++q)
+          p.doubtful_link[slot].push_back(gate.link_cost(d.lambda[q], d.dof[q] / p.dim));
+      }
       const SparsePairStatistic& st = p.pairs[slot];
       gated.push_back({a, b, &st});
       gated_pairs += st.size();

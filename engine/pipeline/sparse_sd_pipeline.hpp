@@ -85,29 +85,25 @@ struct SparseSDOptions {
   nlohmann::json to_json() const;
 };
 
-// The front end's aligned sensors (engine/pipeline/front_end.hpp; a chosen sensor without local
-// tracks is left out: empty_sensor_ids), the gated pairs of the per-scan candidate index with
-// their link costs, and their connected components.
 // Bonferroni's family-wise level for the pairs of a tuple of S sensors, S(S − 1)/2 tests at the
 // gate probability p each: 1 − (1 − p)/(S(S − 1)/2), so that a true tuple of every sensor keeps
 // all its pairs with probability ≥ p (Bonferroni's inequality; a tuple of fewer sensors is held to
 // a stricter level than it needs). p itself for S ≤ 2.
 double family_wise_gate_probability(double p, int32_t S);
 
-struct DoubtfulPair {
-  int32_t a, b;
-  double link;
-};
-
+// The front end's aligned sensors (engine/pipeline/front_end.hpp; a chosen sensor without local
+// tracks is left out: empty_sensor_ids), the gated pairs of the per-scan candidate index with
+// their link costs, and their connected components.
 struct SparseSDProblem : AlignedSensors {
   // Gated-in pairs of every sensor pair a < b, slot a·S + b, with their link cost.
   std::vector<SparsePairStatistic> pairs;
   std::vector<std::vector<double>> link;
   std::vector<std::size_t> candidate_pairs;  // index output before the gate, per slot
   // Doubtful pairs per slot (SparseSDOptions::family_wise_veto): outside the gate, inside the
-  // family-wise gate; (track of a, track of b, link cost > 0). Only the components' tuple costs
-  // read them (sd_component_view); the gated pairs, their links and every other stage do not.
-  std::vector<std::vector<DoubtfulPair>> doubtful;
+  // family-wise gate, as `pairs` and `link` (link costs > 0). Only the components' tuple costs read
+  // them (sd_component_view); the gated pairs, their links and every other stage do not.
+  std::vector<SparsePairStatistic> doubtful;
+  std::vector<std::vector<double>> doubtful_link;
   Components components;
   std::vector<StageReport> stages;  // alignment, candidates, statistics, components
   double bytes_held = 0.0;          // the input and the problem [bytes], counted against the memory budget

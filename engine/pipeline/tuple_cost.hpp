@@ -72,7 +72,7 @@ double sd_tuple_cost(std::size_t k, bool all_pairs, Link link, Coexist coexist) 
   for (std::size_t x = 0; x < k; ++x)
     for (std::size_t y = x + 1; y < k; ++y) {
       const double gated = link(x, y);
-      if (!std::isnan(gated) && is_doubtful_pair_entry(gated)) {  // outside the gate, not vetoed
+      if (is_doubtful_pair_entry(gated)) {  // outside the gate, not vetoed (false for NaN)
         if (all_pairs || y == x + 1) cost += gated - kDoubtfulPairTag;
         continue;
       }
