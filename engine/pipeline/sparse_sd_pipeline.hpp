@@ -100,8 +100,8 @@ struct SparseSDProblem : AlignedSensors {
   std::vector<std::vector<double>> link;
   std::vector<std::size_t> candidate_pairs;  // index output before the gate, per slot
   // Doubtful pairs per slot (SparseSDOptions::family_wise_veto): outside the gate, inside the
-  // family-wise gate, as `pairs` and `link` (link costs > 0). Only the components' tuple costs read
-  // them (sd_component_view); the gated pairs, their links and every other stage do not.
+  // family-wise gate, as `pairs` and `link` (link costs > 0). Only the components' tuple costs
+  // (sd_component_view) and the segment pass's joins (engine/pipeline/track_segments.hpp) read them.
   std::vector<SparsePairStatistic> doubtful;
   std::vector<std::vector<double>> doubtful_link;
   Components components;

@@ -23,12 +23,15 @@ std::optional<TupleListSD> list_component_tuples(const SDComponentView& v, bool 
   TupleListSD list;
   list.n.resize(S);
   for (int32_t s = 0; s < S; ++s) list.n[s] = static_cast<int32_t>(v.tracks[s].size());
-  // Gated neighbours of every (sensor, index), from the link matrices.
+  // Gated neighbours of every (sensor, index), from the link matrices. A doubtful pair's entry
+  // (engine/pipeline/tuple_cost.hpp) is no neighbour: it links nothing, so a tuple grown through it
+  // alone is refused, and one its new member joins through a gated pair is found from that pair.
   std::vector<std::vector<std::vector<std::pair<int32_t, int32_t>>>> adj(S);
   for (int32_t s = 0; s < S; ++s) adj[s].resize(list.n[s]);
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b)
-      v.link[static_cast<std::size_t>(a) * S + b].for_each([&](int32_t i, int32_t j, double) {
+      v.link[static_cast<std::size_t>(a) * S + b].for_each([&](int32_t i, int32_t j, double entry) {
+        if (is_doubtful_pair_entry(entry)) return;
         adj[a][i].emplace_back(b, j);
         adj[b][j].emplace_back(a, i);
       });

@@ -79,6 +79,7 @@ struct SegmentGraph {
   std::vector<std::size_t> first_row, last_row;                // their rows in the track table
   std::vector<std::vector<std::pair<int32_t, double>>> links;  // gated-in neighbours, link cost
   std::unordered_map<uint64_t, double> link_of;                // (min node, max node) → link cost
+  std::unordered_map<uint64_t, double> doubtful_of;            // the same for the doubtful pairs
 
   static uint64_t key(int32_t u, int32_t v) {
     if (u > v) std::swap(u, v);
@@ -91,6 +92,18 @@ struct SegmentGraph {
     auto it = link_of.find(key(u, v));
     return it == link_of.end() ? nullptr : &it->second;
   }
+  // The pair's term in a join, as a tuple reads it (engine/pipeline/tuple_cost.hpp): a gated pair's
+  // link cost; a doubtful pair's positive link cost, *doubtful set (no evidence); +inf when the two
+  // coexist otherwise (tested, outside the gate); NaN when they never coexist.
+  double term(int32_t u, int32_t v, bool* doubtful) const {
+    *doubtful = false;
+    if (const double* l = link(u, v)) return *l;
+    if (auto it = doubtful_of.find(key(u, v)); it != doubtful_of.end()) {
+      *doubtful = true;
+      return it->second;
+    }
+    return sd_pair_term(nullptr, [&] { return p.coexist(u, v); });
+  }
   int32_t node(int32_t s, int32_t track) const {  // −1 when sensor s has no such track
     const std::vector<int32_t>& t = p.aligned[s].track;
     auto it = std::lower_bound(t.begin(), t.end(), track);
@@ -99,7 +112,7 @@ struct SegmentGraph {
 };
 
 SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks) {
-  SegmentGraph g{p, {}, {}, {}, {}, {}, {}};
+  SegmentGraph g{p, {}, {}, {}, {}, {}, {}, {}};
   const int32_t N = p.nodes(), S = p.S();
   g.first.assign(N, kInf);
   g.last.assign(N, -kInf);
@@ -126,6 +139,12 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks) {
         g.links[u].push_back({v, c});
         g.links[v].push_back({u, c});
         g.link_of[SegmentGraph::key(u, v)] = c;
+      }
+      if (slot < p.doubtful.size()) {
+        const SparsePairStatistic& d = p.doubtful[slot];
+        for (std::size_t q = 0; q < d.size(); ++q)
+          g.doubtful_of[SegmentGraph::key(p.offset[a] + d.a[q], p.offset[b] + d.b[q])] =
+              p.doubtful_link[slot][q];
       }
     }
   return g;
@@ -173,11 +192,12 @@ double join_cost(const SegmentGraph& g, const Target& t, int32_t u, int32_t s, c
   for (std::size_t r = 0; r < t.members.size(); ++r) {
     if (static_cast<int32_t>(r) == s) continue;
     for (int32_t m : t.members[r]) {
-      const double c = sd_pair_term(g.link(u, m), [&] { return g.p.coexist(u, m); });
+      bool doubtful = false;
+      const double c = g.term(u, m, &doubtful);
       if (std::isinf(c)) return kInf;  // (c): tested, outside the gate
       if (std::isnan(c)) continue;     // never together
       cost += c;
-      evidence |= g.overlap_s(u, m) > 0.0;  // (b)
+      evidence |= !doubtful && g.overlap_s(u, m) > 0.0;  // (b)
     }
   }
   return evidence ? cost : kInf;
@@ -290,11 +310,12 @@ double merge_cost(const SegmentGraph& g, const TrackTable& tracks, const Target&
       for (std::size_t r = 0; r < S; ++r) {
         if (r == s) continue;
         for (int32_t m : b.members[r]) {
-          const double c = sd_pair_term(g.link(u, m), [&] { return g.p.coexist(u, m); });
+          bool doubtful = false;
+          const double c = g.term(u, m, &doubtful);
           if (std::isinf(c)) return kInf;  // (c)
           if (std::isnan(c)) continue;
           cost += c;
-          evidence = evidence || g.overlap_s(u, m) > 0.0;
+          evidence = evidence || (!doubtful && g.overlap_s(u, m) > 0.0);
         }
       }
   return evidence ? cost : kInf;  // (b)
@@ -344,12 +365,15 @@ int32_t merge_round(const SegmentGraph& g, const TrackTable& tracks, std::vector
   return merges;
 }
 
-// The tuple cost of a set of nodes: Σ of the link costs of its linked pairs.
+// The tuple cost of a set of nodes: Σ of the link costs of its linked and doubtful pairs.
 double tuple_cost(const SegmentGraph& g, const std::vector<int32_t>& nodes) {
   double c = 0.0;
   for (std::size_t a = 0; a < nodes.size(); ++a)
-    for (std::size_t b = a + 1; b < nodes.size(); ++b)
-      if (const double* l = g.link(nodes[a], nodes[b])) c += *l;
+    for (std::size_t b = a + 1; b < nodes.size(); ++b) {
+      bool doubtful = false;
+      const double term = g.term(nodes[a], nodes[b], &doubtful);
+      if (std::isfinite(term)) c += term;
+    }
   return c;
 }
 
@@ -365,13 +389,15 @@ AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable
   {
     // --memory-budget (io/memory_budget.hpp), before the graph is built: per node its interval,
     // rows and adjacency list; per gated pair two adjacency entries (their growth up to twice) and
-    // a hash entry (~64 bytes); per tuple a target of S member lists and at most two output rows.
-    double pairs = 0.0;
+    // a hash entry (~64 bytes); per doubtful pair a hash entry; per tuple a target of S member
+    // lists and at most two output rows.
+    double pairs = 0.0, doubtful = 0.0;
     for (const SparsePairStatistic& st : p.pairs) pairs += static_cast<double>(st.size());
+    for (const SparsePairStatistic& st : p.doubtful) doubtful += static_cast<double>(st.size());
     const double N = static_cast<double>(p.nodes());
     const double bytes =
         N * (2 * sizeof(double) + 2 * sizeof(std::size_t) + sizeof(std::vector<int>) + sizeof(int32_t)) +
-        pairs * (4 * sizeof(std::pair<int32_t, double>) + 64.0) +
+        pairs * (4 * sizeof(std::pair<int32_t, double>) + 64.0) + doubtful * 64.0 +
         static_cast<double>(K) * (sizeof(Target) + S * (sizeof(std::vector<int32_t>) + sizeof(int32_t)) +
                                   2 * (W * sizeof(int32_t) + sizeof(double) + sizeof(int32_t)));
     require_memory_beside_held(0.0, bytes,

@@ -34,7 +34,9 @@
 //         (SequentialGate::link_cost) — to at least one member of T on another sensor whose
 //         report interval overlaps u's (evidence from common reports, not from extrapolation);
 //     (c) no member of T on another sensor was tested against u and failed the gate (a pair with
-//         common valid times and no gated link, the rule of the S-D tuples);
+//         common valid times and no gated link, the rule of the S-D tuples); a doubtful pair (the
+//         family-wise veto, engine/pipeline/tuple_cost.hpp) does not fail it: it adds its positive
+//         link cost and is no evidence for (b), as in a tuple;
 //     with cost Σ of u's link costs to T's members on the other sensors;
 //   * one LAP over candidates × targets (kernels/assignment/lap.hpp, unassigned allowed at 0, so
 //     every allowed join is worth making) gives each target at most one new segment per round

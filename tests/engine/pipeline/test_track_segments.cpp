@@ -11,6 +11,8 @@
 //  * a duplicate (a second track of one target on one sensor at the same time) joins its target
 //    only on a sensor listed in duplicate_sensors, and the duplicate statistic is the hand-worked
 //    one;
+//  * a doubtful pair (the family-wise veto) neither forbids a join nor is its evidence, and adds its
+//    link cost, as in a tuple; a coexisting pair outside both gates forbids it;
 //  * the reader refuses bad target numbers, naming the dataset.
 #include <gtest/gtest.h>
 
@@ -22,6 +24,8 @@
 
 #include "engine/pipeline/associator.hpp"
 #include "engine/pipeline/metrics.hpp"
+#include "engine/pipeline/sparse_sd_pipeline.hpp"
+#include "engine/pipeline/track_segments.hpp"
 #include "engine/simulation/simulation.hpp"
 #include "engine/simulation/simulation_io.hpp"
 #include "io/track_file.hpp"
@@ -282,6 +286,99 @@ TEST(TrackSegments, DuplicatesJoinOnlyOnTheirSensor) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("duplicate_sensors"), std::string::npos) << e.what();
   }
+}
+
+// recorded_sync's first three sensors; the third breaks every track after its report at 40 s (the
+// new track, number + kRenumber, from 43 s).
+TrackFile third_sensor_broken() {
+  const Scenario sc = load_scenario("recorded_sync");
+  TrackFile f = simulation_to_track_file(sc, simulate(sc, 1, 0));
+  f.sensors.resize(3);
+  const int32_t broken = f.sensors[2].id;
+  TrackTable out(f.tracks.layout);
+  for (std::size_t r = 0; r < f.tracks.size(); ++r) {
+    const int32_t s = f.tracks.sensor[r];
+    if (s != f.sensors[0].id && s != f.sensors[1].id && s != broken) continue;
+    const double t = f.tracks.t[r];
+    const int32_t track = f.tracks.track[r] + (s == broken && t >= 43.0 ? kRenumber : 0);
+    if (s == broken && t > 41.0 && t < 43.0) continue;
+    out.push_back(s, track, t, f.tracks.state_at(r), f.tracks.cov_at(r), f.tracks.truth[r]);
+  }
+  f.tracks = out;
+  f.measurements.reset();
+  f.scenario_json.clear();
+  return f;
+}
+
+TEST(TrackSegments, ADoubtfulPairNeitherForbidsAJoinNorLinksIt) {
+  // The assignment puts one segment of each broken track into its target's triple; the pass joins
+  // the other (the free segment) through its gated pairs with sensors 0 and 1. Here the free
+  // segments' pairs with sensor 1 become doubtful at link cost +0.5 (outside the gate, inside the
+  // family-wise gate): the joins stay, each joined tuple holding such a pair costs 0.5 − c more (c
+  // the pair's gated link cost), as a tuple counts it (engine/pipeline/tuple_cost.hpp). Made
+  // coexisting pairs outside both gates instead, they forbid the joins (rule (c)).
+  const TrackFile f = third_sensor_broken();
+  const SparseSDOptions o;  // the default path's
+  const SparseSDProblem p = build_sparse_sd_problem(f, o);
+  ASSERT_EQ(p.S(), 3);
+  const AssociationRecord rec = solve_sparse_sd_association(p, "lr+ls", nlohmann::json::object(), 1, o);
+  std::set<int32_t> assigned;  // sensor 2's tracks in the assignment's tuples of two or more
+  for (std::size_t k = 0; k < rec.num_tuples(); ++k) {
+    int32_t members = 0;
+    for (int c = 0; c < 3; ++c) members += rec.tuples[3 * k + c] >= 0;
+    if (members >= 2 && rec.tuples[3 * k + 2] >= 0) assigned.insert(rec.tuples[3 * k + 2]);
+  }
+  const std::size_t slot = 1 * 3 + 2;
+  std::map<std::pair<int32_t, int32_t>, double> moved;  // (track on 1, free track on 2) → gated link cost
+  auto with_free_pairs = [&](bool doubtful) {
+    SparseSDProblem q = p;
+    SparsePairStatistic kept = q.pairs[slot];
+    kept.a.clear(), kept.b.clear(), kept.lambda.clear(), kept.dof.clear(), kept.in_gate.clear();
+    std::vector<double> kept_link;
+    q.doubtful.resize(9);
+    q.doubtful_link.resize(9);
+    q.doubtful[slot] = SparsePairStatistic{};
+    q.doubtful_link[slot].clear();
+    const SparsePairStatistic& st = p.pairs[slot];
+    for (std::size_t i = 0; i < st.size(); ++i) {
+      const int32_t t1 = p.aligned[1].track[st.a[i]], t2 = p.aligned[2].track[st.b[i]];
+      const bool free = !assigned.count(t2);
+      SparsePairStatistic& to = free ? q.doubtful[slot] : kept;
+      if (free && !doubtful) continue;
+      to.a.push_back(st.a[i]), to.b.push_back(st.b[i]), to.lambda.push_back(st.lambda[i]);
+      to.dof.push_back(st.dof[i]), to.in_gate.push_back(free ? 0 : st.in_gate[i]);
+      (free ? q.doubtful_link[slot] : kept_link).push_back(free ? 0.5 : p.link[slot][i]);
+      if (free) moved[{t1, t2}] = p.link[slot][i];
+    }
+    q.pairs[slot] = kept;
+    q.link[slot] = kept_link;
+    return q;
+  };
+  SegmentSummary s0, sd, sf;
+  const AssociationRecord r0 = join_track_segments(p, f.tracks, rec, SegmentOptions{}, &s0);
+  const AssociationRecord rd =
+      join_track_segments(with_free_pairs(true), f.tracks, rec, SegmentOptions{}, &sd);
+  const AssociationRecord rf =
+      join_track_segments(with_free_pairs(false), f.tracks, rec, SegmentOptions{}, &sf);
+  const AssociationMetrics m0 = evaluate_association(f.tracks, f.sensors, r0);
+  ASSERT_GT(s0.joined, 3);
+  EXPECT_EQ(m0.correct, m0.targets);
+  ASSERT_GT(moved.size(), 3u);
+
+  EXPECT_EQ(sd.joined, s0.joined);
+  ASSERT_EQ(rd.tuples, r0.tuples);
+  int32_t checked = 0;
+  for (std::size_t k = 0; k < r0.num_tuples(); ++k) {
+    auto it = moved.find({r0.tuples[3 * k + 1], r0.tuples[3 * k + 2]});
+    const double expected = r0.cost[k] + (it == moved.end() ? 0.0 : 0.5 - it->second);
+    EXPECT_NEAR(rd.cost[k], expected, 1e-9) << "tuple " << k;
+    checked += it != moved.end();
+  }
+  EXPECT_GT(checked, 3);
+
+  const AssociationMetrics mf = evaluate_association(f.tracks, f.sensors, rf);
+  EXPECT_LT(sf.joined, s0.joined) << "a coexisting pair outside both gates forbids the join";
+  EXPECT_LT(mf.correct, m0.correct);
 }
 
 TEST(TrackSegments, ReaderRefusesBadTargetNumbers) {
