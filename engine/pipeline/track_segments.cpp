@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -25,6 +26,10 @@ void SegmentOptions::validate() const {
   require(duplicate_probability > 0.0 && duplicate_probability < 1.0, "segments.duplicate_probability",
           "expected a probability in (0, 1)");
   require(min_duplicate_times >= 1, "segments.min_duplicate_times", "expected at least 1");
+  require(std::isfinite(coast_growth) && coast_growth >= 0.0, "segments.coast_growth",
+          "expected a finite value >= 0");
+  require(std::isfinite(successor_manoeuvre_sigma) && successor_manoeuvre_sigma >= 0.0,
+          "segments.successor_manoeuvre_sigma", "expected a finite value >= 0 [m/s^2]");
 }
 
 nlohmann::json SegmentOptions::to_json() const {
@@ -32,7 +37,9 @@ nlohmann::json SegmentOptions::to_json() const {
           {"max_overlap_s", max_overlap_s},
           {"duplicate_sensors", duplicate_sensors},
           {"duplicate_probability", duplicate_probability},
-          {"min_duplicate_times", min_duplicate_times}};
+          {"min_duplicate_times", min_duplicate_times},
+          {"coast_growth", coast_growth},
+          {"successor_manoeuvre_sigma", successor_manoeuvre_sigma}};
 }
 
 void check_duplicate_sensors(const SegmentOptions& options, const std::vector<int32_t>& sensor_ids) {
@@ -75,8 +82,12 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The problem's nodes with their report intervals, links and targets.
 struct SegmentGraph {
   const SparseSDProblem& p;
-  std::vector<double> first, last;                             // report interval per node
-  std::vector<std::size_t> first_row, last_row;                // their rows in the track table
+  std::vector<double> first, last;               // report interval per node
+  std::vector<std::size_t> first_row, last_row;  // their rows in the track table
+  // Per node, the last report before its coasted tail (SegmentOptions::coast_growth; the last
+  // report when there is none): its time and row.
+  std::vector<double> held_last;
+  std::vector<std::size_t> held_row;
   std::vector<std::vector<std::pair<int32_t, double>>> links;  // gated-in neighbours, link cost
   std::unordered_map<uint64_t, double> link_of;                // (min node, max node) → link cost
   std::unordered_map<uint64_t, double> doubtful_of;            // the same for the doubtful pairs
@@ -87,6 +98,10 @@ struct SegmentGraph {
   }
   double overlap_s(int32_t u, int32_t v) const {
     return std::min(last[u], last[v]) - std::max(first[u], first[v]);
+  }
+  // The overlap of rule (a): as overlap_s, each node's coasted tail left out.
+  double held_overlap_s(int32_t u, int32_t v) const {
+    return std::min(held_last[u], held_last[v]) - std::max(first[u], first[v]);
   }
   const double* link(int32_t u, int32_t v) const {
     auto it = link_of.find(key(u, v));
@@ -111,8 +126,44 @@ struct SegmentGraph {
   }
 };
 
-SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks) {
-  SegmentGraph g{p, {}, {}, {}, {}, {}, {}, {}};
+// Per node, its latest kCoastWindow reports (time, position variance, row), latest last: enough
+// to find a coasted tail of up to kCoastWindow − 1 reports (a longer one is cut to that: its held
+// end then comes later, and rule (a) is stricter, never laxer).
+constexpr int kCoastWindow = 6;
+struct LatestReports {
+  std::array<double, kCoastWindow> t, variance;
+  std::array<std::size_t, kCoastWindow> row;
+  int n = 0;
+  void add(double time, double var, std::size_t r) {  // insertion by time (rows mostly come in order)
+    int at = n < kCoastWindow ? n : kCoastWindow;
+    if (n == kCoastWindow) {
+      if (time < t[0]) return;  // older than every kept report
+      std::copy(t.begin() + 1, t.end(), t.begin());
+      std::copy(variance.begin() + 1, variance.end(), variance.begin());
+      std::copy(row.begin() + 1, row.end(), row.begin());
+      at = kCoastWindow - 1;
+    } else {
+      ++n;
+      at = n - 1;
+    }
+    while (at > 0 && t[at - 1] > time) {
+      t[at] = t[at - 1], variance[at] = variance[at - 1], row[at] = row[at - 1];
+      --at;
+    }
+    t[at] = time, variance[at] = var, row[at] = r;
+  }
+  // The index of the last report before the trailing run whose position variance grows by more
+  // than (1 + growth)² a report.
+  int held(double growth) const {
+    int k = n - 1;
+    const double factor = (1.0 + growth) * (1.0 + growth);
+    while (growth > 0.0 && k > 0 && variance[k] > factor * variance[k - 1]) --k;
+    return k;
+  }
+};
+
+SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks, double coast_growth) {
+  SegmentGraph g{p, {}, {}, {}, {}, {}, {}, {}, {}, {}};
   const int32_t N = p.nodes(), S = p.S();
   g.first.assign(N, kInf);
   g.last.assign(N, -kInf);
@@ -120,6 +171,8 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks) {
   g.last_row.assign(N, 0);
   std::unordered_map<int32_t, int32_t> sensor_index;
   for (int32_t s = 0; s < S; ++s) sensor_index[p.sensor_ids[s]] = s;
+  std::vector<LatestReports> latest(N);
+  const int D = tracks.dim(), m = D / 2;
   for (std::size_t r = 0; r < tracks.size(); ++r) {
     auto it = sensor_index.find(tracks.sensor[r]);
     if (it == sensor_index.end()) continue;
@@ -127,7 +180,17 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks) {
     if (u < 0) continue;
     if (tracks.t[r] < g.first[u]) g.first[u] = tracks.t[r], g.first_row[u] = r;
     if (tracks.t[r] > g.last[u]) g.last[u] = tracks.t[r], g.last_row[u] = r;
+    double variance = 0.0;  // the trace of the position block (SoA columns: one per packed entry)
+    for (int c = 0; c < m; ++c) variance += tracks.cov[packed_index(D, c, c)][r];
+    latest[u].add(tracks.t[r], variance, r);
   }
+  g.held_last = g.last;
+  g.held_row = g.last_row;
+  for (int32_t u = 0; u < N; ++u)
+    if (latest[u].n > 0) {
+      const int k = latest[u].held(coast_growth);
+      g.held_last[u] = latest[u].t[k], g.held_row[u] = latest[u].row[k];
+    }
   g.links.resize(N);
   for (int32_t a = 0; a < S; ++a)
     for (int32_t b = a + 1; b < S; ++b) {
@@ -150,16 +213,35 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks) {
   return g;
 }
 
+// The continuation test (d) of engine/pipeline/track_hygiene.hpp: its manoeuvre allowance q = σ_a²
+// and gate.
+struct MergeGate {
+  double q = 0.0, threshold = 0.0;
+};
+
 // Rule (a) of the header, per sensor of the problem.
 struct OverlapRule {
+  const TrackTable* tracks = nullptr;
+  MergeGate continuation;
   double max_overlap_s = 0.0;
   std::vector<uint8_t> duplicates;  // per problem sensor: its tracks may be duplicates
   double duplicate_threshold = 0.0;
   int32_t min_duplicate_times = 1;
+  // u and m follow each other: they overlap by at most max_overlap_s, or do so once their coasted
+  // tails are left out and the later one's first report continues the earlier one's last report
+  // before its tail (the continuation test): a tracker's successor of the track it lost.
+  bool follows(const SegmentGraph& g, int32_t u, int32_t m, bool coast = true) const {
+    if (g.overlap_s(u, m) <= max_overlap_s) return true;
+    if (!coast || !(g.held_overlap_s(u, m) <= max_overlap_s)) return false;
+    const bool u_first = g.first[u] <= g.first[m];
+    return continuation_statistic(*tracks, u_first ? g.held_row[u] : g.held_row[m],
+                                  u_first ? g.first_row[m] : g.first_row[u],
+                                  continuation.q) <= continuation.threshold;
+  }
   // Free node u may join beside node m, both of problem sensor s: they follow each other, or u is
   // a duplicate of m on a listed sensor.
-  bool allows(const SegmentGraph& g, int32_t u, int32_t m, int32_t s) const {
-    if (g.overlap_s(u, m) <= max_overlap_s) return true;
+  bool allows(const SegmentGraph& g, int32_t u, int32_t m, int32_t s, bool coast = true) const {
+    if (follows(g, u, m, coast)) return true;
     if (!duplicates[s]) return false;
     const int32_t o = g.p.offset[s];
     const DuplicateStatistic d = duplicate_statistic(
@@ -168,9 +250,14 @@ struct OverlapRule {
   }
 };
 
-OverlapRule make_overlap_rule(const SparseSDProblem& p, const SegmentOptions& o) {
-  OverlapRule r{o.max_overlap_s, std::vector<uint8_t>(p.S(), 0),
-                chi_square_quantile(o.duplicate_probability, p.dim), o.min_duplicate_times};
+OverlapRule make_overlap_rule(const SparseSDProblem& p, const SegmentOptions& o, const TrackTable& tracks,
+                              const MergeGate& continuation) {
+  OverlapRule r{&tracks,
+                continuation,
+                o.max_overlap_s,
+                std::vector<uint8_t>(p.S(), 0),
+                chi_square_quantile(o.duplicate_probability, p.dim),
+                o.min_duplicate_times};
   check_duplicate_sensors(o, p.sensor_ids);
   for (const int32_t id : o.duplicate_sensors)
     r.duplicates[std::find(p.sensor_ids.begin(), p.sensor_ids.end(), id) - p.sensor_ids.begin()] = 1;
@@ -262,8 +349,7 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
   }
   for (const auto& [u, t] : joins) {
     std::vector<int32_t>& same = targets[t].members[p.sensor_of(u)];
-    *duplicates += std::any_of(same.begin(), same.end(),
-                               [&](int32_t m) { return g.overlap_s(u, m) > rule.max_overlap_s; });
+    *duplicates += std::any_of(same.begin(), same.end(), [&](int32_t m) { return !rule.follows(g, u, m); });
     same.push_back(u);
     targets[t].grew = true;
     target_of[u] = t;
@@ -273,10 +359,6 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
 
 // The kinematic test (d) of a merge: the continuation statistic of engine/pipeline/track_hygiene.hpp
 // with its manoeuvre allowance and gate.
-struct MergeGate {
-  double q = 0.0, threshold = 0.0;
-};
-
 // Cost of merging targets a and b into one, +inf unless, on every sensor, each member of one
 // follows or precedes each member of the other (a), and on at least one sensor they both hold,
 // each such earlier member's last report continues to the later one's first by constant velocity
@@ -295,7 +377,7 @@ double merge_cost(const SegmentGraph& g, const TrackTable& tracks, const Target&
   for (std::size_t s = 0; s < S; ++s)
     for (int32_t u : a.members[s])
       for (int32_t m : b.members[s]) {
-        if (!rule.allows(g, u, m, static_cast<int32_t>(s))) return kInf;  // (a)
+        if (!rule.allows(g, u, m, static_cast<int32_t>(s), false)) return kInf;  // (a)
         const bool u_first = g.first[u] <= g.first[m];
         const double m2 = continuation_statistic(tracks, u_first ? g.last_row[u] : g.last_row[m],
                                                  u_first ? g.first_row[m] : g.first_row[u], gate.q);
@@ -388,15 +470,16 @@ AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable
   const std::size_t K = record.num_tuples();
   {
     // --memory-budget (io/memory_budget.hpp), before the graph is built: per node its interval,
-    // rows and adjacency list; per gated pair two adjacency entries (their growth up to twice) and
-    // a hash entry (~64 bytes); per doubtful pair a hash entry; per tuple a target of S member
-    // lists and at most two output rows.
+    // rows, held end, latest reports and adjacency list; per gated pair two adjacency entries (their growth
+    // up to twice) and a hash entry (~64 bytes); per doubtful pair a hash entry; per tuple a target of S
+    // member lists and at most two output rows.
     double pairs = 0.0, doubtful = 0.0;
     for (const SparsePairStatistic& st : p.pairs) pairs += static_cast<double>(st.size());
     for (const SparsePairStatistic& st : p.doubtful) doubtful += static_cast<double>(st.size());
     const double N = static_cast<double>(p.nodes());
     const double bytes =
-        N * (2 * sizeof(double) + 2 * sizeof(std::size_t) + sizeof(std::vector<int>) + sizeof(int32_t)) +
+        N * (3 * sizeof(double) + 3 * sizeof(std::size_t) + sizeof(LatestReports) + sizeof(std::vector<int>) +
+             sizeof(int32_t)) +
         pairs * (4 * sizeof(std::pair<int32_t, double>) + 64.0) + doubtful * 64.0 +
         static_cast<double>(K) * (sizeof(Target) + S * (sizeof(std::vector<int32_t>) + sizeof(int32_t)) +
                                   2 * (W * sizeof(int32_t) + sizeof(double) + sizeof(int32_t)));
@@ -404,7 +487,7 @@ AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable
                                "the track segment pass (" + std::to_string(p.nodes()) + " local tracks, " +
                                    std::to_string(static_cast<int64_t>(pairs)) + " gated pairs)");
   }
-  const SegmentGraph g = build_graph(p, tracks);
+  const SegmentGraph g = build_graph(p, tracks, options.coast_growth);
 
   // Targets: the assignment's tuples of ≥ 2 members.
   std::vector<Target> targets;
@@ -429,11 +512,13 @@ AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable
   }
   SegmentSummary sum;
   sum.targets = static_cast<int32_t>(targets.size());
-  const OverlapRule rule = make_overlap_rule(p, options);
   std::vector<uint8_t> dissolved(targets.size(), 0);  // merged into another target
   const TrackSplitOptions split;                      // the continuation test's allowance and gate
   const MergeGate merge_gate{split.manoeuvre_sigma * split.manoeuvre_sigma,
                              chi_square_quantile(split.gate_probability, tracks.dim())};
+  const OverlapRule rule = make_overlap_rule(
+      p, options, tracks,
+      MergeGate{options.successor_manoeuvre_sigma * options.successor_manoeuvre_sigma, merge_gate.threshold});
   if (options.enabled)
     while (true) {
       ++sum.rounds;

@@ -11,8 +11,18 @@
 // each other. In rounds, until no segment joins:
 //   * every local track u in no target (sensor s) is a candidate for every target T such that
 //     (a) u follows or precedes every segment T already holds on s: their report intervals
-//         overlap by at most `max_overlap_s` (the overlap of a coasting old track and its
-//         successor) — or, on a sensor listed in `duplicate_sensors`, u is a *duplicate* of each
+//         overlap by at most `max_overlap_s`, each track's *coasted tail* left out: the trailing
+//         run of reports whose position variance (the trace of the position block) grows by more
+//         than (1 + coast_growth)² from one report to the next, a local tracker's predictions
+//         after it lost the target (its updates keep the variance about level). A tracker that
+//         loses a target in a turn coasts a few scans while it starts the successor from the
+//         target's plots, so the two overlap by those scans (Stone Soup's tracker on
+//         bench/stonesoup_recordings.py's files: 2-3 scans, 6-10 s; docs/status.md, "Independent
+//         recordings"). Such a pair counts as one after the other only when the later one's first
+//         report continues the earlier one's last report before its tail (the continuation
+//         statistic of engine/pipeline/track_hygiene.hpp with σ_a = successor_manoeuvre_sigma), and
+//         only for a join: a merge (below) keeps the plain overlap — or, on a sensor listed in
+//         `duplicate_sensors`, u is a *duplicate* of each
 //         segment it overlaps by more: a second track of the same target at the same time (a
 //         lidar resolves a long hull into two clusters 15–30 m apart, and each starts a track).
 //         The duplicate test, over the common times inside both report intervals (at least
@@ -45,12 +55,12 @@
 //     later one is a duplicate of the earlier (a listed sensor).
 //   * when a round joins nothing, targets merge: two targets whose members on each sensor follow
 //     each other (a) and continue each other by constant velocity on at least one sensor they share
-//     (d), with at least one pair of members on different sensors linked over common reports (b)
-//     and none tested and failed (c), are one target's fragments that the one-per-sensor assignment
-//     put into two tuples: two sensors that broke their tracks at about the same time (both keys
-//     of a swap cut, engine/pipeline/track_hygiene.hpp), or one after the other (a radar network's
-//     handovers and fades: {A₁, B₁} and {A₂, B₂} linked only by B₁–A₂). Candidates are taken
-//     cheapest first (Σ of the link costs between them), each target in one merge per round; then
+//     (d: from the earlier member's last report before its coasted tail), with at least one pair of members
+//     on different sensors linked over common reports (b) and none tested and failed (c), are one target's
+//     fragments that the one-per-sensor assignment put into two tuples: two sensors that broke their tracks
+//     at about the same time (both keys of a swap cut, engine/pipeline/track_hygiene.hpp), or one after the
+//     other (a radar network's handovers and fades: {A₁, B₁} and {A₂, B₂} linked only by B₁–A₂). Candidates
+//     are taken cheapest first (Σ of the link costs between them), each target in one merge per round; then
 //     the rounds of joins go on.
 // A track joins at most one target, so the pass only adds links; it never undoes the assignment.
 //
@@ -86,6 +96,13 @@ struct SparseSDProblem;  // engine/pipeline/sparse_sd_pipeline.hpp
 struct SegmentOptions {
   bool enabled = true;         // join the segments of a target (off: the assignment's tuples)
   double max_overlap_s = 2.0;  // [s] report overlap (a) that still counts as "one after the other"
+  // (a): a report whose position variance exceeds (1 + coast_growth)² times the one before it, in
+  // the run that ends a track, is a coasted prediction, left out of the overlap (0: none).
+  double coast_growth = 0.1;
+  // (a): the successor of a coasted track continues its last report before the tail by constant
+  // velocity with this manoeuvre allowance σ_a [m/s²] (the tracker lost the target in a manoeuvre:
+  // the stitching's manoeuvring model, engine/pipeline/track_stitching.hpp), at χ²_D(0.9999).
+  double successor_manoeuvre_sigma = 20.0;
   std::vector<int32_t> duplicate_sensors;  // sensor ids whose tracks may be duplicates (a); none
   double duplicate_probability = 0.999;    // of the per-time full-state duplicate gate (a)
   int32_t min_duplicate_times = 3;         // common times the duplicate test needs (a)

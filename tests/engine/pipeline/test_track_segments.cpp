@@ -7,7 +7,8 @@
 //    members report at the same times, and every track is in exactly one target;
 //  * when both sensors break at different times, a target's early and late tuples merge;
 //  * segments that overlap by more than max_overlap_s (two tracks at once, not one after the
-//    other) never join one target on one sensor;
+//    other) never join one target on one sensor, unless the overlap is the old track's coasted tail
+//    (its position variance growing report by report) and the new one continues it;
 //  * a duplicate (a second track of one target on one sensor at the same time) joins its target
 //    only on a sensor listed in duplicate_sensors, and the duplicate statistic is the hand-worked
 //    one;
@@ -18,6 +19,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <set>
@@ -147,6 +149,18 @@ TEST(TrackSegments, BrokenTracksJoinTheirTargets) {
   EXPECT_EQ(back.associations[0].tuples, rec.tuples);
 }
 
+// The segment pass on f: every target of the plain assignment's metrics mp correct, no false
+// tuple, and the pass's summary present.
+AssociationOutcome segments_make_every_target_correct(const TrackFile& f, const AssociationMetrics& mp) {
+  AssociationOutcome seg = associate(f, true);
+  const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, seg.record);
+  EXPECT_EQ(m.targets, mp.targets);
+  EXPECT_EQ(m.correct, m.targets);
+  EXPECT_EQ(m.false_tuples, 0);
+  EXPECT_TRUE(seg.summary.segments.has_value());
+  return seg;
+}
+
 TEST(TrackSegments, StaggeredBreaksMergeTheirTargets) {
   // Both sensors break every track, at different times (a radar handing over, a fade on one of
   // them): sensor 0 after its report at 12 s (the new track from 16 s), sensor 1 after 44 s (from
@@ -160,14 +174,62 @@ TEST(TrackSegments, StaggeredBreaksMergeTheirTargets) {
   ASSERT_GT(mp.targets, 3);
   EXPECT_EQ(mp.correct, 0) << "a target of four tracks cannot be one tuple of two sensors";
 
-  const AssociationOutcome seg = associate(f, true);
-  const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, seg.record);
-  EXPECT_EQ(m.targets, mp.targets);
-  EXPECT_EQ(m.correct, m.targets);
-  EXPECT_EQ(m.false_tuples, 0);
+  const AssociationOutcome seg = segments_make_every_target_correct(f, mp);
   ASSERT_TRUE(seg.summary.segments.has_value());
   EXPECT_GT(seg.summary.segments->targets_merged, 0) << "the early and late tuples of a target merge";
   for (const UnassociatedTracks& u : seg.unassociated) EXPECT_TRUE(u.tracks.empty()) << u.sensor_id;
+}
+
+// recorded_sync's first two sensors (scans every 4 s from 0 s); sensor 1's tracker loses every
+// target after its report at 32 s: the old track reports two coasted predictions (36 and 40 s: its
+// state at 32 s moved by constant velocity, every covariance entry 1.25² times the report
+// before's), while the successor (number + kRenumber) reports the target from 36 s on.
+TrackFile coasted_file() {
+  TrackFile f = broken_file(1e9, 1e9);  // the two sensors, unbroken
+  const int32_t lost = f.sensors[1].id;
+  TrackTable out(f.tracks.layout);
+  std::map<int32_t, std::size_t> last_update;  // sensor 1's track → its row at 32 s
+  for (std::size_t r = 0; r < f.tracks.size(); ++r)
+    if (f.tracks.sensor[r] == lost && f.tracks.t[r] == 32.0) last_update[f.tracks.track[r]] = r;
+  for (std::size_t r = 0; r < f.tracks.size(); ++r) {
+    const int32_t s = f.tracks.sensor[r], track = f.tracks.track[r];
+    const double t = f.tracks.t[r];
+    if (s != lost || t <= 32.0)
+      out.push_back(s, track, t, f.tracks.state_at(r), f.tracks.cov_at(r), f.tracks.truth[r]);
+    if (s != lost) continue;
+    if (t >= 36.0)
+      out.push_back(s, track + kRenumber, t, f.tracks.state_at(r), f.tracks.cov_at(r), f.tracks.truth[r]);
+    if ((t == 36.0 || t == 40.0) && last_update.count(track)) {
+      const std::size_t u = last_update.at(track);
+      auto x = f.tracks.state_at(u);
+      const double dt = t - 32.0;
+      x[0] += x[2] * dt, x[1] += x[3] * dt;
+      const double grow = t == 36.0 ? 1.25 * 1.25 : std::pow(1.25, 4);
+      out.push_back(s, track, t, x, f.tracks.cov_at(u) * grow, f.tracks.truth[r]);
+    }
+  }
+  f.tracks = out;
+  return f;
+}
+
+TEST(TrackSegments, ASuccessorJoinsBesideTheCoastedTailOfTheTrackItContinues) {
+  // The old track and its successor overlap 36-40 s (4 s > max_overlap_s = 2 s): two tracks at
+  // once by their report intervals. The old track's last two reports grow in position variance
+  // by 1.25⁴ ≈ 2.4 > (1 + coast_growth)² = 1.21 each, a coasted tail: left out, the two follow each
+  // other (its last update at 32 s, the successor from 36 s), and the successor continues that
+  // update. Without the coast rule (coast_growth 0) the overlap refuses every join.
+  const TrackFile f = coasted_file();
+  SegmentOptions no_coast;
+  no_coast.coast_growth = 0.0;
+  const AssociationOutcome plain = associate(f, true, 2.0, {}, no_coast);
+  const AssociationMetrics mp = evaluate_association(f.tracks, f.sensors, plain.record);
+  ASSERT_GT(mp.targets, 3);
+  EXPECT_EQ(mp.correct, 0)
+      << "a successor overlapping its predecessor by 4 s joins nothing without the coast rule";
+
+  const AssociationOutcome seg = segments_make_every_target_correct(f, mp);
+  ASSERT_TRUE(seg.summary.segments.has_value());
+  EXPECT_EQ(seg.summary.segments->duplicates, 0) << "a successor is no duplicate";
 }
 
 TEST(TrackSegments, OverlappingTracksDoNotJoin) {
