@@ -349,6 +349,13 @@ std::vector<double> covariance_square_roots(const AlignedTracks& x) {
   return out;
 }
 
+// What a failure of the common-process-noise recursion means, appended to its error.
+constexpr const char* kCommonProcessNoiseHint =
+    " (common_process_noise: the recursion reads each track as a CV Kalman filter updated at every "
+    "common time with the given process noise, which recorded tracks of other periods, filters or "
+    "lag widening are not, and its cross-covariance then exceeds P_a + P_b; the correlated form "
+    "--correlated RHO bounds it for any tracks)";
+
 // The scan terms dᵀC⁻¹d of a pair of aligned tracks, for the three forms of C (independent, ρ,
 // common process noise): what sequential_statistic sums and scan_terms returns, computed once.
 template <int D>
@@ -421,7 +428,8 @@ class PairTerms {
                          std::string(rho_ > 0.0 || common_ ? " − P_ab − P_ba" : "") +
                          " is not positive definite for sensor " + std::to_string(a_.sensor) + " track " +
                          std::to_string(a_.track[i]) + " vs sensor " + std::to_string(b_.sensor) + " track " +
-                         std::to_string(b_.track[j]) + " at common time " + std::to_string(k));
+                         std::to_string(b_.track[j]) + " at common time " + std::to_string(k) +
+                         (common_ ? std::string(kCommonProcessNoiseHint) : std::string()));
       fn(k, llt.matrixL().solve(diff).squaredNorm());
     }
   }

@@ -315,6 +315,29 @@ std::string error_of(const std::string& solver, bool sd, bool three_d, bool spar
   return "";
 }
 
+// --common-process-noise on a recorded file (recorded_3s: asynchronous radars, lag-widened
+// alignment): its recursion reads each track as a CV filter updated at every common time, which
+// these are not, so C = P_a + P_b − P_ab − P_ba stops being positive definite; the error names the
+// pair and the time and says what to use instead.
+TEST(Associator, TheCommonProcessNoiseRecursionOnRecordedTracksIsRefusedWithTheWayOut) {
+  const Scenario sc = load_scenario("recorded_3s");
+  const TrackFile f = simulation_to_track_file(sc, simulate(sc, 1, 0));
+  AssociatorOptions o;
+  o.pipeline.statistic.common_process_noise = 3.0;
+  try {
+    make_associator(o)->associate(f);
+    FAIL() << "a cross-covariance above P_a + P_b was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("is not positive definite for sensor"), std::string::npos) << what;
+    EXPECT_NE(what.find("--correlated RHO"), std::string::npos) << what;
+  }
+  o.pipeline.statistic.common_process_noise = 0.0;  // the correlated form on the same file
+  o.pipeline.statistic.correlated = true;
+  o.pipeline.statistic.cross_correlation = 0.3;
+  EXPECT_GT(make_associator(o)->associate(f).record.num_tuples(), 0u);
+}
+
 TEST(Associator, FactoryChoosesThePathsOfAssociate) {
   using P = AssociationPath;
   EXPECT_EQ(path_of("lr+ls", false, false, false), P::kSparseSD);
