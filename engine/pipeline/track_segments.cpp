@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "engine/pipeline/coasted_tail.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/track_hygiene.hpp"
 #include "engine/pipeline/tuple_cost.hpp"
@@ -126,42 +127,6 @@ struct SegmentGraph {
   }
 };
 
-// Per node, its latest kCoastWindow reports (time, position variance, row), latest last: enough
-// to find a coasted tail of up to kCoastWindow − 1 reports (a longer one is cut to that: its held
-// end then comes later, and rule (a) is stricter, never laxer).
-constexpr int kCoastWindow = 6;
-struct LatestReports {
-  std::array<double, kCoastWindow> t, variance;
-  std::array<std::size_t, kCoastWindow> row;
-  int n = 0;
-  void add(double time, double var, std::size_t r) {  // insertion by time (rows mostly come in order)
-    int at = n < kCoastWindow ? n : kCoastWindow;
-    if (n == kCoastWindow) {
-      if (time < t[0]) return;  // older than every kept report
-      std::copy(t.begin() + 1, t.end(), t.begin());
-      std::copy(variance.begin() + 1, variance.end(), variance.begin());
-      std::copy(row.begin() + 1, row.end(), row.begin());
-      at = kCoastWindow - 1;
-    } else {
-      ++n;
-      at = n - 1;
-    }
-    while (at > 0 && t[at - 1] > time) {
-      t[at] = t[at - 1], variance[at] = variance[at - 1], row[at] = row[at - 1];
-      --at;
-    }
-    t[at] = time, variance[at] = var, row[at] = r;
-  }
-  // The index of the last report before the trailing run whose position variance grows by more
-  // than (1 + growth)² a report.
-  int held(double growth) const {
-    int k = n - 1;
-    const double factor = (1.0 + growth) * (1.0 + growth);
-    while (growth > 0.0 && k > 0 && variance[k] > factor * variance[k - 1]) --k;
-    return k;
-  }
-};
-
 SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks, double coast_growth) {
   SegmentGraph g{p, {}, {}, {}, {}, {}, {}, {}, {}, {}};
   const int32_t N = p.nodes(), S = p.S();
@@ -171,7 +136,7 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks, dou
   g.last_row.assign(N, 0);
   std::unordered_map<int32_t, int32_t> sensor_index;
   for (int32_t s = 0; s < S; ++s) sensor_index[p.sensor_ids[s]] = s;
-  std::vector<LatestReports> latest(N);
+  std::vector<LatestReports> latest(N);  // (engine/pipeline/coasted_tail.hpp)
   const int D = tracks.dim(), m = D / 2;
   for (std::size_t r = 0; r < tracks.size(); ++r) {
     auto it = sensor_index.find(tracks.sensor[r]);

@@ -25,6 +25,7 @@
 #include <set>
 
 #include "engine/pipeline/associator.hpp"
+#include "engine/pipeline/coasted_tail.hpp"
 #include "engine/pipeline/metrics.hpp"
 #include "engine/pipeline/sparse_sd_pipeline.hpp"
 #include "engine/pipeline/track_segments.hpp"
@@ -230,6 +231,25 @@ TEST(TrackSegments, ASuccessorJoinsBesideTheCoastedTailOfTheTrackItContinues) {
   const AssociationOutcome seg = segments_make_every_target_correct(f, mp);
   ASSERT_TRUE(seg.summary.segments.has_value());
   EXPECT_EQ(seg.summary.segments->duplicates, 0) << "a successor is no duplicate";
+}
+
+// The coasted tail by hand: variances 100, 100, 100, 150, 230 (growth 1.5 and 1.53 > 1.1² = 1.21)
+// end in a tail of two reports, the last update the third; reports given out of time order, and
+// more reports than the window keeps, find the same; a growth of 0, or of 0.3 (1.53 < 1.3²), finds
+// no tail.
+TEST(TrackSegments, TheCoastedTailByHand) {
+  LatestReports in_order, shuffled, long_track;
+  const double variance[5] = {100, 100, 100, 150, 230};
+  for (int k = 0; k < 5; ++k) in_order.add(4.0 * k, variance[k], static_cast<std::size_t>(k));
+  for (int k : {3, 0, 4, 2, 1}) shuffled.add(4.0 * k, variance[k], static_cast<std::size_t>(k));
+  for (int k = -4; k < 5; ++k)
+    long_track.add(4.0 * k, k < 0 ? 100.0 : variance[k], static_cast<std::size_t>(k + 4));
+  EXPECT_EQ(in_order.t[in_order.held(0.1)], 8.0);
+  EXPECT_EQ(in_order.row[in_order.held(0.1)], 2u);
+  EXPECT_EQ(shuffled.t[shuffled.held(0.1)], 8.0);
+  EXPECT_EQ(long_track.t[long_track.held(0.1)], 8.0);
+  EXPECT_EQ(in_order.t[in_order.held(0.0)], 16.0);
+  EXPECT_EQ(in_order.t[in_order.held(0.3)], 16.0) << "growth 1.53 < 1.3² = 1.69: no tail";
 }
 
 TEST(TrackSegments, OverlappingTracksDoNotJoin) {
