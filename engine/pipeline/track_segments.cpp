@@ -3,7 +3,6 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -90,8 +89,9 @@ struct SegmentGraph {
   std::vector<double> held_last;
   std::vector<std::size_t> held_row;
   std::vector<std::vector<std::pair<int32_t, double>>> links;  // gated-in neighbours, link cost
-  std::unordered_map<uint64_t, double> link_of;                // (min node, max node) → link cost
-  std::unordered_map<uint64_t, double> doubtful_of;            // the same for the doubtful pairs
+  // (min node, max node) → link cost; a doubtful pair's as its tagged entry (doubtful_pair_entry,
+  // engine/pipeline/tuple_cost.hpp), as the components' link matrices hold it.
+  std::unordered_map<uint64_t, double> link_of;
 
   static uint64_t key(int32_t u, int32_t v) {
     if (u > v) std::swap(u, v);
@@ -104,21 +104,15 @@ struct SegmentGraph {
   double held_overlap_s(int32_t u, int32_t v) const {
     return std::min(held_last[u], held_last[v]) - std::max(first[u], first[v]);
   }
-  const double* link(int32_t u, int32_t v) const {
-    auto it = link_of.find(key(u, v));
-    return it == link_of.end() ? nullptr : &it->second;
-  }
   // The pair's term in a join, as a tuple reads it (engine/pipeline/tuple_cost.hpp): a gated pair's
-  // link cost; a doubtful pair's positive link cost, *doubtful set (no evidence); +inf when the two
-  // coexist otherwise (tested, outside the gate); NaN when they never coexist.
-  double term(int32_t u, int32_t v, bool* doubtful) const {
-    *doubtful = false;
-    if (const double* l = link(u, v)) return *l;
-    if (auto it = doubtful_of.find(key(u, v)); it != doubtful_of.end()) {
-      *doubtful = true;
-      return it->second;
-    }
-    return sd_pair_term(nullptr, [&] { return p.coexist(u, v); });
+  // link cost; a doubtful pair's positive link cost (*doubtful set, when given: no evidence); +inf
+  // when the two coexist otherwise (tested, outside the gate); NaN when they never coexist.
+  double term(int32_t u, int32_t v, bool* doubtful = nullptr) const {
+    auto it = link_of.find(key(u, v));
+    const bool tagged = it != link_of.end() && is_doubtful_pair_entry(it->second);
+    if (doubtful) *doubtful = tagged;
+    if (tagged) return it->second - kDoubtfulPairTag;
+    return sd_pair_term(it == link_of.end() ? nullptr : &it->second, [&] { return p.coexist(u, v); });
   }
   int32_t node(int32_t s, int32_t track) const {  // −1 when sensor s has no such track
     const std::vector<int32_t>& t = p.aligned[s].track;
@@ -128,7 +122,7 @@ struct SegmentGraph {
 };
 
 SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks, double coast_growth) {
-  SegmentGraph g{p, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+  SegmentGraph g{p, {}, {}, {}, {}, {}, {}, {}, {}};
   const int32_t N = p.nodes(), S = p.S();
   g.first.assign(N, kInf);
   g.last.assign(N, -kInf);
@@ -145,9 +139,11 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks, dou
     if (u < 0) continue;
     if (tracks.t[r] < g.first[u]) g.first[u] = tracks.t[r], g.first_row[u] = r;
     if (tracks.t[r] > g.last[u]) g.last[u] = tracks.t[r], g.last_row[u] = r;
-    double variance = 0.0;  // the trace of the position block (SoA columns: one per packed entry)
-    for (int c = 0; c < m; ++c) variance += tracks.cov[packed_index(D, c, c)][r];
-    latest[u].add(tracks.t[r], variance, r);
+    if (coast_growth > 0.0) {  // (0: no tail, the held end is the last report)
+      double variance = 0.0;   // the trace of the position block (SoA columns: one per packed entry)
+      for (int c = 0; c < m; ++c) variance += tracks.cov[packed_index(D, c, c)][r];
+      latest[u].add(tracks.t[r], variance, r);
+    }
   }
   g.held_last = g.last;
   g.held_row = g.last_row;
@@ -171,8 +167,8 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks, dou
       if (slot < p.doubtful.size()) {
         const SparsePairStatistic& d = p.doubtful[slot];
         for (std::size_t q = 0; q < d.size(); ++q)
-          g.doubtful_of[SegmentGraph::key(p.offset[a] + d.a[q], p.offset[b] + d.b[q])] =
-              p.doubtful_link[slot][q];
+          g.link_of[SegmentGraph::key(p.offset[a] + d.a[q], p.offset[b] + d.b[q])] =
+              doubtful_pair_entry(p.doubtful_link[slot][q]);
       }
     }
   return g;
@@ -322,8 +318,6 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
   return static_cast<int32_t>(joins.size());
 }
 
-// The kinematic test (d) of a merge: the continuation statistic of engine/pipeline/track_hygiene.hpp
-// with its manoeuvre allowance and gate.
 // Cost of merging targets a and b into one, +inf unless, on every sensor, each member of one
 // follows or precedes each member of the other (a), and on at least one sensor they both hold,
 // each such earlier member's last report continues to the later one's first by constant velocity
@@ -416,11 +410,8 @@ int32_t merge_round(const SegmentGraph& g, const TrackTable& tracks, std::vector
 double tuple_cost(const SegmentGraph& g, const std::vector<int32_t>& nodes) {
   double c = 0.0;
   for (std::size_t a = 0; a < nodes.size(); ++a)
-    for (std::size_t b = a + 1; b < nodes.size(); ++b) {
-      bool doubtful = false;
-      const double term = g.term(nodes[a], nodes[b], &doubtful);
-      if (std::isfinite(term)) c += term;
-    }
+    for (std::size_t b = a + 1; b < nodes.size(); ++b)
+      if (const double term = g.term(nodes[a], nodes[b]); std::isfinite(term)) c += term;
   return c;
 }
 

@@ -55,12 +55,12 @@
 //     later one is a duplicate of the earlier (a listed sensor).
 //   * when a round joins nothing, targets merge: two targets whose members on each sensor follow
 //     each other (a) and continue each other by constant velocity on at least one sensor they share
-//     (d: from the earlier member's last report before its coasted tail), with at least one pair of members
-//     on different sensors linked over common reports (b) and none tested and failed (c), are one target's
-//     fragments that the one-per-sensor assignment put into two tuples: two sensors that broke their tracks
-//     at about the same time (both keys of a swap cut, engine/pipeline/track_hygiene.hpp), or one after the
-//     other (a radar network's handovers and fades: {A₁, B₁} and {A₂, B₂} linked only by B₁–A₂). Candidates
-//     are taken cheapest first (Σ of the link costs between them), each target in one merge per round; then
+//     (d), with at least one pair of members on different sensors linked over common reports (b)
+//     and none tested and failed (c), are one target's fragments that the one-per-sensor assignment
+//     put into two tuples: two sensors that broke their tracks at about the same time (both keys
+//     of a swap cut, engine/pipeline/track_hygiene.hpp), or one after the other (a radar network's
+//     handovers and fades: {A₁, B₁} and {A₂, B₂} linked only by B₁–A₂). Candidates are taken
+//     cheapest first (Σ of the link costs between them), each target in one merge per round; then
 //     the rounds of joins go on.
 // A track joins at most one target, so the pass only adds links; it never undoes the assignment.
 //
