@@ -103,7 +103,11 @@ std::string AssociationSummary::FullReport() const {
          << " targets; duplicates " << segments->duplicates << ")";
     if (stitching.stitches > 0)
       os << ", fragments stitched " << stitching.stitches << " (" << stitching.candidates
-         << " gated continuations of " << stitching.groups << " targets)";
+         << " gated continuations of " << stitching.groups << " targets"
+         << (stitching.turn_probability > 0.0
+                 ? "; manoeuvre weight " + fmt(stitching.turn_probability, "%.3f") + " learnt"
+                 : std::string())
+         << ")";
     os << "\n";
     os << "peak memory (resident, at the end of each stage):";
     for (const auto& st : stages) os << " " << st.name << " " << fmt(st.peak_rss_mib, "%.0f") << " MiB;";

@@ -4,7 +4,6 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -19,6 +18,7 @@
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/statistics/chi_square.hpp"
+#include "kernels/statistics/mixture_weight.hpp"
 
 namespace trackassoc {
 
@@ -35,8 +35,8 @@ void TrackStitchOptions::validate() const {
           "expected a probability in (0, 1)");
   require(std::isfinite(swap_margin) && swap_margin >= 0.0, "stitching.swap_margin",
           "expected a margin >= 0 [nats] (0: off)");
-  require(std::isfinite(turn_min_evidence), "stitching.turn_min_evidence",
-          "expected a finite log-likelihood ratio");
+  require(std::isfinite(turn_prior_joins) && turn_prior_joins >= 0.0, "stitching.turn_prior_joins",
+          "expected a weight >= 0 [joins]");
   require(start_reports >= 1 && start_reports <= 16, "stitching.start_reports", "expected 1 to 16 reports");
   require(std::isfinite(gap_bin_s) && gap_bin_s >= 0.0, "stitching.gap_bin_s",
           "expected a bin >= 0 [s] (0: none)");
@@ -136,13 +136,13 @@ bool gap_surely_outside(const TrackTable& t, std::size_t end, std::size_t start,
 }
 
 double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const TrackStitchOptions& o,
-                 double gate, bool* quiet_gated) {
+                 double gate, double* turn_log_ratio) {
   if (gap_surely_outside(t, end, start, o.turn_sigma * o.turn_sigma, gate))
     return std::numeric_limits<double>::infinity();
   const GapStatistic turn = gap_statistic(t, end, start, o.turn_sigma * o.turn_sigma);
   if (!(turn.m2 <= gate)) return std::numeric_limits<double>::infinity();
   const GapStatistic quiet = gap_statistic(t, end, start, o.manoeuvre_sigma * o.manoeuvre_sigma);
-  if (quiet_gated) *quiet_gated = quiet.m2 <= gate;
+  if (turn_log_ratio) *turn_log_ratio = 0.5 * (quiet.m2 + quiet.log_det) - 0.5 * (turn.m2 + turn.log_det);
   const double minus_inf = -std::numeric_limits<double>::infinity();
   const double l_quiet = o.turn_probability < 1.0
                              ? std::log1p(-o.turn_probability) - 0.5 * (quiet.m2 + quiet.log_det)
@@ -320,7 +320,7 @@ bool share_a_sensor(const Groups& all, const Group& a, const Group& b, double ov
 struct Candidate {
   int32_t end, start;
   double cost;
-  bool quiet;
+  float turn_log_ratio;  // ln N(e; 0, S_turn) − ln N(e; 0, S_quiet), to re-weigh the mixture
 };
 
 }  // namespace
@@ -410,7 +410,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   start_rows = {};
   constexpr std::size_t kBlock = 1024;  // ends per task; the blocks are concatenated in order
   std::vector<std::vector<Candidate>> kept((G + kBlock - 1) / kBlock);
-  std::vector<int32_t> rivals_of_end(G, 0), rivals_of_start(G, 0);  // gated pairs of each end / start
+  std::vector<int32_t> candidates_of_end(G, 0);  // gated pairs of each end
   parallel_for_range(kept.size(), 1, [&](std::size_t first_block, std::size_t last_block) {
     std::vector<int32_t> near;
     for (std::size_t k = first_block; k < last_block; ++k)
@@ -444,15 +444,16 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
             continue;
           if (b == a || t.t[groups[b].last] <= end) continue;  // b must go on after a ends
           if (t.t[groups[a].first] >= start) continue;         // and start after a starts
-          bool quiet = false;
-          const double c = join_cost(t, groups[a].last, groups[b].start, o, gate, &quiet);
+          double turn_log_ratio = 0.0;
+          const double c = join_cost(t, groups[a].last, groups[b].start, o, gate, &turn_log_ratio);
           if (!std::isfinite(c)) continue;
-          ++rivals_of_end[a];
-          std::atomic_ref<int32_t>(rivals_of_start[b]).fetch_add(1, std::memory_order_relaxed);
+          ++candidates_of_end[a];
           const double cost = c + (start < window_start ? log_n_transient : log_n) + log_density[b];
           if (cost < 0.0 || o.gap_bin_s > 0.0)  // the gap prior may raise the evidence
-            gauged_push_back(kept[k], {static_cast<int32_t>(a), static_cast<int32_t>(b), cost, quiet},
-                             &gauge);
+            gauged_push_back(
+                kept[k],
+                {static_cast<int32_t>(a), static_cast<int32_t>(b), cost, static_cast<float>(turn_log_ratio)},
+                &gauge);
         }
       }
   });
@@ -467,16 +468,9 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     gauge.release(static_cast<double>(block.capacity() * sizeof(Candidate)));
     block = {};
   }
-  for (int32_t n : rivals_of_end) summary.candidates += n;
-  // A join that only the manoeuvring model gates is made only when it is unambiguous (neither side
-  // has another gated candidate) and its evidence is at least turn_min_evidence. Its wide gate
-  // takes in unrelated starts where traffic is dense, while a lone turning fragment
-  // (recorded_recycled) is still joined; see the header for the measurements.
+  for (int32_t n : candidates_of_end) summary.candidates += n;
   // The pairs of positive evidence enter one LAP, at their candidates' costs.
-  auto eligible = [&](const Candidate& k) {
-    return k.cost < 0.0 && (k.quiet || (rivals_of_end[k.end] <= 1 && rivals_of_start[k.start] <= 1 &&
-                                        -k.cost >= o.turn_min_evidence));
-  };
+  auto eligible = [](const Candidate& k) { return k.cost < 0.0; };
   auto solve = [&] {
     std::vector<int32_t> row_start{0}, col;
     std::vector<double> cost;
@@ -503,6 +497,20 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   };
   LapResult joins = solve();
   if (joins.row_to_col.empty()) return summary;
+  const bool learn = o.learn_turn_probability && o.turn_probability > 0.0 && o.turn_probability < 1.0;
+  if (learn) {
+    // The turn model's weight, learnt from the first joins (the header's empirical Bayes), and the
+    // candidates' costs under it: −ln[(1 − π̂) + π̂ e^d] instead of −ln[(1 − π) + π e^d] (the quiet
+    // density factored out, d = turn_log_ratio).
+    std::vector<float> joined;
+    for (const Candidate& k : candidates)
+      if (joins.row_to_col[static_cast<std::size_t>(k.end)] == k.start) joined.push_back(k.turn_log_ratio);
+    const double pi = o.turn_probability, learnt = mixture_weight(joined, pi, o.turn_prior_joins);
+    summary.turn_probability = learnt;
+    for (Candidate& k : candidates)
+      k.cost += log_sum_exp(std::log1p(-pi), std::log(pi) + k.turn_log_ratio) -
+                log_sum_exp(std::log1p(-learnt), std::log(learnt) + k.turn_log_ratio);
+  }
   if (o.gap_bin_s > 0.0) {
     // The gap prior: the same target's gaps follow its fades and re-initiations, a different
     // target's start is uniform over the window W. Its density, a histogram of the first joins'
@@ -526,6 +534,8 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     for (Candidate& k : candidates)  // the costs with the prior, in place (the first joins are counted)
       k.cost -=
           log_factor[bin_of(gap_of(static_cast<std::size_t>(k.end), static_cast<std::size_t>(k.start)))];
+  }
+  if (learn || o.gap_bin_s > 0.0) {
     joins = solve();
     if (joins.row_to_col.empty()) return summary;
   }

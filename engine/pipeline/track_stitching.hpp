@@ -45,6 +45,18 @@
 // (docs/design.md §4.10): the mixture bridges the turns that the quiet gate refuses and keeps the
 // quiet model's sharp likelihood for the pairs that did not manoeuvre, so a turning pair does not
 // outbid a straight one.
+// The turn weight is the file's own (learn_turn_probability): how often a target manoeuvres during
+// a gap is a property of the scene (airliners on airways rarely, the recorded family's targets
+// every 15-40 s), so π is learnt from the joins of a first assignment by EM, as the mixture
+// weight of two known components (each join's responsibility r = π e^d / (1 − π + π e^d), d = ln
+// N_turn − ln N_quiet; π̂ the posterior mode under a Beta prior of turn_prior_joins = 10
+// pseudo-joins at turn_probability; kernels/statistics/mixture_weight.hpp), and the costs re-weighed with π̂
+// before the final assignment (with the gap prior below). A small file keeps about the prior
+// (recorded_recycled: 1-6 joins, π̂ 0.16-0.30), a large one speaks for itself (widearea: 123 000 joins, π̂ ≈
+// 0.02). This replaced a rule that made a join outside the quiet gate only when neither side had another
+// gated candidate and its evidence was ≥ 3 nats: that rule refused most turns where targets manoeuvre and
+// cost precision where they do not (docs/design.md §4.10 has the measurements). Ambiguity is the swap
+// margin's (below).
 //
 // Assignment. Against "a different target" (any of the n group starts in G₁'s window [t₀ −
 // max_overlap_s, t₀ + max_gap_s], each drawn from the density f of the groups' start states: the
@@ -104,9 +116,10 @@ struct TrackStitchOptions {
   double turn_sigma = 20.0;          // σ_a [m/s²] of the manoeuvring model
   double turn_probability = 0.2;     // its weight π in the mixture (0: the quiet model alone)
   double gate_probability = 0.9999;  // of χ²_D, on the manoeuvring model's m²
-  // A join outside the quiet model's gate (only the manoeuvring one gates it) is made only when it
-  // is unambiguous and its log-likelihood ratio −c is at least this (3: a ratio of e³ ≈ 20).
-  double turn_min_evidence = 3.0;
+  // The turn model's weight π is learnt from the file's first joins (the header's empirical Bayes)
+  // under a Beta prior of turn_prior_joins pseudo-joins at turn_probability (false: π as given).
+  bool learn_turn_probability = true;
+  double turn_prior_joins = 10.0;
   // A join is made only when the assignment beats by at least this many nats every alternative that
   // exchanges it with a rival (engine/pipeline/stitch_swap_margin.hpp; 3.5: odds of e^3.5 ≈ 33 to 1;
   // 0: off).
@@ -129,6 +142,7 @@ struct TrackStitchOptions {
 
 struct TrackStitchSummary {
   int32_t groups = 0, candidates = 0, stitches = 0;  // groups, gated pairs, and joins made
+  double turn_probability = 0.0;                     // π̂ learnt from the first joins (0: not learnt)
 };
 
 // The gap statistic of the rule above for one model: G₁'s end (row `end`) predicted forward and G₂'s
@@ -144,10 +158,10 @@ GapStatistic gap_statistic(const TrackTable& tracks, std::size_t end, std::size_
 bool gap_surely_outside(const TrackTable& tracks, std::size_t end, std::size_t start, double q, double gate);
 
 // The join's cost c₁₂ + ln V of the rule above (the mixture's −ln p(e | same target)), or +inf when
-// the manoeuvring model's m² is outside the gate `gate` (χ²_D of gate_probability). `quiet_gated`,
-// when given, tells whether the quiet model's m² is inside the gate too.
+// the manoeuvring model's m² is outside the gate `gate` (χ²_D of gate_probability).
+// `turn_log_ratio`, when given, receives ln N(e; 0, S_turn) − ln N(e; 0, S_quiet).
 double join_cost(const TrackTable& tracks, std::size_t end, std::size_t start,
-                 const TrackStitchOptions& options, double gate, bool* quiet_gated = nullptr);
+                 const TrackStitchOptions& options, double gate, double* turn_log_ratio = nullptr);
 
 // Joins the groups of `record` (its tuple columns are file.sensors, in order) as above; `file`
 // gives the reports (the registered reports where registration applies).

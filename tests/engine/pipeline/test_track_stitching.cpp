@@ -214,21 +214,21 @@ TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
   EXPECT_GT(turn.m2_quiet, kGate);
   EXPECT_NEAR(gap_statistic(f.tracks, 20, 21, 400.0).m2, turn.m2_turn, 1e-9);
   EXPECT_NEAR(join_cost(f.tracks, 20, 21, defaults, kGate), turn.cost(), 1e-9);
+  double d = 0.0;  // ln N_turn − ln N_quiet
+  join_cost(f.tracks, 20, 21, defaults, kGate, &d);
+  EXPECT_NEAR(d, 0.5 * (turn.m2_quiet + turn.log_det_quiet) - 0.5 * (turn.m2_turn + turn.log_det_turn), 1e-9);
   const double lv = log_volume({{0, 0, 200, 0}, {14000, 6000, 0, 200}, {-60000, -60000, -300, -300}});
-  // Positive evidence, ≈ 34.74 − 32.83 = 1.91 nats (B is the only start of A's window: n = 1), but
-  // only the manoeuvring model gates it, and 1.91 is below the default turn_min_evidence (3 nats,
-  // the precision that dense traffic needs: docs/design.md §4.10): refused by default.
+  // Positive evidence, ≈ 34.74 − 32.83 = 1.91 nats (B is the only start of A's window: n = 1), though
+  // only the manoeuvring model gates it: joined.
   EXPECT_LT(turn.cost() - lv, 0.0);
-  EXPECT_LT(lv - turn.cost(), defaults.turn_min_evidence);
-  AssociationRecord strict = singletons({{0, 1}, {1, 7}, {1, 99}});
-  EXPECT_EQ(stitch_fragments(f, strict, defaults).stitches, 0);
-  // With 1.5 nats required, the lone turning fragment is joined.
-  TrackStitchOptions lenient = defaults;
-  lenient.turn_min_evidence = 1.5;
   AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 99}});
-  const TrackStitchSummary s = stitch_fragments(f, rec, lenient);
+  const TrackStitchSummary s = stitch_fragments(f, rec, defaults);
   EXPECT_EQ(s.stitches, 1);
   EXPECT_EQ(rec.target, (std::vector<int32_t>{0, 0, 2}));
+  // The weight learnt from that one join: its responsibility under the turn model is 1 − O(e^−60),
+  // so π̂ = (1 + 10 · 0.2) / (1 + 10) = 3/11 (the Beta prior's 10 pseudo-joins at 0.2).
+  EXPECT_GT(d, 60.0);
+  EXPECT_NEAR(s.turn_probability, 3.0 / 11.0, 1e-6);
   // The quiet model alone (π = 0, gate on σ_a = 3) refuses it, as the CV gate did.
   TrackStitchOptions quiet = defaults;
   quiet.turn_sigma = quiet.manoeuvre_sigma;
@@ -237,21 +237,24 @@ TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
   EXPECT_EQ(stitch_fragments(f, before, quiet).stitches, 0);
 }
 
-TEST(TrackStitching, ATurnJoinWithARivalIsRefused) {
+TEST(TrackStitching, ATurnJoinWithANearRivalIsLeftUnmade) {
   // The turn above, and a second start C 1 km beside B (1000²/7221800 ≈ 0.14 more m² under the turn
-  // model, in its gate; outside the quiet one like B): A's end has two gated candidates that only the
-  // manoeuvring model gates, so neither is joined. Without that rule A–B would be: its evidence,
-  // 1.91 − ln 2 (n = 2 starts in the window) ≈ 1.22 nats, is above the 0.5 required here.
+  // model, in its gate; outside the quiet one like B): both have positive evidence (1.91 − ln 2 ≈
+  // 1.22 and 0.07 nats less), and A–B beats the exchange A–C by ≈ 0.07 nats, under the swap margin
+  // (3.5): neither is joined. Without the margin the nearer start B is.
   const TrackFile f = hand_made({{0, 1, 0, 40, 0, 200},
                                  {1, 7, 100, 160, 14000, 0, 6000 - 200 * 100, 200},
                                  {1, 8, 100, 160, 15000, 0, 6000 - 200 * 100, 200},
                                  kBackground});
-  TrackStitchOptions lenient;
-  lenient.turn_min_evidence = 0.5;
   AssociationRecord rec = singletons({{0, 1}, {1, 7}, {1, 8}, {1, 99}});
-  const TrackStitchSummary s = stitch_fragments(f, rec, lenient);
+  const TrackStitchSummary s = stitch_fragments(f, rec, TrackStitchOptions{});
   EXPECT_EQ(s.candidates, 2);
   EXPECT_EQ(s.stitches, 0);
+  TrackStitchOptions no_margin;
+  no_margin.swap_margin = 0.0;
+  AssociationRecord taken = singletons({{0, 1}, {1, 7}, {1, 8}, {1, 99}});
+  EXPECT_EQ(stitch_fragments(f, taken, no_margin).stitches, 1);
+  EXPECT_EQ(taken.target, (std::vector<int32_t>{0, 0, 2, 3}));
 }
 
 TEST(TrackStitching, AJumpBeyondTheManoeuvringGateIsRefused) {
@@ -521,6 +524,7 @@ TEST(TrackStitching, BadOptionsNameTheField) {
       {[](TrackStitchOptions& o) { o.max_gap_s = -1; }, "stitching.max_gap_s"},
       {[](TrackStitchOptions& o) { o.turn_probability = 1.5; }, "stitching.turn_probability"},
       {[](TrackStitchOptions& o) { o.turn_sigma = -2; }, "stitching.turn_sigma"},
+      {[](TrackStitchOptions& o) { o.turn_prior_joins = -1; }, "stitching.turn_prior_joins"},
       {[](TrackStitchOptions& o) { o.gap_bin_s = -20; }, "stitching.gap_bin_s"},
       {[](TrackStitchOptions& o) { o.start_reports = 0; }, "stitching.start_reports"},
       {[](TrackStitchOptions& o) { o.start_reports = 17; }, "stitching.start_reports"}};
