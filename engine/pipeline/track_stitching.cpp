@@ -142,7 +142,9 @@ double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const 
   const GapStatistic turn = gap_statistic(t, end, start, o.turn_sigma * o.turn_sigma);
   if (!(turn.m2 <= gate)) return std::numeric_limits<double>::infinity();
   const GapStatistic quiet = gap_statistic(t, end, start, o.manoeuvre_sigma * o.manoeuvre_sigma);
-  if (turn_log_ratio) *turn_log_ratio = 0.5 * (quiet.m2 + quiet.log_det) - 0.5 * (turn.m2 + turn.log_det);
+  if (turn_log_ratio)  // kept finite (±1e4 nats: responsibilities of 0 or 1 all the same)
+    *turn_log_ratio =
+        std::clamp(0.5 * (quiet.m2 + quiet.log_det) - 0.5 * (turn.m2 + turn.log_det), -1e4, 1e4);
   const double minus_inf = -std::numeric_limits<double>::infinity();
   const double l_quiet = o.turn_probability < 1.0
                              ? std::log1p(-o.turn_probability) - 0.5 * (quiet.m2 + quiet.log_det)
@@ -315,8 +317,8 @@ bool share_a_sensor(const Groups& all, const Group& a, const Group& b, double ov
   return false;
 }
 
-// One gated pair: end group, start group, its cost c₁₂ (with the window's n / V) and whether the
-// quiet model gates it too.
+// One gated pair: end group, start group, its cost c₁₂ (with the window's n / V) and the two models'
+// log-likelihood ratio at its gap.
 struct Candidate {
   int32_t end, start;
   double cost;
@@ -391,6 +393,8 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   // index holds the starts' representatives (the rows join_cost's pre-gate takes), in their time
   // order; a start of the window has its representative at most `transient` after its first report.
   const double gate = chi_square_quantile(o.gate_probability, D);
+  // The turn model's weight is learnt from the first joins (below) unless fixed or degenerate.
+  const bool learn = o.learn_turn_probability && o.turn_probability > 0.0 && o.turn_probability < 1.0;
   std::vector<double> start_times(G);  // by start position
   std::vector<int32_t> start_position(G);
   double transient = 0.0;
@@ -449,7 +453,8 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
           if (!std::isfinite(c)) continue;
           ++candidates_of_end[a];
           const double cost = c + (start < window_start ? log_n_transient : log_n) + log_density[b];
-          if (cost < 0.0 || o.gap_bin_s > 0.0)  // the gap prior may raise the evidence
+          if (cost < 0.0 || o.gap_bin_s > 0.0 ||
+              learn)  // the gap prior or the learnt weight may raise the evidence
             gauged_push_back(
                 kept[k],
                 {static_cast<int32_t>(a), static_cast<int32_t>(b), cost, static_cast<float>(turn_log_ratio)},
@@ -497,7 +502,6 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   };
   LapResult joins = solve();
   if (joins.row_to_col.empty()) return summary;
-  const bool learn = o.learn_turn_probability && o.turn_probability > 0.0 && o.turn_probability < 1.0;
   if (learn) {
     // The turn model's weight, learnt from the first joins (the header's empirical Bayes), and the
     // candidates' costs under it: −ln[(1 − π̂) + π̂ e^d] instead of −ln[(1 − π) + π e^d] (the quiet

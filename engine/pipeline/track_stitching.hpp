@@ -47,7 +47,7 @@
 // outbid a straight one.
 // The turn weight is the file's own (learn_turn_probability): how often a target manoeuvres during
 // a gap is a property of the scene (airliners on airways rarely, the recorded family's targets
-// every 15-40 s), so π is learnt from the joins of a first assignment by EM, as the mixture
+// every 15-40 s), so π is learnt from the joins of a first assignment, as the mixture
 // weight of two known components (each join's responsibility r = π e^d / (1 − π + π e^d), d = ln
 // N_turn − ln N_quiet; π̂ the posterior mode under a Beta prior of turn_prior_joins = 10
 // pseudo-joins at turn_probability; kernels/statistics/mixture_weight.hpp), and the costs re-weighed with π̂
@@ -96,10 +96,11 @@
 // longest time from a start to its representative). Ends are searched in
 // parallel.
 // Complexity: O(G log G) to build, per end the index's nodes near its window and reach, O(D³) per
-// start it returns, plus the sparse LAP's O(J·C log C) worst case for J joins of C candidates; in
-// practice the candidate graph is a sparse set of small chains. Memory: O(G) (the groups, the
-// index, ~100 bytes a group; 16 row numbers a group while the representatives are chosen) plus the
-// candidates of positive evidence.
+// start it returns, plus the sparse LAP's O(J·C log C) worst case for J joins of C candidates,
+// solved twice (the first assignment, then with the learnt weight and the gap prior), and the
+// weight's O(60·J) bisection; in practice the candidate graph is a sparse set of small chains.
+// Memory: O(G) (the groups, the index, ~100 bytes a group; 16 row numbers a group while the
+// representatives are chosen) plus the gated candidates (24 bytes each).
 #pragma once
 
 #include <cstdint>
@@ -110,11 +111,13 @@ namespace trackassoc {
 
 struct TrackStitchOptions {
   bool enabled = true;
-  double max_gap_s = 180.0;          // s, the longest gap bridged
-  double max_overlap_s = 2.0;        // s, the overlap of a coasting end and its successor's start
-  double manoeuvre_sigma = 3.0;      // σ_a [m/s²] of the quiet model
-  double turn_sigma = 20.0;          // σ_a [m/s²] of the manoeuvring model
-  double turn_probability = 0.2;     // its weight π in the mixture (0: the quiet model alone)
+  double max_gap_s = 180.0;      // s, the longest gap bridged
+  double max_overlap_s = 2.0;    // s, the overlap of a coasting end and its successor's start
+  double manoeuvre_sigma = 3.0;  // σ_a [m/s²] of the quiet model
+  double turn_sigma = 20.0;      // σ_a [m/s²] of the manoeuvring model
+  // Its weight π in the mixture (0: the quiet model alone): the first assignment's and, when
+  // learn_turn_probability, the prior's centre.
+  double turn_probability = 0.2;
   double gate_probability = 0.9999;  // of χ²_D, on the manoeuvring model's m²
   // The turn model's weight π is learnt from the file's first joins (the header's empirical Bayes)
   // under a Beta prior of turn_prior_joins pseudo-joins at turn_probability (false: π as given).

@@ -237,6 +237,50 @@ TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
   EXPECT_EQ(stitch_fragments(f, before, quiet).stitches, 0);
 }
 
+TEST(TrackStitching, TheLearntWeightRefusesATurnWhereTheFileSaysTargetsFlyStraight) {
+  // The turn above beside 80 straight handovers, each alone in its window (pair k from 1000 + 400k s:
+  // 40 s on sensor 0, a 60 s gap, 60 s on sensor 1, on the line x = −20 km + 200 m/s (t − T_k),
+  // y = −20 km: start states inside the box of the turn's test, so ln V is the same). Without the
+  // gap prior (gap_bin_s = 0) and with a prior of one pseudo-join, the first assignment makes all 81
+  // joins; the straight ones say "quiet" (d = −ln(7221800·24002 / (183800·542)) ≈ −7.46 at e = 0, a
+  // responsibility of ~1e-5 each), the turn "manoeuvring" (d > 60, ≈ 1), so π̂ ≈ (1 + 0.2) / (81 + 1).
+  // Under π̂ the turn's evidence is ≈ 1.91 − ln(0.2 / π̂) < 0 (it needs π̂ ≥ 0.2 e^−1.91 ≈ 0.0296):
+  // it is left unmade, the 80 straight joins kept. With the weight fixed at 0.2 all 81 are made.
+  std::vector<Segment> segments{
+      {0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 14000, 0, 6000 - 200 * 100, 200}, kBackground};
+  std::vector<std::pair<int32_t, int32_t>> keys{{0, 1}, {1, 7}, {1, 99}};
+  for (int32_t k = 0; k < 80; ++k) {
+    const double T = 1000.0 + 400.0 * k, x0 = -20000.0 - 200.0 * T;
+    segments.push_back({0, 100 + k, T, T + 40, x0, 200, -20000, 0});
+    segments.push_back({1, 200 + k, T + 100, T + 160, x0, 200, -20000, 0});
+    keys.push_back({0, 100 + k});
+    keys.push_back({1, 200 + k});
+  }
+  const TrackFile f = hand_made(segments);
+  TrackStitchOptions o;
+  o.start_density_bins = false;
+  o.gap_bin_s = 0.0;
+  o.turn_prior_joins = 1.0;
+  AssociationRecord learnt = singletons(keys);
+  const TrackStitchSummary s = stitch_fragments(f, learnt, o);
+  const Turn turn;
+  const double lv = log_volume({{0, 0, 200, 0}, {14000, 6000, 0, 200}, {-60000, -60000, -300, -300}});
+  const double needed = 0.2 * std::exp(turn.cost() - lv);  // the π̂ at which the turn's evidence is 0
+  EXPECT_NEAR(needed, 0.0296, 5e-4);
+  EXPECT_NEAR(s.turn_probability, 1.2 / 82.0, 1e-4);
+  EXPECT_LT(s.turn_probability, needed);
+  EXPECT_EQ(s.stitches, 80);
+  EXPECT_NE(learnt.target[0], learnt.target[1]);  // A and B apart
+  for (int32_t k = 0; k < 80; ++k) EXPECT_EQ(learnt.target[3 + 2 * k], learnt.target[4 + 2 * k]);
+  TrackStitchOptions fixed = o;
+  fixed.learn_turn_probability = false;
+  AssociationRecord given = singletons(keys);
+  const TrackStitchSummary g = stitch_fragments(f, given, fixed);
+  EXPECT_EQ(g.stitches, 81);
+  EXPECT_EQ(g.turn_probability, 0.0);
+  EXPECT_EQ(given.target[0], given.target[1]);
+}
+
 TEST(TrackStitching, ATurnJoinWithANearRivalIsLeftUnmade) {
   // The turn above, and a second start C 1 km beside B (1000²/7221800 ≈ 0.14 more m² under the turn
   // model, in its gate; outside the quiet one like B): both have positive evidence (1.91 − ln 2 ≈

@@ -1,5 +1,6 @@
 // The weight of a two-component mixture with known components (kernels/statistics/mixture_weight.hpp):
-// by hand where the responsibilities are 0 or 1, and an injected weight recovered from samples.
+// by hand where the responsibilities are 0 or 1 or the score has a closed-form root, and an injected
+// weight recovered from samples.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,6 +23,12 @@ TEST(MixtureWeight, SamplesThatEachComponentSurelyExplainsCountAsWholeSamples) {
   // Samples that say nothing (d = 0, the components alike) leave the prior where it is.
   const std::vector<float> alike(10, 0.0f);
   EXPECT_NEAR(mixture_weight(alike, 0.2, 10.0), 0.2, 1e-9);
+  // Many samples that say nothing beside a few that say f₀: the score −1000/(1 − π) + 2/π − 8/(1 − π)
+  // (1 000 at d = −50, 100 000 at d = 0, the prior 10 at 0.2) vanishes at π = 2/1010. EM's
+  // fixed-point steps crawl here (the samples at d = 0 hold π where it is) and stopped at 0.0285.
+  std::vector<float> mostly_alike(1000, -50.0f);
+  mostly_alike.insert(mostly_alike.end(), 100000, 0.0f);
+  EXPECT_NEAR(mixture_weight(mostly_alike, 0.2, 10.0), 2.0 / 1010.0, 1e-9);
   // No samples, or a weight of 0 or 1: the prior itself.
   EXPECT_EQ(mixture_weight({}, 0.2, 10.0), 0.2);
   EXPECT_EQ(mixture_weight(second, 0.0, 10.0), 0.0);
