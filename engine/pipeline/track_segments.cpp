@@ -130,7 +130,8 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks, dou
   g.last_row.assign(N, 0);
   std::unordered_map<int32_t, int32_t> sensor_index;
   for (int32_t s = 0; s < S; ++s) sensor_index[p.sensor_ids[s]] = s;
-  std::vector<LatestReports> latest(N);  // (engine/pipeline/coasted_tail.hpp)
+  // (engine/pipeline/coasted_tail.hpp; none without the rule)
+  std::vector<LatestReports> latest(coast_growth > 0.0 ? static_cast<std::size_t>(N) : 0);
   const int D = tracks.dim(), m = D / 2;
   for (std::size_t r = 0; r < tracks.size(); ++r) {
     auto it = sensor_index.find(tracks.sensor[r]);
@@ -147,7 +148,7 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks, dou
   }
   g.held_last = g.last;
   g.held_row = g.last_row;
-  for (int32_t u = 0; u < N; ++u)
+  for (int32_t u = 0; u < static_cast<int32_t>(latest.size()); ++u)
     if (latest[u].n > 0) {
       const int k = latest[u].held(coast_growth);
       g.held_last[u] = latest[u].t[k], g.held_row[u] = latest[u].row[k];

@@ -342,7 +342,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   std::size_t members = 0;
   for (int32_t track : rec.tuples) members += track >= 0;
   const double per_group = sizeof(Group) + kStartRows * sizeof(std::size_t) + 2 + 6 * sizeof(double) + 100.0 +
-                           2 * sizeof(int32_t) + 4 * sizeof(std::size_t),
+                           sizeof(int32_t) + 4 * sizeof(std::size_t),
                per_member = 3 * sizeof(int32_t) + sizeof(MemberSpan) + 2 * sizeof(int32_t);
   const std::string what = "fragment stitching (" + std::to_string(K) + " tuples)";
   require_memory_beside_held(
@@ -393,8 +393,10 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   // index holds the starts' representatives (the rows join_cost's pre-gate takes), in their time
   // order; a start of the window has its representative at most `transient` after its first report.
   const double gate = chi_square_quantile(o.gate_probability, D);
-  // The turn model's weight is learnt from the first joins (below) unless fixed or degenerate.
+  // The turn model's weight is learnt from the first joins (below) unless fixed or degenerate; it
+  // and the gap prior revise the costs after the first assignment, which then keeps every gated pair.
   const bool learn = o.learn_turn_probability && o.turn_probability > 0.0 && o.turn_probability < 1.0;
+  const bool costs_revised = learn || o.gap_bin_s > 0.0;
   std::vector<double> start_times(G);  // by start position
   std::vector<int32_t> start_position(G);
   double transient = 0.0;
@@ -414,7 +416,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   start_rows = {};
   constexpr std::size_t kBlock = 1024;  // ends per task; the blocks are concatenated in order
   std::vector<std::vector<Candidate>> kept((G + kBlock - 1) / kBlock);
-  std::vector<int32_t> candidates_of_end(G, 0);  // gated pairs of each end
+  std::vector<int64_t> gated((G + kBlock - 1) / kBlock, 0);  // gated pairs per block of ends
   parallel_for_range(kept.size(), 1, [&](std::size_t first_block, std::size_t last_block) {
     std::vector<int32_t> near;
     for (std::size_t k = first_block; k < last_block; ++k)
@@ -451,10 +453,9 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
           double turn_log_ratio = 0.0;
           const double c = join_cost(t, groups[a].last, groups[b].start, o, gate, &turn_log_ratio);
           if (!std::isfinite(c)) continue;
-          ++candidates_of_end[a];
+          ++gated[k];
           const double cost = c + (start < window_start ? log_n_transient : log_n) + log_density[b];
-          if (cost < 0.0 || o.gap_bin_s > 0.0 ||
-              learn)  // the gap prior or the learnt weight may raise the evidence
+          if (cost < 0.0 || costs_revised)
             gauged_push_back(
                 kept[k],
                 {static_cast<int32_t>(a), static_cast<int32_t>(b), cost, static_cast<float>(turn_log_ratio)},
@@ -473,7 +474,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     gauge.release(static_cast<double>(block.capacity() * sizeof(Candidate)));
     block = {};
   }
-  for (int32_t n : candidates_of_end) summary.candidates += n;
+  for (int64_t n : gated) summary.candidates += static_cast<int32_t>(n);
   // The pairs of positive evidence enter one LAP, at their candidates' costs.
   auto eligible = [](const Candidate& k) { return k.cost < 0.0; };
   auto solve = [&] {
@@ -511,9 +512,11 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
       if (joins.row_to_col[static_cast<std::size_t>(k.end)] == k.start) joined.push_back(k.turn_log_ratio);
     const double pi = o.turn_probability, learnt = mixture_weight(joined, pi, o.turn_prior_joins);
     summary.turn_probability = learnt;
+    const double quiet_was = std::log1p(-pi), turn_was = std::log(pi), quiet_now = std::log1p(-learnt),
+                 turn_now = std::log(learnt);
     for (Candidate& k : candidates)
-      k.cost += log_sum_exp(std::log1p(-pi), std::log(pi) + k.turn_log_ratio) -
-                log_sum_exp(std::log1p(-learnt), std::log(learnt) + k.turn_log_ratio);
+      k.cost += log_sum_exp(quiet_was, turn_was + k.turn_log_ratio) -
+                log_sum_exp(quiet_now, turn_now + k.turn_log_ratio);
   }
   if (o.gap_bin_s > 0.0) {
     // The gap prior: the same target's gaps follow its fades and re-initiations, a different
@@ -539,7 +542,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
       k.cost -=
           log_factor[bin_of(gap_of(static_cast<std::size_t>(k.end), static_cast<std::size_t>(k.start)))];
   }
-  if (learn || o.gap_bin_s > 0.0) {
+  if (costs_revised) {
     joins = solve();
     if (joins.row_to_col.empty()) return summary;
   }
