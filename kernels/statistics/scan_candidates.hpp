@@ -23,8 +23,8 @@
 // track, each row of cells one range; sorted by cell otherwise, a row found by binary search),
 // each track of the other side looking at the cells its own radius covers, the ellipse tested by
 // its adjugate (a superset of the prune's Cholesky test by a relative 10⁻⁹). Hits are collected
-// per block of consecutive scans (parallel over blocks, TBB), deduplicated, then sorted, so the
-// output does not depend on the thread count.
+// per block of consecutive scans (parallel over blocks, TBB; each scan's radix-sorted by pair),
+// deduplicated, then sorted, so the output does not depend on the thread count.
 // Each scan indexes only the tracks valid there, listed from their spans (O(Σ spans + K)).
 // Complexity: O(Σ_k Σ_s n_s(k) + Σ_k Σ_{s<t meeting at k} (n'_s + n'_t)·log n'_t + hits) time, n_s(k) the
 // tracks of sensor s valid at scan k, n' those in the other's widened box; O(Σ spans + hits) memory.
