@@ -8,12 +8,11 @@
 #include <bit>
 #include <cmath>
 #include <limits>
-#include <span>
-#include <utility>
 
 #include "kernels/core/allocation_gauge.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
+#include "kernels/core/radix_sort.hpp"
 
 namespace trackassoc {
 namespace {
@@ -206,40 +205,22 @@ uint16_t saturating_sum(uint16_t x, uint16_t y) {
   return static_cast<uint16_t>(std::min<uint32_t>(uint32_t{x} + y, std::numeric_limits<uint16_t>::max()));
 }
 
-// Sorts one scan's hits in Hit's order (slot, a, b) by least-significant-digit radix sort (Knuth,
-// TAOCP vol. 3 §5.2.5) on the key slot·2^(2w) + a·2^w + b, w the bits of the largest track index:
-// the key's B significant bits in ⌈B/12⌉ stable passes of equal digits (≤ 12 bits, ≤ 4 096
-// buckets), a pass whose digit is the same for every hit skipped. O(n·⌈B/12⌉) moves against
-// std::sort's O(n log n) comparisons of 12-byte hits (B = 23 on the scale study's 3 × 1 000 tracks:
-// 2 passes). `buffer` is scratch (hits.size() elements on return). std::sort below 512 hits, or
-// when w > 24 (the key would not fit 64 bits).
-void radix_sort_hits(std::vector<Hit>& hits, std::vector<Hit>& buffer, int track_bits) {
-  if (hits.size() < 512 || track_bits > 24) {
+// Sorts one scan's hits in Hit's order (slot, a, b): by radix (kernels/core/radix_sort.hpp) on the
+// key slot·2^(2w) + a·2^w + b, w the bits of the largest track index (B = 23 bits on the scale
+// study's 3 × 1 000 tracks: 2 passes, where std::sort's comparisons of 12-byte hits were a fifth
+// of the index's time, docs/performance.md); `buffer` is its scratch. By std::sort below
+// kRadixLeast hits, or when w > 24 (the key would not fit 64 bits): radix_sorts_hits.
+constexpr std::size_t kRadixLeast = 512;
+bool radix_sorts_hits(std::size_t hits, int track_bits) { return hits >= kRadixLeast && track_bits <= 24; }
+void sort_scan_hits(std::vector<Hit>& hits, std::vector<Hit>& buffer, int track_bits) {
+  if (!radix_sorts_hits(hits.size(), track_bits)) {
     std::sort(hits.begin(), hits.end());
     return;
   }
   const int w = track_bits;
-  auto key = [w](const Hit& h) {
+  radix_sort_by_key(hits, buffer, [w](const Hit& h) {
     return (uint64_t{h.slot} << (2 * w)) | (static_cast<uint64_t>(h.a) << w) | static_cast<uint64_t>(h.b);
-  };
-  uint64_t any = 0;
-  for (const Hit& h : hits) any |= key(h);
-  const int bits = std::bit_width(any);
-  if (bits == 0) return;  // every key 0: one pair, already in order
-  const int passes = (bits + 11) / 12, digit = (bits + passes - 1) / passes;
-  const uint64_t mask = (uint64_t{1} << digit) - 1;
-  std::array<std::size_t, 4096> storage{};
-  const std::span<std::size_t> first(storage.data(), mask + 1);
-  buffer.resize(hits.size());
-  for (int shift = 0; shift < bits; shift += digit) {
-    std::ranges::fill(first, 0);
-    for (const Hit& h : hits) ++first[(key(h) >> shift) & mask];
-    if (std::ranges::find(first, hits.size()) != first.end()) continue;  // one digit for all
-    std::size_t sum = 0;
-    for (std::size_t& f : first) sum += std::exchange(f, sum);
-    for (const Hit& h : hits) buffer[first[(key(h) >> shift) & mask]++] = h;
-    hits.swap(buffer);
-  }
+  });
 }
 
 // Sorted by pair, each pair once; its count the sum of its copies' counts.
@@ -486,7 +467,7 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
       static_cast<double>(widest) * (2 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 36.0) + 520.0;
   scratch_bytes *= static_cast<double>(std::max(1, tbb::this_task_arena::max_concurrency()));
   gauge_add(gauge, scratch_bytes);
-  int32_t most_tracks = 1;  // the key of radix_sort_hits: the bits of the largest track index
+  int32_t most_tracks = 1;  // the key of sort_scan_hits: the bits of the largest track index
   for (int32_t s = 0; s < S; ++s) most_tracks = std::max(most_tracks, sensors[s]->n_tracks());
   const int track_bits = std::bit_width(static_cast<uint32_t>(most_tracks - 1));
   constexpr int32_t kBlock = 8;
@@ -505,8 +486,9 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
         scan.clear();
         scan_all_pairs(sensors, valid, k, c2, scratch, scan, gauge);
         // Each pair once per scan (count 1): a count is a number of scans.
-        gauged_reserve(merged, scan.size(), gauge);  // (free until the merge: the sort's buffer)
-        radix_sort_hits(scan, merged, track_bits);
+        merged.clear();  // (free until the merge: the sort's buffer, its stale hits not copied)
+        if (radix_sorts_hits(scan.size(), track_bits)) gauged_reserve(merged, scan.size(), gauge);
+        sort_scan_hits(scan, merged, track_bits);
         scan.erase(
             std::unique(scan.begin(), scan.end(), [](const Hit& x, const Hit& y) { return x.same_pair(y); }),
             scan.end());

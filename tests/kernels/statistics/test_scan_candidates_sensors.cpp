@@ -100,6 +100,24 @@ TEST(ScanCandidatesSensors, EverySensorPairEqualsTheNaiveScan) {
   }
 }
 
+// 2 100 tracks a sensor (track indices of 12 bits: each scan's hits sorted by their 25-bit radix key
+// in three passes, an odd number, so the sorted hits end in the merge buffer's storage), packed so
+// that each scan holds far more hits than the radix sort's least count: the naive scan's pairs. A
+// sort that loses or corrupts hits shows here; a wrong order alone would cost memory, not pairs
+// (each block's merge keeps every hit and the final sort orders them), and is
+// tests/kernels/core/test_radix_sort.cpp's.
+TEST(ScanCandidatesSensors, ThreeRadixPassesGiveTheNaiveScansPairs) {
+  const int32_t K = 6;
+  const std::vector<AlignedTracks> x{make_sensor(0, 0.0, 0.0, 3000.0, 2100, K, 21),
+                                     make_sensor(1, 500.0, 0.0, 3000.0, 2100, K, 22)};
+  const std::vector<const AlignedTracks*> ptr{&x[0], &x[1]};
+  const CandidatePairs got = scan_candidate_pairs(ptr, 18.47)[1];
+  const CandidatePairs naive = scan_candidate_pairs_all_pairs(x[0], x[1], 18.47);
+  EXPECT_GT(naive.size(), std::size_t{20000});  // ≥ 512 hits at some scan: the radix path taken
+  EXPECT_EQ(got.a, naive.a);
+  EXPECT_EQ(got.b, naive.b);
+}
+
 // m = 1 and m = 3, with variances over four decades: the rows of cells read along the last axis
 // and the switch to reading every point give the naive scan's pairs.
 TEST(ScanCandidatesSensors, OneAndThreeAxesWithSpreadRadiiEqualTheNaiveScan) {
