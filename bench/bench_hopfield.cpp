@@ -120,6 +120,17 @@ BENCHMARK(BM_SyncSweepPrinted)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The ascending cost order of the n³ entries (the OrderedSweepPlan's input, built once per solve):
+// the radix sort of kernels/core/radix_sort.hpp in parallel chunks. Args: {n, threads}.
+void BM_CostOrder(benchmark::State& state) {
+  const Fixture f(static_cast<int32_t>(state.range(0)));
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism,
+                         static_cast<std::size_t>(state.range(1)));
+  for (auto _ : state) benchmark::DoNotOptimize(ascending_cost_order(f.c.c).data());
+  state.counters["entries"] = static_cast<double>(f.c.size());
+}
+BENCHMARK(BM_CostOrder)->ArgsProduct({{100, 200}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // Async: serial within a restart; the sweep includes drawing its order (Arg 1: 0 = uniform random
 // permutation, 1 = slice-random order, 2 = ascending cost through the OrderedSweepPlan, the default
 // solver's path, built once per solve and not timed here). The state is the true association, a

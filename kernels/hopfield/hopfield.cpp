@@ -15,6 +15,7 @@
 #include "kernels/assignment/local_search.hpp"
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
+#include "kernels/core/radix_sort.hpp"
 #include "kernels/core/random.hpp"
 #include "kernels/hopfield/hopfield_continuous.hpp"
 #include "kernels/hopfield/hopfield_diagonal.hpp"
@@ -75,61 +76,31 @@ void HopfieldOptions::validate() const {
 std::vector<uint32_t> ascending_cost_order(std::span<const float> c) {
   const std::size_t K = c.size();
   require(K < (std::size_t{1} << 32), "cost order", "more than 2^32 entries");
-  // LSD radix sort of (key, index), 11-bit digits. Every pass is stable, so ties keep ascending
-  // index order, and a stable sort's output is unique: the chunking below cannot change it.
-  // Each pass: per-chunk digit counts, offsets in (digit, chunk) order, per-chunk scatter; the
-  // chunks run in parallel (this is part of the serial prologue of the restarts).
-  constexpr int kBits = 11;
-  constexpr std::size_t kDigits = std::size_t{1} << kBits;
-  constexpr uint32_t kMask = kDigits - 1;
-  const std::size_t chunks = std::clamp<std::size_t>(K / 16384, 1, 16), chunk = (K + chunks - 1) / chunks;
-  std::vector<uint32_t> key(K), idx(K), key2(K), idx2(K);
+  // Radix sort of (key, index) (kernels/core/radix_sort.hpp): stable, so ties keep ascending index
+  // order, and a stable sort's output is unique: its parallel chunks (this is part of the serial
+  // prologue of the restarts) cannot change it.
+  struct Entry {
+    uint32_t key, index;
+  };
+  std::vector<Entry> entries(K), buffer;
   // Keys whose unsigned order is the float order (sign flip for ≥ 0, complement for < 0; −0 as +0).
   parallel_for_range(K, 16384, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t a = lo; a < hi; ++a) {
       uint32_t bits;
       std::memcpy(&bits, &c[a], sizeof bits);
       if (bits == 0x80000000u) bits = 0;
-      key[a] = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
-      idx[a] = static_cast<uint32_t>(a);
+      entries[a] = {(bits & 0x80000000u) ? ~bits : bits | 0x80000000u, static_cast<uint32_t>(a)};
     }
   });
-  std::vector<std::size_t> count(chunks * kDigits);  // count[chunk·kDigits + digit]
-  for (int shift = 0; shift < 32; shift += kBits) {
-    parallel_for_range(chunks, 1, [&](std::size_t tb, std::size_t te) {
-      for (std::size_t t = tb; t < te; ++t) {
-        std::size_t* cnt = count.data() + t * kDigits;
-        std::fill(cnt, cnt + kDigits, 0);
-        for (std::size_t a = t * chunk, e = std::min(K, a + chunk); a < e; ++a)
-          ++cnt[(key[a] >> shift) & kMask];
-      }
-    });
-    std::size_t sum = 0, largest = 0;
-    for (std::size_t d = 0; d < kDigits; ++d) {
-      std::size_t total = 0;
-      for (std::size_t t = 0; t < chunks; ++t) {
-        const std::size_t n = count[t * kDigits + d];
-        count[t * kDigits + d] = sum;
-        sum += n;
-        total += n;
-      }
-      largest = std::max(largest, total);
-    }
-    if (largest == K) continue;  // one digit value: the pass would not move anything
-    parallel_for_range(chunks, 1, [&](std::size_t tb, std::size_t te) {
-      for (std::size_t t = tb; t < te; ++t) {
-        std::size_t* off = count.data() + t * kDigits;
-        for (std::size_t a = t * chunk, e = std::min(K, a + chunk); a < e; ++a) {
-          const std::size_t pos = off[(key[a] >> shift) & kMask]++;
-          key2[pos] = key[a];
-          idx2[pos] = idx[a];
-        }
-      }
-    });
-    key.swap(key2);
-    idx.swap(idx2);
-  }
-  return idx;
+  radix_sort_by_key(
+      entries, buffer, [](const Entry& e) { return uint64_t{e.key}; },
+      std::clamp<std::size_t>(K / 16384, 1, 16));
+  std::vector<Entry>().swap(buffer);
+  std::vector<uint32_t> order(K);
+  parallel_for_range(K, 16384, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t a = lo; a < hi; ++a) order[a] = entries[a].index;
+  });
+  return order;
 }
 
 HopfieldWeights hopfield_weights(const HopfieldOptions& o, const NormalisedCost& c) {

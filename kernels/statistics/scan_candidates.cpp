@@ -208,15 +208,17 @@ uint16_t saturating_sum(uint16_t x, uint16_t y) {
 // Sorts one scan's hits in Hit's order (slot, a, b): by radix (kernels/core/radix_sort.hpp) on the
 // key slot·2^(2w) + a·2^w + b, w the bits of the largest track index (B = 23 bits on the scale
 // study's 3 × 1 000 tracks: 2 passes, where std::sort's comparisons of 12-byte hits were a fifth
-// of the index's time, docs/performance.md); `buffer` is its scratch. By std::sort below
-// kRadixLeast hits, or when w > 24 (the key would not fit 64 bits): radix_sorts_hits.
-constexpr std::size_t kRadixLeast = 512;
-bool radix_sorts_hits(std::size_t hits, int track_bits) { return hits >= kRadixLeast && track_bits <= 24; }
-void sort_scan_hits(std::vector<Hit>& hits, std::vector<Hit>& buffer, int track_bits) {
-  if (!radix_sorts_hits(hits.size(), track_bits)) {
+// of the index's time, docs/performance.md), with `buffer` as its scratch (its contents dropped,
+// its growth told to `gauge`); by std::sort below 512 hits, or when w > 24 (the key would not fit
+// 64 bits).
+void sort_scan_hits(std::vector<Hit>& hits, std::vector<Hit>& buffer, int track_bits,
+                    AllocationGauge* gauge) {
+  if (hits.size() < 512 || track_bits > 24) {
     std::sort(hits.begin(), hits.end());
     return;
   }
+  buffer.clear();  // (so that a reserve copies nothing)
+  gauged_reserve(buffer, hits.size(), gauge);
   const int w = track_bits;
   radix_sort_by_key(hits, buffer, [w](const Hit& h) {
     return (uint64_t{h.slot} << (2 * w)) | (static_cast<uint64_t>(h.a) << w) | static_cast<uint64_t>(h.b);
@@ -486,9 +488,7 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
         scan.clear();
         scan_all_pairs(sensors, valid, k, c2, scratch, scan, gauge);
         // Each pair once per scan (count 1): a count is a number of scans.
-        merged.clear();  // (free until the merge: the sort's buffer, its stale hits not copied)
-        if (radix_sorts_hits(scan.size(), track_bits)) gauged_reserve(merged, scan.size(), gauge);
-        sort_scan_hits(scan, merged, track_bits);
+        sort_scan_hits(scan, merged, track_bits, gauge);  // (merged is free until the merge)
         scan.erase(
             std::unique(scan.begin(), scan.end(), [](const Hit& x, const Hit& y) { return x.same_pair(y); }),
             scan.end());

@@ -1,9 +1,11 @@
 // kernels/core/radix_sort.hpp against std::stable_sort: keys of 0 to 64 significant bits (0 to 6
-// passes, odd and even, skipped digits), sizes around the edges, many equal keys (stability).
+// passes, odd and even, skipped digits), sizes around the edges, many equal keys (stability), and
+// parallel chunks.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "kernels/core/radix_sort.hpp"
@@ -27,11 +29,12 @@ std::vector<Record> random_records(std::size_t n, int key_bits, uint64_t distinc
   return r;
 }
 
-void expect_sorted_as_stable_sort(std::vector<Record> records) {
+void expect_sorted_as_stable_sort(std::vector<Record> records, std::size_t chunks = 1) {
   std::vector<Record> expected = records, buffer(7);  // (a buffer that starts with other contents)
   std::stable_sort(expected.begin(), expected.end(),
                    [](const Record& x, const Record& y) { return x.key < y.key; });
-  radix_sort_by_key(records, buffer, [](const Record& r) { return r.key; });
+  radix_sort_by_key(
+      records, buffer, [](const Record& r) { return r.key; }, chunks);
   ASSERT_EQ(records.size(), expected.size());
   for (std::size_t i = 0; i < records.size(); ++i) {
     ASSERT_EQ(records[i].key, expected[i].key) << "at " << i;
@@ -51,6 +54,17 @@ TEST(RadixSort, EqualsStableSortForEveryKeyWidth) {
 TEST(RadixSort, KeepsTheInputOrderOfEqualKeys) {
   expect_sorted_as_stable_sort(random_records(5000, 40, 3, 7));  // three keys, 5 000 records
   expect_sorted_as_stable_sort(random_records(1000, 64, 1, 8));  // one key: every pass skipped
+}
+
+// Parallel chunks (counted and scattered apart, offsets in (digit, chunk) order): the one-chunk
+// order, stable, for chunk counts that do not divide the records and more chunks than records.
+TEST(RadixSort, ChunksGiveTheOneChunkOrder) {
+  for (const std::size_t chunks : {std::size_t{2}, std::size_t{3}, std::size_t{16}}) {
+    SCOPED_TRACE("chunks " + std::to_string(chunks));
+    expect_sorted_as_stable_sort(random_records(50001, 32, 20000, 11), chunks);
+    expect_sorted_as_stable_sort(random_records(50001, 64, 7, 12), chunks);  // equal keys across chunks
+    expect_sorted_as_stable_sort(random_records(5, 20, 5, 13), chunks);
+  }
 }
 
 TEST(RadixSort, ZeroKeysEmptyAndOneRecordAreLeftAsTheyAre) {
