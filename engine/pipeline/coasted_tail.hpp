@@ -3,10 +3,21 @@
 // position variance than the report before (an update keeps it about level), while it starts the
 // successor. The tail is the trailing run of reports whose position variance grows by more than
 // (1 + growth)² from one to the next; its start is the track's last update.
+// A *lost* track (the takeover of rule (a)): a tracker that loses a target may go on updating the
+// old track now and then (a plot that falls in its gate) while it starts the successor, so the old
+// track's variance grows at most of its reports but not at all of them, and its tail is not one
+// unbroken run of growth (Stone Soup's GNN tracker on bench/stonesoup_recordings.py's files: old and
+// new tracks overlap 4-14 s; docs/status.md, "Independent recordings"). lost_after(t) asks that
+// the track end coasting (its last report grows by more than (1 + growth)² from the one before)
+// and that, of its reports after time t, at least kLostGrowths and at least half grow so: a track
+// that keeps its variance level (a second craft tracked beside the target) is not lost, nor one
+// whose missed updates fall elsewhere.
 // LatestReports keeps a track's latest kCoastWindow reports as its rows stream in (any order: an
-// insertion by time into a fixed array), so the tail is found in O(1) memory a track, and a tail
-// longer than kCoastWindow − 1 reports is cut to that (the last update then seems later, which
-// makes rule (a) stricter, never laxer). O(kCoastWindow) a report.
+// insertion by time into a fixed array), so both are found in O(1) memory a track. The tail is
+// looked for in the latest kTailWindow of them, a tail longer than kTailWindow − 1 reports cut to
+// that (the last update then seems later, which makes rule (a) stricter, never laxer); a takeover
+// whose overlap holds more reports than the window keeps (less one) is refused. O(kCoastWindow) a
+// report.
 #pragma once
 
 #include <algorithm>
@@ -16,7 +27,9 @@
 namespace trackassoc {
 
 // A track's latest kCoastWindow reports (time, position variance, row), latest last.
-constexpr int kCoastWindow = 6;
+constexpr int kCoastWindow = 12;
+constexpr int kTailWindow = 6;
+constexpr int kLostGrowths = 2;
 struct LatestReports {
   std::array<double, kCoastWindow> t, variance;
   std::array<std::size_t, kCoastWindow> row;
@@ -43,9 +56,28 @@ struct LatestReports {
   // than (1 + growth)² a report.
   int held(double growth) const {
     int k = n - 1;
+    const int first = std::max(0, n - kTailWindow);
     const double factor = (1.0 + growth) * (1.0 + growth);
-    while (growth > 0.0 && k > 0 && variance[k] > factor * variance[k - 1]) --k;
+    while (growth > 0.0 && k > first && variance[k] > factor * variance[k - 1]) --k;
     return k;
+  }
+  // The index of the latest report at or before time `t` (−1: none kept).
+  int last_at_or_before(double time) const {
+    int k = n - 1;
+    while (k >= 0 && t[k] > time) --k;
+    return k;
+  }
+  // True when the reports after time `after` are those of a lost track (above): the last one and
+  // at least kLostGrowths and at least half of them grow by more than (1 + growth)² from the report
+  // before (the report at or before `after` kept, so that the first has one).
+  bool lost_after(double after, double growth) const {
+    const int k0 = last_at_or_before(after);
+    if (k0 < 0 || growth <= 0.0) return false;
+    const double factor = (1.0 + growth) * (1.0 + growth);
+    int grown = 0;
+    for (int k = k0 + 1; k < n; ++k) grown += variance[k] > factor * variance[k - 1];
+    const bool ends_coasting = n >= 2 && variance[n - 1] > factor * variance[n - 2];
+    return ends_coasting && grown >= kLostGrowths && 2 * grown >= n - 1 - k0;
   }
 };
 

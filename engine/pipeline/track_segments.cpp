@@ -30,6 +30,8 @@ void SegmentOptions::validate() const {
           "expected a finite value >= 0");
   require(std::isfinite(successor_manoeuvre_sigma) && successor_manoeuvre_sigma >= 0.0,
           "segments.successor_manoeuvre_sigma", "expected a finite value >= 0 [m/s^2]");
+  require(std::isfinite(takeover_s) && takeover_s >= 0.0, "segments.takeover_s",
+          "expected a finite value >= 0 [s]");
 }
 
 nlohmann::json SegmentOptions::to_json() const {
@@ -39,7 +41,8 @@ nlohmann::json SegmentOptions::to_json() const {
           {"duplicate_probability", duplicate_probability},
           {"min_duplicate_times", min_duplicate_times},
           {"coast_growth", coast_growth},
-          {"successor_manoeuvre_sigma", successor_manoeuvre_sigma}};
+          {"successor_manoeuvre_sigma", successor_manoeuvre_sigma},
+          {"takeover_s", takeover_s}};
 }
 
 void check_duplicate_sensors(const SegmentOptions& options, const std::vector<int32_t>& sensor_ids) {
@@ -88,6 +91,8 @@ struct SegmentGraph {
   // report when there is none): its time and row.
   std::vector<double> held_last;
   std::vector<std::size_t> held_row;
+  // Per node, its latest reports (the takeover's lost-track test; empty without the coast rule).
+  std::vector<LatestReports> latest;
   std::vector<std::vector<std::pair<int32_t, double>>> links;  // gated-in neighbours, link cost
   // (min node, max node) → link cost; a doubtful pair's as its tagged entry (doubtful_pair_entry,
   // engine/pipeline/tuple_cost.hpp), as the components' link matrices hold it.
@@ -122,7 +127,7 @@ struct SegmentGraph {
 };
 
 SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks, double coast_growth) {
-  SegmentGraph g{p, {}, {}, {}, {}, {}, {}, {}, {}};
+  SegmentGraph g{p, {}, {}, {}, {}, {}, {}, {}, {}, {}};
   const int32_t N = p.nodes(), S = p.S();
   g.first.assign(N, kInf);
   g.last.assign(N, -kInf);
@@ -131,7 +136,8 @@ SegmentGraph build_graph(const SparseSDProblem& p, const TrackTable& tracks, dou
   std::unordered_map<int32_t, int32_t> sensor_index;
   for (int32_t s = 0; s < S; ++s) sensor_index[p.sensor_ids[s]] = s;
   // (engine/pipeline/coasted_tail.hpp; none without the rule)
-  std::vector<LatestReports> latest(coast_growth > 0.0 ? static_cast<std::size_t>(N) : 0);
+  std::vector<LatestReports>& latest = g.latest;
+  latest.resize(coast_growth > 0.0 ? static_cast<std::size_t>(N) : 0);
   const int D = tracks.dim(), m = D / 2;
   for (std::size_t r = 0; r < tracks.size(); ++r) {
     auto it = sensor_index.find(tracks.sensor[r]);
@@ -186,19 +192,33 @@ struct OverlapRule {
   const TrackTable* tracks = nullptr;
   MergeGate continuation;
   double max_overlap_s = 0.0;
+  double takeover_s = 0.0;
+  double coast_growth = 0.0;
   std::vector<uint8_t> duplicates;  // per problem sensor: its tracks may be duplicates
   double duplicate_threshold = 0.0;
   int32_t min_duplicate_times = 1;
   // u and m follow each other: they overlap by at most max_overlap_s, or do so once their coasted
   // tails are left out and the later one's first report continues the earlier one's last report
   // before its tail (the continuation test): a tracker's successor of the track it lost.
+  // Or the later one takes over from a lost track (takeover_s).
   bool follows(const SegmentGraph& g, int32_t u, int32_t m, bool coast = true) const {
     if (g.overlap_s(u, m) <= max_overlap_s) return true;
-    if (!coast || !(g.held_overlap_s(u, m) <= max_overlap_s)) return false;
+    if (!coast) return false;
     const bool u_first = g.first[u] <= g.first[m];
-    return continuation_statistic(*tracks, u_first ? g.held_row[u] : g.held_row[m],
-                                  u_first ? g.first_row[m] : g.first_row[u],
-                                  continuation.q) <= continuation.threshold;
+    const int32_t early = u_first ? u : m, late = u_first ? m : u;
+    if (g.held_overlap_s(u, m) <= max_overlap_s)
+      return continuation_statistic(*tracks, g.held_row[early], g.first_row[late], continuation.q) <=
+             continuation.threshold;
+    return takes_over(g, early, late);
+  }
+  bool takes_over(const SegmentGraph& g, int32_t early, int32_t late) const {
+    if (!(g.overlap_s(early, late) <= takeover_s) || g.latest.empty() || !(g.first[early] < g.first[late]))
+      return false;
+    const LatestReports& r = g.latest[static_cast<std::size_t>(early)];
+    if (!r.lost_after(g.first[late], coast_growth)) return false;
+    const int held = r.last_at_or_before(g.first[late] + max_overlap_s);
+    return continuation_statistic(*tracks, r.row[held], g.first_row[late], continuation.q) <=
+           continuation.threshold;
   }
   // Free node u may join beside node m, both of problem sensor s: they follow each other, or u is
   // a duplicate of m on a listed sensor.
@@ -217,6 +237,8 @@ OverlapRule make_overlap_rule(const SparseSDProblem& p, const SegmentOptions& o,
   OverlapRule r{&tracks,
                 continuation,
                 o.max_overlap_s,
+                o.takeover_s,
+                o.coast_growth,
                 std::vector<uint8_t>(p.S(), 0),
                 chi_square_quantile(o.duplicate_probability, p.dim),
                 o.min_duplicate_times};

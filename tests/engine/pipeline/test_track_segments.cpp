@@ -182,10 +182,10 @@ TEST(TrackSegments, StaggeredBreaksMergeTheirTargets) {
 }
 
 // recorded_sync's first two sensors (scans every 4 s from 0 s); sensor 1's tracker loses every
-// target after its report at 32 s: the old track reports two coasted predictions (36 and 40 s: its
-// state at 32 s moved by constant velocity, every covariance entry 1.25² times the report
-// before's), while the successor (number + kRenumber) reports the target from 36 s on.
-TrackFile coasted_file() {
+// target after its report at 32 s: the old track goes on reporting at the times of `after` (its
+// state at 32 s moved by constant velocity, every covariance entry the given factor times the
+// report at 32 s's), while the successor (number + kRenumber) reports the target from 36 s on.
+TrackFile lost_file(const std::map<double, double>& after) {
   TrackFile f = broken_file(1e9, 1e9);  // the two sensors, unbroken
   const int32_t lost = f.sensors[1].id;
   TrackTable out(f.tracks.layout);
@@ -200,17 +200,30 @@ TrackFile coasted_file() {
     if (s != lost) continue;
     if (t >= 36.0)
       out.push_back(s, track + kRenumber, t, f.tracks.state_at(r), f.tracks.cov_at(r), f.tracks.truth[r]);
-    if ((t == 36.0 || t == 40.0) && last_update.count(track)) {
+    if (after.count(t) && last_update.count(track)) {
       const std::size_t u = last_update.at(track);
       auto x = f.tracks.state_at(u);
       const double dt = t - 32.0;
       x[0] += x[2] * dt, x[1] += x[3] * dt;
-      const double grow = t == 36.0 ? 1.25 * 1.25 : std::pow(1.25, 4);
-      out.push_back(s, track, t, x, f.tracks.cov_at(u) * grow, f.tracks.truth[r]);
+      out.push_back(s, track, t, x, f.tracks.cov_at(u) * after.at(t), f.tracks.truth[r]);
     }
   }
   f.tracks = out;
   return f;
+}
+
+// Two coasted predictions (36 and 40 s), each 1.25² times the variance before.
+TrackFile coasted_file() { return lost_file({{36.0, 1.25 * 1.25}, {40.0, std::pow(1.25, 4)}}); }
+
+// The segment pass with options `so` on a file where it makes no target correct (the overlaps
+// refused): its metrics, for segments_make_every_target_correct.
+AssociationMetrics nothing_correct_with(const TrackFile& f, const SegmentOptions& so) {
+  const AssociationMetrics m =
+      evaluate_association(f.tracks, f.sensors, associate(f, true, 2.0, {}, so).record);
+  EXPECT_GT(m.targets, 3);
+  EXPECT_EQ(m.correct, 0)
+      << "a successor overlapping its predecessor by > 2 s joins nothing without the rule";
+  return m;
 }
 
 TEST(TrackSegments, ASuccessorJoinsBesideTheCoastedTailOfTheTrackItContinues) {
@@ -222,12 +235,7 @@ TEST(TrackSegments, ASuccessorJoinsBesideTheCoastedTailOfTheTrackItContinues) {
   const TrackFile f = coasted_file();
   SegmentOptions no_coast;
   no_coast.coast_growth = 0.0;
-  const AssociationOutcome plain = associate(f, true, 2.0, {}, no_coast);
-  const AssociationMetrics mp = evaluate_association(f.tracks, f.sensors, plain.record);
-  ASSERT_GT(mp.targets, 3);
-  EXPECT_EQ(mp.correct, 0)
-      << "a successor overlapping its predecessor by 4 s joins nothing without the coast rule";
-
+  const AssociationMetrics mp = nothing_correct_with(f, no_coast);
   const AssociationOutcome seg = segments_make_every_target_correct(f, mp);
   ASSERT_TRUE(seg.summary.segments.has_value());
   EXPECT_EQ(seg.summary.segments->duplicates, 0) << "a successor is no duplicate";
@@ -252,10 +260,62 @@ TEST(TrackSegments, TheCoastedTailByHand) {
   EXPECT_EQ(in_order.t[in_order.held(0.3)], 16.0) << "growth 1.53 < 1.3² = 1.69: no tail";
 }
 
+TEST(TrackSegments, ASuccessorTakesOverFromALostTrack) {
+  // The old track goes on reporting 12 s into its successor (36-48 s), updated now and then: its
+  // variance grows at 36, 40 and 48 s (by 1.25² > (1 + coast_growth)² = 1.21) and falls at 44 s, so
+  // no unbroken tail ends it (its last report before the tail is at 44 s, 8 s into the successor).
+  // After the successor's first report 2 of its 3 reports grow: a lost track, whose successor
+  // continues its report at 36 s. Without the takeover (takeover_s 0) the overlap refuses every join.
+  const double g = 1.25 * 1.25;
+  const TrackFile f = lost_file({{36.0, g}, {40.0, g * g}, {44.0, g}, {48.0, g * g}});
+  SegmentOptions no_takeover;
+  no_takeover.takeover_s = 0.0;
+  segments_make_every_target_correct(f, nothing_correct_with(f, no_takeover));
+}
+
+TEST(TrackSegments, ATrackThatKeepsItsVarianceLevelIsNotLost) {
+  // The same overlap, the old track's variance level at every report (a second craft tracked beside
+  // the target, as far as its covariance tells): not lost, so neither follows the other, and the
+  // target whose two tracks overlap stays split, as with the takeover off; and with only one growth
+  // after the successor's first report (36 s grows, 40 s and 44 s level) neither.
+  for (const std::map<double, double>& after :
+       {std::map<double, double>{{36.0, 1.0}, {40.0, 1.0}, {44.0, 1.0}, {48.0, 1.0}},
+        std::map<double, double>{{36.0, 1.25 * 1.25}, {40.0, 1.25 * 1.25}, {44.0, 1.25 * 1.25}}}) {
+    const TrackFile f = lost_file(after);
+    const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, associate(f, true).record);
+    ASSERT_GT(m.targets, 3);
+    EXPECT_EQ(m.correct, 0) << after.size() << " reports after 32 s";
+    EXPECT_EQ(m.false_tuples, 0);
+  }
+}
+
+// The lost-track test by hand: variances 100 (at 0 s), then 150, 100, 160, 250 at 4-16 s. After
+// 2 s: growths at 4, 12 and 16 s (1.5, 1.6, 1.56 > 1.21), a fall at 8 s: 3 of 4, lost. After 6 s:
+// 12 and 16 of 8-16 s, 2 of 3, lost. After 14 s: one report, one growth (< 2): not lost. After 20 s:
+// none. Before every kept report (−1 s): nothing to compare the first with, not lost. A growth of
+// 0.3 (1.3² = 1.69 above every step): not lost.
+TEST(TrackSegments, TheLostTrackByHand) {
+  LatestReports r;
+  const double variance[5] = {100, 150, 100, 160, 250};
+  for (int k = 0; k < 5; ++k) r.add(4.0 * k, variance[k], static_cast<std::size_t>(k));
+  EXPECT_TRUE(r.lost_after(2.0, 0.1));
+  EXPECT_TRUE(r.lost_after(6.0, 0.1));
+  EXPECT_FALSE(r.lost_after(14.0, 0.1));
+  EXPECT_FALSE(r.lost_after(20.0, 0.1));
+  EXPECT_FALSE(r.lost_after(-1.0, 0.1));
+  EXPECT_FALSE(r.lost_after(2.0, 0.3));
+  EXPECT_EQ(r.last_at_or_before(9.0), 2);
+  EXPECT_EQ(r.last_at_or_before(-1.0), -1);
+}
+
 TEST(TrackSegments, OverlappingTracksDoNotJoin) {
-  // The new track starts 20 s before the old one ends: two tracks of one target at once.
+  // The new track starts 20 s before the old one ends: two tracks of one target at once. (Without
+  // the takeover: an old track whose missed updates make it look lost in the overlap may be taken
+  // over, as checked below.)
   const TrackFile f = broken_file(60.0, 40.0);
-  const AssociationRecord rec = associate(f, true, 2.0).record;
+  SegmentOptions no_takeover;
+  no_takeover.takeover_s = 0.0;
+  const AssociationRecord rec = associate(f, true, 2.0, {}, no_takeover).record;
   const auto span = spans(f);
   std::map<int32_t, std::vector<int32_t>> broken_of_target;  // target → its tracks on sensor 1
   for (std::size_t k = 0; k < rec.num_tuples(); ++k)
@@ -270,6 +330,12 @@ TEST(TrackSegments, OverlappingTracksDoNotJoin) {
         EXPECT_LE(std::min(a.second, b.second) - std::max(a.first, b.first), 2.0);
       }
   }
+  // The takeover joins only an old track that looks lost, here always one target's: no false tuple,
+  // nothing correct lost.
+  const AssociationMetrics strict = evaluate_association(f.tracks, f.sensors, rec);
+  const AssociationMetrics taken = evaluate_association(f.tracks, f.sensors, associate(f, true, 2.0).record);
+  EXPECT_EQ(taken.false_tuples, 0);
+  EXPECT_GE(taken.correct, strict.correct);
   // With a tolerance above the overlap the same segments do join.
   const AssociationRecord loose = associate(f, true, 25.0).record;
   EXPECT_EQ(evaluate_association(f.tracks, f.sensors, loose).correct,
