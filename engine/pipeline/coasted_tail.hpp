@@ -7,7 +7,7 @@
 // old track now and then (a plot that falls in its gate) while it starts the successor, so the old
 // track's variance grows at most of its reports but not at all of them, and its tail is not one
 // unbroken run of growth (Stone Soup's GNN tracker on bench/stonesoup_recordings.py's files: old and
-// new tracks overlap 4-14 s; docs/status.md, "Independent recordings"). lost_after(t) asks that
+// new tracks overlap 4-18 s; docs/status.md, "Independent recordings"). lost_after(t) asks that
 // the track end coasting (its last report grows by more than (1 + growth)² from the one before)
 // and that, of its reports after time t, at least kLostGrowths and at least half grow so: a track
 // that keeps its variance level (a second craft tracked beside the target) is not lost, nor one

@@ -212,7 +212,8 @@ struct OverlapRule {
     return takes_over(g, early, late);
   }
   bool takes_over(const SegmentGraph& g, int32_t early, int32_t late) const {
-    if (!(g.overlap_s(early, late) <= takeover_s) || g.latest.empty() || !(g.first[early] < g.first[late]))
+    if (!(g.overlap_s(early, late) <= takeover_s) || g.latest.empty() || !(g.first[early] < g.first[late]) ||
+        !(g.last[early] < g.last[late]))
       return false;
     const LatestReports& r = g.latest[static_cast<std::size_t>(early)];
     if (!r.lost_after(g.first[late], coast_growth)) return false;

@@ -40,15 +40,16 @@
 //         because a sensor that gives one plot per target (a radar with a beam wider than the hull) has no
 //         such duplicates, and there two tracks side by side are two craft (Autoferry scenario 17: a jet boat
 //         beside Havfruen);
-//         A tracker may also go on updating the lost track now and then (a plot in its gate) while
-//         the successor reports: then the two follow each other when they overlap by at most
-//         `takeover_s`, the earlier one ends coasting and of its reports after the later one's
-//         first report at least two and at least half grow in position variance as a coasted
-//         report does (a *lost* track, engine/pipeline/coasted_tail.hpp; a second craft tracked
-//         beside the target keeps its variance level), and the later
-//         one's first report continues the earlier one's last report before (`max_overlap_s`
-//         after) it, as above (docs/status.md, "Independent recordings": Stone Soup's GNN tracker
-//         overlaps them by 4-14 s). Joins only, as the tail;
+//         The *takeover*: a tracker may also go on updating the lost track now and then (a plot in
+//         its gate) while the successor reports. The two then follow each other when they overlap
+//         by at most `takeover_s`, the later one goes on after the earlier one ends, the earlier
+//         one ends coasting and of its reports after the later one's first at least two and at
+//         least half grow in position variance as a coasted report does (a *lost* track,
+//         engine/pipeline/coasted_tail.hpp; a second craft tracked beside the target keeps its
+//         variance level), and the later one's first report continues the earlier one's last
+//         report at most `max_overlap_s` after that first report, as above (docs/status.md,
+//         "Independent recordings": Stone Soup's GNN tracker overlaps them by 4-18 s). Joins
+//         only, as the tail;
 //     (b) u is linked — gated in by the sequential statistic, with a link cost ≤ 0
 //         (SequentialGate::link_cost) — to at least one member of T on another sensor whose
 //         report interval overlaps u's (evidence from common reports, not from extrapolation);
@@ -113,10 +114,12 @@ struct SegmentOptions {
   // the stitching's manoeuvring model, engine/pipeline/track_stitching.hpp), at χ²_D(0.9999).
   double successor_manoeuvre_sigma = 20.0;
   // (a): the takeover of a lost track (engine/pipeline/coasted_tail.hpp): a successor that starts
-  // while its predecessor goes on reporting, by at most this overlap [s], follows it when the
-  // predecessor's reports after the successor's start are a lost track's and the successor's first
-  // report continues the predecessor's last report before (max_overlap_s after) that start, as
-  // above (0: no takeover).
+  // while its predecessor goes on reporting, by at most this overlap [s], and outlasts it, follows
+  // it when the predecessor's reports after the successor's start are a lost track's and the
+  // successor's first report continues the predecessor's last report at most max_overlap_s after
+  // that start, as above (0: no takeover; coast_growth 0 turns it off too). The lost-track test
+  // sees a track's latest 12 reports (kCoastWindow): an overlap holding more than 11 of the
+  // predecessor's reports is refused (a sensor scanning faster than every 1.8 s reaches 20 s less).
   double takeover_s = 20.0;
   std::vector<int32_t> duplicate_sensors;  // sensor ids whose tracks may be duplicates (a); none
   double duplicate_probability = 0.999;    // of the per-time full-state duplicate gate (a)

@@ -229,7 +229,7 @@ AssociationMetrics nothing_correct_with(const TrackFile& f, const SegmentOptions
 TEST(TrackSegments, ASuccessorJoinsBesideTheCoastedTailOfTheTrackItContinues) {
   // The old track and its successor overlap 36-40 s (4 s > max_overlap_s = 2 s): two tracks at
   // once by their report intervals. The old track's last two reports grow in position variance
-  // by 1.25⁴ ≈ 2.4 > (1 + coast_growth)² = 1.21 each, a coasted tail: left out, the two follow each
+  // by 1.25² ≈ 1.56 > (1 + coast_growth)² = 1.21 each, a coasted tail: left out, the two follow each
   // other (its last update at 32 s, the successor from 36 s), and the successor continues that
   // update. Without the coast rule (coast_growth 0) the overlap refuses every join.
   const TrackFile f = coasted_file();
@@ -273,18 +273,24 @@ TEST(TrackSegments, ASuccessorTakesOverFromALostTrack) {
   segments_make_every_target_correct(f, nothing_correct_with(f, no_takeover));
 }
 
-TEST(TrackSegments, ATrackThatKeepsItsVarianceLevelIsNotLost) {
-  // The same overlap, the old track's variance level at every report (a second craft tracked beside
-  // the target, as far as its covariance tells): not lost, so neither follows the other, and the
-  // target whose two tracks overlap stays split, as with the takeover off; and with only one growth
-  // after the successor's first report (36 s grows, 40 s and 44 s level) neither.
+TEST(TrackSegments, OnlyALostTrackIsTakenOver) {
+  // The same kind of overlap, the old track not lost (its variance factors against 32 s after 36 s,
+  // where the successor starts): level at every report (a second craft tracked beside the target,
+  // as far as its covariance tells); one growth (44 s) of two; two growths (40, 56 s) of five, fewer
+  // than half; two growths of three (40, 44 s) but a fall at the end (48 s: not coasting). Neither
+  // follows the other (no unbroken tail either), so each target's two tracks stay split.
+  const double g = 1.25 * 1.25;
   for (const std::map<double, double>& after :
        {std::map<double, double>{{36.0, 1.0}, {40.0, 1.0}, {44.0, 1.0}, {48.0, 1.0}},
-        std::map<double, double>{{36.0, 1.25 * 1.25}, {40.0, 1.25 * 1.25}, {44.0, 1.25 * 1.25}}}) {
+        std::map<double, double>{{36.0, g}, {40.0, g}, {44.0, g * g}},
+        std::map<double, double>{
+            {36.0, g}, {40.0, g * g}, {44.0, g * g}, {48.0, g * g}, {52.0, g * g}, {56.0, g * g * g}},
+        std::map<double, double>{{36.0, g}, {40.0, g * g}, {44.0, g * g * g}, {48.0, g * g}}}) {
     const TrackFile f = lost_file(after);
     const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, associate(f, true).record);
     ASSERT_GT(m.targets, 3);
-    EXPECT_EQ(m.correct, 0) << after.size() << " reports after 32 s";
+    EXPECT_EQ(m.correct, 0) << after.size() << " reports after 32 s, the last at " << after.rbegin()->first
+                            << " s";
     EXPECT_EQ(m.false_tuples, 0);
   }
 }
@@ -293,7 +299,10 @@ TEST(TrackSegments, ATrackThatKeepsItsVarianceLevelIsNotLost) {
 // 2 s: growths at 4, 12 and 16 s (1.5, 1.6, 1.56 > 1.21), a fall at 8 s: 3 of 4, lost. After 6 s:
 // 12 and 16 of 8-16 s, 2 of 3, lost. After 14 s: one report, one growth (< 2): not lost. After 20 s:
 // none. Before every kept report (−1 s): nothing to compare the first with, not lost. A growth of
-// 0.3 (1.3² = 1.69 above every step): not lost.
+// 0.3 (1.3² = 1.69 above every step): not lost. Then 100, 150, 150, 150, 150, 150, 240: after 2 s
+// two growths of six, fewer than half; 100, 150, 240, 200: two of three, but the last falls; and a
+// track of 14 reports, of which the window keeps the latest 12 (from 8 s): after 6 s its first kept
+// report has no report before it, so the test refuses.
 TEST(TrackSegments, TheLostTrackByHand) {
   LatestReports r;
   const double variance[5] = {100, 150, 100, 160, 250};
@@ -306,12 +315,27 @@ TEST(TrackSegments, TheLostTrackByHand) {
   EXPECT_FALSE(r.lost_after(2.0, 0.3));
   EXPECT_EQ(r.last_at_or_before(9.0), 2);
   EXPECT_EQ(r.last_at_or_before(-1.0), -1);
+  auto track = [](std::vector<double> v) {
+    LatestReports x;
+    for (std::size_t k = 0; k < v.size(); ++k) x.add(4.0 * static_cast<double>(k), v[k], k);
+    return x;
+  };
+  EXPECT_FALSE(track({100, 150, 150, 150, 150, 150, 240}).lost_after(2.0, 0.1)) << "2 of 6";
+  EXPECT_TRUE(track({100, 150, 150, 240}).lost_after(2.0, 0.1)) << "2 of 3";
+  EXPECT_FALSE(track({100, 150, 240, 200}).lost_after(2.0, 0.1)) << "ends with a fall";
+  std::vector<double> long_track(14, 100.0);
+  for (std::size_t k = 1; k < long_track.size(); ++k) long_track[k] = long_track[k - 1] * (k % 2 ? 1.5 : 1.0);
+  long_track.back() = long_track[12] * 1.5;
+  const LatestReports full = track(long_track);
+  EXPECT_EQ(full.t[0], 8.0);
+  EXPECT_TRUE(full.lost_after(10.0, 0.1));
+  EXPECT_FALSE(full.lost_after(6.0, 0.1)) << "the report before the first kept one is gone";
 }
 
 TEST(TrackSegments, OverlappingTracksDoNotJoin) {
-  // The new track starts 20 s before the old one ends: two tracks of one target at once. (Without
-  // the takeover: an old track whose missed updates make it look lost in the overlap may be taken
-  // over, as checked below.)
+  // The new track starts 20 s before the old one ends: two tracks of one target at once. The rule
+  // is checked without the takeover; with it (below) an old track whose missed updates make it look
+  // lost may be taken over, which on this file can join only a target's own tracks.
   const TrackFile f = broken_file(60.0, 40.0);
   SegmentOptions no_takeover;
   no_takeover.takeover_s = 0.0;
