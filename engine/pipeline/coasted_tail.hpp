@@ -57,9 +57,12 @@ struct LatestReports {
   int held(double growth) const {
     int k = n - 1;
     const int first = std::max(0, n - kTailWindow);
-    const double factor = (1.0 + growth) * (1.0 + growth);
-    while (growth > 0.0 && k > first && variance[k] > factor * variance[k - 1]) --k;
+    while (growth > 0.0 && k > first && grows(k, growth)) --k;
     return k;
+  }
+  // Report k (≥ 1) grows in position variance by more than (1 + growth)² from report k − 1.
+  bool grows(int k, double growth) const {
+    return variance[k] > (1.0 + growth) * (1.0 + growth) * variance[k - 1];
   }
   // The index of the latest report at or before time `t` (−1: none kept).
   int last_at_or_before(double time) const {
@@ -72,12 +75,10 @@ struct LatestReports {
   // before (the report at or before `after` kept, so that the first has one).
   bool lost_after(double after, double growth) const {
     const int k0 = last_at_or_before(after);
-    if (k0 < 0 || growth <= 0.0) return false;
-    const double factor = (1.0 + growth) * (1.0 + growth);
+    if (k0 < 0 || growth <= 0.0 || k0 == n - 1 || !grows(n - 1, growth)) return false;  // (ends coasting)
     int grown = 0;
-    for (int k = k0 + 1; k < n; ++k) grown += variance[k] > factor * variance[k - 1];
-    const bool ends_coasting = n >= 2 && variance[n - 1] > factor * variance[n - 2];
-    return ends_coasting && grown >= kLostGrowths && 2 * grown >= n - 1 - k0;
+    for (int k = k0 + 1; k < n; ++k) grown += grows(k, growth);
+    return grown >= kLostGrowths && 2 * grown >= n - 1 - k0;
   }
 };
 

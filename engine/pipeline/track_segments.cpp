@@ -206,10 +206,12 @@ struct OverlapRule {
     if (!coast) return false;
     const bool u_first = g.first[u] <= g.first[m];
     const int32_t early = u_first ? u : m, late = u_first ? m : u;
-    if (g.held_overlap_s(u, m) <= max_overlap_s)
-      return continuation_statistic(*tracks, g.held_row[early], g.first_row[late], continuation.q) <=
-             continuation.threshold;
+    if (g.held_overlap_s(u, m) <= max_overlap_s) return continues(g.held_row[early], g.first_row[late]);
     return takes_over(g, early, late);
+  }
+  // The continuation test from report `from` of the earlier track to the later one's first report.
+  bool continues(std::size_t from, std::size_t first_of_later) const {
+    return continuation_statistic(*tracks, from, first_of_later, continuation.q) <= continuation.threshold;
   }
   bool takes_over(const SegmentGraph& g, int32_t early, int32_t late) const {
     if (!(g.overlap_s(early, late) <= takeover_s) || g.latest.empty() || !(g.first[early] < g.first[late]) ||
@@ -217,9 +219,7 @@ struct OverlapRule {
       return false;
     const LatestReports& r = g.latest[static_cast<std::size_t>(early)];
     if (!r.lost_after(g.first[late], coast_growth)) return false;
-    const int held = r.last_at_or_before(g.first[late] + max_overlap_s);
-    return continuation_statistic(*tracks, r.row[held], g.first_row[late], continuation.q) <=
-           continuation.threshold;
+    return continues(r.row[r.last_at_or_before(g.first[late] + max_overlap_s)], g.first_row[late]);
   }
   // Free node u may join beside node m, both of problem sensor s: they follow each other, or u is
   // a duplicate of m on a listed sensor.
