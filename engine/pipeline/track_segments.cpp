@@ -187,7 +187,8 @@ struct MergeGate {
   double q = 0.0, threshold = 0.0;
 };
 
-// Rule (a) of the header, per sensor of the problem.
+// Rule (a) of the header, per sensor of the problem, for a join or a merge.
+enum class Sequence { kJoin, kMerge };
 struct OverlapRule {
   const TrackTable* tracks = nullptr;
   MergeGate continuation;
@@ -197,16 +198,16 @@ struct OverlapRule {
   std::vector<uint8_t> duplicates;  // per problem sensor: its tracks may be duplicates
   double duplicate_threshold = 0.0;
   int32_t min_duplicate_times = 1;
-  // u and m follow each other: they overlap by at most max_overlap_s, or do so once their coasted
-  // tails are left out and the later one's first report continues the earlier one's last report
-  // before its tail (the continuation test): a tracker's successor of the track it lost.
-  // Or the later one takes over from a lost track (takeover_s).
-  bool follows(const SegmentGraph& g, int32_t u, int32_t m, bool coast = true) const {
+  // u and m follow each other: they overlap by at most max_overlap_s, or, in a join, do so once
+  // their coasted tails are left out and the later one's first report continues the earlier one's
+  // last report before its tail (the continuation test): a tracker's successor of the track it
+  // lost. Or the later one takes over from a lost track (takeover_s), in a join or a merge.
+  bool follows(const SegmentGraph& g, int32_t u, int32_t m, Sequence kind = Sequence::kJoin) const {
     if (g.overlap_s(u, m) <= max_overlap_s) return true;
-    if (!coast) return false;
     const bool u_first = g.first[u] <= g.first[m];
     const int32_t early = u_first ? u : m, late = u_first ? m : u;
-    if (g.held_overlap_s(u, m) <= max_overlap_s) return continues(g.held_row[early], g.first_row[late]);
+    if (kind == Sequence::kJoin && g.held_overlap_s(u, m) <= max_overlap_s)
+      return continues(g.held_row[early], g.first_row[late]);
     return takes_over(g, early, late);
   }
   // The continuation test from report `from` of the earlier track to the later one's first report.
@@ -223,8 +224,8 @@ struct OverlapRule {
   }
   // Free node u may join beside node m, both of problem sensor s: they follow each other, or u is
   // a duplicate of m on a listed sensor.
-  bool allows(const SegmentGraph& g, int32_t u, int32_t m, int32_t s, bool coast = true) const {
-    if (follows(g, u, m, coast)) return true;
+  bool allows(const SegmentGraph& g, int32_t u, int32_t m, int32_t s, Sequence kind = Sequence::kJoin) const {
+    if (follows(g, u, m, kind)) return true;
     if (!duplicates[s]) return false;
     const int32_t o = g.p.offset[s];
     const DuplicateStatistic d = duplicate_statistic(
@@ -343,30 +344,32 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
 }
 
 // Cost of merging targets a and b into one, +inf unless, on every sensor, each member of one
-// follows or precedes each member of the other (a), and on at least one sensor they both hold,
-// each such earlier member's last report continues to the later one's first by constant velocity
-// (d), at least one member of one is linked with common reports to a member of the other on
-// another sensor (b), and no two members on different sensors were tested and failed the gate (c):
-// the targets' tracks are then one target's fragments that the one-per-sensor assignment put into
-// two tuples. Both sensors break at once (both keys of a swap cut), or one after the other (a
-// radar network's handover, a fade on one radar, then on another): then only the members that
-// report while the other target's do are linked, A₂ with B₁ of {A₁, B₁} and {A₂, B₂}, so (b) asks
-// for one such link, not one per member (which merged no staggered break; the figures are in
-// docs/design.md §4.10, "Staggered breaks").
+// follows or precedes each member of the other (a; the plain overlap or a takeover, not the coasted
+// tail), and on at least one sensor they both hold, each member followed by one of the other target
+// (their members on that sensor in order of first report) continues to it by constant velocity
+// (d; consecutive_across; a takeover by its own continuation test), at least one member of one is
+// linked with common reports to a member of the other on another sensor (b), and no two members on
+// different sensors were tested and failed the gate (c): the targets' tracks are then one target's
+// fragments that the one-per-sensor assignment put into two tuples. Both sensors break at once (both keys of
+// a swap cut), or one after the other (a radar network's handover, a fade on one radar, then on
+// another): then only the members that report while the other target's do are linked, A₂ with B₁
+// of {A₁, B₁} and {A₂, B₂}, so (b) asks for one such link, not one per member (which merged no
+// staggered break; the figures are in docs/design.md §4.10, "Staggered breaks").
 double merge_cost(const SegmentGraph& g, const TrackTable& tracks, const Target& a, const Target& b,
                   const OverlapRule& rule, const MergeGate& gate) {
   const std::size_t S = a.members.size();
-  bool continued = false;
   for (std::size_t s = 0; s < S; ++s)
     for (int32_t u : a.members[s])
-      for (int32_t m : b.members[s]) {
-        if (!rule.allows(g, u, m, static_cast<int32_t>(s), false)) return kInf;  // (a)
-        const bool u_first = g.first[u] <= g.first[m];
-        const double m2 = continuation_statistic(tracks, u_first ? g.last_row[u] : g.last_row[m],
-                                                 u_first ? g.first_row[m] : g.first_row[u], gate.q);
-        if (m2 > gate.threshold) return kInf;  // (d)
-        continued = true;
-      }
+      for (int32_t m : b.members[s])
+        if (!rule.allows(g, u, m, static_cast<int32_t>(s), Sequence::kMerge)) return kInf;  // (a)
+  bool continued = false;                                                                   // (d)
+  for (std::size_t s = 0; s < S; ++s)
+    for (const auto& [x, y] : consecutive_across(a.members[s], b.members[s], g.first)) {
+      const bool takeover = g.overlap_s(x, y) > rule.max_overlap_s && rule.follows(g, x, y, Sequence::kMerge);
+      if (!takeover && continuation_statistic(tracks, g.last_row[x], g.first_row[y], gate.q) > gate.threshold)
+        return kInf;
+      continued = true;
+    }
   if (!continued) return kInf;  // (d)
   double cost = 0.0;
   bool evidence = false;  // (b)
@@ -440,6 +443,21 @@ double tuple_cost(const SegmentGraph& g, const std::vector<int32_t>& nodes) {
 }
 
 }  // namespace
+
+std::vector<std::pair<int32_t, int32_t>> consecutive_across(std::span<const int32_t> a,
+                                                            std::span<const int32_t> b,
+                                                            std::span<const double> first) {
+  std::vector<std::pair<int32_t, bool>> order;  // (node, of b)
+  for (int32_t u : a) order.push_back({u, false});
+  for (int32_t u : b) order.push_back({u, true});
+  std::sort(order.begin(), order.end(), [&](const auto& x, const auto& y) {
+    return std::pair(first[x.first], x.first) < std::pair(first[y.first], y.first);
+  });
+  std::vector<std::pair<int32_t, int32_t>> steps;
+  for (std::size_t k = 1; k < order.size(); ++k)
+    if (order[k - 1].second != order[k].second) steps.push_back({order[k - 1].first, order[k].first});
+  return steps;
+}
 
 AssociationRecord join_track_segments(const SparseSDProblem& p, const TrackTable& tracks,
                                       const AssociationRecord& record, const SegmentOptions& options,

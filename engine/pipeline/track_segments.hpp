@@ -64,12 +64,14 @@
 //     one target on one sensor in the same round, and (a) keeps it so in later rounds unless the
 //     later one is a duplicate of the earlier (a listed sensor).
 //   * when a round joins nothing, targets merge: two targets whose members on each sensor follow
-//     each other (a) and continue each other by constant velocity on at least one sensor they share
-//     (d), with at least one pair of members on different sensors linked over common reports (b)
-//     and none tested and failed (c), are one target's fragments that the one-per-sensor assignment
-//     put into two tuples: two sensors that broke their tracks at about the same time (both keys
-//     of a swap cut, engine/pipeline/track_hygiene.hpp), or one after the other (a radar network's
-//     handovers and fades: {A₁, B₁} and {A₂, B₂} linked only by B₁–A₂). Candidates are taken
+//     each other (a; the plain overlap or a takeover, never the coasted tail: on a dense airway it
+//     merged neighbours, docs/design.md §4.9) and, on at least one sensor they share, each member
+//     followed by one of the other target continues to it by constant velocity (d; consecutive
+//     members only, consecutive_across below), with at least one pair of members on different sensors linked
+//     over common reports (b) and none tested and failed (c), are one target's fragments that the
+//     one-per-sensor assignment put into two tuples: two sensors that broke their tracks at about the same
+//     time (both keys of a swap cut, engine/pipeline/track_hygiene.hpp), or one after the other (a radar
+//     network's handovers and fades: {A₁, B₁} and {A₂, B₂} linked only by B₁–A₂). Candidates are taken
 //     cheapest first (Σ of the link costs between them), each target in one merge per round; then
 //     the rounds of joins go on.
 // A track joins at most one target, so the pass only adds links; it never undoes the assignment.
@@ -94,6 +96,8 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "io/track_file.hpp"
@@ -150,6 +154,14 @@ struct DuplicateStatistic {
 };
 DuplicateStatistic duplicate_statistic(const AlignedTracks& a, int32_t i, int32_t j, double t_lo,
                                        double t_hi);
+
+// Rule (d) of a merge: of the members `a` and `b` of two targets on one sensor (nodes indexing
+// `first`, their first report times), taken in order of first report (ties by node), the pairs
+// (earlier, later) of consecutive members that belong to different targets: each must continue to
+// the next.
+std::vector<std::pair<int32_t, int32_t>> consecutive_across(std::span<const int32_t> a,
+                                                            std::span<const int32_t> b,
+                                                            std::span<const double> first);
 
 // Joins the segments of `record` (the assignment of `p`, tuples over p.file_sensors columns) by the
 // rule above; `tracks` gives the report intervals. Throws InputError when

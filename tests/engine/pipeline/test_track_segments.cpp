@@ -295,6 +295,61 @@ TEST(TrackSegments, OnlyALostTrackIsTakenOver) {
   }
 }
 
+// lost_file(after) whose sensor 0 breaks too: its tracks end with the report at 32 s and go on from
+// 36 s under a new number (number + kRenumber), as sensor 1's successors do. Sensor 1's lost tracks
+// report the successor's state (a plot in their gate now and then; a target that turns at 32-36 s
+// would leave a constant-velocity prediction, and with it the only link of the early and late
+// tuples, outside the gate), with their growing covariances.
+TrackFile both_lost_file(const std::map<double, double>& after) {
+  TrackFile f = lost_file(after);
+  std::map<std::pair<int32_t, double>, std::size_t> successor;  // (lost track, t) → successor's row
+  for (std::size_t r = 0; r < f.tracks.size(); ++r)
+    if (f.tracks.sensor[r] == f.sensors[1].id && f.tracks.track[r] >= kRenumber)
+      successor[{f.tracks.track[r] - kRenumber, f.tracks.t[r]}] = r;
+  TrackTable out(f.tracks.layout);
+  for (std::size_t r = 0; r < f.tracks.size(); ++r) {
+    const int32_t s = f.tracks.sensor[r], track = f.tracks.track[r];
+    const double t = f.tracks.t[r];
+    const bool lost = s == f.sensors[1].id && track < kRenumber && t > 32.0;
+    const auto x = lost ? f.tracks.state_at(successor.at({track, t})) : f.tracks.state_at(r);
+    out.push_back(s, s == f.sensors[0].id && t >= 36.0 ? track + kRenumber : track, t, x, f.tracks.cov_at(r),
+                  f.tracks.truth[r]);
+  }
+  f.tracks = out;
+  return f;
+}
+
+TEST(TrackSegments, ATargetWhoseTrackWasLostMergesWithItsSuccessors) {
+  // Both sensors lose every target after 32 s: sensor 0's track ends there, sensor 1's goes on as a
+  // lost track to 48 s (growing at every report, as in ASuccessorTakesOverFromALostTrack) while the
+  // successors of both report from 36 s. The assignment gives each target an early tuple {A1, B1}
+  // and a late one {A2, B2}, no track free to join. The merge allows a takeover (B1 by B2, 12 s of
+  // overlap) as a join does; without the takeover (takeover_s 0) B1 and B2 overlap and the targets
+  // stay split.
+  const double g = 1.25 * 1.25;
+  const TrackFile f = both_lost_file({{36.0, g}, {40.0, g * g}, {44.0, g * g * g}, {48.0, g * g * g * g}});
+  SegmentOptions no_takeover;
+  no_takeover.takeover_s = 0.0;
+  const AssociationOutcome seg = segments_make_every_target_correct(f, nothing_correct_with(f, no_takeover));
+  ASSERT_TRUE(seg.summary.segments.has_value());
+  EXPECT_GT(seg.summary.segments->targets_merged, 0) << "the early and late tuples of a target merge";
+}
+
+// Rule (d) of a merge by hand: nodes 0, 1, 2 of one sensor first report at 0, 24 and 44 s (A1, A2,
+// A3). A target holding A1 and A2 merging with one holding A3: only A2 continues to A3 (A1 is not
+// A3's predecessor; the rule before this asked every pair, and a target that turned between A1's
+// end and A3's start never merged). A1 and A3 against A2: both steps. Ties in time go by node.
+TEST(TrackSegments, AMergeContinuesConsecutiveMembersOnly) {
+  const std::vector<double> first = {0.0, 24.0, 44.0, 24.0};
+  using Steps = std::vector<std::pair<int32_t, int32_t>>;
+  EXPECT_EQ(consecutive_across(std::vector<int32_t>{0, 1}, std::vector<int32_t>{2}, first), (Steps{{1, 2}}));
+  EXPECT_EQ(consecutive_across(std::vector<int32_t>{2}, std::vector<int32_t>{1, 0}, first), (Steps{{1, 2}}));
+  EXPECT_EQ(consecutive_across(std::vector<int32_t>{0, 2}, std::vector<int32_t>{1}, first),
+            (Steps{{0, 1}, {1, 2}}));
+  EXPECT_EQ(consecutive_across(std::vector<int32_t>{3}, std::vector<int32_t>{1}, first), (Steps{{1, 3}}));
+  EXPECT_TRUE(consecutive_across(std::vector<int32_t>{0, 1}, std::vector<int32_t>{}, first).empty());
+}
+
 // The lost-track test by hand: variances 100 (at 0 s), then 150, 100, 160, 250 at 4-16 s. After
 // 2 s: growths at 4, 12 and 16 s (1.5, 1.6, 1.56 > 1.21), a fall at 8 s: 3 of 4, lost. After 6 s:
 // 12 and 16 of 8-16 s, 2 of 3, lost. After 14 s: one report, one growth (< 2): not lost. After 20 s:
