@@ -105,9 +105,12 @@ struct SegmentGraph {
   double overlap_s(int32_t u, int32_t v) const {
     return std::min(last[u], last[v]) - std::max(first[u], first[v]);
   }
-  // The overlap of rule (a): as overlap_s, each node's coasted tail left out.
-  double held_overlap_s(int32_t u, int32_t v) const {
-    return std::min(held_last[u], held_last[v]) - std::max(first[u], first[v]);
+  // The overlap of rule (a): as overlap_s of `early` (the one that starts first) and `late`, early's
+  // coasted tail left out. Only the earlier one's: a later track that is all tail (one update, then
+  // predictions) would otherwise follow any track it starts beside, however long that one goes on
+  // updating after it (on widearea, 6 false tuples).
+  double held_overlap_s(int32_t early, int32_t late) const {
+    return std::min(held_last[early], last[late]) - first[late];
   }
   // The pair's term in a join, as a tuple reads it (engine/pipeline/tuple_cost.hpp): a gated pair's
   // link cost; a doubtful pair's positive link cost (*doubtful set, when given: no evidence); +inf
@@ -199,14 +202,14 @@ struct OverlapRule {
   double duplicate_threshold = 0.0;
   int32_t min_duplicate_times = 1;
   // u and m follow each other: they overlap by at most max_overlap_s, or, in a join, do so once
-  // their coasted tails are left out and the later one's first report continues the earlier one's
-  // last report before its tail (the continuation test): a tracker's successor of the track it
+  // the earlier one's coasted tail is left out and the later one's first report continues the
+  // earlier one's last report before its tail (the continuation test): a tracker's successor of the track it
   // lost. Or the later one takes over from a lost track (takeover_s), in a join or a merge.
   bool follows(const SegmentGraph& g, int32_t u, int32_t m, Sequence kind = Sequence::kJoin) const {
     if (g.overlap_s(u, m) <= max_overlap_s) return true;
     const bool u_first = g.first[u] <= g.first[m];
     const int32_t early = u_first ? u : m, late = u_first ? m : u;
-    if (kind == Sequence::kJoin && g.held_overlap_s(u, m) <= max_overlap_s)
+    if (kind == Sequence::kJoin && g.held_overlap_s(early, late) <= max_overlap_s)
       return continues(g.held_row[early], g.first_row[late]);
     return takes_over(g, early, late);
   }

@@ -11,7 +11,7 @@
 // each other. In rounds, until no segment joins:
 //   * every local track u in no target (sensor s) is a candidate for every target T such that
 //     (a) u follows or precedes every segment T already holds on s: their report intervals
-//         overlap by at most `max_overlap_s`, each track's *coasted tail* left out: the trailing
+//         overlap by at most `max_overlap_s`, the earlier track's *coasted tail* left out: the trailing
 //         run of reports whose position variance (the trace of the position block) grows by more
 //         than (1 + coast_growth)² from one report to the next, a local tracker's predictions
 //         after it lost the target (its updates keep the variance about level). A tracker that

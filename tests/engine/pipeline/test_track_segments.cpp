@@ -260,6 +260,34 @@ TEST(TrackSegments, TheCoastedTailByHand) {
   EXPECT_EQ(in_order.t[in_order.held(0.3)], 16.0) << "growth 1.53 < 1.3² = 1.69: no tail";
 }
 
+TEST(TrackSegments, OnlyTheEarlierTracksTailIsLeftOut) {
+  // Beside every target's track on sensor 1, which goes on updating to the end, a false track
+  // (truth −1: started on clutter and a plot) reports the target's state at 36 s, 2.5 σ off in x,
+  // and then coasts
+  // (40-48 s, each report 1.25² times the variance before): a track that is all tail after its first
+  // report. Leaving *its* tail out as well, the two overlapped by 0 s and the false track joined
+  // the target (a false tuple per target, as on widearea); only the earlier track's tail is left
+  // out, so the two overlap by 12 s and the false track stays a tuple of one.
+  TrackFile f = broken_file(1e9, 1e9);  // the two sensors, unbroken
+  const int32_t s1 = f.sensors[1].id;
+  const std::size_t n = f.tracks.size();
+  for (std::size_t r = 0; r < n; ++r) {
+    if (f.tracks.sensor[r] != s1 || f.tracks.t[r] != 36.0) continue;
+    double factor = 1.0;
+    for (const double t : {36.0, 40.0, 44.0, 48.0}) {
+      auto x = f.tracks.state_at(r);
+      const auto P = f.tracks.cov_at(r);
+      x[0] += x[2] * (t - 36.0) + 2.5 * std::sqrt(P(0, 0)), x[1] += x[3] * (t - 36.0);
+      f.tracks.push_back(s1, f.tracks.track[r] + kRenumber, t, x, P * factor, -1);
+      factor *= 1.25 * 1.25;
+    }
+  }
+  const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, associate(f, true).record);
+  ASSERT_GT(m.targets, 3);
+  EXPECT_EQ(m.correct, m.targets);
+  EXPECT_EQ(m.false_tuples, 0);
+}
+
 TEST(TrackSegments, ASuccessorTakesOverFromALostTrack) {
   // The old track goes on reporting 12 s into its successor (36-48 s), updated now and then: its
   // variance grows at 36, 40 and 48 s (by 1.25² > (1 + coast_growth)² = 1.21) and falls at 44 s, so
