@@ -209,7 +209,8 @@ struct OverlapRule {
     if (g.overlap_s(u, m) <= max_overlap_s) return true;
     const bool u_first = g.first[u] <= g.first[m];
     const int32_t early = u_first ? u : m, late = u_first ? m : u;
-    if (kind == Sequence::kJoin && g.held_overlap_s(early, late) <= max_overlap_s)
+    if (kind == Sequence::kJoin && g.first[early] < g.first[late] &&
+        g.held_overlap_s(early, late) <= max_overlap_s)
       return continues(g.held_row[early], g.first_row[late]);
     return takes_over(g, early, late);
   }
@@ -346,18 +347,13 @@ int32_t join_round(const SegmentGraph& g, std::vector<Target>& targets, std::vec
   return static_cast<int32_t>(joins.size());
 }
 
-// Cost of merging targets a and b into one, +inf unless, on every sensor, each member of one
-// follows or precedes each member of the other (a; the plain overlap or a takeover, not the coasted
-// tail), and on at least one sensor they both hold, each member followed by one of the other target
-// (their members on that sensor in order of first report) continues to it by constant velocity
-// (d; consecutive_across; a takeover by its own continuation test), at least one member of one is
-// linked with common reports to a member of the other on another sensor (b), and no two members on
-// different sensors were tested and failed the gate (c): the targets' tracks are then one target's
-// fragments that the one-per-sensor assignment put into two tuples. Both sensors break at once (both keys of
-// a swap cut), or one after the other (a radar network's handover, a fade on one radar, then on
-// another): then only the members that report while the other target's do are linked, A₂ with B₁
-// of {A₁, B₁} and {A₂, B₂}, so (b) asks for one such link, not one per member (which merged no
-// staggered break; the figures are in docs/design.md §4.10, "Staggered breaks").
+// Cost of merging targets a and b into one (the merge rule of the header: (a) the plain overlap or
+// a takeover, (d) each member from its predecessor, (b) one link over common reports, (c) no failed
+// gate), +inf when a rule fails. Both sensors break at once (both keys of a swap cut), or one after
+// the other (a radar network's handover, a fade on one radar, then on another): then only the
+// members that report while the other target's do are linked, A₂ with B₁ of {A₁, B₁} and {A₂, B₂},
+// so (b) asks for one such link, not one per member (which merged no staggered break; the figures
+// are in docs/design.md §4.10, "Staggered breaks").
 double merge_cost(const SegmentGraph& g, const TrackTable& tracks, const Target& a, const Target& b,
                   const OverlapRule& rule, const MergeGate& gate) {
   const std::size_t S = a.members.size();
@@ -367,8 +363,8 @@ double merge_cost(const SegmentGraph& g, const TrackTable& tracks, const Target&
         if (!rule.allows(g, u, m, static_cast<int32_t>(s), Sequence::kMerge)) return kInf;  // (a)
   bool continued = false;                                                                   // (d)
   for (std::size_t s = 0; s < S; ++s)
-    for (const auto& [x, y] : consecutive_across(a.members[s], b.members[s], g.first)) {
-      const bool takeover = g.overlap_s(x, y) > rule.max_overlap_s && rule.follows(g, x, y, Sequence::kMerge);
+    for (const auto& [x, y] : predecessors_across(a.members[s], b.members[s], g.first, g.last)) {
+      const bool takeover = g.overlap_s(x, y) > rule.max_overlap_s && rule.takes_over(g, x, y);
       if (!takeover && continuation_statistic(tracks, g.last_row[x], g.first_row[y], gate.q) > gate.threshold)
         return kInf;
       continued = true;
@@ -447,18 +443,25 @@ double tuple_cost(const SegmentGraph& g, const std::vector<int32_t>& nodes) {
 
 }  // namespace
 
-std::vector<std::pair<int32_t, int32_t>> consecutive_across(std::span<const int32_t> a,
-                                                            std::span<const int32_t> b,
-                                                            std::span<const double> first) {
-  std::vector<std::pair<int32_t, bool>> order;  // (node, of b)
-  for (int32_t u : a) order.push_back({u, false});
-  for (int32_t u : b) order.push_back({u, true});
-  std::sort(order.begin(), order.end(), [&](const auto& x, const auto& y) {
-    return std::pair(first[x.first], x.first) < std::pair(first[y.first], y.first);
-  });
+std::vector<std::pair<int32_t, int32_t>> predecessors_across(std::span<const int32_t> a,
+                                                             std::span<const int32_t> b,
+                                                             std::span<const double> first,
+                                                             std::span<const double> last) {
+  std::vector<std::pair<int32_t, bool>> members;  // (node, of b)
+  for (int32_t u : a) members.push_back({u, false});
+  for (int32_t u : b) members.push_back({u, true});
+  const auto before = [&](int32_t x, int32_t y) { return std::pair(first[x], x) < std::pair(first[y], y); };
   std::vector<std::pair<int32_t, int32_t>> steps;
-  for (std::size_t k = 1; k < order.size(); ++k)
-    if (order[k - 1].second != order[k].second) steps.push_back({order[k - 1].first, order[k].first});
+  for (const auto& [y, y_of_b] : members) {
+    const std::pair<int32_t, bool>* pred = nullptr;
+    for (const auto& x : members)
+      if (before(x.first, y) &&
+          (!pred || std::pair(last[x.first], x.first) > std::pair(last[pred->first], pred->first)))
+        pred = &x;
+    if (pred && pred->second != y_of_b) steps.push_back({pred->first, y});
+  }
+  std::sort(steps.begin(), steps.end(),
+            [&](const auto& p, const auto& q) { return before(p.second, q.second); });
   return steps;
 }
 

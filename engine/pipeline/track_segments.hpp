@@ -11,7 +11,8 @@
 // each other. In rounds, until no segment joins:
 //   * every local track u in no target (sensor s) is a candidate for every target T such that
 //     (a) u follows or precedes every segment T already holds on s: their report intervals
-//         overlap by at most `max_overlap_s`, the earlier track's *coasted tail* left out: the trailing
+//         overlap by at most `max_overlap_s`, the earlier track's *coasted tail* left out (of two
+//         that start together, neither's): the trailing
 //         run of reports whose position variance (the trace of the position block) grows by more
 //         than (1 + coast_growth)² from one report to the next, a local tracker's predictions
 //         after it lost the target (its updates keep the variance about level). A tracker that
@@ -21,14 +22,12 @@
 //         recordings"). Such a pair counts as one after the other only when the later one's first
 //         report continues the earlier one's last report before its tail (the continuation
 //         statistic of engine/pipeline/track_hygiene.hpp with σ_a = successor_manoeuvre_sigma), and
-//         only for a join: a merge (below) keeps the plain overlap — or, on a sensor listed in
-//         `duplicate_sensors`, u is a *duplicate* of each
-//         segment it overlaps by more: a second track of the same target at the same time (a
-//         lidar resolves a long hull into two clusters 15–30 m apart, and each starts a track).
-//         The duplicate test, over the common times inside both report intervals (at least
-//         `min_duplicate_times` of them; the common times are the pipeline's grid, at the
-//         slowest sensor's period, not the sensor's own scans): every one passes the full-state
-//         gate
+//         only for a join (a merge, below, allows the plain overlap and the takeover); or, on a sensor listed
+//         in `duplicate_sensors`, u is a *duplicate* of each segment it overlaps by more: a second track of
+//         the same target at the same time (a lidar resolves a long hull into two clusters 15–30 m apart, and
+//         each starts a track). The duplicate test, over the common times inside both report intervals (at
+//         least `min_duplicate_times` of them; the common times are the pipeline's grid, at the slowest
+//         sensor's period, not the sensor's own scans): every one passes the full-state gate
 //             Δᵀ (P_u + P_m)⁻¹ Δ ≤ χ²_D(duplicate_probability),
 //         Δ the difference of the aligned states (position and velocity), P the aligned
 //         covariances with the reference-point σ_r of AlignmentOptions::extent_sigma. Two tracks of
@@ -48,8 +47,8 @@
 //         engine/pipeline/coasted_tail.hpp; a second craft tracked beside the target keeps its
 //         variance level), and the later one's first report continues the earlier one's last
 //         report at most `max_overlap_s` after that first report, as above (docs/status.md,
-//         "Independent recordings": Stone Soup's GNN tracker overlaps them by 4-18 s). Joins
-//         only, as the tail;
+//         "Independent recordings": Stone Soup's GNN tracker overlaps them by 4-18 s). In joins
+//         and merges;
 //     (b) u is linked — gated in by the sequential statistic, with a link cost ≤ 0
 //         (SequentialGate::link_cost) — to at least one member of T on another sensor whose
 //         report interval overlaps u's (evidence from common reports, not from extrapolation);
@@ -66,8 +65,9 @@
 //   * when a round joins nothing, targets merge: two targets whose members on each sensor follow
 //     each other (a; the plain overlap or a takeover, never the coasted tail: on a dense airway it
 //     merged neighbours, docs/design.md §4.9) and, on at least one sensor they share, each member
-//     followed by one of the other target continues to it by constant velocity (d; consecutive
-//     members only, consecutive_across below), with at least one pair of members on different sensors linked
+//     whose predecessor is the other target's continues from it by constant velocity (d;
+//     predecessors_across below; a takeover by its own continuation test), with at least one pair of members
+//     on different sensors linked
 //     over common reports (b) and none tested and failed (c), are one target's fragments that the
 //     one-per-sensor assignment put into two tuples: two sensors that broke their tracks at about the same
 //     time (both keys of a swap cut, engine/pipeline/track_hygiene.hpp), or one after the other (a radar
@@ -156,12 +156,15 @@ DuplicateStatistic duplicate_statistic(const AlignedTracks& a, int32_t i, int32_
                                        double t_hi);
 
 // Rule (d) of a merge: of the members `a` and `b` of two targets on one sensor (nodes indexing
-// `first`, their first report times), taken in order of first report (ties by node), the pairs
-// (earlier, later) of consecutive members that belong to different targets: each must continue to
-// the next.
-std::vector<std::pair<int32_t, int32_t>> consecutive_across(std::span<const int32_t> a,
-                                                            std::span<const int32_t> b,
-                                                            std::span<const double> first);
+// `first` and `last`, their first and last report times), each member's predecessor — of the
+// members that start before it (ties by node), the one whose last report is latest — when it belongs
+// to the other target: the pairs (predecessor, member), by the member's first report. Tracks that
+// follow each other give consecutive pairs; of a track and its duplicate nested in it (a listed
+// sensor), the longer one precedes what follows both.
+std::vector<std::pair<int32_t, int32_t>> predecessors_across(std::span<const int32_t> a,
+                                                             std::span<const int32_t> b,
+                                                             std::span<const double> first,
+                                                             std::span<const double> last);
 
 // Joins the segments of `record` (the assignment of `p`, tuples over p.file_sensors columns) by the
 // rule above; `tracks` gives the report intervals. Throws InputError when
