@@ -23,7 +23,7 @@ struct PipelineFlags {
   std::string solver_options = "{}";
   bool sparse = false;  // engine/pipeline/sparse_pipeline.hpp instead of the dense tensor
   std::string common_span = "union";
-  std::string link_cost = "per-scan";
+  std::string link_cost = "per-independent-scan";
 };
 
 inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
@@ -79,8 +79,9 @@ inline void add_pipeline_options(CLI::App* cmd, PipelineFlags& f) {
       ->check(CLI::IsMember({"union", "intersection"}))
       ->capture_default_str();
   cmd->add_option("--link-cost", f.link_cost,
-                  "S-D link cost of a gated-in pair: per-scan, (λ − G(n))/n, or per-independent-scan, "
-                  "(λ − G(n))/f (seed 004's λ − χ²(n·D) with the chi2-sum gate)")
+                  "S-D link cost of a gated-in pair: per-independent-scan, (λ − G(n))/f, the evidence "
+                  "growing with the common scans (seed 004's λ − χ²(n·D) with the chi2-sum gate), or "
+                  "per-scan, (λ − G(n))/n, the mean per common scan")
       ->check(CLI::IsMember({"per-scan", "per-independent-scan"}))
       ->capture_default_str();
   cmd->add_option("--common-process-noise", f.options.statistic.common_process_noise,

@@ -110,7 +110,7 @@ struct SparseSDProblem : AlignedSensors {
 };
 
 // Rival-weighted link costs (docs/design.md §4.9, issue 29). The S-D link cost of a gated pair is
-// its excess over the gate, (λ − G_p(n))/n (SequentialGate::link_cost), the same whatever else the
+// its excess over the gate, (λ − G_p(n))/f (SequentialGate::link_cost), the same whatever else the
 // two tracks gate with. In dense traffic on one heading (recorded_bias_dense: 60 targets within
 // 12 km, neighbours 0.1-3 km apart at 100 km range) a track gates with several tracks of the other
 // sensor, and a neighbour's track that fits at the tail of the gate (λ/n ≈ 6-9 against ≈ 2.6 for
@@ -123,7 +123,7 @@ struct SparseSDProblem : AlignedSensors {
 // numbers of rivals, the gated partners on the other's sensor that coexist with the pair's other
 // track (the pair itself included; a target's successive fragments on one sensor compete for
 // nothing, so they are no rivals: on widearea_small counting them cost 2.9 points of correct),
-//     c = (λ − G_{p(m)}(n))/n,   p(m) = max(1/2, 1 − (1 − p)·m^κ),
+//     c = (λ − G_{p(m)}(n))/f,   p(m) = max(1/2, 1 − (1 − p)·m^κ),
 // so an unambiguous pair (m = 1) is scored as before, and p(2) = 0.96, p(3) = 0.91 at p = 0.99,
 // κ = 2. The gate itself (which pairs may share a tuple) is unchanged; a rival pair above its
 // tightened threshold only costs (c > 0). κ chosen by measurement on the recorded family

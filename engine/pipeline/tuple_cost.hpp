@@ -30,7 +30,8 @@
 namespace trackassoc {
 
 // The link entry of a doubtful pair: its (positive) link cost plus this tag; link costs are
-// (λ − G(n))/n, at most the per-scan cap, far below it.
+// (λ − G(n))/f (f = 5 scans per independent scan), a doubtful pair's at most the family-wise gate's
+// margin over the gate, (G_fw(n) − G(n))/f, far below it.
 inline constexpr double kDoubtfulPairTag = 1e6;
 inline double doubtful_pair_entry(double link_cost) { return link_cost + kDoubtfulPairTag; }
 inline bool is_doubtful_pair_entry(double entry) { return entry >= kDoubtfulPairTag / 2; }

@@ -38,12 +38,14 @@
 //        terms of same-target CV-filtered tracks decorrelate over ~5 steps; tests/test_gate_
 //        calibration.cpp measures the acceptance of simulated same-target pairs (straight and
 //        turning targets, 3 to 150 common scans) and requires ≥ 0.98 at the nominal 0.99.
-//    The pair's evidence (the cost) is λ_c, and its link cost in the S-D assignment is its mean
-//    excess over the gate per common scan, (λ_c − G(n))/n, negative inside the gate (link_cost()).
-//    Measured against (λ_c − G(n))/f on the recorded family (experiment recorded, 3 runs): equal
-//    on every scenario but the formations, 83 % correct against 74 %: there the members' tracks
-//    pass each other's gates and a sum rewards the pairing with the longest total overlap, right
-//    or wrong; the mean compares how well the pairs fit, not how long they coexist.
+//    The pair's evidence (the cost) is λ_c, and its link cost in the S-D assignment is its excess
+//    over the gate in units of independent scans, (λ_c − G(n))/f, negative inside the gate
+//    (link_cost()): the evidence grows with the common scans, as a log-likelihood ratio summed over
+//    independent samples does (docs/design.md §4.3, "Cost").
+//    The mean per common scan, (λ_c − G(n))/n (kPerScan), was the default until the family had
+//    registration, hygiene, segments and stitching: measured then (3 runs) it won on formations
+//    only (83 % against 74 %); at 100 runs now it loses on dense traffic, formations, mixed
+//    trackers and swaps, and on the wide-area files (docs/design.md §4.3, "Cost").
 // Pairs with no common time carry no evidence: dof = 0, not in the gate, and `overlap` = 0, so a
 // caller can tell them from a pair that was tested and failed.
 //
@@ -204,8 +206,9 @@ AlignedSize aligned_size(const TrackTable& tracks, int32_t sensor, std::span<con
 
 // The link cost of a gated-in pair, from its excess over the gate λ − G(n) ≤ 0 (see the header):
 enum class LinkCost {
-  kPerScan,            // (λ − G(n)) / n, the mean excess per common scan (default, measured)
-  kPerIndependentScan  // (λ − G(n)) / f, in units of independent scans
+  kPerScan,            // (λ − G(n)) / n, the mean excess per common scan
+  kPerIndependentScan  // (λ − G(n)) / f, in units of independent scans (default, measured:
+                       // docs/design.md §4.3, "Cost")
 };
 
 enum class GateMethod {
@@ -230,7 +233,7 @@ struct StatisticOptions {
   GateMethod gate = GateMethod::kCalibrated;
   double cap_probability = 0.999;      // kCalibrated: c = χ²_D(cap_probability) per scan, in (0, 1)
   double scans_per_independent = 5.0;  // kCalibrated: f ≥ 1, the variance inflation (measured)
-  LinkCost link = LinkCost::kPerScan;
+  LinkCost link = LinkCost::kPerIndependentScan;
   void validate() const;
 };
 
@@ -249,10 +252,10 @@ class SequentialGate {
   // term ≤ c (kCalibrated needs at least one).
   bool accepts(double lambda, int32_t scans, int32_t below_cap) const;
   // ≤ 0 inside the gate: the cost of linking two tracks in the S-D assignment, where not linking
-  // costs 0; (λ − G(n))/n or (λ − G(n))/f by StatisticOptions::link (kChiSquareSum: f = 1).
+  // costs 0; (λ − G(n))/f or (λ − G(n))/n by StatisticOptions::link (kChiSquareSum: f = 1).
   double link_cost(double lambda, int32_t scans) const;
   // The same for an excess λ − G already taken against some threshold G (a tightened gate's:
-  // engine/pipeline/sparse_sd_pipeline.hpp, rival_link_costs): excess/n or excess/f.
+  // engine/pipeline/sparse_sd_pipeline.hpp, rival_link_costs): excess/f or excess/n.
   double excess_cost(double excess, int32_t scans) const;
   bool enabled() const { return enabled_; }
 

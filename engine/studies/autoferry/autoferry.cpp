@@ -71,7 +71,6 @@ LocalTrackingOptions AutoferryOptions::default_tracking() {
 AssociatorOptions AutoferryOptions::default_association() {
   AssociatorOptions o;
   o.pipeline.alignment.extent_sigma = 8.0;
-  o.pipeline.statistic.link = LinkCost::kPerIndependentScan;
   o.segments.duplicate_sensors = {kAutoferryLidar};  // a hull in two lidar clusters: two tracks
   return o;                                          // segments: on, the default
 }

@@ -71,11 +71,10 @@ struct AutoferryOptions {
   //                      largest vessel (Gunnerus, L = 31 m). Measured true pairs: lidar−radar
   //                      offsets of 9–14 m rms on Gunnerus, 3–9 m on the others, against local
   //                      σ of 4–6 m, so the gate refused them;
-  //   link per-independent-scan  (λ − G(n))/f: the evidence of a pair grows with its common
-  //                      scans; the default mean per scan, (λ − G(n))/n, rates a pair of a few
-  //                      (extrapolated) common scans as well as one of a hundred, and the
-  //                      assignment then took a 10 s clutter track over the 70 s true partner
-  //                      (scenario 16);
+  //   (the link cost per independent scan, (λ − G(n))/f, which this study set first, is now the
+  //   default, docs/design.md §4.3 "Cost": the mean per scan, (λ − G(n))/n, rated a pair of a few
+  //   (extrapolated) common scans as well as one of a hundred, and the assignment then took a 10 s
+  //   clutter track over the 70 s true partner, scenario 16);
   //   segments on        a vessel's tracks after a break (issue 17 item 5) join its target;
   //   lidar duplicates   segments.duplicate_sensors = {lidar}: the duplicate lidar tracks of
   //                      Gunnerus that remain (one per hull cluster, side by side with the first,

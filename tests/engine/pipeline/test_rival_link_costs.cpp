@@ -3,7 +3,8 @@
 //  * m counts a track's gated partners that coexist with its pair's other track (sequential
 //    fragments of one target are no rivals), and the larger side counts;
 //  * the threshold is the calibrated gate f·χ²_p(n·D/f) (f = min(5, n)) at p(m) = 1 − (1 − p)·m²,
-//    computed here from chi_square_quantile, and m = 1 (or κ = 0) is the gate's own link cost;
+//    computed here from chi_square_quantile, the cost the excess over it per independent scan
+//    (λ − G)/5, and m = 1 (or κ = 0) is the gate's own link cost;
 //  * on dense parallel traffic (recorded_bias_dense without its registration errors, 10 runs) it
 //    makes fewer false tuples than the unweighted cost, and no fewer correct targets.
 #include <gtest/gtest.h>
@@ -28,6 +29,10 @@ double calibrated_threshold(double p, int32_t n, int dim) {
   const double f = std::min(5.0, static_cast<double>(n));
   return f * chi_square_quantile(p, n * dim / f);
 }
+
+// The default link cost of an excess over the gate: per independent scan, (λ − G)/f with
+// StatisticOptions' f = 5 (kernels/statistics/association_statistic.hpp).
+double per_independent_scan(double excess) { return excess / 5.0; }
 
 // Sensor a: tracks a0, a1, a2; sensor b: tracks b0..b4, with valid common-time intervals
 //   a0 [0, 10], a1 [0, 20], a2 [0, 20]; b0 [0, 10], b1 [2, 8], b2 [0, 9], b3 [12, 20], b4 [5, 10].
@@ -56,7 +61,7 @@ Hand hand_built() {
 
 TEST(RivalLinkCosts, TightenTheGateByTheSquareOfTheCoexistingRivals) {
   const Hand h = hand_built();
-  const StatisticOptions so;  // calibrated, p = 0.99, per scan
+  const StatisticOptions so;  // calibrated, p = 0.99, per independent scan
   const SequentialGate gate(4, so, 32);
   const std::vector<double> link = rival_link_costs(h.st, h.sensors, 0, 1, gate, so, 2.0);
   const int32_t m[] = {3, 3, 3, 2, 1, 2};
@@ -64,7 +69,7 @@ TEST(RivalLinkCosts, TightenTheGateByTheSquareOfTheCoexistingRivals) {
   for (std::size_t q = 0; q < 6; ++q) {
     const int32_t n = h.st.dof[q] / 4;
     const double p = 1.0 - 0.01 * m[q] * m[q];  // 0.91, 0.96, 0.99
-    const double expected = (h.st.lambda[q] - calibrated_threshold(p, n, 4)) / n;
+    const double expected = per_independent_scan(h.st.lambda[q] - calibrated_threshold(p, n, 4));
     EXPECT_NEAR(link[q], expected, 1e-9) << "pair " << q << ", m = " << m[q];
   }
   // m = 1: the gate's own link cost; every tightened pair costs more than it did.
@@ -80,7 +85,7 @@ TEST(RivalLinkCosts, TightenTheGateByTheSquareOfTheCoexistingRivals) {
   g.st.lambda.erase(g.st.lambda.begin() + 2);
   g.st.in_gate.erase(g.st.in_gate.begin() + 2);
   const std::vector<double> two = rival_link_costs(g.st, g.sensors, 0, 1, gate, so, 2.0);
-  EXPECT_NEAR(two[0], (20.0 - calibrated_threshold(0.96, 10, 4)) / 10, 1e-9);
+  EXPECT_NEAR(two[0], per_independent_scan(20.0 - calibrated_threshold(0.96, 10, 4)), 1e-9);
 }
 
 TEST(RivalLinkCosts, NoTighterThanTheMedianAndValidated) {
@@ -99,7 +104,7 @@ TEST(RivalLinkCosts, NoTighterThanTheMedianAndValidated) {
   const StatisticOptions so;
   const std::vector<double> link = rival_link_costs(st, s, 0, 1, SequentialGate(4, so, 16), so, 2.0);
   for (int32_t j = 0; j < 9; ++j)
-    EXPECT_NEAR(link[j], (10.0 + j - calibrated_threshold(0.5, 10, 4)) / 10, 1e-9);
+    EXPECT_NEAR(link[j], per_independent_scan(10.0 + j - calibrated_threshold(0.5, 10, 4)), 1e-9);
   SparseSDOptions bad;
   bad.rival_exponent = -1.0;
   EXPECT_THROW(bad.validate(), InputError);

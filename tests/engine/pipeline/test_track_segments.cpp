@@ -174,7 +174,9 @@ TEST(TrackSegments, ATargetThatTurnedMergesThroughTheTrackThatFollowedTheTurn) {
   const AssociationMetrics mp =
       evaluate_association(f.tracks, f.sensors, make_associator(o)->associate(f).record);
   ASSERT_GT(mp.targets, 3);
-  EXPECT_LE(mp.correct, 1) << "a target of five tracks cannot be one tuple of two sensors";
+  // A target of five tracks is not one tuple of two sensors; only the stitching (its tuples that never
+  // coexist) makes one or two of them whole without the segment pass.
+  EXPECT_LE(mp.correct, 2) << "a target of five tracks cannot be one tuple of two sensors";
   o.segments.enabled = true;
   const AssociationOutcome seg = make_associator(o)->associate(f);
   const AssociationMetrics m = evaluate_association(f.tracks, f.sensors, seg.record);
