@@ -132,24 +132,39 @@ void add_pair_observations(RegistrationObservations& obs, const TrackTable& t, s
   };
   std::vector<double> xa(d), xb(d), va(d), vb(d);
   Eigen::MatrixXd Pa(d, d), Pb0(d, d), Pb1(d, d);
-  std::vector<std::pair<std::size_t, std::size_t>> usable;  // (A row, B index of the report at or after)
-  for (std::size_t r : A) {
+  std::vector<std::pair<std::size_t, std::size_t>> usable;  // (A index, B index of the report at or after)
+  for (std::size_t ia = 0; ia < A.size(); ++ia) {
+    const std::size_t r = A[ia];
     auto it =
         std::lower_bound(B.begin(), B.end(), t.t[r], [&](std::size_t x, double v) { return t.t[x] < v; });
     if (it == B.end()) continue;
     if (t.t[*it] != t.t[r] && (it == B.begin() || t.t[*it] - t.t[*std::prev(it)] > o.max_gap)) continue;
-    usable.push_back({r, static_cast<std::size_t>(it - B.begin())});
+    usable.push_back({ia, static_cast<std::size_t>(it - B.begin())});
   }
   const std::size_t n = usable.size(), m = std::min<std::size_t>(n, o.max_observations_per_pair);
   for (std::size_t j = 0; j < m; ++j) {
-    const auto [r, k] = usable[(2 * j + 1) * n / (2 * m)];  // evenly spread, centred
+    const auto [ia, k] = usable[(2 * j + 1) * n / (2 * m)];  // evenly spread, centred
+    const std::size_t r = A[ia];
     const std::size_t r1 = B[k], r0 = t.t[r1] == t.t[r] ? r1 : B[k - 1];
     const double w = r1 == r0 ? 0.0 : (t.t[r] - t.t[r0]) / (t.t[r1] - t.t[r0]);
+    // The clock column's velocities: central differences of the reported positions (the reports
+    // before and after A's; B's reports around the time), not the reported velocities, whose errors
+    // a filter correlates with its position errors (P_pv): regressed on them, the position
+    // differences give a clock offset where there is none (docs/design.md §4.10).
+    const std::size_t a0 = ia > 0 ? A[ia - 1] : r, a1 = ia + 1 < A.size() ? A[ia + 1] : r;
+    const std::size_t b0 = r0 != r1 ? r0 : (k > 0 ? B[k - 1] : r1),
+                      b1 = r0 != r1 ? r1 : (k + 1 < B.size() ? B[k + 1] : r1);
+    // Symmetric differences only (a one-sided one at a track's end correlates again).
+    const bool chord_a =
+        ia > 0 && ia + 1 < A.size() && t.t[a1] > t.t[a0] && t.t[a1] - t.t[a0] <= 2 * o.max_gap;
+    const bool chord_b =
+        (r0 != r1 || (k > 0 && k + 1 < B.size())) && t.t[b1] > t.t[b0] && t.t[b1] - t.t[b0] <= 2 * o.max_gap;
     for (int i = 0; i < d; ++i) {
       xa[i] = t.state[i][r];
-      va[i] = t.state[d + i][r];
+      va[i] = chord_a ? (t.state[i][a1] - t.state[i][a0]) / (t.t[a1] - t.t[a0]) : t.state[d + i][r];
       xb[i] = (1 - w) * t.state[i][r0] + w * t.state[i][r1];
-      vb[i] = (1 - w) * t.state[d + i][r0] + w * t.state[d + i][r1];
+      vb[i] = chord_b ? (t.state[i][b1] - t.state[i][b0]) / (t.t[b1] - t.t[b0])
+                      : (1 - w) * t.state[d + i][r0] + w * t.state[d + i][r1];
     }
     position_cov(r, Pa);
     position_cov(r0, Pb0);

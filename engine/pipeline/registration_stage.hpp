@@ -8,7 +8,9 @@
 //      step below (pairs at the mode of the position differences). Pair observations are the
 //      members' reports, each partner's state interpolated linearly to the report's time between
 //      its two reports around it (at most max_gap apart), at most max_observations_per_pair per
-//      pair, spread evenly. (No seeds: the linked tuples of step 1.)
+//      pair, spread evenly; their velocities (the clock column's) are central differences of the
+//      reported positions, not the reported velocities (errors in variables: docs/design.md
+//      §4.10). (No seeds: the linked tuples of step 1.)
 //   3. test the estimate: its Wald statistic bᵀV⁻¹b (V the cluster-robust covariance) against
 //      χ²_dof at 1 − significance. Not significant: stop, and the association of step 1 is the
 //      result (so a file without registration errors is associated exactly as without the stage);

@@ -10,7 +10,14 @@
 //   site offset o        −I (d columns)                           (the true site is p_s + o: the
 //                                                                  sensor reports x − o)
 //   clock offset Δt      −v                                       (a report stamped t is of the
-//                                                                  target at t − Δt)
+//                                                                  target at t − Δt; v the
+//                                                                  observation's velocity: the
+//                                                                  stage passes central
+//                                                                  differences of positions, since
+//                                                                  a filter's reported velocity
+//                                                                  errors correlate with its
+//                                                                  position errors, docs/design.md
+//                                                                  §4.10)
 // so the columns are RegistrationOptions' choice: polar biases (needs the sites), a site offset
 // (the translation, and the whole model when no site is known), a clock offset.
 // Only relative registration is observable without truth: b of the reference sensor is held at 0
