@@ -73,7 +73,7 @@ struct RegistrationOptions {
   double prior_range = 300.0;                 // σ of the ridge prior on Δr [m]
   double prior_azimuth = 0.01745329251994;    // [rad] (1°)
   double prior_elevation = 0.00872664625997;  // [rad] (0.5°)
-  double prior_site_offset = 300.0;           // [m], per coordinate
+  double prior_site_offset = 1000.0;          // [m], per coordinate (docs/design.md §4.10)
   double prior_clock = 2.0;                   // [s]
   double huber = 3.0;                         // h, in normalised residual units (> 0)
   int32_t iterations = 4;                     // IRLS iterations (≥ 1)

@@ -71,7 +71,7 @@ TEST(RegistrationStage, RecoversTheInjectedBiasesAndRestoresTheAssociation) {
     }
     // Informative, not just the prior: the azimuth bias to better than half of itself; the range
     // bias shares its line-of-sight direction with the site offset in this narrow sector, so its
-    // standard error only drops below the prior's 300 m.
+    // standard error only drops below the range prior's 300 m.
     EXPECT_LT(r.standard_error[s * k + 1], 0.5 * std::abs(sc.sensor_errors[s].azimuth_bias));
     EXPECT_LT(r.standard_error[s * k + 0], 300.0);
   }

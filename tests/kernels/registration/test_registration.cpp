@@ -134,7 +134,7 @@ TEST(Registration, TheRidgeKeepsAnUnobservableComponentBounded) {
     obs.add(0, 1, 0, a, b, {}, {}, C);
   }
   const std::vector<std::array<double, 3>> sites{{-100e3, 0, 0}, {0, -100e3, 0}};
-  RegistrationOptions o;  // default priors: 300 m, 1°, 300 m
+  RegistrationOptions o;  // default priors: 300 m, 1°, 1 km
   const RegistrationEstimate e = fit_registration(obs, sites, o);
   // Bounded by the prior: every parameter within a few prior σ, and its standard error is of
   // the prior's size (the data do not shrink it), not zero.
