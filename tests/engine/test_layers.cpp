@@ -73,7 +73,9 @@ TEST(Layers, TheDesignPageNamesEveryEngineFolderOnce) {
   std::set<std::string> named(layers.begin(), layers.end());
   EXPECT_EQ(named.size(), layers.size()) << "a folder is named twice";
   for (const auto& entry : fs::directory_iterator(kRoot / "engine"))
-    if (entry.is_directory()) EXPECT_TRUE(named.count(entry.path().filename().string())) << entry.path();
+    if (entry.is_directory()) {
+      EXPECT_TRUE(named.count(entry.path().filename().string())) << entry.path();
+    }
   for (const auto& name : layers) EXPECT_TRUE(fs::is_directory(kRoot / "engine" / name)) << name;
 }
 

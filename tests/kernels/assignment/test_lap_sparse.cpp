@@ -170,7 +170,9 @@ TEST(SparseLap, GatedDispatcherMatchesDense) {
         SCOPED_TRACE(testing::Message() << sz.first << "x" << sz.second << " density " << density
                                         << (unassigned ? " unassigned allowed" : ""));
         EXPECT_EQ(gated.feasible, dense.feasible);
-        if (dense.feasible) EXPECT_NEAR(gated.cost, dense.cost, 1e-9 * (1 + m.rows + m.cols));
+        if (dense.feasible) {
+          EXPECT_NEAR(gated.cost, dense.cost, 1e-9 * (1 + m.rows + m.cols));
+        }
         EXPECT_EQ(forced_dense.row_to_col, dense.row_to_col);
         if (gated.feasible) check_certificate(gated, m, o);
       }

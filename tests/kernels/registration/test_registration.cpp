@@ -91,7 +91,9 @@ TEST(Registration, InjectedRangeAzimuthAndSiteErrorsAreRecoveredWithinTwoStandar
   // The reported covariances are right here: scale ≈ 1 for every pair.
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b)
-      if (a != b) EXPECT_NEAR(e.covariance_scale[a * 3 + b], 1.0, 0.1) << a << "," << b;
+      if (a != b) {
+        EXPECT_NEAR(e.covariance_scale[a * 3 + b], 1.0, 0.1) << a << "," << b;
+      }
 }
 
 TEST(Registration, PolarOnlyModelRecoversRangeAndAzimuthTightly) {
