@@ -147,24 +147,27 @@ void add_pair_observations(RegistrationObservations& obs, const TrackTable& t, s
     const std::size_t r = A[ia];
     const std::size_t r1 = B[k], r0 = t.t[r1] == t.t[r] ? r1 : B[k - 1];
     const double w = r1 == r0 ? 0.0 : (t.t[r] - t.t[r0]) / (t.t[r1] - t.t[r0]);
-    // The clock column's velocities: central differences of the reported positions (the reports
-    // before and after A's; B's reports around the time), not the reported velocities, whose errors
-    // a filter correlates with its position errors (P_pv): regressed on them, the position
-    // differences give a clock offset where there is none (docs/design.md §4.10).
-    const std::size_t a0 = ia > 0 ? A[ia - 1] : r, a1 = ia + 1 < A.size() ? A[ia + 1] : r;
-    const std::size_t b0 = r0 != r1 ? r0 : (k > 0 ? B[k - 1] : r1),
-                      b1 = r0 != r1 ? r1 : (k + 1 < B.size() ? B[k + 1] : r1);
-    // Symmetric differences only (a one-sided one at a track's end correlates again).
-    const bool chord_a =
-        ia > 0 && ia + 1 < A.size() && t.t[a1] > t.t[a0] && t.t[a1] - t.t[a0] <= 2 * o.max_gap;
-    const bool chord_b =
-        (r0 != r1 || (k > 0 && k + 1 < B.size())) && t.t[b1] > t.t[b0] && t.t[b1] - t.t[b0] <= 2 * o.max_gap;
+    // The clock column's velocities: central differences of the reported positions, not the
+    // reported velocities, whose errors a filter correlates with its position errors (P_pv):
+    // regressed on them, the position differences give a clock offset where there is none
+    // (docs/design.md §4.10). A's reports before and after; B's two reports around the time, or,
+    // when one falls on A's time, those either side of it. Symmetric differences only: at a
+    // track's end (or across a gap over 2·max_gap) the reported velocity.
+    auto symmetric = [&](std::size_t lo, std::size_t hi) {
+      return t.t[hi] > t.t[lo] && t.t[hi] - t.t[lo] <= 2 * o.max_gap;
+    };
+    const bool chord_a = ia > 0 && ia + 1 < A.size() && symmetric(A[ia - 1], A[ia + 1]);
+    std::size_t b0 = r0, b1 = r1;
+    if (r0 == r1 && k > 0 && k + 1 < B.size()) b0 = B[k - 1], b1 = B[k + 1];
+    const bool chord_b = symmetric(b0, b1);  // false when b0 = b1: no symmetric pair
+    auto chord = [&](std::size_t lo, std::size_t hi, int i) {
+      return (t.state[i][hi] - t.state[i][lo]) / (t.t[hi] - t.t[lo]);
+    };
     for (int i = 0; i < d; ++i) {
       xa[i] = t.state[i][r];
-      va[i] = chord_a ? (t.state[i][a1] - t.state[i][a0]) / (t.t[a1] - t.t[a0]) : t.state[d + i][r];
+      va[i] = chord_a ? chord(A[ia - 1], A[ia + 1], i) : t.state[d + i][r];
       xb[i] = (1 - w) * t.state[i][r0] + w * t.state[i][r1];
-      vb[i] = chord_b ? (t.state[i][b1] - t.state[i][b0]) / (t.t[b1] - t.t[b0])
-                      : (1 - w) * t.state[d + i][r0] + w * t.state[d + i][r1];
+      vb[i] = chord_b ? chord(b0, b1, i) : (1 - w) * t.state[d + i][r0] + w * t.state[d + i][r1];
     }
     position_cov(r, Pa);
     position_cov(r0, Pb0);
