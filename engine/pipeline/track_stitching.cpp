@@ -18,6 +18,7 @@
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/statistics/chi_square.hpp"
+#include "kernels/statistics/histogram_density.hpp"
 #include "kernels/statistics/mixture_weight.hpp"
 
 namespace trackassoc {
@@ -336,12 +337,12 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   const TrackTable& t = file.tracks;
   const std::size_t K = rec.num_tuples();
   // --memory-budget (io/memory_budget.hpp), before anything is allocated: per tuple (at most one
-  // group each) its group, the start representative's scratch, the start orderings and the index
-  // (StitchStartIndex: ~100 bytes a start); per member its key, span and group; the candidates are
-  // counted as they are found (below).
+  // group each) its group, the start representative's scratch, the start orderings, the start
+  // density's scratch (two doubles) and the index (StitchStartIndex: ~100 bytes a start); per member its key,
+  // span and group; the candidates are counted as they are found (below).
   std::size_t members = 0;
   for (int32_t track : rec.tuples) members += track >= 0;
-  const double per_group = sizeof(Group) + kStartRows * sizeof(std::size_t) + 2 + 6 * sizeof(double) + 100.0 +
+  const double per_group = sizeof(Group) + kStartRows * sizeof(std::size_t) + 2 + 8 * sizeof(double) + 100.0 +
                            sizeof(int32_t) + 4 * sizeof(std::size_t),
                per_member = 3 * sizeof(int32_t) + sizeof(MemberSpan) + 2 * sizeof(int32_t);
   const std::string what = "fragment stitching (" + std::to_string(K) + " tuples)";
@@ -377,16 +378,11 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
       for (double& l : log_density) l -= std::log(width);
       continue;
     }
-    const std::size_t B = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(G))));
-    auto bin_of = [&](double x) {
-      const double u = (x - lo) / width * static_cast<double>(B);
-      return u >= 0.0 ? std::min(B - 1, static_cast<std::size_t>(u)) : std::size_t{0};
-    };
-    std::vector<double> count(B, 1.0);  // one count added to each bin (Laplace)
-    for (const Group& g : groups) count[bin_of(t.state[i][g.start])] += 1.0;
-    const double bin_width = width / static_cast<double>(B), total = static_cast<double>(G + B);
-    for (std::size_t g = 0; g < G; ++g)
-      log_density[g] += std::log(count[bin_of(t.state[i][groups[g].start])] / (total * bin_width));
+    // Each start against the histogram of the other starts (kernels/statistics/histogram_density.hpp).
+    std::vector<double> component(G);
+    for (std::size_t g = 0; g < G; ++g) component[g] = t.state[i][groups[g].start];
+    const std::vector<double> log_h = leave_one_out_log_density(component);
+    for (std::size_t g = 0; g < G; ++g) log_density[g] += log_h[g];
   }
   // Candidates (rows: ends, columns: starts): for each end, the starts of its window that the
   // index (engine/pipeline/stitch_index.hpp) does not exclude, in start-time order, gated. The

@@ -63,9 +63,11 @@
 // density n·f(x₁) of new starts, as in the track score of multiple-hypothesis tracking, Blackman &
 // Popoli 1999 §6.2), the join's cost is the negative log-likelihood ratio
 //     c₁₂ = −ln p(e | same target) + ln f(x₁) + ln n,
-// f(x) = Π_i h_i(x_i), h_i the histogram of component i of the G start states (B = ⌈√G⌉ bins of
-// equal width over their range w_i ≥ 1, one count added to each: h_i = (c_k + 1) / ((G + B) w_i / B))
-// (start_density_bins; without it f = 1 / V, V = Π w_i, the box of before). The box takes the
+// f(x) = Π_i h_i(x_i), h_i the histogram of component i of the start states of the G − 1 *other*
+// groups (B = ⌈√G⌉ bins of equal width over the range w_i ≥ 1 of all G, one count added to each:
+// h_i = (c_k + 1) / ((G − 1 + B) w_i / B), c_k the others in x's bin; leave-one-out,
+// kernels/statistics/histogram_density.hpp) (start_density_bins; without it f = 1 / V, V = Π w_i,
+// the box of before). The box takes the
 // starts' states as uniform, and a wide file's box is set by its wildest first velocities (widearea:
 // |v| up to 3 400 m/s where targets fly at 150-280 m/s), so it made a start near a typical state
 // look e⁴ times rarer than it is, and joins that cheap (the false pairs of widearea were 99 % false

@@ -413,12 +413,17 @@ TEST(TrackStitching, TheGapPriorRefusesAWeakJoinAtAGapTheOtherJoinsDoNotHave) {
 
 // The start density (start_density_bins). A ends at 40 s, B starts at 60 s δ ahead along x (same
 // velocity); two coexisting background tracks start at (0, 3 km) with vx = −300 and 2 200 m/s (a
-// wild first velocity that stretches the box). Start states, G = 4, B = ⌈√4⌉ = 2 bins a component,
-// G + B = 6: x {0, 12 km + δ, 0, 0}: B alone in the upper bin, h = 2/(6·w/2) against the box's 1/w
-// (ratio 2/3); y {0, 0, 3 km, 3 km}: ratio 3·2/6 = 1; vx {200, 200, −300, 2200} over 2 500 m/s: B's
-// bin holds 3, ratio 4·2/6 = 4/3; vy all 0, w = 1: one bin holds all 4, ratio 5·2/6 = 5/3. So the
-// histogram adds ln(2/3 · 4/3 · 5/3) = ln(40/27) ≈ 0.3930 nats to the box's cost: a join of
-// evidence 0.20 nats under the box is refused, one of 0.45 is kept.
+// wild first velocity that stretches the box). Start states, G = 4, B = ⌈√4⌉ = 2 bins a component;
+// B is scored against the histogram of the other three starts (leave-one-out,
+// kernels/statistics/histogram_density.hpp), G − 1 + B = 5: x {0, 12 km + δ, 0, 0}: B alone in the
+// upper bin, h = 1/(5·w/2) against the box's 1/w (ratio 2/5); y {0, 0, 3 km, 3 km}: one other in
+// B's bin, ratio 2·2/5 = 4/5; vx {200, 200, −300, 2200} over 2 500 m/s: two others in B's bin, ratio
+// 3·2/5 = 6/5; vy all 0, w = 1: three others, ratio 4·2/5 = 8/5. So the histogram adds
+// ln(2/5 · 4/5 · 6/5 · 8/5) = −ln(625/384) ≈ −0.4871 nats to the box's cost: B starts where no other
+// start is, so "a different target" explains it worse than the box says. A join of evidence −0.20 or
+// −0.47 nats under the box (refused there) is made, one of −0.50 is refused. (Counting B in its own
+// bins, as before session 28, added +ln(40/27) ≈ 0.3930 nats: B's own count made its start look
+// common, and the join of −0.20 was refused.)
 int density_join(double evidence, bool bins) {
   // Box: c = ½(m² + ln det(2πS)) + ln n − ln V, n = 1, V = (12 km + δ)·3 km·2 500·1; δ by fixed point.
   double delta = 650.0;
@@ -440,12 +445,12 @@ int density_join(double evidence, bool bins) {
   return s.stitches;
 }
 
-TEST(TrackStitching, TheStartDensityOfTheStartsRefusesAJoinThatTheBoxMakes) {
-  EXPECT_NEAR(std::log(2.0 / 3.0 * 4.0 / 3.0 * 5.0 / 3.0), 0.3930, 1e-4);
-  EXPECT_EQ(density_join(0.20, false), 1);  // the box: 0.20 nats, joined
-  EXPECT_EQ(density_join(0.20, true), 0);   // 0.20 − 0.393 < 0
-  EXPECT_EQ(density_join(0.45, true), 1);   // 0.45 − 0.393 > 0
-  EXPECT_EQ(density_join(0.38, true), 0);   // 0.38 − 0.393 < 0
+TEST(TrackStitching, TheDensityOfTheOtherStartsMakesAJoinThatTheBoxRefuses) {
+  EXPECT_NEAR(std::log(625.0 / 384.0), 0.4871, 1e-4);
+  EXPECT_EQ(density_join(-0.20, false), 0);  // the box: −0.20 nats, refused
+  EXPECT_EQ(density_join(-0.20, true), 1);   // −0.20 + 0.487 > 0
+  EXPECT_EQ(density_join(-0.47, true), 1);   // −0.47 + 0.487 > 0
+  EXPECT_EQ(density_join(-0.50, true), 0);   // −0.50 + 0.487 < 0
 }
 
 TEST(TrackStitching, TheStartsRepresentativeReportRefusesAJoinThatItsFirstVelocityMakes) {
