@@ -105,7 +105,11 @@ std::string AssociationSummary::FullReport() const {
       os << ", fragments stitched " << stitching.stitches << " (" << stitching.candidates
          << " gated continuations of " << stitching.groups << " targets"
          << (stitching.turn_probability > 0.0
-                 ? "; manoeuvre weight " + fmt(stitching.turn_probability, "%.3f") + " learnt"
+                 ? "; manoeuvre weight " + fmt(stitching.turn_probability, "%.3f") +
+                       (stitching.manoeuvre_interval_s > 0.0
+                            ? ", a manoeuvre every " + fmt(stitching.manoeuvre_interval_s, "%.0f") + " s"
+                            : std::string()) +
+                       " learnt"
                  : std::string())
          << ")";
     os << "\n";

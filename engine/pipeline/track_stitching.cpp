@@ -500,19 +500,28 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
   LapResult joins = solve();
   if (joins.row_to_col.empty()) return summary;
   if (learn) {
-    // The turn model's weight, learnt from the first joins (the header's empirical Bayes), and the
-    // candidates' costs under it: −ln[(1 − π̂) + π̂ e^d] instead of −ln[(1 − π) + π e^d] (the quiet
-    // density factored out, d = turn_log_ratio).
-    std::vector<float> joined;
+    // The turn model's weight, learnt from the first joins (the header's empirical Bayes) as a
+    // function of the span s that the two predictions bridge, π(s) = 1 − (1 − π_c) e^{−λ s}
+    // (kernels/statistics/mixture_weight.hpp), and the candidates' costs under it: −ln[(1 − π(s)) +
+    // π(s) e^d] instead of −ln[(1 − π) + π e^d] (the quiet density factored out, d = turn_log_ratio).
+    auto span_of = [&](const Candidate& k) {
+      return std::fabs(t.t[groups[static_cast<std::size_t>(k.start)].start] -
+                       t.t[groups[static_cast<std::size_t>(k.end)].last]);
+    };
+    std::vector<float> joined, spans;
     for (const Candidate& k : candidates)
-      if (joins.row_to_col[static_cast<std::size_t>(k.end)] == k.start) joined.push_back(k.turn_log_ratio);
-    const double pi = o.turn_probability, learnt = mixture_weight(joined, pi, o.turn_prior_joins);
-    summary.turn_probability = learnt;
-    const double quiet_was = std::log1p(-pi), turn_was = std::log(pi), quiet_now = std::log1p(-learnt),
-                 turn_now = std::log(learnt);
-    for (Candidate& k : candidates)
+      if (joins.row_to_col[static_cast<std::size_t>(k.end)] == k.start)
+        joined.push_back(k.turn_log_ratio), spans.push_back(static_cast<float>(span_of(k)));
+    const double pi = o.turn_probability;
+    const SpanMixtureWeight learnt = span_mixture_weight(joined, spans, pi, o.turn_prior_joins);
+    summary.turn_probability = learnt.at(learnt.mean_span);
+    summary.manoeuvre_interval_s = learnt.rate > 0.0 ? 1.0 / learnt.rate : 0.0;
+    const double quiet_was = std::log1p(-pi), turn_was = std::log(pi);
+    for (Candidate& k : candidates) {
+      const double now = std::clamp(learnt.at(span_of(k)), 1e-300, 1.0 - 1e-16);
       k.cost += log_sum_exp(quiet_was, turn_was + k.turn_log_ratio) -
-                log_sum_exp(quiet_now, turn_now + k.turn_log_ratio);
+                log_sum_exp(std::log1p(-now), std::log(now) + k.turn_log_ratio);
+    }
   }
   if (o.gap_bin_s > 0.0) {
     // The gap prior: the same target's gaps follow its fades and re-initiations, a different

@@ -47,15 +47,22 @@
 // outbid a straight one.
 // The turn weight is the file's own (learn_turn_probability): how often a target manoeuvres during
 // a gap is a property of the scene (airliners on airways rarely, the recorded family's targets
-// every 15-40 s), so π is learnt from the joins of a first assignment, as the mixture
-// weight of two known components (each join's responsibility r = π e^d / (1 − π + π e^d), d = ln
-// N_turn − ln N_quiet; π̂ the posterior mode under a Beta prior of turn_prior_joins = 10
-// pseudo-joins at turn_probability; kernels/statistics/mixture_weight.hpp), and the costs re-weighed with π̂
-// before the final assignment (with the gap prior below). A small file keeps about the prior
-// (recorded_recycled: 1-6 joins, π̂ 0.16-0.30), a large one speaks for itself (widearea: 123 000 joins, π̂ ≈
-// 0.02). This replaced a rule that made a join outside the quiet gate only when neither side had another
-// gated candidate and its evidence was ≥ 3 nats: that rule refused most turns where targets manoeuvre and
-// cost precision where they do not (docs/design.md §4.10 has the measurements). Ambiguity is the swap
+// every 15-40 s), so it is learnt from the joins of a first assignment, as the weight of two known
+// components (each join's responsibility r = π e^d / (1 − π + π e^d), d = ln N_turn − ln N_quiet),
+// and as a function of the span s that the join's two predictions bridge:
+//     π(s) = 1 − (1 − π_c) e^{−λ s},
+// the manoeuvring model being needed either whatever the gap (π_c: a new track's first velocities,
+// a lagging end) or because a manoeuvre began during it (a Poisson onset of rate λ, as an IMM's
+// switching probability over an interval follows from its mode's sojourn time). (π̂_c, λ̂) is the
+// posterior mode under a prior of turn_prior_joins = 10 pseudo-joins at turn_probability over the
+// joins' mean span (kernels/statistics/mixture_weight.hpp, span_mixture_weight), and the costs are
+// re-weighed with π̂(s) before the final assignment (with the gap prior below). A small file keeps
+// about the prior (recorded_recycled: 1-8 joins, π̂(s̄) 0.16-0.34), a large one speaks for itself
+// (widearea: 122 000 joins, π̂_c ≈ 0.018 and λ̂ = 0; widearea_small: π̂(s̄) 0.056, a manoeuvre every
+// 1 800 s). This replaced a rule that made a join outside the quiet gate only when neither side had
+// another gated candidate and its evidence was ≥ 3 nats: that rule refused most turns where targets
+// manoeuvre and cost precision where they do not (docs/design.md §4.10 has the measurements), and a
+// weight that was the same at every gap (until session 28). Ambiguity is the swap
 // margin's (below).
 //
 // Assignment. Against "a different target" (any of the n group starts in G₁'s window [t₀ −
@@ -147,7 +154,9 @@ struct TrackStitchOptions {
 
 struct TrackStitchSummary {
   int32_t groups = 0, candidates = 0, stitches = 0;  // groups, gated pairs, and joins made
-  double turn_probability = 0.0;                     // π̂ learnt from the first joins (0: not learnt)
+  // π̂(s̄) learnt from the first joins, at their mean span (0: not learnt), and the mean time
+  // between manoeuvre onsets 1/λ̂ (0: none learnt, the weight the same at every span).
+  double turn_probability = 0.0, manoeuvre_interval_s = 0.0;
 };
 
 // The gap statistic of the rule above for one model: G₁'s end (row `end`) predicted forward and G₂'s

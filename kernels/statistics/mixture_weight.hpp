@@ -15,6 +15,8 @@
 // Complexity: O(J) per halving, 60 halvings.
 #pragma once
 
+#include <cmath>
+#include <cstddef>
 #include <span>
 
 namespace trackassoc {
@@ -23,5 +25,31 @@ namespace trackassoc {
 // pseudo-samples at `prior`; `prior` itself when it is 0 or 1, when there are no samples, or when
 // nothing (neither the samples nor the prior) tells π apart.
 double mixture_weight(std::span<const float> log_ratios, double prior, double prior_weight);
+
+// The same mixture when a sample's weight depends on its span s_j ≥ 0 (fragment stitching: the time
+// its two predictions bridge):
+//     π(s) = 1 − (1 − π_c) e^{−λ s},
+// the second component being either present from the start (π_c: a new track's first velocities,
+// whatever the gap) or begun during the span by a Poisson process of rate λ (a manoeuvre; an IMM's
+// switching probability over an interval T follows from its mode's mean sojourn time 1/λ in the same
+// way, Bar-Shalom, Li, Kirubarajan 2001 §11.6.7). (π_c, λ) maximise
+//     ℓ = Σ_j ln(1 − π_j + π_j e^{d_j}) + w π₀ ln π(s̄) + w (1 − π₀) ln(1 − π(s̄)),
+// the prior being w pseudo-samples at π₀ over the samples' mean span s̄, as mixture_weight's (with
+// equal spans only π(s̄) is determined, and it is mixture_weight's π̂). ℓ need not be concave, so it
+// is searched on a grid (π_c: 40 values uniform in logit over [1e-6, 1 − 1e-6]; λ s̄: 0 and 40 values
+// log-uniform over [1e-3, 1e2]), then refined by coordinate golden sections (8 rounds of 40 steps).
+// More than kMaxSamples samples are thinned evenly to that many, each then weighing J / kept.
+// Complexity: O(2 300 min(J, kMaxSamples)), one logarithm each (an exponential per sample and rate).
+struct SpanMixtureWeight {
+  double constant = 0.0;  // π_c
+  double rate = 0.0;      // λ [1 / unit of span]
+  double mean_span = 0.0;
+  double at(double span) const { return 1.0 - (1.0 - constant) * std::exp(-rate * span); }
+};
+inline constexpr std::size_t kMaxSamples = 10000;
+// π_c = π₀ and λ = 0 when there are no samples or π₀ is 0 or 1. Throws std::invalid_argument
+// unless there is one span (finite, ≥ 0) per log-ratio.
+SpanMixtureWeight span_mixture_weight(std::span<const float> log_ratios, std::span<const float> spans,
+                                      double prior, double prior_weight);
 
 }  // namespace trackassoc

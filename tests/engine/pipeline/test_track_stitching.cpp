@@ -237,6 +237,17 @@ TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
   EXPECT_EQ(stitch_fragments(f, before, quiet).stitches, 0);
 }
 
+// Straight handover k (from T = 1 000 + 400k s): 40 s on sensor 0 (track 100 + k), a gap, 60 s on
+// sensor 1 (track 200 + k), on the line x = −20 km + 200 m/s (t − T), y = −20 km.
+void add_straight_handover(int32_t k, double gap, std::vector<Segment>& segments,
+                           std::vector<std::pair<int32_t, int32_t>>& keys) {
+  const double T = 1000.0 + 400.0 * k, x0 = -20000.0 - 200.0 * T;
+  segments.push_back({0, 100 + k, T, T + 40, x0, 200, -20000, 0});
+  segments.push_back({1, 200 + k, T + 40 + gap, T + 100 + gap, x0, 200, -20000, 0});
+  keys.push_back({0, 100 + k});
+  keys.push_back({1, 200 + k});
+}
+
 TEST(TrackStitching, TheLearntWeightRefusesATurnWhereTheFileSaysTargetsFlyStraight) {
   // The turn above beside 80 straight handovers, each alone in its window (pair k from 1000 + 400k s:
   // 40 s on sensor 0, a 60 s gap, 60 s on sensor 1, on the line x = −20 km + 200 m/s (t − T_k),
@@ -249,13 +260,7 @@ TEST(TrackStitching, TheLearntWeightRefusesATurnWhereTheFileSaysTargetsFlyStraig
   std::vector<Segment> segments{
       {0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 14000, 0, 6000 - 200 * 100, 200}, kBackground};
   std::vector<std::pair<int32_t, int32_t>> keys{{0, 1}, {1, 7}, {1, 99}};
-  for (int32_t k = 0; k < 80; ++k) {
-    const double T = 1000.0 + 400.0 * k, x0 = -20000.0 - 200.0 * T;
-    segments.push_back({0, 100 + k, T, T + 40, x0, 200, -20000, 0});
-    segments.push_back({1, 200 + k, T + 100, T + 160, x0, 200, -20000, 0});
-    keys.push_back({0, 100 + k});
-    keys.push_back({1, 200 + k});
-  }
+  for (int32_t k = 0; k < 80; ++k) add_straight_handover(k, 60.0, segments, keys);
   const TrackFile f = hand_made(segments);
   TrackStitchOptions o;
   o.start_density_bins = false;
@@ -279,6 +284,38 @@ TEST(TrackStitching, TheLearntWeightRefusesATurnWhereTheFileSaysTargetsFlyStraig
   EXPECT_EQ(g.stitches, 81);
   EXPECT_EQ(g.turn_probability, 0.0);
   EXPECT_EQ(given.target[0], given.target[1]);
+}
+
+TEST(TrackStitching, TheTurnWeightGrowsWithTheGapWhereTargetsTurnDuringLongGapsOnly) {
+  // 40 straight handovers across 10 s gaps (pair k from 1 000 + 400k s: 40 s on sensor 0, 60 s on
+  // sensor 1, on y = −20 km at 200 m/s) and 40 turns across 60 s gaps (the turn above, from 20 000 +
+  // 400k s). The first assignment (π = 0.2) makes all 80 joins; the straight ones say "quiet"
+  // (responsibility ≈ 0 at span 10 s), the turns "manoeuvring" (≈ 1 at span 60 s). A constant weight
+  // would be (40 + 10·0.2)/(80 + 10) ≈ 0.47 at every gap; the span model π(s) = 1 − (1 − π_c)
+  // e^{−λ s} (kernels/statistics/mixture_weight.hpp) puts it near 0 at 10 s and near 1 at 60 s.
+  // By hand, with π_c → 0: ℓ(λ) ≈ 40 ln e^{−10λ} + 40 ln(1 − e^{−60λ}) + 10 [0.2 ln π(35) + 0.8 ln(1 −
+  // π(35))] (s̄ = 35 s), whose maximum is where −400 + 2400 e^{−60λ}/(1 − e^{−60λ}) − 280 +
+  // 70 e^{−35λ}/(1 − e^{−35λ}) = 0: 1/λ ≈ 38.30 s, π(35 s) ≈ 0.599.
+  std::vector<Segment> segments{kBackground};
+  std::vector<std::pair<int32_t, int32_t>> keys{{1, 99}};
+  for (int32_t k = 0; k < 40; ++k) {
+    add_straight_handover(k, 10.0, segments, keys);
+    const double U = 20000.0 + 400.0 * k;
+    segments.push_back({0, 300 + k, U, U + 40, -200.0 * U, 200, 0, 0});
+    segments.push_back({1, 400 + k, U + 100, U + 160, 14000, 0, 6000 - 200 * (U + 100), 200});
+    keys.push_back({0, 300 + k});
+    keys.push_back({1, 400 + k});
+  }
+  const TrackFile f = hand_made(segments);
+  TrackStitchOptions o;
+  o.start_density_bins = false;
+  o.gap_bin_s = 0.0;
+  AssociationRecord rec = singletons(keys);
+  const TrackStitchSummary s = stitch_fragments(f, rec, o);
+  EXPECT_EQ(s.stitches, 80);
+  for (int32_t k = 0; k < 80; ++k) EXPECT_EQ(rec.target[1 + 2 * k], rec.target[2 + 2 * k]);
+  EXPECT_NEAR(s.manoeuvre_interval_s, 38.30, 1.0);
+  EXPECT_NEAR(s.turn_probability, 1.0 - std::exp(-35.0 / 38.30), 0.01);  // π̂ at the mean span
 }
 
 TEST(TrackStitching, ATurnJoinWithANearRivalIsLeftUnmade) {

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "kernels/statistics/mixture_weight.hpp"
@@ -51,6 +52,75 @@ TEST(MixtureWeight, AnInjectedWeightIsRecovered) {
   EXPECT_NEAR(mixture_weight(d, 0.9, 0.0), 0.3, 0.015);
   // The prior's pull fades with the samples: 10 pseudo-samples at 0.05 move it by < 0.001.
   EXPECT_NEAR(mixture_weight(d, 0.05, 10.0), mixture_weight(d, 0.9, 0.0), 1e-3);
+}
+
+// span_mixture_weight: π(s) = 1 − (1 − π_c) e^{−λ s}.
+
+// Samples of the span model: span s uniform on [0, 150], the second component with probability
+// π(s); x drawn from it as above (N(0, 1) or N(0, 5²)) and d = ln N(x; 0, 25) − ln N(x; 0, 1).
+void draw_span_samples(double constant, double rate, int n, std::vector<float>& d,
+                       std::vector<float>& spans) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::uniform_real_distribution<double> span(0.0, 150.0);
+  for (int j = 0; j < n; ++j) {
+    const double s = span(rng);
+    std::bernoulli_distribution wide(1.0 - (1.0 - constant) * std::exp(-rate * s));
+    const double x = (wide(rng) ? 5.0 : 1.0) * unit(rng);
+    d.push_back(static_cast<float>((-0.5 * x * x / 25.0 - std::log(5.0)) - (-0.5 * x * x)));
+    spans.push_back(static_cast<float>(s));
+  }
+}
+
+TEST(SpanMixtureWeight, EqualSpansGiveMixtureWeightsEstimate) {
+  // With one span only π(s̄) is determined, and it maximises mixture_weight's ℓ: the same π̂.
+  std::vector<float> d, spans;
+  draw_span_samples(0.3, 0.0, 5000, d, spans);
+  const std::vector<float> equal(d.size(), 60.0f);
+  for (double prior : {0.2, 0.6}) {
+    const SpanMixtureWeight w = span_mixture_weight(d, equal, prior, 10.0);
+    EXPECT_NEAR(w.mean_span, 60.0, 1e-9);
+    EXPECT_NEAR(w.at(60.0), mixture_weight(d, prior, 10.0), 1e-6);
+  }
+  // The hand case of mixture_weight: 5 samples that the second component surely explains and a
+  // prior of 10 at 0.2, π̂ = 7/15, whatever the (equal) span.
+  const std::vector<float> second(5, 100.0f), spans5(5, 30.0f);
+  const SpanMixtureWeight w = span_mixture_weight(second, spans5, 0.2, 10.0);
+  EXPECT_NEAR(w.at(30.0), 7.0 / 15.0, 1e-6);
+}
+
+TEST(SpanMixtureWeight, AnInjectedConstantAndOnsetRateAreRecovered) {
+  // π_c = 0.05 and λ = 1/50 s: π(0) = 0.05, π(150 s) = 0.953. 20 000 samples pin both.
+  std::vector<float> d, spans;
+  draw_span_samples(0.05, 1.0 / 50.0, 20000, d, spans);
+  const SpanMixtureWeight w = span_mixture_weight(d, spans, 0.2, 10.0);
+  EXPECT_NEAR(w.constant, 0.05, 0.02);
+  EXPECT_NEAR(1.0 / w.rate, 50.0, 7.5);
+  // A weight that does not grow with the span (λ = 0, π = 0.1): the fitted π(s) stays flat.
+  std::vector<float> d0, spans0;
+  draw_span_samples(0.1, 0.0, 20000, d0, spans0);
+  const SpanMixtureWeight flat = span_mixture_weight(d0, spans0, 0.2, 10.0);
+  EXPECT_NEAR(flat.constant, 0.1, 0.015);
+  EXPECT_LT(flat.at(150.0) - flat.at(0.0), 0.02);
+}
+
+TEST(SpanMixtureWeight, ManySamplesAreThinnedAndStillRecoverTheInjectedModel) {
+  // 100 000 samples (10 times kMaxSamples): every 10th is used, weighing 10.
+  std::vector<float> d, spans;
+  draw_span_samples(0.05, 1.0 / 50.0, 100000, d, spans);
+  ASSERT_GT(d.size(), 4 * kMaxSamples);
+  const SpanMixtureWeight w = span_mixture_weight(d, spans, 0.2, 10.0);
+  EXPECT_NEAR(w.constant, 0.05, 0.02);
+  EXPECT_NEAR(1.0 / w.rate, 50.0, 7.5);
+}
+
+TEST(SpanMixtureWeight, NoSamplesOrADegeneratePriorOrBadSpans) {
+  EXPECT_EQ(span_mixture_weight({}, {}, 0.2, 10.0).constant, 0.2);
+  EXPECT_EQ(span_mixture_weight({}, {}, 0.2, 10.0).rate, 0.0);
+  const std::vector<float> d{1.0f, -1.0f}, spans{10.0f, 20.0f}, one{10.0f}, negative{10.0f, -1.0f};
+  EXPECT_EQ(span_mixture_weight(d, spans, 0.0, 10.0).constant, 0.0);
+  EXPECT_THROW(span_mixture_weight(d, one, 0.2, 10.0), std::invalid_argument);
+  EXPECT_THROW(span_mixture_weight(d, negative, 0.2, 10.0), std::invalid_argument);
 }
 
 }  // namespace
