@@ -58,8 +58,8 @@
 // joins' mean span (kernels/statistics/mixture_weight.hpp, span_mixture_weight), and the costs are
 // re-weighed with π̂(s) before the final assignment (with the gap prior below). A small file keeps
 // about the prior (recorded_recycled: 1-8 joins, π̂(s̄) 0.16-0.34), a large one speaks for itself
-// (widearea: 122 000 joins, π̂_c ≈ 0.018 and λ̂ = 0; widearea_small: π̂(s̄) 0.056, a manoeuvre every
-// 1 800 s). This replaced a rule that made a join outside the quiet gate only when neither side had
+// (widearea: 122 000 joins, π̂_c ≈ 0.019 and λ̂ = 0; widearea_small: π̂(s̄) 0.059, a manoeuvre every
+// 1 400 s). This replaced a rule that made a join outside the quiet gate only when neither side had
 // another gated candidate and its evidence was ≥ 3 nats: that rule refused most turns where targets
 // manoeuvre and cost precision where they do not (docs/design.md §4.10 has the measurements), and a
 // weight that was the same at every gap (until session 28). Ambiguity is the swap
