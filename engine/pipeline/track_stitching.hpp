@@ -54,8 +54,8 @@
 // the manoeuvring model being needed either whatever the gap (π_c: a new track's first velocities,
 // a lagging end) or because a manoeuvre began during it (a Poisson onset of rate λ, as an IMM's
 // switching probability over an interval follows from its mode's sojourn time). (π̂_c, λ̂) is the
-// posterior mode under a prior of turn_prior_joins = 10 pseudo-joins at turn_probability over the
-// joins' mean span (kernels/statistics/mixture_weight.hpp, span_mixture_weight), and the costs are
+// posterior mode under a prior of turn_prior_joins = 10 pseudo-joins at turn_probability spread over
+// the joins' spans (kernels/statistics/mixture_weight.hpp, span_mixture_weight), and the costs are
 // re-weighed with π̂(s) before the final assignment (with the gap prior below). A small file keeps
 // about the prior (recorded_recycled: 1-8 joins, π̂(s̄) 0.16-0.34), a large one speaks for itself
 // (widearea: 122 000 joins, π̂_c ≈ 0.019 and λ̂ = 0; widearea_small: π̂(s̄) 0.059, a manoeuvre every

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <vector>
 
@@ -59,6 +60,14 @@ SpanMixtureWeight span_mixture_weight(std::span<const float> log_ratios, std::sp
   best.constant = prior;
   const std::size_t J = log_ratios.size();
   if (J == 0 || !(prior > 0.0 && prior < 1.0)) return best;
+  // One span only: the samples say nothing of how π changes with it, and only π(s) is determined;
+  // the constant that explains them is mixture_weight's.
+  const auto [shortest, longest] = std::minmax_element(spans.begin(), spans.end());
+  if (*longest == *shortest) {
+    best.constant = mixture_weight(log_ratios, prior, prior_weight);
+    best.mean_span = *shortest;
+    return best;
+  }
   const std::size_t stride = (J + kMaxSamples - 1) / kMaxSamples;
   std::vector<double> d, s, e;  // e: e^d for d ≤ 0, e^−d for d > 0 (log_mixture's, computed once)
   for (std::size_t j = 0; j < J; j += stride) {
@@ -71,16 +80,23 @@ SpanMixtureWeight span_mixture_weight(std::span<const float> log_ratios, std::sp
   mean /= static_cast<double>(s.size());
   best.mean_span = mean;
   const double scale = mean > 0.0 ? mean : 1.0;  // λ is searched as λ s̄
-  // ℓ at π_c = logistic(u) given each sample's e^{−λ s_j} (decay).
+  // ℓ at π_c = logistic(u) given each sample's e^{−λ s_j} (decay): the samples' terms and the
+  // prior's, w/J pseudo-samples at π₀ at each sample's span. With q = 1 − π(s) = (1 − π_c) e^{−λ s},
+  // ln(1 − π + π e^d) = ln(q + (1 − q) e^d) (for d > 0: d + ln(q e^−d + 1 − q)).
+  double span_sum = 0.0;
+  for (double x : s) span_sum += x;
   auto at_decay = [&](double u, double rate, const std::vector<double>& decay) {
-    const double pc = logistic(u), at_mean = 1.0 - (1.0 - pc) * std::exp(-rate * mean);
-    if (!(at_mean < 1.0)) return -std::numeric_limits<double>::infinity();
-    double l = 0.0;
+    const double log_quiet = -std::log1p(std::exp(u)), quiet = std::exp(log_quiet);  // 1 − π_c
+    double l = 0.0, log_pi = 0.0;
     for (std::size_t j = 0; j < d.size(); ++j) {
-      const double pi = 1.0 - (1.0 - pc) * decay[j];
-      l += d[j] > 0.0 ? d[j] + std::log((1.0 - pi) * e[j] + pi) : std::log(1.0 - pi + pi * e[j]);
+      const double q = quiet * decay[j], pi = 1.0 - q;
+      l += d[j] > 0.0 ? d[j] + std::log(q * e[j] + pi) : std::log(q + pi * e[j]);
+      log_pi += std::log(pi);
     }
-    return weight * l + prior_weight * (prior * std::log(at_mean) + (1.0 - prior) * std::log1p(-at_mean));
+    // Σ_j ln(1 − π(s_j)) = J ln(1 − π_c) − λ Σ_j s_j.
+    const double log_q = static_cast<double>(d.size()) * log_quiet - rate * span_sum;
+    return weight * l +
+           prior_weight * (prior * log_pi + (1.0 - prior) * log_q) / static_cast<double>(d.size());
   };
   auto set_rate = [&](double v, std::vector<double>& decay) {  // ln(λ s̄) = v (−inf: λ = 0); returns λ
     const double rate = std::isinf(v) ? 0.0 : std::exp(v) / scale;
@@ -88,41 +104,17 @@ SpanMixtureWeight span_mixture_weight(std::span<const float> log_ratios, std::sp
     for (std::size_t j = 0; j < s.size(); ++j) decay[j] = std::exp(-rate * s[j]);
     return rate;
   };
-  std::vector<double> decay;
-  auto objective = [&](double u, double v) {
-    const double rate = set_rate(v, decay);
-    return at_decay(u, rate, decay);
-  };
   const double u_lo = std::log(1e-6 / (1.0 - 1e-6)), u_hi = -u_lo, v_lo = std::log(1e-3),
                v_hi = std::log(1e2);
-  constexpr int kU = 40, kV = 40;
+  constexpr int kU = 20, kV = 20;
+  const double du = (u_hi - u_lo) / (kU - 1), dv = (v_hi - v_lo) / (kV - 1);
   auto v_at = [&](int b) {  // column b of the grid: λ = 0, then kV rates
     return b == 0 ? -std::numeric_limits<double>::infinity() : v_lo + (v_hi - v_lo) * (b - 1) / (kV - 1);
   };
-  // The grid's columns in parallel (oneTBB, kernels/core/parallel.hpp), each its best row; the
-  // columns' bests are then compared in order, so the answer does not depend on the threads.
-  std::vector<double> column_best(kV + 1, -std::numeric_limits<double>::infinity()), column_u(kV + 1, u_lo);
-  parallel_for_range(kV + 1, 1, [&](std::size_t first, std::size_t last) {
-    std::vector<double> own;
-    for (std::size_t b = first; b < last; ++b) {
-      const double rate = set_rate(v_at(static_cast<int>(b)), own);
-      for (int a = 0; a < kU; ++a) {
-        const double u = u_lo + (u_hi - u_lo) * a / (kU - 1);
-        if (const double l = at_decay(u, rate, own); l > column_best[b]) column_best[b] = l, column_u[b] = u;
-      }
-    }
-  });
-  double bu = u_lo, bv = -std::numeric_limits<double>::infinity(),
-         bl = -std::numeric_limits<double>::infinity();
-  for (int b = 0; b <= kV; ++b)
-    if (column_best[b] > bl) bl = column_best[b], bu = column_u[b], bv = v_at(b);
-  // Coordinate golden sections, each over one grid step either side of the current point (λ = 0
-  // stays 0 unless the grid's smallest rate does better).
-  const double du = (u_hi - u_lo) / (kU - 1), dv = (v_hi - v_lo) / (kV - 1);
-  auto golden = [&](double lo, double hi, auto&& f) {
+  auto golden = [](double lo, double hi, int steps, auto&& f) {  // the maximum of f on [lo, hi]
     const double g = 0.5 * (std::sqrt(5.0) - 1.0);
     double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = f(x1), f2 = f(x2);
-    for (int step = 0; step < 40; ++step) {
+    for (int step = 0; step < steps; ++step) {
       if (f1 >= f2) {
         hi = x2, x2 = x1, f2 = f1;
         x1 = hi - g * (hi - lo), f1 = f(x1);
@@ -133,16 +125,51 @@ SpanMixtureWeight span_mixture_weight(std::span<const float> log_ratios, std::sp
     }
     return 0.5 * (lo + hi);
   };
-  for (int round = 0; round < 8; ++round) {
-    const double rate = set_rate(bv, decay);
-    const double u = golden(std::max(u_lo, bu - du), std::min(u_hi, bu + du),
-                            [&](double x) { return at_decay(x, rate, decay); });
-    if (const double l = at_decay(u, rate, decay); l >= bl) bl = l, bu = u;
-    if (!std::isinf(bv)) {
-      const double v = golden(std::max(v_lo, bv - dv), std::min(v_hi, bv + dv),
-                              [&](double y) { return objective(bu, y); });
-      if (const double l = objective(bu, v); l >= bl) bl = l, bv = v;
+  // π_c's best at a given rate near u: a golden section over a grid step either side.
+  auto refine_u = [&](double rate, const std::vector<double>& decay, double& u, int steps) {
+    const double x = golden(std::max(u_lo, u - du), std::min(u_hi, u + du), steps,
+                            [&](double y) { return at_decay(y, rate, decay); });
+    const double l = at_decay(x, rate, decay), l0 = at_decay(u, rate, decay);
+    if (l > l0) u = x;
+    return std::max(l, l0);
+  };
+  // The grid, a column (a rate) per task (oneTBB, kernels/core/parallel.hpp): each column's best row.
+  std::vector<double> column_best(kV + 1), column_u(kV + 1, u_lo);
+  parallel_for_range(kV + 1, 1, [&](std::size_t first, std::size_t last) {
+    std::vector<double> own;
+    for (std::size_t b = first; b < last; ++b) {
+      const double rate = set_rate(v_at(static_cast<int>(b)), own);
+      column_best[b] = -std::numeric_limits<double>::infinity();
+      for (int a = 0; a < kU; ++a)
+        if (const double u = u_lo + du * a, l = at_decay(u, rate, own); l > column_best[b])
+          column_best[b] = l, column_u[b] = u;
     }
+  });
+  // The three best columns (in column order on ties, so the answer does not depend on the threads)
+  // with π_c refined; then the best one's rate between its neighbours, π_c re-fitted at each.
+  std::vector<int> order(kV + 1);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return column_best[a] > column_best[b]; });
+  std::vector<double> decay;
+  int column = order[0];
+  for (int k = 0; k < 3; ++k) {
+    const int b = order[static_cast<std::size_t>(k)];
+    const double rate = set_rate(v_at(b), decay);
+    column_best[b] = refine_u(rate, decay, column_u[b], 30);
+    if (column_best[b] > column_best[column] || (column_best[b] == column_best[column] && b < column))
+      column = b;
+  }
+  double bu = column_u[column], bv = v_at(column);
+  if (column > 0) {
+    auto at_rate = [&](double v) {
+      const double rate = set_rate(v, decay);
+      double u = bu;
+      return refine_u(rate, decay, u, 20);
+    };
+    const double v = golden(std::max(v_lo, bv - dv), std::min(v_hi, bv + dv), 12, at_rate);
+    const double rate = set_rate(v, decay);
+    double u = bu;
+    if (refine_u(rate, decay, u, 30) > column_best[column]) bu = u, bv = v;
   }
   best.constant = logistic(bu);
   best.rate = std::isinf(bv) ? 0.0 : std::exp(bv) / scale;

@@ -33,15 +33,18 @@ double mixture_weight(std::span<const float> log_ratios, double prior, double pr
 // whatever the gap) or begun during the span by a Poisson process of rate λ (a manoeuvre; an IMM's
 // switching probability over an interval T follows from its mode's mean sojourn time 1/λ in the same
 // way, Bar-Shalom, Li, Kirubarajan 2001 §11.6.7). (π_c, λ) maximise
-//     ℓ = Σ_j ln(1 − π_j + π_j e^{d_j}) + w π₀ ln π(s̄) + w (1 − π₀) ln(1 − π(s̄)),
-// the prior being w pseudo-samples at π₀ over the samples' mean span s̄, as mixture_weight's (with
-// equal spans only π(s̄) is determined, and it is mixture_weight's π̂). ℓ need not be concave, so it
-// is searched on a grid (π_c: 40 values uniform in logit over [1e-6, 1 − 1e-6]; λ s̄: 0 and 40 values
-// log-uniform over [1e-3, 1e2]; its 41 columns in parallel, the answer the same for any number of
-// threads), then refined by coordinate golden sections (8 rounds of 40 steps). More than kMaxSamples
-// samples are thinned evenly to that many, each then weighing J / kept (widearea: 122 000 joins, every
-// 25th). Complexity: O(2 300 min(J, kMaxSamples)), one logarithm each (an exponential per sample and
-// rate): about 0.1 s for 5 000 samples (test_mixture_weight).
+//     ℓ = Σ_j ln(1 − π_j + π_j e^{d_j}) + (w/J) Σ_j [π₀ ln π_j + (1 − π₀) ln(1 − π_j)],
+// the prior being w pseudo-samples at π₀ spread over the samples' spans: it alone is maximised by
+// the constant π₀ (λ = 0), so a dependence on the span must come from the samples. When every span
+// is the same the samples cannot tell π_c from λ: λ = 0 and π_c is mixture_weight's π̂. ℓ need not
+// be concave, so it is searched on a grid (π_c: 20 values uniform in logit over [1e-6, 1 − 1e-6];
+// λ s̄: 0 and 20 values log-uniform over [1e-3, 1e2], s̄ the mean span; the columns in parallel),
+// π_c refined by golden section in the three best columns (ties to the lower rate, the answer the
+// same for any number of threads), then λ by golden section between the best column's neighbours
+// with π_c re-fitted at each. More than kMaxSamples samples are thinned by a stride ⌈J/kMaxSamples⌉,
+// each kept one then weighing J / kept (widearea: 122 000 joins, every 25th). Complexity: O(1 000
+// min(J, kMaxSamples)) evaluations of two logarithms: about 30-50 ms for 5 000 samples
+// (test_mixture_weight).
 struct SpanMixtureWeight {
   double constant = 0.0;  // π_c
   double rate = 0.0;      // λ [1 / unit of span]

@@ -80,7 +80,9 @@ TEST(SpanMixtureWeight, EqualSpansGiveMixtureWeightsEstimate) {
   for (double prior : {0.2, 0.6}) {
     const SpanMixtureWeight w = span_mixture_weight(d, equal, prior, 10.0);
     EXPECT_NEAR(w.mean_span, 60.0, 1e-9);
-    EXPECT_NEAR(w.at(60.0), mixture_weight(d, prior, 10.0), 1e-6);
+    EXPECT_EQ(w.rate, 0.0);  // nothing to tell π_c from λ: the constant
+    EXPECT_NEAR(w.at(60.0), mixture_weight(d, prior, 10.0), 1e-12);
+    EXPECT_NEAR(w.at(0.0), w.at(150.0), 1e-12);
   }
   // The hand case of mixture_weight: 5 samples that the second component surely explains and a
   // prior of 10 at 0.2, π̂ = 7/15, whatever the (equal) span.
@@ -90,7 +92,8 @@ TEST(SpanMixtureWeight, EqualSpansGiveMixtureWeightsEstimate) {
 }
 
 TEST(SpanMixtureWeight, AnInjectedConstantAndOnsetRateAreRecovered) {
-  // π_c = 0.05 and λ = 1/50 s: π(0) = 0.05, π(150 s) = 0.953. 20 000 samples pin both.
+  // π_c = 0.05 and λ = 1/50 s: π(0) = 0.05, π(150 s) = 0.953. 20 000 samples (thinned to 5 000,
+  // each weighing 4) pin both.
   std::vector<float> d, spans;
   draw_span_samples(0.05, 1.0 / 50.0, 20000, d, spans);
   const SpanMixtureWeight w = span_mixture_weight(d, spans, 0.2, 10.0);
@@ -105,13 +108,29 @@ TEST(SpanMixtureWeight, AnInjectedConstantAndOnsetRateAreRecovered) {
 }
 
 TEST(SpanMixtureWeight, ManySamplesAreThinnedAndStillRecoverTheInjectedModel) {
-  // 100 000 samples (10 times kMaxSamples): every 10th is used, weighing 10.
+  // 100 000 samples (20 times kMaxSamples): every 20th is used, weighing 20.
   std::vector<float> d, spans;
   draw_span_samples(0.05, 1.0 / 50.0, 100000, d, spans);
   ASSERT_GT(d.size(), 4 * kMaxSamples);
   const SpanMixtureWeight w = span_mixture_weight(d, spans, 0.2, 10.0);
   EXPECT_NEAR(w.constant, 0.05, 0.02);
   EXPECT_NEAR(1.0 / w.rate, 50.0, 7.5);
+}
+
+TEST(SpanMixtureWeight, OneJoinSaysNothingOfTheSpan) {
+  // One quiet sample (d = −3 at 30 s): π(s) is determined at 30 s only, so the answer is the
+  // constant of mixture_weight (the root of its score, between the prior 0.2 and 0), not a rate
+  // that the search happened to pick on the ridge of equal ℓ.
+  const std::vector<float> d{-3.0f}, spans{30.0f};
+  const SpanMixtureWeight w = span_mixture_weight(d, spans, 0.2, 10.0);
+  EXPECT_EQ(w.rate, 0.0);
+  EXPECT_NEAR(w.constant, mixture_weight(d, 0.2, 10.0), 1e-12);
+  EXPECT_LT(w.constant, 0.2);
+  // Two quiet samples at different spans: the prior, spread over both spans, favours the constant
+  // π₀, and the samples pull both points down alike: π(100 s) stays within 0.05 of π(10 s).
+  const std::vector<float> d2{-3.0f, -3.0f}, spans2{10.0f, 100.0f};
+  const SpanMixtureWeight w2 = span_mixture_weight(d2, spans2, 0.2, 10.0);
+  EXPECT_LT(w2.at(100.0) - w2.at(10.0), 0.05);
 }
 
 TEST(SpanMixtureWeight, NoSamplesOrADegeneratePriorOrBadSpans) {
