@@ -1,16 +1,15 @@
 // Fragment stitching by track segment association; see engine/pipeline/track_stitching.hpp.
 #include "engine/pipeline/track_stitching.hpp"
 
-#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <numeric>
 #include <string>
 
 #include "engine/pipeline/stitch_index.hpp"
+#include "engine/pipeline/stitch_join_cost.hpp"
 #include "engine/pipeline/stitch_swap_margin.hpp"
 #include "io/memory_budget.hpp"
 #include "kernels/assignment/lap_sparse.hpp"
@@ -45,36 +44,6 @@ void TrackStitchOptions::validate() const {
 
 namespace {
 
-// Fixed capacity (D ≤ 6): no heap allocation per candidate.
-using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-
-// Row r's state and covariance predicted by dt (either sign) with CV and Q(|dt|) of q = σ_a²;
-// Q's cross term follows F's direction (Bar-Shalom, Li, Kirubarajan 2001 §6.2.2).
-void predict(const TrackTable& t, std::size_t r, double dt, double q, Vector& x, Matrix& P) {
-  const int D = t.dim(), d = D / 2;
-  const double a = std::fabs(dt), sgn = dt < 0 ? -1.0 : 1.0;
-  Matrix F = Matrix::Identity(D, D), Q = Matrix::Zero(D, D), P0(D, D);
-  for (int i = 0; i < d; ++i) {
-    F(i, d + i) = dt;
-    Q(i, i) = q * a * a * a / 3.0;
-    Q(i, d + i) = Q(d + i, i) = sgn * q * a * a / 2.0;
-    Q(d + i, d + i) = q * a;
-  }
-  Vector x0(D);
-  for (int i = 0; i < D; ++i) x0[i] = t.state[i][r];
-  for (int i = 0, k = 0; i < D; ++i)
-    for (int j = i; j < D; ++j, ++k) P0(i, j) = P0(j, i) = t.cov[k][r];
-  x = F * x0;
-  P = F * P0 * F.transpose() + Q;
-}
-
-// ln(e^a + e^b) without overflow.
-double log_sum_exp(double a, double b) {
-  const double m = std::max(a, b);
-  return m == -std::numeric_limits<double>::infinity() ? m : m + std::log(std::exp(a - m) + std::exp(b - m));
-}
-
 struct Group {
   int32_t target = 0;
   std::size_t first = 0, last = 0;          // rows of the earliest and the latest report
@@ -95,67 +64,6 @@ struct Groups {
 
 // The rows of a start track among which its representative is chosen: its earliest ones.
 constexpr std::size_t kStartRows = 16;
-
-}  // namespace
-
-GapStatistic gap_statistic(const TrackTable& t, std::size_t end, std::size_t start, double q) {
-  const int D = t.dim();
-  const double tm = 0.5 * (t.t[end] + t.t[start]);
-  Vector x1, x2;
-  Matrix P1, P2;
-  predict(t, end, tm - t.t[end], q, x1, P1);
-  predict(t, start, tm - t.t[start], q, x2, P2);
-  const Vector e = x1 - x2;
-  const Eigen::LDLT<Matrix> S(P1 + P2);
-  GapStatistic g;
-  g.m2 = e.dot(S.solve(e));
-  g.log_det = D * std::log(2.0 * std::numbers::pi);
-  for (int i = 0; i < D; ++i) g.log_det += std::log(S.vectorD()[i]);
-  return g;
-}
-
-// A conservative pre-gate without a factorisation: the position part's m² is at most the full
-// m² (a marginal's Mahalanobis form never exceeds the joint one) and at least |e_p|²/trace(S_pp),
-// so |e_p|² > gate·trace(S_pp) means m² > gate. Far pairs (most of them in a wide scene) are
-// refused from the diagonal alone; the joins are exactly those without it.
-bool gap_surely_outside(const TrackTable& t, std::size_t end, std::size_t start, double q, double gate) {
-  const int D = t.dim(), d = D / 2;
-  auto packed = [D](int r, int c) { return r * D - r * (r - 1) / 2 + (c - r); };  // r ≤ c
-  const double tm = 0.5 * (t.t[end] + t.t[start]);
-  double e2 = 0.0, trace = 0.0;
-  for (int i = 0; i < d; ++i) {
-    double e = 0.0;
-    for (const auto& [r, sign] : {std::pair{end, 1.0}, std::pair{start, -1.0}}) {
-      const double dt = tm - t.t[r], a = std::fabs(dt);
-      e += sign * (t.state[i][r] + dt * t.state[d + i][r]);
-      trace += t.cov[packed(i, i)][r] + 2.0 * dt * t.cov[packed(i, d + i)][r] +
-               dt * dt * t.cov[packed(d + i, d + i)][r] + q * a * a * a / 3.0;
-    }
-    e2 += e * e;
-  }
-  return e2 > gate * trace;
-}
-
-double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const TrackStitchOptions& o,
-                 double gate, double* turn_log_ratio) {
-  if (gap_surely_outside(t, end, start, o.turn_sigma * o.turn_sigma, gate))
-    return std::numeric_limits<double>::infinity();
-  const GapStatistic turn = gap_statistic(t, end, start, o.turn_sigma * o.turn_sigma);
-  if (!(turn.m2 <= gate)) return std::numeric_limits<double>::infinity();
-  const GapStatistic quiet = gap_statistic(t, end, start, o.manoeuvre_sigma * o.manoeuvre_sigma);
-  if (turn_log_ratio)  // kept finite (±1e4 nats: responsibilities of 0 or 1 all the same)
-    *turn_log_ratio =
-        std::clamp(0.5 * (quiet.m2 + quiet.log_det) - 0.5 * (turn.m2 + turn.log_det), -1e4, 1e4);
-  const double minus_inf = -std::numeric_limits<double>::infinity();
-  const double l_quiet = o.turn_probability < 1.0
-                             ? std::log1p(-o.turn_probability) - 0.5 * (quiet.m2 + quiet.log_det)
-                             : minus_inf;
-  const double l_turn =
-      o.turn_probability > 0.0 ? std::log(o.turn_probability) - 0.5 * (turn.m2 + turn.log_det) : minus_inf;
-  return -log_sum_exp(l_quiet, l_turn);
-}
-
-namespace {
 
 // The groups of the rule, in increasing target number: each target number of `target` that has
 // reports, with the rows of its earliest and latest report.
@@ -271,16 +179,13 @@ Groups groups_of(const TrackFile& file, const AssociationRecord& rec, const std:
     n_early[g] = static_cast<uint8_t>(n);
   });
   parallel_for_range(all.size(), 1024, [&](std::size_t lo, std::size_t hi) {
-    Vector x;
-    Matrix P;
     for (std::size_t g = lo; g < hi; ++g) {
       if (!seen[g]) continue;
       double best = std::numeric_limits<double>::infinity();
       all[g].start = all[g].first;
       for (std::size_t i = 0; i < std::min<std::size_t>(n_early[g], start_reports); ++i) {
         const std::size_t r = early[g][i];
-        predict(t, r, t.t[all[g].first] - t.t[r], q, x, P);
-        const double log_det = Eigen::LDLT<Matrix>(P).vectorD().array().log().sum();
+        const double log_det = predicted_log_det(t, r, t.t[all[g].first] - t.t[r], q);
         // Ties (equal information, as with a constant P and q = 0) keep the earlier report.
         if (log_det < best - 1e-9) best = log_det, all[g].start = r;
       }

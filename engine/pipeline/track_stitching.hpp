@@ -159,24 +159,7 @@ struct TrackStitchSummary {
   double turn_probability = 0.0, manoeuvre_interval_s = 0.0;
 };
 
-// The gap statistic of the rule above for one model: G₁'s end (row `end`) predicted forward and G₂'s
-// start (row `start`) backward to their midpoint with q = σ_a², m² and ln det(2π S).
-struct GapStatistic {
-  double m2 = 0.0, log_det = 0.0;
-};
-GapStatistic gap_statistic(const TrackTable& tracks, std::size_t end, std::size_t start, double q);
-
-// The pre-gate of join_cost: true only when m² under q = σ_a² is surely above `gate`, from the
-// diagonal alone (|e_p|² > gate·tr(S_pp) of the position part e_p, S_pp); the index of
-// engine/pipeline/stitch_index.hpp bounds the pairs it keeps.
-bool gap_surely_outside(const TrackTable& tracks, std::size_t end, std::size_t start, double q, double gate);
-
-// The join's cost c₁₂ + ln V of the rule above (the mixture's −ln p(e | same target)), or +inf when
-// the manoeuvring model's m² is outside the gate `gate` (χ²_D of gate_probability).
-// `turn_log_ratio`, when given, receives ln N(e; 0, S_turn) − ln N(e; 0, S_quiet).
-double join_cost(const TrackTable& tracks, std::size_t end, std::size_t start,
-                 const TrackStitchOptions& options, double gate, double* turn_log_ratio = nullptr);
-
+// The join's cost (the gap statistic and the mixture above) is engine/pipeline/stitch_join_cost.hpp's.
 // Joins the groups of `record` (its tuple columns are file.sensors, in order) as above; `file`
 // gives the reports (the registered reports where registration applies).
 TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& record,

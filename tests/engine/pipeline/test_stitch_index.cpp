@@ -13,6 +13,7 @@
 #include <random>
 
 #include "engine/pipeline/stitch_index.hpp"
+#include "engine/pipeline/stitch_join_cost.hpp"
 #include "engine/pipeline/track_stitching.hpp"
 #include "kernels/statistics/chi_square.hpp"
 
