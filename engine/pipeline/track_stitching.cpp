@@ -423,7 +423,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     summary.manoeuvre_interval_s = learnt.rate > 0.0 ? 1.0 / learnt.rate : 0.0;
     const double quiet_was = std::log1p(-pi), turn_was = std::log(pi);
     for (Candidate& k : candidates) {
-      const double now = std::clamp(learnt.at(span_of(k)), 1e-300, 1.0 - 1e-16);
+      const double now = std::min(learnt.at(span_of(k)), 1.0 - 1e-16);  // π_c > 0: π > 0
       k.cost += log_sum_exp(quiet_was, turn_was + k.turn_log_ratio) -
                 log_sum_exp(std::log1p(-now), std::log(now) + k.turn_log_ratio);
     }

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "kernels/core/error.hpp"
+#include "kernels/core/golden_section.hpp"
 
 namespace trackassoc {
 namespace {
@@ -62,25 +63,7 @@ double criterion_of(const MatrixXd& M, CiCriterion c) {
 // Minimiser of a convex f on [0, 1] by golden-section search to an interval of `tol`.
 template <class F>
 double golden_section(F&& f, double tol) {
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double a = 0.0, b = 1.0;
-  double c = b - g * (b - a), d = a + g * (b - a);
-  double fc = f(c), fd = f(d);
-  while (b - a > tol) {
-    if (fc <= fd) {
-      b = d;
-      d = c;
-      fd = fc;
-      c = b - g * (b - a);
-      fc = f(c);
-    } else {
-      a = c;
-      c = d;
-      fc = fd;
-      d = a + g * (b - a);
-      fd = f(d);
-    }
-  }
+  const auto [a, b] = golden_section_bracket(f, 0.0, 1.0, tol, std::numeric_limits<int>::max());
   // The ends are candidates too: a convex f may be minimal at ω = 0 or 1.
   double best = 0.5 * (a + b), fbest = f(best);
   for (double e : {0.0, 1.0}) {

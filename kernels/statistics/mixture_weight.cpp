@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "kernels/core/golden_section.hpp"
 #include "kernels/core/parallel.hpp"
 
 namespace trackassoc {
@@ -69,22 +70,20 @@ SpanMixtureWeight span_mixture_weight(std::span<const float> log_ratios, std::sp
     return best;
   }
   const std::size_t stride = (J + kMaxSamples - 1) / kMaxSamples;
-  std::vector<double> d, s, e;  // e: e^d for d ≤ 0, e^−d for d > 0 (log_mixture's, computed once)
+  std::vector<double> d, s, e;  // e: e^d for d ≤ 0, e^−d for d > 0 (computed once)
   for (std::size_t j = 0; j < J; j += stride) {
     d.push_back(log_ratios[j]), s.push_back(spans[j]);
     e.push_back(std::exp(-std::fabs(d.back())));
   }
   const double weight = static_cast<double>(J) / static_cast<double>(d.size());
-  double mean = 0.0;
-  for (double x : s) mean += x;
-  mean /= static_cast<double>(s.size());
+  double span_sum = 0.0;
+  for (double x : s) span_sum += x;
+  const double mean = span_sum / static_cast<double>(s.size());
   best.mean_span = mean;
   const double scale = mean > 0.0 ? mean : 1.0;  // λ is searched as λ s̄
   // ℓ at π_c = logistic(u) given each sample's e^{−λ s_j} (decay): the samples' terms and the
   // prior's, w/J pseudo-samples at π₀ at each sample's span. With q = 1 − π(s) = (1 − π_c) e^{−λ s},
   // ln(1 − π + π e^d) = ln(q + (1 − q) e^d) (for d > 0: d + ln(q e^−d + 1 − q)).
-  double span_sum = 0.0;
-  for (double x : s) span_sum += x;
   auto at_decay = [&](double u, double rate, const std::vector<double>& decay) {
     const double log_quiet = -std::log1p(std::exp(u)), quiet = std::exp(log_quiet);  // 1 − π_c
     double l = 0.0, log_pi = 0.0;
@@ -112,18 +111,8 @@ SpanMixtureWeight span_mixture_weight(std::span<const float> log_ratios, std::sp
     return b == 0 ? -std::numeric_limits<double>::infinity() : v_lo + (v_hi - v_lo) * (b - 1) / (kV - 1);
   };
   auto golden = [](double lo, double hi, int steps, auto&& f) {  // the maximum of f on [lo, hi]
-    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-    double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = f(x1), f2 = f(x2);
-    for (int step = 0; step < steps; ++step) {
-      if (f1 >= f2) {
-        hi = x2, x2 = x1, f2 = f1;
-        x1 = hi - g * (hi - lo), f1 = f(x1);
-      } else {
-        lo = x1, x1 = x2, f1 = f2;
-        x2 = lo + g * (hi - lo), f2 = f(x2);
-      }
-    }
-    return 0.5 * (lo + hi);
+    const auto [a, b] = golden_section_bracket([&](double x) { return -f(x); }, lo, hi, 0.0, steps);
+    return 0.5 * (a + b);
   };
   // π_c's best at a given rate near u: a golden section over a grid step either side.
   auto refine_u = [&](double rate, const std::vector<double>& decay, double& u, int steps) {
