@@ -88,11 +88,14 @@ std::string AssociationSummary::BriefReport() const {
 std::string AssociationSummary::FullReport() const {
   std::ostringstream os;
   os << BriefReport() << "\n";
-  if (path == AssociationPath::kSparseSD) {
+  os << "pipeline: " << plan_of(path).describe() << "\n";
+  if (!stages.empty()) {  // the tensor paths: the default, --sparse, and the dense --3d and --sd
     os << "stages:";
     for (const auto& st : stages) os << " " << st.name << " " << fmt(1e3 * st.seconds, "%.1f") << " ms;";
-    os << " candidate pairs " << candidate_pairs << ", gated " << gated_pairs << ", fallback components "
-       << fallback_components;
+    os << " candidate pairs " << candidate_pairs << ", gated " << gated_pairs;
+  }
+  if (path == AssociationPath::kSparseSD) {
+    os << ", fallback components " << fallback_components;
     if (listed_components > 0)
       os << ", components over listed tuples " << listed_components << " (largest " << largest_listed_tuples
          << " tuples)";
@@ -112,6 +115,8 @@ std::string AssociationSummary::FullReport() const {
                        " learnt"
                  : std::string())
          << ")";
+  }
+  if (!stages.empty()) {
     os << "\n";
     os << "peak memory (resident, at the end of each stage):";
     for (const auto& st : stages) os << " " << st.name << " " << fmt(st.peak_rss_mib, "%.0f") << " MiB;";

@@ -3,24 +3,25 @@
 // TrackFile and the pipeline and solver choice); the tuples with their costs, the summary and the
 // local tracks left unassociated out.
 //
-// Paths (one implementation each, engine/pipeline/associators.cpp, wrapping the existing pipelines):
-//   sparse S-D   engine/pipeline/sparse_sd_pipeline.hpp: the default, for its solvers
-//                (sparse_sd_solver_names: lr+ls, lr, exact) without --sd, --3d or --sparse, whatever
-//                the number of --sensors (they select sensors, never the path); every sensor (or
-//                those of --sensors), gated candidates, an S-D assignment with dummies per connected
-//                component
-//   dense S-D    engine/pipeline/pipeline_sd.hpp: --sd, or chnn-pseudo; also a solver of no other
-//                rule (a 3-D solver, siamese) with two or more than three --sensors, which this path
-//                then refuses as it is not an S-D solver (require_sd_solver)
-//   dense 3-D    engine/pipeline/pipeline.hpp: a 3-D solver (engine/solvers/solver_registry.hpp) on
-//                the n1·n2·n3 tensor (the file's three sensors or three --sensors; --3d for a
-//                default-path solver)
-//   sparse 3-D   engine/pipeline/sparse_pipeline.hpp: the same with --sparse, per connected component
+// choose_association_plan (engine/pipeline/association_plan.hpp) picks the stages of a request —
+// front end, pair source, partition, component solver — and the plan's path is the implementation
+// that runs them (engine/pipeline/associators.cpp, each a thin wrapper of its problem builder and
+// solve):
+//   sparse S-D   candidate index → components → S-D tensor (engine/pipeline/sparse_sd_pipeline.hpp):
+//                the default, for its solvers (sparse_sd_solver_names: lr+ls, lr, exact) without
+//                --sd, --3d or --sparse, whatever the number of --sensors
+//   dense S-D    all pairs → the whole problem → S-D tensor (pipeline_sd.hpp): --sd, or chnn-pseudo;
+//                also a solver of no other rule with two or more than three --sensors, which this
+//                path then refuses as it is not an S-D solver (require_sd_solver)
+//   dense 3-D    all pairs → the whole problem → 3-D tensor (pipeline.hpp): a 3-D solver
+//                (engine/solvers/solver_registry.hpp) on the file's three sensors or three
+//                --sensors; --3d for a default-path solver
+//   sparse 3-D   candidate index → components → 3-D tensor (sparse_pipeline.hpp): --sparse
 //   fusion       engine/pipeline/fuzzy_pipeline.hpp: seed 001's fusion centre (fuzzy, ftaa); side
 //                output: the system tracks (/system_tracks/<name>/)
 //   siamese      engine/pipeline/siamese_track_file.hpp: seed 003's Siamese BiLSTM on two sensors
-// make_associator holds the rules that pick the path (choose_association_path), so a new path is
-// one implementation plus one line there.
+// A new component solver of an existing kind is one file and one line of the solver registry; a
+// new combination of stages is one implementation plus its line in AssociationPlan::path.
 //
 // Unassociated tracks (Stone Soup #1170): every path puts each local track of the sensors it
 // associates in exactly one tuple, a track it linked to no other sensor's track being a tuple of
@@ -40,6 +41,7 @@
 #include <vector>
 
 #include "engine/distributed/communicator.hpp"
+#include "engine/pipeline/association_plan.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/registration_stage.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
@@ -49,8 +51,6 @@
 #include "io/track_file.hpp"
 
 namespace trackassoc {
-
-enum class AssociationPath { kSparseSD, kDenseSD, kDense3D, kSparse3D, kFusionCentre, kSiamese };
 
 // The request: solver, pipeline choice and options. Defaults are those of `associate`.
 struct AssociatorOptions {
@@ -120,12 +120,19 @@ struct AssociationSummary {
   int64_t tuples = 0;
   double objective = 0.0, lower_bound = 0.0, gap = 0.0;
   std::string termination;
-  double runtime_s = 0.0;  // the record's run time; the fusion centre's wall time for fuzzy/FTAA
-  // Sparse paths: alignment, candidates, statistics, components, solve; sparse S-D then segments,
-  // stitching and registration (the kept association's stages, and the stage's own time).
+  // The record's run time: every stage's (the solve alone when `run` shares one problem among
+  // solvers, make_three_sensor_associator); the fusion centre's wall time for fuzzy/FTAA.
+  double runtime_s = 0.0;
+  // The tensor paths' stages (engine/pipeline/stage_report.hpp). Sparse: alignment, candidates,
+  // statistics, components, solve; sparse S-D then segments, stitching and registration (the kept
+  // association's stages, and the stage's own time). Dense (--3d, --sd): alignment, statistics,
+  // tensor, solve.
   std::vector<StageReport> stages;
-  int32_t components = 0;  // sparse paths: connected components
-  int64_t candidate_pairs = 0, gated_pairs = 0, fallback_components = 0;  // sparse S-D
+  // The tensor paths: the partition's components (1: a dense path's whole problem), the pair
+  // source's candidate pairs (the index's, before the gate; a dense path's every pair) and those
+  // in the gate. Sparse S-D: the components solved by LAP merging.
+  int32_t components = 0;
+  int64_t candidate_pairs = 0, gated_pairs = 0, fallback_components = 0;
   // Sparse S-D: components solved over their listed tuples (engine/pipeline/sparse_sd_tuples.hpp),
   // the largest list, the largest per-component relative duality gap and the components above 1 %.
   int64_t listed_components = 0, largest_listed_tuples = 0, components_above_1pct_gap = 0;
@@ -167,8 +174,9 @@ class TrackAssociator {
   virtual AssociationOutcome associate(const TrackFile& file) const = 0;
 };
 
-// The path `associate` takes for `options` (the rules of engine/cli/cmd_associate.cpp, whose
-// messages these are). Validates the request and the solver name before any file is read.
+// choose_association_plan(options).path(): the implementation of the stages `associate` runs for
+// `options` (engine/pipeline/association_plan.hpp). Validates the request and the solver name
+// before any file is read.
 AssociationPath choose_association_path(const AssociatorOptions& options);
 
 // The associator of choose_association_path(options); parses the solver's options and, for

@@ -1,10 +1,12 @@
 // The implementations of TrackAssociator (engine/pipeline/associator.hpp), one per path, each a thin
 // wrapper of its pipeline's entry points, and the factory with the path-choosing rules.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <map>
 #include <set>
+#include <span>
 #include <unordered_set>
 #include <utility>
 
@@ -43,6 +45,28 @@ AssociationOutcome finish(const TrackFile& file, const AssociatorOptions& o, Ass
   s.termination = rec.termination;
   for (const UnassociatedTracks& u : out.unassociated) s.unassociated.push_back(std::ssize(u.tracks));
   return out;
+}
+
+double total_seconds(const std::vector<StageReport>& stages) {
+  double t = 0.0;
+  for (const StageReport& st : stages) t += st.seconds;
+  return t;
+}
+
+// A dense path's partition is the whole problem (engine/pipeline/partition.hpp): one component.
+// Its summary lists the problem's stages (alignment, statistics, tensor) and the solve, whose
+// time is the record's.
+// Its candidate pairs are every pair of tracks of two sensors.
+void whole_problem_stages(const std::vector<StageReport>& problem,
+                          std::span<const PairStatistic* const> pairs, const AssociationRecord& rec,
+                          AssociationSummary& s) {
+  s.stages = problem;
+  s.stages.push_back({"solve", rec.runtime_s, peak_rss_mib(), 0.0});
+  s.components = 1;
+  for (const PairStatistic* st : pairs) {
+    s.candidate_pairs += std::ssize(st->in_gate);
+    s.gated_pairs += std::count(st->in_gate.begin(), st->in_gate.end(), uint8_t{1});
+  }
 }
 
 template <class Range>
@@ -130,6 +154,12 @@ class DenseSDAssociator final : public TrackAssociator {
     AssociationOutcome out;
     out.record = solve_sd_association(problem, o_.solver, o_.solver_options, o_.seed, o_.pipeline);
     apply_name(o_, out.record);
+    std::vector<const PairStatistic*> pairs;
+    for (int32_t a = 0; a < problem.S(); ++a)
+      for (int32_t b = a + 1; b < problem.S(); ++b)
+        pairs.push_back(&problem.pairs[std::size_t(a) * problem.S() + b]);
+    whole_problem_stages(problem.stages, pairs, out.record, out.summary);
+    out.record.runtime_s += total_seconds(problem.stages);  // built here: the record's time is the path's
     out.summary.path = path();
     out.summary.sensor_ids = problem.sensor_ids;
     out.summary.track_counts = track_counts(problem.aligned);
@@ -168,9 +198,12 @@ class ThreeSensorAssociator final : public TrackAssociator {
       s.stages = p->stages;  // the problem's (built here or shared), then the solve
       out.record =
           solve_sparse_association(*p, o_.solver, o_.solver_options, o_.seed, sparse_options_, &s.stages);
+      if (!prepared_.sparse) out.record.runtime_s += total_seconds(p->stages);
       s.sensor_ids.assign(p->sensor_ids.begin(), p->sensor_ids.end());
       s.track_counts = track_counts(p->aligned);
       s.components = p->components.count;
+      for (int q = 0; q < 3; ++q) s.candidate_pairs += static_cast<int64_t>(p->candidate_pairs[q]);
+      s.gated_pairs = static_cast<int64_t>(p->s12.size() + p->s23.size() + p->s13.size());
     } else {
       std::shared_ptr<const AssociationProblem> p = prepared_.dense;
       if (!p) {
@@ -178,6 +211,9 @@ class ThreeSensorAssociator final : public TrackAssociator {
         p = std::make_shared<AssociationProblem>(build_association_problem(file, o_.pipeline));
       }
       out.record = solve_association(*p, o_.solver, o_.solver_options, o_.seed, o_.pipeline);
+      const std::array<const PairStatistic*, 3> pairs{&p->s12, &p->s23, &p->s13};
+      whole_problem_stages(p->stages, pairs, out.record, s);
+      if (!prepared_.dense) out.record.runtime_s += total_seconds(p->stages);
       s.sensor_ids.assign(p->sensor_ids.begin(), p->sensor_ids.end());
       s.track_counts = {p->tensor.n1, p->tensor.n2, p->tensor.n3};
     }
@@ -280,43 +316,8 @@ TrackSplitSummary split_recorded_keys(TrackFile& file, const AssociatorOptions& 
   return split_tracks(file, options.split);
 }
 
-namespace {
-
-AssociationPath path_of(const AssociatorOptions& o) {
-  const bool explicit_pipeline = o.sd || o.three_d || o.sparse;
-  const bool fusion = o.solver == "fuzzy" || o.solver == "ftaa";
-  const bool special = fusion || o.solver == "siamese";
-  const std::size_t n_sensors = o.pipeline.sensors.size();
-  const auto& sparse_sd = sparse_sd_solver_names();
-  // --sensors selects sensors, never the method: any number of them stays on the default path.
-  if (!explicit_pipeline && !special &&
-      std::find(sparse_sd.begin(), sparse_sd.end(), o.solver) != sparse_sd.end())
-    return AssociationPath::kSparseSD;
-  if (fusion) {  // not a 3-D tensor solver (seed 001)
-    if (o.sparse)
-      throw InputError("--sparse: applies to the 3-D assignment solvers, not to '" + o.solver + "'");
-    return AssociationPath::kFusionCentre;
-  }
-  // Seed 003's Siamese classifier takes two sensors' plot sequences, named by --sensors or not.
-  if (o.solver == "siamese" && !o.sd) return AssociationPath::kSiamese;
-  if (o.sd || o.solver == "chnn-pseudo" || n_sensors > 3 || n_sensors == 2) {
-    if (o.sparse)
-      throw InputError("--sparse: applies to the three-sensor pipeline, not to the S-D formulation (--sd)");
-    require_sd_solver(o.solver);  // fail on an unknown name before reading anything
-    return AssociationPath::kDenseSD;
-  }
-  find_solver(o.solver);  // fail on an unknown name before reading anything
-  return o.sparse ? AssociationPath::kSparse3D : AssociationPath::kDense3D;
-}
-
-}  // namespace
-
 AssociationPath choose_association_path(const AssociatorOptions& o) {
-  o.validate();
-  const AssociationPath path = path_of(o);
-  if (path != AssociationPath::kSparse3D && std::isfinite(o.miss_cost))
-    throw InputError("miss_cost: applies to the sparse three-sensor path (--sparse) only");
-  return path;
+  return choose_association_plan(o).path();
 }
 
 std::unique_ptr<TrackAssociator> make_associator(AssociationPath path, const AssociatorOptions& o) {

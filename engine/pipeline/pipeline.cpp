@@ -64,10 +64,12 @@ AssociationProblem build_association_problem(const TrackFile& file, const Pipeli
   AssociationProblem p;
   const auto t0 = std::chrono::steady_clock::now();
   static_cast<AlignedSensors&>(p) = align_sensors(file, options, SensorRule::kThree);
+  p.stages.push_back(stage_since("alignment", t0));
+  const auto t1 = std::chrono::steady_clock::now();
   p.s12 = all_pairs_statistic(p, 0, 1, options.statistic);  // the dense pair source (pair_source.hpp)
   p.s23 = all_pairs_statistic(p, 1, 2, options.statistic);
   p.s13 = all_pairs_statistic(p, 0, 2, options.statistic);
-  p.statistics_time_s = seconds_since(t0);
+  p.stages.push_back(stage_since("statistics", t1));
 
   set_cost_tensor(p, options.cost);
   return p;
@@ -76,7 +78,8 @@ AssociationProblem build_association_problem(const TrackFile& file, const Pipeli
 void set_cost_tensor(AssociationProblem& p, const CostTensorOptions& cost) {
   const auto t1 = std::chrono::steady_clock::now();
   p.tensor = build_cost_tensor(p.s12, p.s23, cost.form == CostForm::kAllPairs ? &p.s13 : nullptr, cost);
-  p.tensor_time_s = seconds_since(t1);
+  std::erase_if(p.stages, [](const StageReport& r) { return r.name == "tensor"; });  // rebuilt
+  p.stages.push_back(stage_since("tensor", t1, sizeof(float) * double(p.tensor.size()) / 1048576.0));
 }
 
 void append_output_row(const AlignedSensors& sensors, const Tuple3& t, double cost,

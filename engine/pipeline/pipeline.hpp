@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "engine/pipeline/front_end.hpp"
+#include "engine/pipeline/stage_report.hpp"
 #include "io/track_file.hpp"
 #include "kernels/statistics/association_statistic.hpp"
 #include "kernels/statistics/cost_tensor.hpp"
@@ -52,11 +53,12 @@ struct PipelineOptions {
 };
 
 // Everything the solver stage needs, kept so that several solvers can share one tensor: the front
-// end's three aligned sensors (engine/pipeline/front_end.hpp), their pair statistics and the tensor.
+// end's three aligned sensors (engine/pipeline/front_end.hpp), their pair statistics on every pair
+// (the dense pair source) and the tensor of the whole problem, its one component (partition.hpp).
 struct AssociationProblem : AlignedSensors {
   PairStatistic s12, s23, s13;
   CostTensor3 tensor;
-  double statistics_time_s = 0.0, tensor_time_s = 0.0;
+  std::vector<StageReport> stages;  // alignment, statistics, tensor
 };
 
 // Checks, before any statistic is computed, that the dense tensor fits

@@ -53,6 +53,8 @@ SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options
   SDProblem p;
   const auto t0 = std::chrono::steady_clock::now();
   static_cast<AlignedSensors&>(p) = align_sensors(file, options, SensorRule::kTwoOrMore);
+  p.stages.push_back(stage_since("alignment", t0));
+  const auto t_statistics = std::chrono::steady_clock::now();
   const int32_t S = p.S();
   p.pairs.resize(static_cast<std::size_t>(S) * S);
   p.link.resize(p.pairs.size());
@@ -75,10 +77,10 @@ SDProblem build_sd_problem(const TrackFile& file, const PipelineOptions& options
       }
       p.gate[slot] = max_scans > 0 ? gate.threshold(max_scans) : 1.0;
     }
-  p.statistics_time_s = seconds_since(t0);
+  p.stages.push_back(stage_since("statistics", t_statistics));
   const auto t1 = std::chrono::steady_clock::now();
   fill_tensor(p, options.cost.form);
-  p.tensor_time_s = seconds_since(t1);
+  p.stages.push_back(stage_since("tensor", t1, sizeof(float) * double(p.tensor.cost.size()) / 1048576.0));
   return p;
 }
 

@@ -35,13 +35,14 @@
 namespace trackassoc {
 
 // The front end's S aligned sensors (engine/pipeline/front_end.hpp), their pair statistics on
-// every pair (the dense pair source) and the S-D tensor.
+// every pair (the dense pair source) and the S-D tensor of the whole problem, its one component
+// (partition.hpp).
 struct SDProblem : AlignedSensors {
   std::vector<PairStatistic> pairs;      // pairs[a·S + b] for a < b
   std::vector<std::vector<float>> link;  // λ − γ per pair entry, +inf outside the gate; same indexing
   std::vector<double> gate;              // γ at the pair's largest dof, per pair slot
   CostTensorSD tensor;
-  double statistics_time_s = 0.0, tensor_time_s = 0.0;
+  std::vector<StageReport> stages;  // alignment, statistics, tensor
 };
 
 // options.sensors: empty = every sensor of the file, else ≥ 2 ids. Throws InputError on unknown

@@ -1,7 +1,6 @@
 #include "engine/pipeline/sparse_pipeline.hpp"
 
 #include <oneapi/tbb/parallel_for.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -24,12 +23,6 @@ namespace {
 constexpr double kMiB = 1024.0 * 1024.0;
 
 }  // namespace
-
-double peak_rss_mib() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux: KiB
-}
 
 void SparsePipelineOptions::validate() const {
   pipeline.validate();

@@ -65,14 +65,6 @@ struct SparsePipelineOptions {
   nlohmann::json to_json() const;
 };
 
-// Wall time and memory of one stage.
-struct StageReport {
-  std::string name;
-  double seconds = 0.0;
-  double peak_rss_mib = 0.0;  // process peak resident set (getrusage) at the end of the stage
-  double data_mib = 0.0;      // bytes held by the stage's output
-};
-
 // The front end's three aligned sensors (engine/pipeline/front_end.hpp; node of (sensor d, track
 // i) = offset[d] + i), the gated pairs of the candidate index, and their connected components.
 struct SparseAssociationProblem : AlignedSensors {
@@ -181,8 +173,5 @@ constexpr auto wire_codec(std::type_identity<SparseComponentSolution>) {
 
 // Component sizes: counts[d] = tracks of sensor d in component c.
 std::array<int32_t, 3> component_track_counts(const SparseAssociationProblem& p, int32_t c);
-
-// Peak resident set size of this process so far [MiB] (getrusage ru_maxrss).
-double peak_rss_mib();
 
 }  // namespace trackassoc

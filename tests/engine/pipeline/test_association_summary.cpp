@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -106,8 +107,64 @@ TEST(AssociationSummary, TheDense3DReportCountsTheTracksOfEachSensor) {
   // 3, 3 and 4 local tracks; the three targets' tuples and the stray alone.
   EXPECT_EQ(brief.rfind("associated 3x3x4 tracks with 'greedy': objective ", 0), 0u) << brief;
   EXPECT_NE(brief.find(", 4 tuples ("), std::string::npos) << brief;
-  EXPECT_EQ(out.summary.FullReport(),
-            brief + "\nunassociated local tracks: sensor 0 0, sensor 1 0, sensor 2 1\n");
+  // A dense path is one component, the whole problem; its pair source is every pair of two
+  // sensors' tracks: 3·3 + 3·4 + 3·4 = 33, of which the three targets' 3 pairs each are gated.
+  const AssociationSummary& s = out.summary;
+  EXPECT_EQ(s.components, 1);
+  EXPECT_EQ(s.candidate_pairs, 33);
+  EXPECT_EQ(s.gated_pairs, 9);
+  std::vector<std::string> names;
+  for (const StageReport& st : s.stages) names.push_back(st.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"alignment", "statistics", "tensor", "solve"}));
+  // The record's time is the path's: every stage's.
+  double total = 0.0;
+  for (const StageReport& st : s.stages) total += st.seconds;
+  EXPECT_NEAR(out.record.runtime_s, total, 1e-12);
+  const std::string full = s.FullReport();
+  ASSERT_EQ(full.rfind(brief + "\npipeline: three sensors -> all pairs -> the whole problem -> 3-D tensor\n"
+                               "stages: alignment ",
+                       0),
+            0u)
+      << full;
+  EXPECT_NE(full.find("; solve "), std::string::npos) << full;
+  EXPECT_NE(full.find(" ms; candidate pairs 33, gated 9\npeak memory (resident, at the end of each stage): "
+                      "alignment "),
+            std::string::npos)
+      << full;
+  EXPECT_NE(full.find("\nunassociated local tracks: sensor 0 0, sensor 1 0, sensor 2 1\n"), std::string::npos)
+      << full;
+}
+
+// The pair source and the partition are stages: every tensor path sees the same gate, so the same
+// 9 gated pairs; the partition is the whole problem (dense) or the 4 components of the gated pair
+// graph (the three targets and the stray, sparse).
+TEST(AssociationSummary, EveryTensorPathReportsTheSameGatedPairsAndItsPartition) {
+  const TrackFile file = three_targets_and_a_stray();
+  struct Case {
+    const char* what;
+    AssociatorOptions o;
+    int32_t components;
+    int64_t candidate_pairs;
+  };
+  AssociatorOptions sd, dense, sparse;
+  sd.sd = true;
+  dense.three_d = true;
+  sparse.sparse = true;
+  for (const Case& c : {Case{"default", AssociatorOptions{}, 4, -1}, Case{"--sd", sd, 1, 33},
+                        Case{"--3d", dense, 1, 33}, Case{"--sparse", sparse, 4, -1}}) {
+    const AssociationSummary s = make_associator(c.o)->associate(file).summary;
+    EXPECT_EQ(s.components, c.components) << c.what;
+    EXPECT_EQ(s.gated_pairs, 9) << c.what;
+    // The index finds at least the gated pairs and never the far stray: at most the 9 pairs of the
+    // targets (sensor pairs of tracks 50 km apart are outside any scan's bound).
+    if (c.candidate_pairs >= 0)
+      EXPECT_EQ(s.candidate_pairs, c.candidate_pairs) << c.what;
+    else
+      EXPECT_EQ(s.candidate_pairs, 9) << c.what;
+    EXPECT_TRUE(std::any_of(s.stages.begin(), s.stages.end(), [](const StageReport& st) {
+      return st.name == "solve";
+    })) << c.what;
+  }
 }
 
 TEST(AssociationSummary, TheSparsePathOptionsAreAssociatorOptionsFields) {

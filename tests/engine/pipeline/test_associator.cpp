@@ -338,6 +338,41 @@ TEST(Associator, TheCommonProcessNoiseRecursionOnRecordedTracksIsRefusedWithTheW
   EXPECT_GT(make_associator(o)->associate(f).record.num_tuples(), 0u);
 }
 
+// The rules pick stages; the path is the implementation of a combination, and each path runs
+// exactly the stages it is the implementation of.
+TEST(Associator, TheRulesPickStagesAndEachPathRunsItsOwn) {
+  using P = AssociationPath;
+  for (P path : {P::kSparseSD, P::kDenseSD, P::kDense3D, P::kSparse3D, P::kFusionCentre, P::kSiamese})
+    EXPECT_EQ(plan_of(path).path(), path);
+  AssociatorOptions o = request("lr+ls");
+  o.pipeline.sensors = {1, 2, 3};  // three --sensors: the default stages, not the 3-D tensor
+  AssociationPlan plan = choose_association_plan(o);
+  EXPECT_EQ(plan.sensors, SensorRule::kTwoOrMore);
+  EXPECT_EQ(plan.pairs, PairSourceStage::kCandidateIndex);
+  EXPECT_EQ(plan.partition, PartitionStage::kConnectedComponents);
+  EXPECT_EQ(plan.solver, ComponentSolverStage::kSDTensor);
+  o.three_d = true;  // --3d: the three-sensor tensor over all pairs, the whole problem
+  plan = choose_association_plan(o);
+  EXPECT_EQ(plan.sensors, SensorRule::kThree);
+  EXPECT_EQ(plan.pairs, PairSourceStage::kAllPairs);
+  EXPECT_EQ(plan.partition, PartitionStage::kWholeProblem);
+  EXPECT_EQ(plan.solver, ComponentSolverStage::kTensor3D);
+  o.three_d = false;
+  o.sd = true;  // --sd: the S-D tensor over all pairs
+  plan = choose_association_plan(o);
+  EXPECT_EQ(plan.pairs, PairSourceStage::kAllPairs);
+  EXPECT_EQ(plan.solver, ComponentSolverStage::kSDTensor);
+  EXPECT_EQ(plan.describe(),
+            "every sensor (or --sensors) -> all pairs -> the whole problem -> S-D tensor with dummies");
+  o.sd = false;
+  o.solver = "greedy";
+  o.sparse = true;  // --sparse: the 3-D tensor over the index's components
+  plan = choose_association_plan(o);
+  EXPECT_EQ(plan.pairs, PairSourceStage::kCandidateIndex);
+  EXPECT_EQ(plan.partition, PartitionStage::kConnectedComponents);
+  EXPECT_EQ(plan.solver, ComponentSolverStage::kTensor3D);
+}
+
 TEST(Associator, FactoryChoosesThePathsOfAssociate) {
   using P = AssociationPath;
   EXPECT_EQ(path_of("lr+ls", false, false, false), P::kSparseSD);
