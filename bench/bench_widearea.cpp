@@ -7,6 +7,7 @@
 //  - BM_WideAreaAssociation/1/threads: `widearea` (the same network with 7 000 alive: ~3 × 10⁵ local
 //    tracks, 6 × 10⁶ rows, ~5 GB at its peak), run only when the environment sets
 //    TRACKASSOC_BENCH_WIDEAREA=1 (it takes minutes); skipped with that message otherwise.
+//  - BM_WideAreaStitching/threads: the stitching stage alone on `widearea_small` (below).
 // Counters: each stage's seconds (<stage>_s, from AssociationSummary::stages), the process's peak
 // resident memory so far (peak_rss_mib: the simulated file included, as `associate` holds its
 // input; the cases run in the order above, so a case's figure also bounds the ones before), and what the
@@ -63,6 +64,47 @@ void BM_WideAreaAssociation(benchmark::State& state) {
   state.counters["fragments_linked"] = pairs.fragment_recall;
   state.counters["pair_precision"] = pairs.precision;
 }
+
+// Fragment stitching alone (engine/pipeline/track_stitching.hpp) on `widearea_small`: the default
+// association without it, made once, then stitch_fragments on a fresh copy of its record each
+// iteration (the copy untimed), 1 and 2 threads. Counters: groups, gated continuations and joins
+// made, and the learnt manoeuvre weight.
+void BM_WideAreaStitching(benchmark::State& state) {
+  struct Unstitched {
+    TrackFile file;
+    AssociationRecord record;
+  };
+  static const Unstitched unstitched = [] {
+    Unstitched u{track_file(0), {}};
+    AssociatorOptions options;
+    options.stitching.enabled = false;
+    split_recorded_keys(u.file, options);
+    u.record = make_associator(options)->associate(u.file).record;
+    return u;
+  }();
+  tbb::global_control g(tbb::global_control::max_allowed_parallelism, state.range(0));
+  const TrackStitchOptions options;
+  TrackStitchSummary summary;
+  AssociationRecord record;
+  for (auto _ : state) {
+    state.PauseTiming();
+    record = unstitched.record;
+    state.ResumeTiming();
+    summary = stitch_fragments(unstitched.file, record, options);
+    benchmark::DoNotOptimize(record.tuples.data());
+  }
+  state.counters["groups"] = summary.groups;
+  state.counters["candidates"] = summary.candidates;
+  state.counters["stitches"] = summary.stitches;
+  state.counters["turn_probability"] = summary.turn_probability;
+}
+
+BENCHMARK(BM_WideAreaStitching)
+    ->Arg(1)
+    ->Arg(2)
+    ->ArgName("threads")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 BENCHMARK(BM_WideAreaAssociation)
     ->ArgsProduct({{0, 1}, {1, 2}})

@@ -107,6 +107,11 @@ def association_rows(T, folder):
           T.t("BM_DenseSDAssociation/1"))
     T.row("`associate`", "`recorded_10k` (3 × 10 000)", T.t("BM_DefaultAssociation/3/1"),
           T.t("BM_DefaultAssociation/3/2"), "none runs at this size (dense: 10¹² entries); stages below", None)
+    k = "BM_WideAreaStitching/threads:1"
+    T.row("fragment stitching alone (`track_stitching.hpp`)",
+          f"`widearea_small` ({T.c(k, 'groups', 0):.0f} groups, {T.c(k, 'candidates', 0):.0f} gated "
+          f"continuations, {T.c(k, 'stitches', 0):.0f} joins)", T.t(k), T.t("BM_WideAreaStitching/threads:2"),
+          "— (thread ratio; Stone Soup's `TrackStitcher` on the first 600 s: [status.md](status.md))", None)
 
 
 def lap_rows(T, folder):
@@ -256,7 +261,7 @@ def kernel_rows(T, folder):
 
 COMMANDS = """Reproduce: `scripts/bench.sh` (about an hour; writes `bench-results/`, then this table as
 `bench-results/report.md`). Each row's source, for a single re-run:
-- association: `build/bench_recorded`; Stone Soup: `/usr/bin/python3 bench/stonesoup_t2t.py FILE --cov sum`
+- association: `build/bench_recorded`, stitching: `build/bench_widearea`; Stone Soup: `/usr/bin/python3 bench/stonesoup_t2t.py FILE --cov sum`
   on `build/trackassoc simulate --scenario recorded_sync --seed 1 -o FILE`;
 - LAP: `build/bench_lap`, `build/bench_lap_sparse`, `build/bench_gnn_tracker`; scipy: `bench/lap_scipy.py`;
 - exact, LR: `build/bench_3d_solvers`; CBC and its LP: `bench/cbc_3d.py --set decomplib|balas-saltzman`;
