@@ -1,5 +1,6 @@
 // The implementations of TrackAssociator (engine/pipeline/associator.hpp), one per path, each a thin
-// wrapper of its pipeline's entry points, and the factory with the path-choosing rules.
+// wrapper of its pipeline's entry points, and the factory; the rules that pick the stages, and so
+// the path, are engine/pipeline/association_plan.cpp's.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -55,8 +56,7 @@ double total_seconds(const std::vector<StageReport>& stages) {
 
 // A dense path's partition is the whole problem (engine/pipeline/partition.hpp): one component.
 // Its summary lists the problem's stages (alignment, statistics, tensor) and the solve, whose
-// time is the record's.
-// Its candidate pairs are every pair of tracks of two sensors.
+// time is the record's; its candidate pairs are every pair of two sensors' tracks.
 void whole_problem_stages(const std::vector<StageReport>& problem,
                           std::span<const PairStatistic* const> pairs, const AssociationRecord& rec,
                           AssociationSummary& s) {

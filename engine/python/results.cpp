@@ -55,6 +55,7 @@ py::dict summary_of(const PyAssociation& a) {
   if (!a.computed) return d;
   const AssociationSummary& s = a.outcome.summary;
   d["path"] = path_name(s.path);
+  d["pipeline"] = plan_of(s.path).describe();  // the stages, as `associate` prints them
   d["sensor_ids"] = s.sensor_ids;
   d["track_counts"] = s.track_counts;
   py::list stages;
@@ -232,8 +233,8 @@ void bind_results(py::module_& m) {
           "summary", &summary_of,
           "dict: name, solver, objective, bound (Lagrangian lower bound, NaN when none), gap, "
           "termination, runtime_s, seed, options; for a computed association also path, "
-          "sensor_ids, track_counts, stages [{name, seconds, peak_rss_mib}], components, "
-          "candidate_pairs, gated_pairs, fallback_components.")
+          "pipeline (the stages chosen), sensor_ids, track_counts, stages [{name, seconds, peak_rss_mib}], "
+          "components, candidate_pairs, gated_pairs, fallback_components.")
       .def_property_readonly(
           "tracks",
           [](const PyAssociation& a) {

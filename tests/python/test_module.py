@@ -121,6 +121,12 @@ def test_options_match_cli_flags(simulated, tmp_path):
                               "--seed", "7")
     np.testing.assert_array_equal(ours3.tuples, cli3.tuples)
     assert ours3.summary["path"] == "dense-3d"
+    # a dense path is one component; its stages and pipeline line are the CLI's
+    assert ours3.summary["pipeline"] == "three sensors -> all pairs -> the whole problem -> 3-D tensor"
+    assert ours3.summary["components"] == 1
+    assert [st["name"] for st in ours3.summary["stages"]] == ["alignment", "statistics", "tensor", "solve"]
+    # the same gate on every pair (dense) and through the index (default): the same gated pairs
+    assert ours3.summary["gated_pairs"] == trackassoc.associate(trackassoc.read(path)).summary["gated_pairs"] > 0
 
 
 def test_threads_do_not_change_results(simulated):
