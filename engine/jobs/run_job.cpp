@@ -144,8 +144,7 @@ RunJobResult run_main_job(const RunJobOptions& o, const std::function<void(const
         o.solver_options.contains(entry.name) ? o.solver_options[entry.name] : nlohmann::json::object();
     AssociationOutcome out = make_three_sensor_associator(request, prepared)->associate(file);
     // The record's time is the solve's; the problem was built once for every solver: its stages too.
-    for (const StageReport& st : prepared.dense ? prepared.dense->stages : prepared.sparse->stages)
-      out.record.runtime_s += st.seconds;
+    out.record.runtime_s += total_seconds(prepared.dense ? prepared.dense->stages : prepared.sparse->stages);
     out.summary.runtime_s = out.record.runtime_s;
     add_row(out);
   }

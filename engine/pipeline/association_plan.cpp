@@ -1,6 +1,7 @@
 #include "engine/pipeline/association_plan.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "engine/pipeline/associator.hpp"
@@ -53,26 +54,36 @@ AssociationPlan plan_by_rules(const AssociatorOptions& o) {
                 ComponentSolverStage::kTensor3D);
 }
 
+// The combinations of stages that a path implements, one row each: path() and plan_of read it
+// both ways.
+struct Implementation {
+  AssociationPath path;
+  AssociationPlan plan;
+};
+const std::array<Implementation, 6>& implementations() {
+  using P = AssociationPath;
+  using Pairs = PairSourceStage;
+  using Solver = ComponentSolverStage;
+  static const std::array<Implementation, 6> rows{{
+      {P::kSparseSD, stages(SensorRule::kTwoOrMore, Pairs::kCandidateIndex, Solver::kSDTensor)},
+      {P::kDenseSD, stages(SensorRule::kTwoOrMore, Pairs::kAllPairs, Solver::kSDTensor)},
+      {P::kDense3D, stages(SensorRule::kThree, Pairs::kAllPairs, Solver::kTensor3D)},
+      {P::kSparse3D, stages(SensorRule::kThree, Pairs::kCandidateIndex, Solver::kTensor3D)},
+      {P::kFusionCentre, by_the_method(Solver::kFusionCentre)},
+      {P::kSiamese, by_the_method(Solver::kSiamese)},
+  }};
+  return rows;
+}
+
 }  // namespace
 
 AssociationPath AssociationPlan::path() const {
-  switch (solver) {
-    case ComponentSolverStage::kFusionCentre:
-      return AssociationPath::kFusionCentre;
-    case ComponentSolverStage::kSiamese:
-      return AssociationPath::kSiamese;
-    case ComponentSolverStage::kSDTensor:
-      return pairs == PairSourceStage::kCandidateIndex ? AssociationPath::kSparseSD
-                                                       : AssociationPath::kDenseSD;
-    case ComponentSolverStage::kTensor3D:
-      return pairs == PairSourceStage::kCandidateIndex ? AssociationPath::kSparse3D
-                                                       : AssociationPath::kDense3D;
-  }
-  throw InputError("association plan: unknown component solver");
+  for (const Implementation& row : implementations())
+    if (row.plan == *this) return row.path;
+  throw InputError("association plan: no path runs " + describe());
 }
 
 std::string AssociationPlan::describe() const {
-  std::string text;
   switch (solver) {
     case ComponentSolverStage::kFusionCentre:
       return "every sensor -> seed 001's fusion centre (temporary tracks, fuzzy association)";
@@ -82,7 +93,7 @@ std::string AssociationPlan::describe() const {
     case ComponentSolverStage::kTensor3D:
       break;
   }
-  text = sensors == SensorRule::kThree ? "three sensors" : "every sensor (or --sensors)";
+  std::string text = sensors == SensorRule::kThree ? "three sensors" : "every sensor (or --sensors)";
   text += pairs == PairSourceStage::kCandidateIndex ? " -> per-scan candidate index" : " -> all pairs";
   text += partition == PartitionStage::kConnectedComponents ? " -> connected components"
                                                             : " -> the whole problem";
@@ -99,21 +110,8 @@ AssociationPlan choose_association_plan(const AssociatorOptions& o) {
 }
 
 AssociationPlan plan_of(AssociationPath path) {
-  switch (path) {
-    case AssociationPath::kSparseSD:
-      return stages(SensorRule::kTwoOrMore, PairSourceStage::kCandidateIndex,
-                    ComponentSolverStage::kSDTensor);
-    case AssociationPath::kDenseSD:
-      return stages(SensorRule::kTwoOrMore, PairSourceStage::kAllPairs, ComponentSolverStage::kSDTensor);
-    case AssociationPath::kDense3D:
-      return stages(SensorRule::kThree, PairSourceStage::kAllPairs, ComponentSolverStage::kTensor3D);
-    case AssociationPath::kSparse3D:
-      return stages(SensorRule::kThree, PairSourceStage::kCandidateIndex, ComponentSolverStage::kTensor3D);
-    case AssociationPath::kFusionCentre:
-      return by_the_method(ComponentSolverStage::kFusionCentre);
-    case AssociationPath::kSiamese:
-      return by_the_method(ComponentSolverStage::kSiamese);
-  }
+  for (const Implementation& row : implementations())
+    if (row.path == path) return row.plan;
   throw InputError("association path: unknown");
 }
 

@@ -49,7 +49,8 @@ struct AssociationPlan {
   PartitionStage partition = PartitionStage::kConnectedComponents;
   ComponentSolverStage solver = ComponentSolverStage::kSDTensor;
 
-  // The associator of this combination of stages.
+  bool operator==(const AssociationPlan&) const = default;
+  // The associator of this combination of stages; throws InputError for one that no path runs.
   AssociationPath path() const;
   // "every sensor -> candidate index -> connected components -> S-D tensor with dummies".
   std::string describe() const;

@@ -47,6 +47,31 @@ void registration_lines(std::ostream& os, const RegistrationRecord& r) {
   }
 }
 
+// The sparse S-D path's counts after its stages: the fallback and listed components, the largest
+// gap, the segment pass and the stitching.
+void sparse_sd_counts(std::ostream& os, const AssociationSummary& s) {
+  os << ", fallback components " << s.fallback_components;
+  if (s.listed_components > 0)
+    os << ", components over listed tuples " << s.listed_components << " (largest " << s.largest_listed_tuples
+       << " tuples)";
+  os << ", largest component gap " << fmt(100.0 * s.largest_component_gap, "%.2f") << " %";
+  if (s.components_above_1pct_gap > 0) os << " (" << s.components_above_1pct_gap << " above 1 %)";
+  if (s.segments)
+    os << ", segments joined " << s.segments->joined << " (to " << s.segments->targets_joined
+       << " targets; duplicates " << s.segments->duplicates << ")";
+  if (s.stitching.stitches > 0)
+    os << ", fragments stitched " << s.stitching.stitches << " (" << s.stitching.candidates
+       << " gated continuations of " << s.stitching.groups << " targets"
+       << (s.stitching.turn_probability > 0.0
+               ? "; manoeuvre weight " + fmt(s.stitching.turn_probability, "%.3f") +
+                     (s.stitching.manoeuvre_interval_s > 0.0
+                          ? ", a manoeuvre every " + fmt(s.stitching.manoeuvre_interval_s, "%.0f") + " s"
+                          : std::string()) +
+                     " learnt"
+               : std::string())
+       << ")";
+}
+
 }  // namespace
 
 std::string AssociationSummary::BriefReport() const {
@@ -93,30 +118,7 @@ std::string AssociationSummary::FullReport() const {
     os << "stages:";
     for (const auto& st : stages) os << " " << st.name << " " << fmt(1e3 * st.seconds, "%.1f") << " ms;";
     os << " candidate pairs " << candidate_pairs << ", gated " << gated_pairs;
-  }
-  if (path == AssociationPath::kSparseSD) {
-    os << ", fallback components " << fallback_components;
-    if (listed_components > 0)
-      os << ", components over listed tuples " << listed_components << " (largest " << largest_listed_tuples
-         << " tuples)";
-    os << ", largest component gap " << fmt(100.0 * largest_component_gap, "%.2f") << " %";
-    if (components_above_1pct_gap > 0) os << " (" << components_above_1pct_gap << " above 1 %)";
-    if (segments)
-      os << ", segments joined " << segments->joined << " (to " << segments->targets_joined
-         << " targets; duplicates " << segments->duplicates << ")";
-    if (stitching.stitches > 0)
-      os << ", fragments stitched " << stitching.stitches << " (" << stitching.candidates
-         << " gated continuations of " << stitching.groups << " targets"
-         << (stitching.turn_probability > 0.0
-                 ? "; manoeuvre weight " + fmt(stitching.turn_probability, "%.3f") +
-                       (stitching.manoeuvre_interval_s > 0.0
-                            ? ", a manoeuvre every " + fmt(stitching.manoeuvre_interval_s, "%.0f") + " s"
-                            : std::string()) +
-                       " learnt"
-                 : std::string())
-         << ")";
-  }
-  if (!stages.empty()) {
+    if (path == AssociationPath::kSparseSD) sparse_sd_counts(os, *this);
     os << "\n";
     os << "peak memory (resident, at the end of each stage):";
     for (const auto& st : stages) os << " " << st.name << " " << fmt(st.peak_rss_mib, "%.0f") << " MiB;";

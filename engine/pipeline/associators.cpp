@@ -48,12 +48,6 @@ AssociationOutcome finish(const TrackFile& file, const AssociatorOptions& o, Ass
   return out;
 }
 
-double total_seconds(const std::vector<StageReport>& stages) {
-  double t = 0.0;
-  for (const StageReport& st : stages) t += st.seconds;
-  return t;
-}
-
 // A dense path's partition is the whole problem (engine/pipeline/partition.hpp): one component.
 // Its summary lists the problem's stages (alignment, statistics, tensor) and the solve, whose
 // time is the record's; its candidate pairs are every pair of two sensors' tracks.

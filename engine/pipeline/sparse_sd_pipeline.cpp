@@ -203,7 +203,7 @@ SparseSDProblem build_sparse_front_half(const TrackFile& file, const SparseSDOpt
   const PipelineOptions& po = options.pipeline;
   SparseSDProblem p;
   auto stage = [&](const char* name, std::chrono::steady_clock::time_point t0, double bytes) {
-    p.stages.push_back({name, seconds_since(t0), peak_rss_mib(), bytes / kMiB});
+    p.stages.push_back(stage_since(name, t0, bytes / kMiB));
   };
 
   // The memory budget (issues 30, 31; docs/design.md §7): every stage's large allocation is
@@ -427,9 +427,7 @@ AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& 
   rep.stages = p.stages;
   rep.stages.push_back({"solve", solve_s, peak_rss_mib(), 0.0});
   if (options.segments.enabled) rep.stages.push_back({"segments", seconds_since(t1), peak_rss_mib(), 0.0});
-  double total = 0.0;
-  for (const auto& s : p.stages) total += s.seconds;
-  rec.runtime_s = total + seconds_since(t0);
+  rec.runtime_s = total_seconds(p.stages) + seconds_since(t0);
   rep.sensor_ids = p.sensor_ids;
   rep.empty_sensor_ids = p.empty_sensor_ids;
   if (report) *report = std::move(rep);

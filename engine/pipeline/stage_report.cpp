@@ -19,4 +19,10 @@ StageReport stage_since(std::string name, std::chrono::steady_clock::time_point 
   return {std::move(name), seconds, peak_rss_mib(), data_mib};
 }
 
+double total_seconds(std::span<const StageReport> stages) {
+  double t = 0.0;
+  for (const StageReport& st : stages) t += st.seconds;
+  return t;
+}
+
 }  // namespace trackassoc

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <chrono>
+#include <span>
 #include <string>
 
 namespace trackassoc {
@@ -22,5 +23,8 @@ double peak_rss_mib();
 
 // The report of a stage that started at t0 and ends now (data_mib: what its output holds).
 StageReport stage_since(std::string name, std::chrono::steady_clock::time_point t0, double data_mib = 0.0);
+
+// Σ of the stages' seconds.
+double total_seconds(std::span<const StageReport> stages);
 
 }  // namespace trackassoc
