@@ -21,7 +21,8 @@
 //                output: the system tracks (/system_tracks/<name>/)
 //   siamese      engine/pipeline/siamese_track_file.hpp: seed 003's Siamese BiLSTM on two sensors
 // A new component solver of an existing kind is one file and one line of the solver registry; a
-// new combination of stages is one implementation plus its line in AssociationPlan::path.
+// new combination of stages is one implementation plus its row in implementations()
+// (engine/pipeline/association_plan.cpp).
 //
 // Unassociated tracks (Stone Soup #1170): every path puts each local track of the sensors it
 // associates in exactly one tuple, a track it linked to no other sensor's track being a tuple of
