@@ -139,12 +139,13 @@ void register_associate(CLI::App& app) {
                 "(default: only when it fails the family-wise gate 1 - (1 - p)/(S(S-1)/2) of a tuple of "
                 "the S sensors too, Bonferroni's level; between the two it may join a tuple linked through "
                 "gated-in pairs, at its positive link cost; docs/design.md 4.3)");
-  cmd->add_flag("--no-stitch", args->no_stitch,
-                "Default pipeline: keep output targets that never coexist apart (default: track segment "
-                "association joins a target whose first report continues another's last, within 180 s, "
-                "by constant velocity with a quiet (3 m/s^2) or manoeuvring (20 m/s^2) allowance, as one "
-                "assignment of positive-evidence joins: a target handed over between sensors or re-tracked "
-                "after a gap; engine/pipeline/track_stitching.hpp)");
+  cmd->add_flag(
+      "--no-stitch", args->no_stitch,
+      "Default pipeline: keep output targets that never coexist apart (default: track segment "
+      "association joins a target whose first report continues another's last, within 180 s, "
+      "by constant velocity with a quiet (3 m/s^2 or more, learnt per file) or manoeuvring (20 m/s^2) "
+      "allowance, as one assignment of positive-evidence joins: a target handed over between sensors or "
+      "re-tracked after a gap; engine/pipeline/track_stitching.hpp)");
   cmd->add_option(
       "--reference-sensor", args->reference_sensor,
       "Default pipeline: the /sensors id the registration holds fixed, a sensor you trust (default: "

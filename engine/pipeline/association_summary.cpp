@@ -67,6 +67,9 @@ void sparse_sd_counts(std::ostream& os, const AssociationSummary& s) {
                      (s.stitching.manoeuvre_interval_s > 0.0
                           ? ", a manoeuvre every " + fmt(s.stitching.manoeuvre_interval_s, "%.0f") + " s"
                           : std::string()) +
+                     (s.stitching.quiet_sigma > 0.0
+                          ? ", quiet sigma_a " + fmt(s.stitching.quiet_sigma, "%.2f") + " m/s^2"
+                          : std::string()) +
                      " learnt"
                : std::string())
        << ")";

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <vector>
+
+#include "kernels/core/parallel.hpp"
 
 namespace trackassoc {
 namespace {
@@ -104,6 +107,41 @@ double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const 
   const double l_turn =
       o.turn_probability > 0.0 ? std::log(o.turn_probability) - 0.5 * (turn.m2 + turn.log_det) : minus_inf;
   return -log_sum_exp(l_quiet, l_turn);
+}
+
+QuietModelFit learn_quiet_sigma(const TrackTable& t, std::span<const JoinRows> joins,
+                                std::span<const float> spans, const TrackStitchOptions& o) {
+  const std::size_t J = joins.size();
+  // ln N(e_j; 0, S) under q = σ_a², each join's statistic once per σ_a.
+  auto log_density = [&](double q, std::vector<double>& out) {
+    out.resize(J);
+    parallel_for_range(J, 256, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t j = lo; j < hi; ++j) {
+        const GapStatistic g = gap_statistic(t, joins[j].end, joins[j].start, q);
+        out[j] = -0.5 * (g.m2 + g.log_det);
+      }
+    });
+  };
+  std::vector<double> l_turn, l_quiet;
+  log_density(o.turn_sigma * o.turn_sigma, l_turn);
+  std::vector<float> d(J);
+  QuietModelFit best;
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= 8; ++k) {
+    const double sigma = o.manoeuvre_sigma * std::exp2(k / 4.0);
+    log_density(sigma * sigma, l_quiet);
+    for (std::size_t j = 0; j < J; ++j)  // as join_cost's turn_log_ratio
+      d[j] = static_cast<float>(std::clamp(l_turn[j] - l_quiet[j], -1e4, 1e4));
+    const SpanMixtureWeight w = span_mixture_weight(d, spans, o.turn_probability, o.turn_prior_joins);
+    const double z = std::log(sigma / o.quiet_sigma_prior) / o.quiet_sigma_prior_sd;
+    double score = -0.5 * z * z;
+    for (std::size_t j = 0; j < J; ++j) {
+      const double p = std::min(w.at(spans[j]), 1.0 - 1e-16);
+      score += log_sum_exp(std::log1p(-p) + l_quiet[j], std::log(p) + l_turn[j]);
+    }
+    if (score > best_score) best_score = score, best = {sigma, w};
+  }
+  return best;
 }
 
 }  // namespace trackassoc

@@ -7,9 +7,11 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 
 #include "engine/pipeline/track_stitching.hpp"
 #include "io/track_file.hpp"
+#include "kernels/statistics/mixture_weight.hpp"
 
 namespace trackassoc {
 
@@ -31,6 +33,33 @@ bool gap_surely_outside(const TrackTable& tracks, std::size_t end, std::size_t s
 // `turn_log_ratio`, when given, receives ln N(e; 0, S_turn) − ln N(e; 0, S_quiet).
 double join_cost(const TrackTable& tracks, std::size_t end, std::size_t start,
                  const TrackStitchOptions& options, double gate, double* turn_log_ratio = nullptr);
+
+// The quiet model's σ_a learnt with the turn weight from a first assignment's joins (empirical
+// Bayes, as the turn weight alone is, engine/pipeline/track_stitching.hpp): how sharply a target
+// that did not manoeuvre continues across a gap is a property of the scene too (airliners on
+// airways fly straight, the recorded family's targets drift between turns). For each σ_a of a
+// geometric grid σ_k = manoeuvre_sigma · 2^{k/4}, k = 0 … 8 (manoeuvre_sigma to 4 manoeuvre_sigma),
+// the weight π̂_σ(s) is span_mixture_weight's for the joins' d = ln N_turn − ln N_quiet(σ) and spans,
+// and the σ_a kept maximises the profile log-posterior
+//     Σ_j ln[(1 − π̂_σ(s_j)) N(e_j; 0, S_quiet(σ)) + π̂_σ(s_j) N(e_j; 0, S_turn)] − (ln(σ / σ₀))² / (2 τ²),
+// a log-normal prior of median σ₀ = quiet_sigma_prior and log-sd τ = quiet_sigma_prior_sd (ties to
+// the smaller σ_a). The prior decides for a file of few joins (the recorded family: 1-8 joins, σ₀),
+// the joins for a large one. The grid starts at manoeuvre_sigma, the σ_a the first assignment used:
+// the joins are those that assignment chose, so they are a sample truncated towards the sharp model
+// (selection), and a σ_a below it is not learnt from them (widearea's likelihood rises to any floor
+// offered, 3 → 1.5 → 0.5 m/s², while its fragment pairs fall 90.91 → 90.43 → 90.20 %; docs/design.md
+// §4.10). `joins[j]` = (G₁'s last row, G₂'s start representative), `spans[j]` its span.
+// O(9 (J D³ + span_mixture_weight)), the joins in parallel (the answer the same for any number of
+// threads).
+struct JoinRows {
+  std::size_t end = 0, start = 0;
+};
+struct QuietModelFit {
+  double sigma = 0.0;        // σ_a [m/s²]
+  SpanMixtureWeight weight;  // π̂(s) at that σ_a
+};
+QuietModelFit learn_quiet_sigma(const TrackTable& tracks, std::span<const JoinRows> joins,
+                                std::span<const float> spans, const TrackStitchOptions& options);
 
 // ln det of row r's covariance predicted by dt (either sign) with q = σ_a²: how well a report,
 // predicted to a common time, knows the state (the start's representative, track_stitching.hpp).

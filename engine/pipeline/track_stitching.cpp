@@ -37,6 +37,10 @@ void TrackStitchOptions::validate() const {
           "expected a margin >= 0 [nats] (0: off)");
   require(std::isfinite(turn_prior_joins) && turn_prior_joins >= 0.0, "stitching.turn_prior_joins",
           "expected a weight >= 0 [joins]");
+  require(std::isfinite(quiet_sigma_prior) && quiet_sigma_prior > 0.0, "stitching.quiet_sigma_prior",
+          "expected σ > 0 [m/s²]");
+  require(std::isfinite(quiet_sigma_prior_sd) && quiet_sigma_prior_sd > 0.0, "stitching.quiet_sigma_prior_sd",
+          "expected a log-standard deviation > 0");
   require(start_reports >= 1 && start_reports <= 16, "stitching.start_reports", "expected 1 to 16 reports");
   require(std::isfinite(gap_bin_s) && gap_bin_s >= 0.0, "stitching.gap_bin_s",
           "expected a bin >= 0 [s] (0: none)");
@@ -414,19 +418,48 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
                        t.t[groups[static_cast<std::size_t>(k.end)].last]);
     };
     std::vector<float> joined, spans;
+    std::vector<JoinRows> rows;
     for (const Candidate& k : candidates)
-      if (joins.row_to_col[static_cast<std::size_t>(k.end)] == k.start)
+      if (joins.row_to_col[static_cast<std::size_t>(k.end)] == k.start) {
         joined.push_back(k.turn_log_ratio), spans.push_back(static_cast<float>(span_of(k)));
+        rows.push_back(
+            {groups[static_cast<std::size_t>(k.end)].last, groups[static_cast<std::size_t>(k.start)].start});
+      }
     const double pi = o.turn_probability;
-    const SpanMixtureWeight learnt = span_mixture_weight(joined, spans, pi, o.turn_prior_joins);
+    // With the quiet model's σ_a when it is learnt too (stitch_join_cost.hpp, learn_quiet_sigma).
+    const QuietModelFit fit =
+        o.learn_quiet_sigma && o.manoeuvre_sigma > 0.0
+            ? learn_quiet_sigma(t, rows, spans, o)
+            : QuietModelFit{o.manoeuvre_sigma, span_mixture_weight(joined, spans, pi, o.turn_prior_joins)};
+    const SpanMixtureWeight& learnt = fit.weight;
     summary.turn_probability = learnt.at(learnt.mean_span);
     summary.manoeuvre_interval_s = learnt.rate > 0.0 ? 1.0 / learnt.rate : 0.0;
+    if (o.learn_quiet_sigma && o.manoeuvre_sigma > 0.0) summary.quiet_sigma = fit.sigma;
     const double quiet_was = std::log1p(-pi), turn_was = std::log(pi);
-    for (Candidate& k : candidates) {
-      const double now = std::min(learnt.at(span_of(k)), 1.0 - 1e-16);  // π_c > 0: π > 0
-      k.cost += log_sum_exp(quiet_was, turn_was + k.turn_log_ratio) -
-                log_sum_exp(std::log1p(-now), std::log(now) + k.turn_log_ratio);
-    }
+    const double q_was = o.manoeuvre_sigma * o.manoeuvre_sigma, q_now = fit.sigma * fit.sigma;
+    const double q_turn = o.turn_sigma * o.turn_sigma;
+    parallel_for_range(candidates.size(), 1024, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t i = lo; i < hi; ++i) {
+        Candidate& k = candidates[i];
+        const double now = std::min(learnt.at(span_of(k)), 1.0 - 1e-16);  // π_c > 0: π > 0
+        if (q_now == q_was) {
+          k.cost += log_sum_exp(quiet_was, turn_was + k.turn_log_ratio) -
+                    log_sum_exp(std::log1p(-now), std::log(now) + k.turn_log_ratio);
+          continue;
+        }
+        // The quiet density changes too: −ln p(e) = −ln[(1 − π) N_quiet + π N_turn] replaced whole.
+        const std::size_t end = groups[static_cast<std::size_t>(k.end)].last,
+                          start = groups[static_cast<std::size_t>(k.start)].start;
+        auto log_density = [&](double q) {
+          const GapStatistic g = gap_statistic(t, end, start, q);
+          return -0.5 * (g.m2 + g.log_det);
+        };
+        const double l_was = log_density(q_was), l_now = log_density(q_now), l_turn = log_density(q_turn);
+        k.cost += log_sum_exp(quiet_was + l_was, turn_was + l_turn) -
+                  log_sum_exp(std::log1p(-now) + l_now, std::log(now) + l_turn);
+        k.turn_log_ratio = static_cast<float>(std::clamp(l_turn - l_now, -1e4, 1e4));
+      }
+    });
   }
   if (o.gap_bin_s > 0.0) {
     // The gap prior: the same target's gaps follow its fades and re-initiations, a different

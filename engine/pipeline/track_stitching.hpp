@@ -62,7 +62,11 @@
 // 1 400 s). This replaced a rule that made a join outside the quiet gate only when neither side had
 // another gated candidate and its evidence was ≥ 3 nats: that rule refused most turns where targets
 // manoeuvre and cost precision where they do not (docs/design.md §4.10 has the measurements), and a
-// weight that was the same at every gap (until session 28). Ambiguity is the swap
+// weight that was the same at every gap (until session 28). The quiet model's σ_a is learnt with
+// the weight (learn_quiet_sigma, engine/pipeline/stitch_join_cost.hpp: a grid from manoeuvre_sigma
+// = 3 m/s² up, under a log-normal prior of median 6 m/s²), since no one value serves both scenes:
+// 6 m/s² lifts recorded_recycled's correct rate 95.0 → 95.9 % and takes widearea's pair precision
+// from 99.52 to 99.35 %, under issue 31's 99.5 % (docs/design.md §4.10). Ambiguity is the swap
 // margin's (below).
 //
 // Assignment. Against "a different target" (any of the n group starts in G₁'s window [t₀ −
@@ -106,8 +110,9 @@
 // parallel.
 // Complexity: O(G log G) to build, per end the index's nodes near its window and reach, O(D³) per
 // start it returns, plus the sparse LAP's O(J·C log C) worst case for J joins of C candidates,
-// solved twice (the first assignment, then with the learnt weight and the gap prior), and the
-// weight's O(60·J) bisection; in practice the candidate graph is a sparse set of small chains.
+// solved twice (the first assignment, then with the learnt weight, σ_a and the gap prior), the
+// weight's fit at each of the 9 σ_a with O(9·J·D³) statistics, and O(3·C·D³) to re-cost the
+// candidates when σ_a moved; in practice the candidate graph is a sparse set of small chains.
 // Memory: O(G) (the groups, the index, ~100 bytes a group; 16 row numbers a group while the
 // representatives are chosen) plus the gated candidates (24 bytes each).
 #pragma once
@@ -120,10 +125,11 @@ namespace trackassoc {
 
 struct TrackStitchOptions {
   bool enabled = true;
-  double max_gap_s = 180.0;      // s, the longest gap bridged
-  double max_overlap_s = 2.0;    // s, the overlap of a coasting end and its successor's start
-  double manoeuvre_sigma = 3.0;  // σ_a [m/s²] of the quiet model
-  double turn_sigma = 20.0;      // σ_a [m/s²] of the manoeuvring model
+  double max_gap_s = 180.0;    // s, the longest gap bridged
+  double max_overlap_s = 2.0;  // s, the overlap of a coasting end and its successor's start
+  // σ_a [m/s²] of the quiet model: the first assignment's, and the least a file can learn.
+  double manoeuvre_sigma = 3.0;
+  double turn_sigma = 20.0;  // σ_a [m/s²] of the manoeuvring model
   // Its weight π in the mixture (0: the quiet model alone): the first assignment's and, when
   // learn_turn_probability, the prior's centre.
   double turn_probability = 0.2;
@@ -132,6 +138,12 @@ struct TrackStitchOptions {
   // under a Beta prior of turn_prior_joins pseudo-joins at turn_probability (false: π as given).
   bool learn_turn_probability = true;
   double turn_prior_joins = 10.0;
+  // With it, the quiet model's σ_a too (learn_quiet_sigma, engine/pipeline/stitch_join_cost.hpp): a
+  // grid from manoeuvre_sigma up, under a log-normal prior of median quiet_sigma_prior and
+  // log-standard deviation quiet_sigma_prior_sd (false: manoeuvre_sigma throughout).
+  bool learn_quiet_sigma = true;
+  double quiet_sigma_prior = 6.0;     // m/s²
+  double quiet_sigma_prior_sd = 0.5;  // in ln σ_a
   // A join is made only when the assignment beats by at least this many nats every alternative that
   // exchanges it with a rival (engine/pipeline/stitch_swap_margin.hpp; 3.5: odds of e^3.5 ≈ 33 to 1;
   // 0: off).
@@ -157,6 +169,7 @@ struct TrackStitchSummary {
   // π̂(s̄) learnt from the first joins, at their mean span (0: not learnt), and the mean time
   // between manoeuvre onsets 1/λ̂ (0: none learnt, the weight the same at every span).
   double turn_probability = 0.0, manoeuvre_interval_s = 0.0;
+  double quiet_sigma = 0.0;  // the quiet model's σ_a learnt with it [m/s²] (0: not learnt)
 };
 
 // The join's cost (the gap statistic and the mixture above) is engine/pipeline/stitch_join_cost.hpp's.

@@ -44,6 +44,7 @@ TEST(TrackStitching, ATurnDuringTheGapIsBridgedByTheManoeuvringModel) {
   const Turn turn;
   TrackStitchOptions defaults;
   defaults.start_density_bins = false;  // the box density of the hand calculation
+  defaults.learn_quiet_sigma = false;   // and its quiet σ_a
   EXPECT_NEAR(continuation_statistic(f.tracks, 20, 21, 9.0), turn.m2_quiet, 1e-6);
   EXPECT_GT(turn.m2_quiet, kGate);
   EXPECT_NEAR(gap_statistic(f.tracks, 20, 21, 400.0).m2, turn.m2_turn, 1e-9);
@@ -151,6 +152,62 @@ TEST(TrackStitching, TheTurnWeightGrowsWithTheGapWhereTargetsTurnDuringLongGapsO
   for (int32_t k = 0; k < 80; ++k) EXPECT_EQ(rec.target[1 + 2 * k], rec.target[2 + 2 * k]);
   EXPECT_NEAR(s.manoeuvre_interval_s, 38.23, 1.0);
   EXPECT_NEAR(s.turn_probability, 0.600, 0.01);  // π̂ at the mean span, 35 s
+}
+
+// 200 handovers, each 40 s on sensor 0, a 60 s gap, 60 s on sensor 1, at random places (±500 km) and
+// headings (200 m/s), 400 s apart; B's start is A's end predicted by constant velocity plus w ~ N(0,
+// Q(60 s)) per axis, Q of white-noise acceleration σ_a = `sigma` (Bar-Shalom, Li, Kirubarajan 2001
+// §6.2.2: [[qτ³/3, qτ²/2], [qτ²/2, qτ]], q = σ_a²); 0: B continues A exactly.
+TrackFile handovers_with_acceleration(double sigma, std::vector<std::pair<int32_t, int32_t>>& keys) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> place(-5e5, 5e5), heading(0.0, 2.0 * std::numbers::pi);
+  std::normal_distribution<double> n01;
+  const double q = sigma * sigma, tau = 60.0;
+  Eigen::Matrix2d Q;
+  Q << q * tau * tau * tau / 3.0, q * tau * tau / 2.0, q * tau * tau / 2.0, q * tau;
+  const Eigen::Matrix2d L = q > 0.0 ? Eigen::Matrix2d(Q.llt().matrixL()) : Eigen::Matrix2d::Zero();
+  std::vector<Segment> segments{kBackground};
+  keys = {{1, 99}};
+  for (int32_t k = 0; k < 200; ++k) {
+    const double T = 1000.0 + 400.0 * k, h = heading(rng), px = place(rng), py = place(rng);
+    const double vx = 200.0 * std::cos(h), vy = 200.0 * std::sin(h);
+    segments.push_back({0, 100 + k, T, T + 40, px - vx * T, vx, py - vy * T, vy});  // at (px, py) at T
+    const double tb = T + 100.0;
+    const Eigen::Vector2d wx = L * Eigen::Vector2d(n01(rng), n01(rng)),
+                          wy = L * Eigen::Vector2d(n01(rng), n01(rng));
+    const double bvx = vx + wx(1), bvy = vy + wy(1);
+    const double bx = px + vx * 100.0 + wx(0), by = py + vy * 100.0 + wy(0);  // B's position at tb
+    segments.push_back({1, 200 + k, tb, tb + 60, bx - bvx * tb, bvx, by - bvy * tb, bvy});
+    keys.push_back({0, 100 + k});
+    keys.push_back({1, 200 + k});
+  }
+  return hand_made(segments);
+}
+
+TEST(TrackStitching, TheQuietSigmaIsLearntFromTheJoinsAndNotBelowTheFirstAssignments) {
+  // An injected σ_a = 8 m/s² (between the grid's 3·2^{6/4} ≈ 7.13 and 3·2^{7/4} ≈ 8.49) is recovered
+  // within one step of the grid (|ln(σ̂/8)| < ln 2 / 4) from 200 joins, which outweigh the prior
+  // (median 6); exact continuations give the grid's floor, the first assignment's σ_a = 3 (their
+  // likelihood is largest at the sharpest model: at e = 0 only ln det S counts); not learning
+  // reports 0.
+  TrackStitchOptions o;
+  o.start_density_bins = false;
+  o.gap_bin_s = 0.0;
+  std::vector<std::pair<int32_t, int32_t>> keys;
+  const TrackFile manoeuvring = handovers_with_acceleration(8.0, keys);
+  AssociationRecord rec = singletons(keys);
+  const TrackStitchSummary s = stitch_fragments(manoeuvring, rec, o);
+  EXPECT_GE(s.stitches, 190);
+  EXPECT_LT(std::fabs(std::log(s.quiet_sigma / 8.0)), std::log(2.0) / 4.0) << s.quiet_sigma;
+  const TrackFile straight = handovers_with_acceleration(0.0, keys);
+  AssociationRecord exact = singletons(keys);
+  const TrackStitchSummary e = stitch_fragments(straight, exact, o);
+  EXPECT_EQ(e.stitches, 200);
+  EXPECT_EQ(e.quiet_sigma, o.manoeuvre_sigma);
+  TrackStitchOptions given = o;
+  given.learn_quiet_sigma = false;
+  AssociationRecord fixed = singletons(keys);
+  EXPECT_EQ(stitch_fragments(manoeuvring, fixed, given).quiet_sigma, 0.0);
 }
 
 TEST(TrackStitching, ATurnJoinWithANearRivalIsLeftUnmade) {
