@@ -139,7 +139,8 @@ QuietModelFit learn_quiet_sigma(const TrackTable& t, std::span<const JoinRows> j
       const double p = std::min(w.at(spans[j]), 1.0 - 1e-16);
       score += log_sum_exp(std::log1p(-p) + l_quiet[j], std::log(p) + l_turn[j]);
     }
-    if (score > best_score) best_score = score, best = {sigma, w};
+    if (!(score > best_score)) break;  // past the first maximum
+    best_score = score, best = {sigma, w};
   }
   return best;
 }
