@@ -129,6 +129,7 @@ QuietModelFit learn_quiet_sigma(const TrackTable& t, std::span<const JoinRows> j
   double best_score = -std::numeric_limits<double>::infinity();
   for (int k = 0; k <= 8; ++k) {
     const double sigma = o.manoeuvre_sigma * std::exp2(k / 4.0);
+    if (k > 0 && sigma > o.turn_sigma) break;  // the quiet model stays the sharper one
     log_density(sigma * sigma, l_quiet);
     for (std::size_t j = 0; j < J; ++j)  // as join_cost's turn_log_ratio
       d[j] = static_cast<float>(std::clamp(l_turn[j] - l_quiet[j], -1e4, 1e4));
@@ -139,7 +140,7 @@ QuietModelFit learn_quiet_sigma(const TrackTable& t, std::span<const JoinRows> j
       const double p = std::min(w.at(spans[j]), 1.0 - 1e-16);
       score += log_sum_exp(std::log1p(-p) + l_quiet[j], std::log(p) + l_turn[j]);
     }
-    if (!(score > best_score)) break;  // past the first maximum
+    if (k > 0 && !(score > best_score)) break;  // past the first maximum (the floor's kept whatever)
     best_score = score, best = {sigma, w};
   }
   return best;

@@ -38,20 +38,21 @@ double join_cost(const TrackTable& tracks, std::size_t end, std::size_t start,
 // Bayes, as the turn weight alone is, engine/pipeline/track_stitching.hpp): how sharply a target
 // that did not manoeuvre continues across a gap is a property of the scene too (airliners on
 // airways fly straight, the recorded family's targets drift between turns). For each σ_a of a
-// geometric grid σ_k = manoeuvre_sigma · 2^{k/4}, k = 0 … 8 (manoeuvre_sigma to 4 manoeuvre_sigma),
-// the weight π̂_σ(s) is span_mixture_weight's for the joins' d = ln N_turn − ln N_quiet(σ) and spans,
-// and the σ_a kept maximises the profile log-posterior
+// geometric grid σ_k = manoeuvre_sigma · 2^{k/4}, k = 0 … 8 (manoeuvre_sigma to 4 manoeuvre_sigma,
+// and no wider than turn_sigma), the weight π̂_σ(s) is span_mixture_weight's for the joins'
+// d = ln N_turn − ln N_quiet(σ) and spans, and the σ_a is scored by
 //     Σ_j ln[(1 − π̂_σ(s_j)) N(e_j; 0, S_quiet(σ)) + π̂_σ(s_j) N(e_j; 0, S_turn)] − (ln(σ / σ₀))² / (2 τ²),
-// a log-normal prior of median σ₀ = quiet_sigma_prior and log-sd τ = quiet_sigma_prior_sd: the grid
-// is climbed from its floor while the score rises, so the first maximum is kept (ties to the smaller
-// σ_a) and a file whose joins want the floor pays two fits, not nine. The prior decides for a file of few
-// joins (the recorded family: 1-8 joins, σ₀), the joins for a large one. The grid starts at manoeuvre_sigma,
-// the σ_a the first assignment used: the joins are those that assignment chose, so they are a sample
-// truncated towards the sharp model (selection), and a σ_a below it is not learnt from them (widearea's
-// likelihood rises to any floor offered, 3 → 1.5 → 0.5 m/s², while its fragment pairs fall 90.91 → 90.43
-// → 90.20 %; docs/design.md §4.10). `joins[j]` = (G₁'s last row, G₂'s start representative), `spans[j]` its
-// span. O(9 (J D³ + span_mixture_weight)) at most, the joins in parallel (the answer the same for any number
-// of threads).
+// the joins' mixture likelihood at π̂_σ (the Beta prior of π̂ left out) plus a log-normal prior of
+// median σ₀ = quiet_sigma_prior and log-sd τ = quiet_sigma_prior_sd (a normal in ln σ, the grid's
+// own scale). The grid is climbed from its floor while the score rises, and the first maximum is
+// kept (ties to the smaller σ_a): a file whose joins want the floor pays two fits, not nine. The
+// prior decides for a file of few joins (the recorded family: 1-8 joins, σ₀), the joins for a large
+// one. The floor is manoeuvre_sigma, the σ_a the first assignment used: the joins are those that
+// assignment chose, and a σ_a below it is not learnt from them (widearea's likelihood rises to any
+// floor offered, 3 → 1.5 → 0.5 m/s², while its fragment pairs fall 90.91 → 90.43 → 90.20 %;
+// docs/design.md §4.10). `joins[j]` = (G₁'s last row, G₂'s start representative), `spans[j]` its
+// span. O(J D³ + k (J D³ + span_mixture_weight)) for the k ≤ 9 σ_a climbed, the joins in parallel
+// (the answer the same for any number of threads).
 struct JoinRows {
   std::size_t end = 0, start = 0;
 };

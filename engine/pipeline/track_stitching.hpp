@@ -111,8 +111,8 @@
 // Complexity: O(G log G) to build, per end the index's nodes near its window and reach, O(D³) per
 // start it returns, plus the sparse LAP's O(J·C log C) worst case for J joins of C candidates,
 // solved twice (the first assignment, then with the learnt weight, σ_a and the gap prior), the
-// weight's fit at each of the 9 σ_a with O(9·J·D³) statistics, and O(3·C·D³) to re-cost the
-// candidates when σ_a moved; in practice the candidate graph is a sparse set of small chains.
+// weight's fit at each σ_a climbed (2 where the joins want the floor, at most 9; O(J·D³) each), and O(3·C·D³)
+// to re-cost the candidates when σ_a moved; in practice the candidate graph is a sparse set of small chains.
 // Memory: O(G) (the groups, the index, ~100 bytes a group; 16 row numbers a group while the
 // representatives are chosen) plus the gated candidates (24 bytes each).
 #pragma once
