@@ -71,6 +71,18 @@ py::dict summary_of(const PyAssociation& a) {
   d["candidate_pairs"] = s.candidate_pairs;
   d["gated_pairs"] = s.gated_pairs;
   d["fallback_components"] = s.fallback_components;
+  using namespace pybind11::literals;
+  if (s.segments)  // the segment pass (engine/pipeline/track_segments.hpp), as `associate` prints it
+    d["segments"] = py::dict("targets"_a = s.segments->targets, "joined"_a = s.segments->joined,
+                             "duplicates"_a = s.segments->duplicates, "rounds"_a = s.segments->rounds,
+                             "targets_joined"_a = s.segments->targets_joined,
+                             "targets_merged"_a = s.segments->targets_merged);
+  if (s.stitching.groups > 0)  // fragment stitching (engine/pipeline/track_stitching.hpp)
+    d["stitching"] =
+        py::dict("groups"_a = s.stitching.groups, "candidates"_a = s.stitching.candidates,
+                 "stitches"_a = s.stitching.stitches, "turn_probability"_a = s.stitching.turn_probability,
+                 "manoeuvre_interval_s"_a = s.stitching.manoeuvre_interval_s,
+                 "quiet_sigma"_a = s.stitching.quiet_sigma);
   if (s.path == AssociationPath::kFusionCentre) {
     d["local_tracks"] = s.local_tracks;
     d["packets"] = s.packets;
@@ -234,7 +246,9 @@ void bind_results(py::module_& m) {
           "dict: name, solver, objective, bound (Lagrangian lower bound, NaN when none), gap, "
           "termination, runtime_s, seed, options; for a computed association also path, "
           "pipeline (the stages chosen), sensor_ids, track_counts, stages [{name, seconds, peak_rss_mib}], "
-          "components, candidate_pairs, gated_pairs, fallback_components.")
+          "components, candidate_pairs, gated_pairs, fallback_components; on the default path segments "
+          "{targets, joined, duplicates, rounds, targets_joined, targets_merged} and stitching {groups, "
+          "candidates, stitches, turn_probability, manoeuvre_interval_s, quiet_sigma} when they ran.")
       .def_property_readonly(
           "tracks",
           [](const PyAssociation& a) {

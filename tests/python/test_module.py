@@ -69,6 +69,25 @@ def test_recycled_numbers_are_split_as_the_cli_splits_them(simulated):
     assert kept.registration is None
 
 
+def test_stitching_summary_counts_the_targets_it_joined(simulated):
+    """recorded_recycled: fragment stitching joins output targets that never coexist, so the targets
+    written are its groups less its joins (each join merges two groups); its quiet sigma_a is on the
+    grid 3 * 2^(k/4) m/s^2, k = 0..8; without stitching the summary has no "stitching" and every group is
+    a target of its own."""
+    f = trackassoc.read(simulated("recorded_recycled"))
+    ours = trackassoc.associate(f)
+    st = ours.summary["stitching"]
+    assert st["stitches"] >= 1
+    assert len(set(ours.target.tolist())) == st["groups"] - st["stitches"]
+    k = 4.0 * np.log2(st["quiet_sigma"] / 3.0)
+    assert 0 <= round(k) <= 8 and abs(k - round(k)) < 1e-9
+    assert 0.0 < st["turn_probability"] < 1.0
+    assert ours.summary["segments"]["targets"] > 0
+    apart = trackassoc.associate(f, stitch=False)
+    assert "stitching" not in apart.summary
+    assert len(set(apart.target.tolist())) == st["groups"]
+
+
 def test_full_report_is_what_the_cli_prints(simulated, tmp_path):
     """recorded_recycled (split keys, a registration estimate): the module's full_report() holds the
     lines `trackassoc associate` prints, but for the times (the first line and the stages')."""
