@@ -59,20 +59,19 @@ void sparse_sd_counts(std::ostream& os, const AssociationSummary& s) {
   if (s.segments)
     os << ", segments joined " << s.segments->joined << " (to " << s.segments->targets_joined
        << " targets; duplicates " << s.segments->duplicates << ")";
-  if (s.stitching.stitches > 0)
-    os << ", fragments stitched " << s.stitching.stitches << " (" << s.stitching.candidates
-       << " gated continuations of " << s.stitching.groups << " targets"
-       << (s.stitching.turn_probability > 0.0
-               ? "; manoeuvre weight " + fmt(s.stitching.turn_probability, "%.3f") +
-                     (s.stitching.manoeuvre_interval_s > 0.0
-                          ? ", a manoeuvre every " + fmt(s.stitching.manoeuvre_interval_s, "%.0f") + " s"
-                          : std::string()) +
-                     (s.stitching.quiet_sigma > 0.0
-                          ? ", quiet sigma_a " + fmt(s.stitching.quiet_sigma, "%.2f") + " m/s^2"
-                          : std::string()) +
-                     " learnt"
-               : std::string())
-       << ")";
+  if (s.stitching.stitches > 0) {
+    const TrackStitchSummary& st = s.stitching;
+    os << ", fragments stitched " << st.stitches << " (" << st.candidates << " gated continuations of "
+       << st.groups << " targets";
+    if (st.turn_probability > 0.0) {  // what it learnt from the file
+      os << "; manoeuvre weight " << fmt(st.turn_probability, "%.3f");
+      if (st.manoeuvre_interval_s > 0.0)
+        os << ", a manoeuvre every " << fmt(st.manoeuvre_interval_s, "%.0f") << " s";
+      if (st.quiet_sigma > 0.0) os << ", quiet sigma_a " << fmt(st.quiet_sigma, "%.2f") << " m/s^2";
+      os << " learnt";
+    }
+    os << ")";
+  }
 }
 
 }  // namespace

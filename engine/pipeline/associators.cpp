@@ -108,9 +108,8 @@ class SparseSDAssociator final : public TrackAssociator {
     if (o_.stitching.enabled) {
       const auto ts = std::chrono::steady_clock::now();
       s.stitching = stitch_fragments(reg.registered ? *reg.registered : file, out.record, o_.stitching);
-      const double seconds = seconds_since(ts);
-      s.stages.push_back({"stitching", seconds, peak_rss_mib(), 0.0});
-      out.record.runtime_s += seconds;
+      s.stages.push_back(stage_since("stitching", ts));
+      out.record.runtime_s += s.stages.back().seconds;
     }
     reg.registered.reset();  // the corrected copy is not needed past here
     apply_name(o_, out.record);

@@ -426,7 +426,7 @@ AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& 
         record_info(rep.solve, p.empty_sensor_ids, rep.segments ? &*rep.segments : nullptr));
   rep.stages = p.stages;
   rep.stages.push_back({"solve", solve_s, peak_rss_mib(), 0.0});
-  if (options.segments.enabled) rep.stages.push_back({"segments", seconds_since(t1), peak_rss_mib(), 0.0});
+  if (options.segments.enabled) rep.stages.push_back(stage_since("segments", t1));
   rec.runtime_s = total_seconds(p.stages) + seconds_since(t0);
   rep.sensor_ids = p.sensor_ids;
   rep.empty_sensor_ids = p.empty_sensor_ids;

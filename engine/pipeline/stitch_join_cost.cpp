@@ -98,14 +98,12 @@ double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const 
   if (!(turn.m2 <= gate)) return std::numeric_limits<double>::infinity();
   const GapStatistic quiet = gap_statistic(t, end, start, o.manoeuvre_sigma * o.manoeuvre_sigma);
   if (turn_log_ratio)  // kept finite (±1e4 nats: responsibilities of 0 or 1 all the same)
-    *turn_log_ratio =
-        std::clamp(0.5 * (quiet.m2 + quiet.log_det) - 0.5 * (turn.m2 + turn.log_det), -1e4, 1e4);
+    *turn_log_ratio = std::clamp(turn.log_density() - quiet.log_density(), -1e4, 1e4);
   const double minus_inf = -std::numeric_limits<double>::infinity();
-  const double l_quiet = o.turn_probability < 1.0
-                             ? std::log1p(-o.turn_probability) - 0.5 * (quiet.m2 + quiet.log_det)
-                             : minus_inf;
+  const double l_quiet =
+      o.turn_probability < 1.0 ? std::log1p(-o.turn_probability) + quiet.log_density() : minus_inf;
   const double l_turn =
-      o.turn_probability > 0.0 ? std::log(o.turn_probability) - 0.5 * (turn.m2 + turn.log_det) : minus_inf;
+      o.turn_probability > 0.0 ? std::log(o.turn_probability) + turn.log_density() : minus_inf;
   return -log_sum_exp(l_quiet, l_turn);
 }
 
@@ -116,10 +114,8 @@ QuietModelFit learn_quiet_sigma(const TrackTable& t, std::span<const JoinRows> j
   auto log_density = [&](double q, std::vector<double>& out) {
     out.resize(J);
     parallel_for_range(J, 256, [&](std::size_t lo, std::size_t hi) {
-      for (std::size_t j = lo; j < hi; ++j) {
-        const GapStatistic g = gap_statistic(t, joins[j].end, joins[j].start, q);
-        out[j] = -0.5 * (g.m2 + g.log_det);
-      }
+      for (std::size_t j = lo; j < hi; ++j)
+        out[j] = gap_statistic(t, joins[j].end, joins[j].start, q).log_density();
     });
   };
   std::vector<double> l_turn, l_quiet;

@@ -20,6 +20,7 @@ namespace trackassoc {
 // S).
 struct GapStatistic {
   double m2 = 0.0, log_det = 0.0;
+  double log_density() const { return -0.5 * (m2 + log_det); }  // ln N(e; 0, S)
 };
 GapStatistic gap_statistic(const TrackTable& tracks, std::size_t end, std::size_t start, double q);
 

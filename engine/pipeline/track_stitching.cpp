@@ -427,14 +427,15 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
       }
     const double pi = o.turn_probability;
     // With the quiet model's σ_a when it is learnt too (stitch_join_cost.hpp, learn_quiet_sigma).
+    const bool learn_sigma = o.learn_quiet_sigma && o.manoeuvre_sigma > 0.0;
     const QuietModelFit fit =
-        o.learn_quiet_sigma && o.manoeuvre_sigma > 0.0
+        learn_sigma
             ? learn_quiet_sigma(t, rows, spans, o)
             : QuietModelFit{o.manoeuvre_sigma, span_mixture_weight(joined, spans, pi, o.turn_prior_joins)};
     const SpanMixtureWeight& learnt = fit.weight;
     summary.turn_probability = learnt.at(learnt.mean_span);
     summary.manoeuvre_interval_s = learnt.rate > 0.0 ? 1.0 / learnt.rate : 0.0;
-    if (o.learn_quiet_sigma && o.manoeuvre_sigma > 0.0) summary.quiet_sigma = fit.sigma;
+    if (learn_sigma) summary.quiet_sigma = fit.sigma;
     const double quiet_was = std::log1p(-pi), turn_was = std::log(pi);
     const double q_was = o.manoeuvre_sigma * o.manoeuvre_sigma, q_now = fit.sigma * fit.sigma;
     const double q_turn = o.turn_sigma * o.turn_sigma;
@@ -450,10 +451,7 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
         // The quiet density changes too: −ln p(e) = −ln[(1 − π) N_quiet + π N_turn] replaced whole.
         const std::size_t end = groups[static_cast<std::size_t>(k.end)].last,
                           start = groups[static_cast<std::size_t>(k.start)].start;
-        auto log_density = [&](double q) {
-          const GapStatistic g = gap_statistic(t, end, start, q);
-          return -0.5 * (g.m2 + g.log_det);
-        };
+        auto log_density = [&](double q) { return gap_statistic(t, end, start, q).log_density(); };
         const double l_was = log_density(q_was), l_now = log_density(q_now), l_turn = log_density(q_turn);
         k.cost += log_sum_exp(quiet_was + l_was, turn_was + l_turn) -
                   log_sum_exp(std::log1p(-now) + l_now, std::log(now) + l_turn);
