@@ -4,7 +4,8 @@
 //   problem     — alignment + candidates + λ + components, end to end;
 //   solve       — components solved in parallel with the registry's "pairwise" solver.
 //   problem, defaults — the same problem with `associate --sparse`'s default options (n ≤ 10³),
-//                       and the default path's problem with those options (the same pair source).
+//                       the same without the alignment's lag terms, and the default path's
+//                       problem with those options (the same pair source).
 //   wide-area candidates — the default path's candidate index (engine/pipeline/pair_source.hpp) over
 //                       widearea_small's 16 radars (seed 1), every pair of sensors at once (issue 31).
 // Track sets: engine/studies/scale/experiment_scale.hpp's synthetic_recorded_tracks at the experiment's
@@ -129,12 +130,15 @@ void BM_SparseProblem(benchmark::State& state) {
   set_threads(state, gc);
   const auto o = pipeline_options();
   std::size_t gated = 0;
+  std::vector<StageReport> stages;
   for (auto _ : state) {
     const SparseAssociationProblem p = build_sparse_association_problem(f.file, o);
     gated = p.s12.size();
+    stages = p.stages;
     benchmark::DoNotOptimize(p.components.count);
   }
   state.counters["gated_12"] = static_cast<double>(gated);
+  for (const StageReport& s : stages) state.counters[s.name + "_s"] = s.seconds;
   state.counters["tracks_per_s"] =
       benchmark::Counter(3.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
 }
@@ -165,6 +169,18 @@ void build_problems(benchmark::State& state, std::size_t slot12, Build build) {
 void BM_SparseProblemDefaults(benchmark::State& state) {
   SparsePipelineOptions o;
   o.pipeline.statistic.gate_probability = 0.999;
+  build_problems(state, 0, [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
+}
+
+// The same without the alignment's two lag terms (AlignmentOptions::lag_inflation and
+// lag_look_ahead, 0): these tracks are reports with independent noise, not a filter's output, so
+// their velocity jumps read as manoeuvres and widen some reports' covariances by kilometres (the
+// lag time τ² = P_pp/P_vv is 225 s² here); the counters show what that widening costs the index.
+void BM_SparseProblemDefaultsNoLag(benchmark::State& state) {
+  SparsePipelineOptions o;
+  o.pipeline.statistic.gate_probability = 0.999;
+  o.pipeline.alignment.lag_inflation = 0.0;
+  o.pipeline.alignment.lag_look_ahead = 0.0;
   build_problems(state, 0, [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
 }
 
@@ -227,6 +243,7 @@ BENCHMARK(BM_SparseStatistic)->Apply([](auto* b) { sizes(b, 10000); });
 BENCHMARK(BM_DenseStatistic)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_SparseProblem)->Apply([](auto* b) { sizes(b, 10000); });
 BENCHMARK(BM_SparseProblemDefaults)->Apply([](auto* b) { sizes(b, 1000); });
+BENCHMARK(BM_SparseProblemDefaultsNoLag)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_DefaultPathProblem)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_SparseSolve)->Apply([](auto* b) { sizes(b, 10000); });
 BENCHMARK(BM_WideAreaCandidates)

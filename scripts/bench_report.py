@@ -216,6 +216,11 @@ def kernel_rows(T, folder):
           f"({T.c('BM_SparseProblemDefaults/n:1000/threads:1', 'candidates_12', 0) / 1e3:.0f} k candidate pairs 1–2)",
           T.t("BM_SparseProblemDefaults/n:1000/threads:1"), T.t("BM_SparseProblemDefaults/n:1000/threads:2"),
           "the same problem with the seed 000 gate (row above's options)", T.t("BM_SparseProblem/n:1000/threads:1"))
+    T.row("the same without the alignment's lag terms (`bench_sparse.cpp`: these tracks' noise reads as manoeuvre)",
+          f"n = 1000 ({T.c('BM_SparseProblemDefaultsNoLag/n:1000/threads:1', 'candidates_12', 0) / 1e3:.1f} k "
+          "candidate pairs 1–2)",
+          T.t("BM_SparseProblemDefaultsNoLag/n:1000/threads:1"), T.t("BM_SparseProblemDefaultsNoLag/n:1000/threads:2"),
+          "the same problem with the seed 000 gate", T.t("BM_SparseProblem/n:1000/threads:1"))
     T.row("components solved", "n = 10 000", T.t("BM_SparseSolve/n:10000/threads:1"),
           T.t("BM_SparseSolve/n:10000/threads:2"), "— (thread ratio)", None)
     T.section("dense kernels")
