@@ -107,6 +107,23 @@ double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const 
   return -log_sum_exp(l_quiet, l_turn);
 }
 
+double join_cost_revision(const TrackTable& t, std::size_t end, std::size_t start,
+                          const TrackStitchOptions& o, double sigma, double turn_weight,
+                          float& turn_log_ratio) {
+  const double pi = o.turn_probability, quiet_was = std::log1p(-pi), turn_was = std::log(pi);
+  const double q_was = o.manoeuvre_sigma * o.manoeuvre_sigma, q_now = sigma * sigma;
+  if (q_now == q_was)
+    return log_sum_exp(quiet_was, turn_was + turn_log_ratio) -
+           log_sum_exp(std::log1p(-turn_weight), std::log(turn_weight) + turn_log_ratio);
+  // The quiet density changes too: −ln p(e) = −ln[(1 − π) N_quiet + π N_turn] replaced whole.
+  auto log_density = [&](double q) { return gap_statistic(t, end, start, q).log_density(); };
+  const double l_was = log_density(q_was), l_now = log_density(q_now),
+               l_turn = log_density(o.turn_sigma * o.turn_sigma);
+  turn_log_ratio = static_cast<float>(std::clamp(l_turn - l_now, -1e4, 1e4));
+  return log_sum_exp(quiet_was + l_was, turn_was + l_turn) -
+         log_sum_exp(std::log1p(-turn_weight) + l_now, std::log(turn_weight) + l_turn);
+}
+
 QuietModelFit learn_quiet_sigma(const TrackTable& t, std::span<const JoinRows> joins,
                                 std::span<const float> spans, const TrackStitchOptions& o) {
   const std::size_t J = joins.size();

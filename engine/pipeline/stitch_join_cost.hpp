@@ -35,6 +35,16 @@ bool gap_surely_outside(const TrackTable& tracks, std::size_t end, std::size_t s
 double join_cost(const TrackTable& tracks, std::size_t end, std::size_t start,
                  const TrackStitchOptions& options, double gate, double* turn_log_ratio = nullptr);
 
+// The change of a join's cost when the second assignment revises the mixture (track_stitching.hpp):
+// join_cost at (manoeuvre_sigma, turn_probability) + the change = join_cost at (sigma, turn_weight)
+// (the quiet model's σ_a and the turn weight learnt, learn_quiet_sigma and span_mixture_weight).
+// `turn_log_ratio` holds join_cost's ratio at manoeuvre_sigma (kept in float by the candidates)
+// and gets the ratio at `sigma`. When σ_a is unchanged, only the weights change: the change is
+// then computed from the ratio alone, with no gap statistic (exact but for the ratio's float).
+double join_cost_revision(const TrackTable& tracks, std::size_t end, std::size_t start,
+                          const TrackStitchOptions& options, double sigma, double turn_weight,
+                          float& turn_log_ratio);
+
 // The quiet model's σ_a learnt with the turn weight from a first assignment's joins (empirical
 // Bayes, as the turn weight alone is, engine/pipeline/track_stitching.hpp): how sharply a target
 // that did not manoeuvre continues across a gap is a property of the scene too (airliners on

@@ -436,26 +436,13 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     summary.turn_probability = learnt.at(learnt.mean_span);
     summary.manoeuvre_interval_s = learnt.rate > 0.0 ? 1.0 / learnt.rate : 0.0;
     if (learn_sigma) summary.quiet_sigma = fit.sigma;
-    const double quiet_was = std::log1p(-pi), turn_was = std::log(pi);
-    const double q_was = o.manoeuvre_sigma * o.manoeuvre_sigma, q_now = fit.sigma * fit.sigma;
-    const double q_turn = o.turn_sigma * o.turn_sigma;
     parallel_for_range(candidates.size(), 1024, [&](std::size_t lo, std::size_t hi) {
       for (std::size_t i = lo; i < hi; ++i) {
         Candidate& k = candidates[i];
         const double now = std::min(learnt.at(span_of(k)), 1.0 - 1e-16);  // π_c > 0: π > 0
-        if (q_now == q_was) {
-          k.cost += log_sum_exp(quiet_was, turn_was + k.turn_log_ratio) -
-                    log_sum_exp(std::log1p(-now), std::log(now) + k.turn_log_ratio);
-          continue;
-        }
-        // The quiet density changes too: −ln p(e) = −ln[(1 − π) N_quiet + π N_turn] replaced whole.
-        const std::size_t end = groups[static_cast<std::size_t>(k.end)].last,
-                          start = groups[static_cast<std::size_t>(k.start)].start;
-        auto log_density = [&](double q) { return gap_statistic(t, end, start, q).log_density(); };
-        const double l_was = log_density(q_was), l_now = log_density(q_now), l_turn = log_density(q_turn);
-        k.cost += log_sum_exp(quiet_was + l_was, turn_was + l_turn) -
-                  log_sum_exp(std::log1p(-now) + l_now, std::log(now) + l_turn);
-        k.turn_log_ratio = static_cast<float>(std::clamp(l_turn - l_now, -1e4, 1e4));
+        k.cost += join_cost_revision(t, groups[static_cast<std::size_t>(k.end)].last,
+                                     groups[static_cast<std::size_t>(k.start)].start, o, fit.sigma, now,
+                                     k.turn_log_ratio);
       }
     });
   }

@@ -1,7 +1,8 @@
 // Fragment stitching's manoeuvring model and its learnt weight (engine/pipeline/track_stitching.hpp,
 // kernels/statistics/mixture_weight.hpp) on hand-made files (tests/support/stitching_files.hpp): a
 // turn bridged by the mixture, the weight learnt from a file of straight handovers, the weight over
-// the gap's span, a near rival, and a jump beyond the manoeuvring gate. Costs by hand.
+// the gap's span, the quiet σ_a learnt, the revised cost against a fresh one, a near rival, and a
+// jump beyond the manoeuvring gate. Costs by hand.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -208,6 +209,38 @@ TEST(TrackStitching, TheQuietSigmaIsLearntFromTheJoinsAndNotBelowTheFirstAssignm
   given.learn_quiet_sigma = false;
   AssociationRecord fixed = singletons(keys);
   EXPECT_EQ(stitch_fragments(manoeuvring, fixed, given).quiet_sigma, 0.0);
+}
+
+// The second assignment's revised cost (join_cost_revision) is join_cost at the learnt quiet σ_a
+// and turn weight, computed afresh: on the turn above and on a straight continuation 500 m off,
+// at σ_a unchanged (the weights alone, from the float ratio), one and two grid steps up, and at
+// several weights; the ratio it leaves is join_cost's at the new σ_a.
+TEST(TrackStitching, TheRevisedCostIsTheJoinCostAtTheLearntModel) {
+  const TrackFile turn =
+      hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 100, 160, 14000, 0, 6000 - 200 * 100, 200}, kBackground});
+  const TrackFile straight = hand_made({{0, 1, 0, 40, 0, 200}, {1, 7, 60, 100, 500, 200}, kBackground});
+  TrackStitchOptions first;  // the first assignment's model: σ_a = manoeuvre_sigma, π = turn_probability
+  first.turn_probability = 0.2;
+  for (const TrackFile* f : {&turn, &straight})
+    for (const double sigma : {first.manoeuvre_sigma, first.manoeuvre_sigma * std::exp2(0.25),
+                               first.manoeuvre_sigma * std::exp2(0.5)})
+      for (const double weight : {0.01, 0.2, 0.7}) {
+        SCOPED_TRACE(std::to_string(sigma) + " " + std::to_string(weight));
+        double d = 0.0;
+        const double was = join_cost(f->tracks, 20, 21, first, kGate, &d);
+        ASSERT_TRUE(std::isfinite(was));
+        float ratio = static_cast<float>(d);
+        const double revised = was + join_cost_revision(f->tracks, 20, 21, first, sigma, weight, ratio);
+        TrackStitchOptions now = first;
+        now.manoeuvre_sigma = sigma;
+        now.turn_probability = weight;
+        double d_now = 0.0;
+        const double fresh = join_cost(f->tracks, 20, 21, now, kGate, &d_now);
+        // σ_a unchanged: the ratio was kept in float (|d| ≤ 10⁴ nats, a relative 6·10⁻⁸)
+        const double tolerance = sigma == first.manoeuvre_sigma ? 1e-6 * (1.0 + std::fabs(d)) : 1e-9;
+        EXPECT_NEAR(revised, fresh, tolerance * (1.0 + std::fabs(fresh)));
+        EXPECT_EQ(ratio, static_cast<float>(d_now));
+      }
 }
 
 TEST(TrackStitching, ATurnJoinWithANearRivalIsLeftUnmade) {
