@@ -5,7 +5,8 @@
 //   solve       — components solved in parallel with the registry's "pairwise" solver.
 //   problem, defaults — the same problem with `associate --sparse`'s default options (n ≤ 10³),
 //                       the same without the alignment's lag terms, and the default path's
-//                       problem with those options (the same pair source).
+//                       problem with those options (the same pair source); then on
+//                       recorded_10k's filtered tracks, the defaults against seed 000's options.
 //   wide-area candidates — the default path's candidate index (engine/pipeline/pair_source.hpp) over
 //                       widearea_small's 16 radars (seed 1), every pair of sensors at once (issue 31).
 // Track sets: engine/studies/scale/experiment_scale.hpp's synthetic_recorded_tracks at the experiment's
@@ -16,6 +17,7 @@
 #include <map>
 #include <memory>
 
+#include "bench/simulated_files.hpp"
 #include "engine/pipeline/pair_source.hpp"
 #include "engine/pipeline/pipeline.hpp"
 #include "engine/pipeline/sparse_pipeline.hpp"
@@ -143,17 +145,17 @@ void BM_SparseProblem(benchmark::State& state) {
       benchmark::Counter(3.0 * state.range(0), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// Builds a sparse problem per iteration; counters: the candidate pairs of sensors 1–2 (its slot
-// `slot12`), the gated pairs 1–2 of a three-sensor problem, and the last iteration's stage times.
+// Builds a sparse problem of `file` per iteration; counters: the candidate pairs of sensors 1–2
+// (its slot `slot12`), the gated pairs 1–2 of a three-sensor problem, and the last iteration's
+// stage times.
 template <class Build>
-void build_problems(benchmark::State& state, std::size_t slot12, Build build) {
-  const Fixture& f = fixture(static_cast<int32_t>(state.range(0)));
+void build_problems(benchmark::State& state, const TrackFile& file, std::size_t slot12, Build build) {
   std::unique_ptr<tbb::global_control> gc;
   set_threads(state, gc);
   std::size_t candidates = 0, gated = 0;
   std::vector<StageReport> stages;
   for (auto _ : state) {
-    const auto p = build(f.file);
+    const auto p = build(file);
     candidates = p.candidate_pairs[slot12];
     if constexpr (requires { p.s12; }) gated = p.s12.size();
     stages = p.stages;
@@ -169,7 +171,8 @@ void build_problems(benchmark::State& state, std::size_t slot12, Build build) {
 void BM_SparseProblemDefaults(benchmark::State& state) {
   SparsePipelineOptions o;
   o.pipeline.statistic.gate_probability = 0.999;
-  build_problems(state, 0, [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
+  build_problems(state, fixture(static_cast<int32_t>(state.range(0))).file, 0,
+                 [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
 }
 
 // The same without the alignment's two lag terms (AlignmentOptions::lag_inflation and
@@ -181,7 +184,8 @@ void BM_SparseProblemDefaultsNoLag(benchmark::State& state) {
   o.pipeline.statistic.gate_probability = 0.999;
   o.pipeline.alignment.lag_inflation = 0.0;
   o.pipeline.alignment.lag_look_ahead = 0.0;
-  build_problems(state, 0, [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
+  build_problems(state, fixture(static_cast<int32_t>(state.range(0))).file, 0,
+                 [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
 }
 
 // The default (sparse S-D) path's problem with the same options on the same tracks: the index and
@@ -189,8 +193,18 @@ void BM_SparseProblemDefaultsNoLag(benchmark::State& state) {
 void BM_DefaultPathProblem(benchmark::State& state) {
   SparseSDOptions o;
   o.pipeline.statistic.gate_probability = 0.999;
-  build_problems(state, 1,
+  build_problems(state, fixture(static_cast<int32_t>(state.range(0))).file, 1,
                  [&](const TrackFile& file) { return build_sparse_sd_problem(file, o); });  // 0·S + 1
+}
+
+// The same comparison on filtered tracks: recorded_10k (3 × 10 000 targets, every local track a
+// Kalman filter's output; seed 1, run 0), the problem with `--sparse`'s default options (arg 0)
+// against seed 000's (arg 1: PipelineOptions::paper()), both at the CLI's gate probability 0.99.
+void BM_RecordedProblem(benchmark::State& state) {
+  SparsePipelineOptions o;
+  if (state.range(0) == 1) o.pipeline = PipelineOptions::paper();
+  build_problems(state, bench::simulated_track_file("recorded_10k"), 0,
+                 [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
 }
 
 void BM_SparseSolve(benchmark::State& state) {
@@ -245,6 +259,11 @@ BENCHMARK(BM_SparseProblem)->Apply([](auto* b) { sizes(b, 10000); });
 BENCHMARK(BM_SparseProblemDefaults)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_SparseProblemDefaultsNoLag)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_DefaultPathProblem)->Apply([](auto* b) { sizes(b, 1000); });
+BENCHMARK(BM_RecordedProblem)
+    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->ArgNames({"seed000", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_SparseSolve)->Apply([](auto* b) { sizes(b, 10000); });
 BENCHMARK(BM_WideAreaCandidates)
     ->Arg(1)
