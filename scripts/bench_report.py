@@ -222,11 +222,11 @@ def kernel_rows(T, folder):
           T.t("BM_SparseProblemDefaultsNoLag/n:1000/threads:1"), T.t("BM_SparseProblemDefaultsNoLag/n:1000/threads:2"),
           "the same problem with the seed 000 gate", T.t("BM_SparseProblem/n:1000/threads:1"))
     T.row("problem with `--sparse`'s default options on filtered tracks",
-          f"recorded_10k, 3 × 10 000 targets ({T.c('BM_RecordedProblem/seed000:0/threads:1', 'gated_12', 0) / 1e3:.1f} k "
+          f"recorded_10k, 3 × 10 000 targets ({T.c('BM_RecordedProblem/defaults/threads:1', 'gated_12', 0) / 1e3:.1f} k "
           "gated pairs 1–2)",
-          T.t("BM_RecordedProblem/seed000:0/threads:1"), T.t("BM_RecordedProblem/seed000:0/threads:2"),
-          f"the same file with seed 000's options ({T.c('BM_RecordedProblem/seed000:1/threads:1', 'gated_12', 0) / 1e3:.1f} k gated)",
-          T.t("BM_RecordedProblem/seed000:1/threads:1"))
+          T.t("BM_RecordedProblem/defaults/threads:1"), T.t("BM_RecordedProblem/defaults/threads:2"),
+          f"the same file with seed 000's options ({T.c('BM_RecordedProblem/seed000/threads:1', 'gated_12', 0) / 1e3:.1f} k gated)",
+          T.t("BM_RecordedProblem/seed000/threads:1"))
     T.row("components solved", "n = 10 000", T.t("BM_SparseSolve/n:10000/threads:1"),
           T.t("BM_SparseSolve/n:10000/threads:2"), "— (thread ratio)", None)
     T.section("dense kernels")

@@ -35,7 +35,8 @@ bool gap_surely_outside(const TrackTable& tracks, std::size_t end, std::size_t s
 double join_cost(const TrackTable& tracks, std::size_t end, std::size_t start,
                  const TrackStitchOptions& options, double gate, double* turn_log_ratio = nullptr);
 
-// The change of a join's cost when the second assignment revises the mixture (track_stitching.hpp):
+// The change of a join's cost when the second assignment revises the mixture (track_stitching.hpp,
+// docs/design.md §4.10), for a gated pair (join_cost finite) and a weight in (0, 1):
 // join_cost at (manoeuvre_sigma, turn_probability) + the change = join_cost at (sigma, turn_weight)
 // (the quiet model's σ_a and the turn weight learnt, learn_quiet_sigma and span_mixture_weight).
 // `turn_log_ratio` holds join_cost's ratio at manoeuvre_sigma (kept in float by the candidates)
