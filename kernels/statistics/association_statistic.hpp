@@ -185,7 +185,8 @@ struct AlignmentOptions {
 };
 
 // Resamples the tracks of `sensor` in `tracks` at `common_times` (ascending), each over its span.
-// O(rows + Σ spans · D³) time, O(Σ spans) memory.
+// O(rows log rows + Σ spans · D³) time, the tracks in parallel (TBB; the same output for any number
+// of threads), O(Σ spans) memory.
 AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<const double> common_times,
                            const AlignmentOptions& options);
 

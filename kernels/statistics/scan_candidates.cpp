@@ -472,7 +472,12 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
   int32_t most_tracks = 1;  // the key of sort_scan_hits: the bits of the largest track index
   for (int32_t s = 0; s < S; ++s) most_tracks = std::max(most_tracks, sensors[s]->n_tracks());
   const int track_bits = std::bit_width(static_cast<uint32_t>(most_tracks - 1));
-  constexpr int32_t kBlock = 8;
+  // Blocks of at most 8 scans, and at least as many blocks as threads while there are scans enough
+  // (a file of 11 common times in blocks of 8 and 3 left one thread idle for most of the index).
+  // The blocking does not change the output: each pair's count is summed over the blocks.
+  const int32_t threads = std::max(1, tbb::this_task_arena::max_concurrency());
+  const int32_t least_blocks = std::max((K + 7) / 8, std::min(K, threads));
+  const int32_t kBlock = std::max(1, (K + least_blocks - 1) / std::max(1, least_blocks));
   const std::size_t blocks = (static_cast<std::size_t>(K) + kBlock - 1) / kBlock;
   std::vector<std::vector<Hit>> per_block(blocks);
   parallel_for_range(blocks, 1, [&](std::size_t lo, std::size_t hi) {
