@@ -246,69 +246,70 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
   const double half_extent2 = 0.5 * options.extent_sigma * options.extent_sigma;  // σ_r²/2 per report
 
   const bool two_sided = options.method == AlignmentMethod::kTwoSided;
-  // The tracks in parallel (TBB): each writes its own cells only, so the output does not depend on
-  // the number of threads.
-  parallel_for_range(static_cast<std::size_t>(n), 64, [&](std::size_t lo, std::size_t hi) {
-    for (auto a = static_cast<int32_t>(lo); a < static_cast<int32_t>(hi); ++a) {
-      out.truth[a] = has_truth ? tracks.truth[rows[begin[a + 1] - 1]] : -1;
-      const double first = tracks.t[rows[begin[a]]], last = tracks.t[rows[begin[a + 1] - 1]];
-      std::size_t cur = begin[a];  // walks forward: common times are ascending
-      const AlignedTracks::Span sp = out.span(a);
-      for (int32_t k = sp.begin; k < sp.end; ++k) {
-        const double t = common_times[k];
-        while (cur < begin[a + 1] && tracks.t[rows[cur]] <= t) ++cur;
-        std::size_t pos;  // the report moved to t is rows[pos]
-        if (two_sided) {
-          if (t < first - options.max_extrapolation || t > last + options.max_extrapolation) continue;
-          // The nearest report in time: the latest at or before t, or the earliest after it.
-          const bool has_before = cur > begin[a], has_after = cur < begin[a + 1];
-          if (has_before && has_after)
-            pos = t - tracks.t[rows[cur - 1]] <= tracks.t[rows[cur]] - t ? cur - 1 : cur;
-          else
-            pos = has_before ? cur - 1 : cur;
-        } else {
-          if (cur == begin[a]) continue;  // no report yet
-          pos = cur - 1;
-          if (t - tracks.t[rows[pos]] > options.max_extrapolation) continue;
-        }
-        const std::size_t r = rows[pos];
-        const double dt = t - tracks.t[r];  // < 0: retrodiction to an earlier time
-        const double adt = std::fabs(dt);
-        const int64_t cell = out.cell_base(a) + k;
-        out.valid[cell] = 1;
-        double* x = out.state_at(cell);
-        for (int c = 0; c < D; ++c) x[c] = tracks.state[c][r];
-        for (int c = 0; c < m; ++c) x[c] += dt * x[m + c];  // x ← F(Δ) x
-        // P ← F P Fᵀ + Q(|Δ|) on the full matrix, then packed back. Backwards, F(−|Δ|) with the same
-        // Q: the uncertainty grows with the time moved in either direction (an approximation to a
-        // fixed-interval smoother's retrodiction, which would need the filter's gains).
-        Eigen::MatrixXd Pm(D, D);
-        for (int i = 0, p = 0; i < D; ++i)
-          for (int j = i; j < D; ++j, ++p) Pm(i, j) = Pm(j, i) = tracks.cov[p][r];
-        Eigen::MatrixXd F = Eigen::MatrixXd::Identity(D, D);
-        for (int c = 0; c < m; ++c) F(c, m + c) = dt;
-        Eigen::MatrixXd Pp = F * Pm * F.transpose();
-        const double sgn = dt < 0 ? -1.0 : 1.0;  // Q's cross term follows the direction of F
-        for (int c = 0; c < m; ++c) {
-          Pp(c, c) += q * adt * adt * adt / 3.0;
-          Pp(c, m + c) += sgn * q * adt * adt / 2.0;
-          Pp(m + c, c) += sgn * q * adt * adt / 2.0;
-          Pp(m + c, m + c) += q * adt;
-        }
-        if (two_sided && (options.lag_inflation > 0.0 || options.lag_look_ahead > 0.0) &&
-            begin[a + 1] - begin[a] >= 2) {
-          const ManoeuvreLag lag = manoeuvre_lag(tracks, rows, begin[a], begin[a + 1], pos, options);
-          for (int c = 0; c < m; ++c) {
-            Pp(c, c) += lag.position_variance;
-            Pp(m + c, m + c) += lag.velocity_variance;
-          }
-        }
-        for (int c = 0; c < m; ++c) Pp(c, c) += half_extent2;
-        double* pc = out.cov_at(cell);
-        for (int i = 0, p = 0; i < D; ++i)
-          for (int j = i; j < D; ++j, ++p) pc[p] = Pp(i, j);
+  // One track's cells (each track writes its own only, so the output does not depend on the number
+  // of threads); its matrices are allocated once for all its cells.
+  auto align_one = [&](int32_t a) {
+    Eigen::MatrixXd Pm(D, D), F(D, D), Pp(D, D);
+    out.truth[a] = has_truth ? tracks.truth[rows[begin[a + 1] - 1]] : -1;
+    const double first = tracks.t[rows[begin[a]]], last = tracks.t[rows[begin[a + 1] - 1]];
+    std::size_t cur = begin[a];  // walks forward: common times are ascending
+    const AlignedTracks::Span sp = out.span(a);
+    for (int32_t k = sp.begin; k < sp.end; ++k) {
+      const double t = common_times[k];
+      while (cur < begin[a + 1] && tracks.t[rows[cur]] <= t) ++cur;
+      std::size_t pos;  // the report moved to t is rows[pos]
+      if (two_sided) {
+        if (t < first - options.max_extrapolation || t > last + options.max_extrapolation) continue;
+        // The nearest report in time: the latest at or before t, or the earliest after it.
+        const bool has_before = cur > begin[a], has_after = cur < begin[a + 1];
+        if (has_before && has_after)
+          pos = t - tracks.t[rows[cur - 1]] <= tracks.t[rows[cur]] - t ? cur - 1 : cur;
+        else
+          pos = has_before ? cur - 1 : cur;
+      } else {
+        if (cur == begin[a]) continue;  // no report yet
+        pos = cur - 1;
+        if (t - tracks.t[rows[pos]] > options.max_extrapolation) continue;
       }
+      const std::size_t r = rows[pos];
+      const double dt = t - tracks.t[r];  // < 0: retrodiction to an earlier time
+      const double adt = std::fabs(dt);
+      const int64_t cell = out.cell_base(a) + k;
+      out.valid[cell] = 1;
+      double* x = out.state_at(cell);
+      for (int c = 0; c < D; ++c) x[c] = tracks.state[c][r];
+      for (int c = 0; c < m; ++c) x[c] += dt * x[m + c];  // x ← F(Δ) x
+      // P ← F P Fᵀ + Q(|Δ|) on the full matrix, then packed back. Backwards, F(−|Δ|) with the same
+      // Q: the uncertainty grows with the time moved in either direction (an approximation to a
+      // fixed-interval smoother's retrodiction, which would need the filter's gains).
+      for (int i = 0, p = 0; i < D; ++i)
+        for (int j = i; j < D; ++j, ++p) Pm(i, j) = Pm(j, i) = tracks.cov[p][r];
+      F.setIdentity();
+      for (int c = 0; c < m; ++c) F(c, m + c) = dt;
+      Pp = F * Pm * F.transpose();
+      const double sgn = dt < 0 ? -1.0 : 1.0;  // Q's cross term follows the direction of F
+      for (int c = 0; c < m; ++c) {
+        Pp(c, c) += q * adt * adt * adt / 3.0;
+        Pp(c, m + c) += sgn * q * adt * adt / 2.0;
+        Pp(m + c, c) += sgn * q * adt * adt / 2.0;
+        Pp(m + c, m + c) += q * adt;
+      }
+      if (two_sided && (options.lag_inflation > 0.0 || options.lag_look_ahead > 0.0) &&
+          begin[a + 1] - begin[a] >= 2) {
+        const ManoeuvreLag lag = manoeuvre_lag(tracks, rows, begin[a], begin[a + 1], pos, options);
+        for (int c = 0; c < m; ++c) {
+          Pp(c, c) += lag.position_variance;
+          Pp(m + c, m + c) += lag.velocity_variance;
+        }
+      }
+      for (int c = 0; c < m; ++c) Pp(c, c) += half_extent2;
+      double* pc = out.cov_at(cell);
+      for (int i = 0, p = 0; i < D; ++i)
+        for (int j = i; j < D; ++j, ++p) pc[p] = Pp(i, j);
     }
+  };
+  parallel_for_range(static_cast<std::size_t>(n), 64, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t a = lo; a < hi; ++a) align_one(static_cast<int32_t>(a));
   });
   return out;
 }
