@@ -37,6 +37,10 @@ void predict(const TrackTable& t, std::size_t r, double dt, double q, Vector& x,
   P = F * P0 * F.transpose() + Q;
 }
 
+// ln N_turn − ln N_quiet, kept finite (±10⁴ nats: responsibilities of 0 or 1 all the same), as
+// join_cost's `turn_log_ratio`, learn_quiet_sigma's d and the revision's ratio all are.
+double clamped_log_ratio(double l_turn, double l_quiet) { return std::clamp(l_turn - l_quiet, -1e4, 1e4); }
+
 }  // namespace
 
 // ln(e^a + e^b) without overflow.
@@ -97,8 +101,7 @@ double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const 
   const GapStatistic turn = gap_statistic(t, end, start, o.turn_sigma * o.turn_sigma);
   if (!(turn.m2 <= gate)) return std::numeric_limits<double>::infinity();
   const GapStatistic quiet = gap_statistic(t, end, start, o.manoeuvre_sigma * o.manoeuvre_sigma);
-  if (turn_log_ratio)  // kept finite (±1e4 nats: responsibilities of 0 or 1 all the same)
-    *turn_log_ratio = std::clamp(turn.log_density() - quiet.log_density(), -1e4, 1e4);
+  if (turn_log_ratio) *turn_log_ratio = clamped_log_ratio(turn.log_density(), quiet.log_density());
   const double minus_inf = -std::numeric_limits<double>::infinity();
   const double l_quiet =
       o.turn_probability < 1.0 ? std::log1p(-o.turn_probability) + quiet.log_density() : minus_inf;
@@ -107,20 +110,23 @@ double join_cost(const TrackTable& t, std::size_t end, std::size_t start, const 
   return -log_sum_exp(l_quiet, l_turn);
 }
 
-double join_cost_revision(const TrackTable& t, std::size_t end, std::size_t start,
-                          const TrackStitchOptions& o, double sigma, double turn_weight,
-                          float& turn_log_ratio) {
-  const double pi = o.turn_probability, quiet_was = std::log1p(-pi), turn_was = std::log(pi);
-  const double q_was = o.manoeuvre_sigma * o.manoeuvre_sigma, q_now = sigma * sigma;
-  if (q_now == q_was)
-    return log_sum_exp(quiet_was, turn_was + turn_log_ratio) -
+JoinCostRevision::JoinCostRevision(const TrackStitchOptions& o, double sigma)
+    : quiet_was_(std::log1p(-o.turn_probability)),
+      turn_was_(std::log(o.turn_probability)),
+      q_was_(o.manoeuvre_sigma * o.manoeuvre_sigma),
+      q_now_(sigma * sigma),
+      q_turn_(o.turn_sigma * o.turn_sigma) {}
+
+double JoinCostRevision::operator()(const TrackTable& t, std::size_t end, std::size_t start,
+                                    double turn_weight, float& turn_log_ratio) const {
+  if (q_now_ == q_was_)
+    return log_sum_exp(quiet_was_, turn_was_ + turn_log_ratio) -
            log_sum_exp(std::log1p(-turn_weight), std::log(turn_weight) + turn_log_ratio);
   // The quiet density changes too: −ln p(e) = −ln[(1 − π) N_quiet + π N_turn] replaced whole.
   auto log_density = [&](double q) { return gap_statistic(t, end, start, q).log_density(); };
-  const double l_was = log_density(q_was), l_now = log_density(q_now),
-               l_turn = log_density(o.turn_sigma * o.turn_sigma);
-  turn_log_ratio = static_cast<float>(std::clamp(l_turn - l_now, -1e4, 1e4));
-  return log_sum_exp(quiet_was + l_was, turn_was + l_turn) -
+  const double l_was = log_density(q_was_), l_now = log_density(q_now_), l_turn = log_density(q_turn_);
+  turn_log_ratio = static_cast<float>(clamped_log_ratio(l_turn, l_now));
+  return log_sum_exp(quiet_was_ + l_was, turn_was_ + l_turn) -
          log_sum_exp(std::log1p(-turn_weight) + l_now, std::log(turn_weight) + l_turn);
 }
 
@@ -145,7 +151,7 @@ QuietModelFit learn_quiet_sigma(const TrackTable& t, std::span<const JoinRows> j
     if (k > 0 && sigma > o.turn_sigma) break;  // the quiet model stays the sharper one
     log_density(sigma * sigma, l_quiet);
     for (std::size_t j = 0; j < J; ++j)  // as join_cost's turn_log_ratio
-      d[j] = static_cast<float>(std::clamp(l_turn[j] - l_quiet[j], -1e4, 1e4));
+      d[j] = static_cast<float>(clamped_log_ratio(l_turn[j], l_quiet[j]));
     const SpanMixtureWeight w = span_mixture_weight(d, spans, o.turn_probability, o.turn_prior_joins);
     const double z = std::log(sigma / o.quiet_sigma_prior) / o.quiet_sigma_prior_sd;
     double score = -0.5 * z * z;

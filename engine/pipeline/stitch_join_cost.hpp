@@ -42,9 +42,18 @@ double join_cost(const TrackTable& tracks, std::size_t end, std::size_t start,
 // `turn_log_ratio` holds join_cost's ratio at manoeuvre_sigma (kept in float by the candidates)
 // and gets the ratio at `sigma`. When σ_a is unchanged, only the weights change: the change is
 // then computed from the ratio alone, with no gap statistic (exact but for the ratio's float).
-double join_cost_revision(const TrackTable& tracks, std::size_t end, std::size_t start,
-                          const TrackStitchOptions& options, double sigma, double turn_weight,
-                          float& turn_log_ratio);
+// Constructed once for the file's σ_a (the logarithms of the first weight computed there), then
+// applied to every candidate.
+class JoinCostRevision {
+ public:
+  JoinCostRevision(const TrackStitchOptions& options, double sigma);
+  double operator()(const TrackTable& tracks, std::size_t end, std::size_t start, double turn_weight,
+                    float& turn_log_ratio) const;
+
+ private:
+  double quiet_was_, turn_was_;    // ln(1 − π), ln π of the first assignment
+  double q_was_, q_now_, q_turn_;  // σ_a² of the first quiet model, the learnt one, the manoeuvring one
+};
 
 // The quiet model's σ_a learnt with the turn weight from a first assignment's joins (empirical
 // Bayes, as the turn weight alone is, engine/pipeline/track_stitching.hpp): how sharply a target

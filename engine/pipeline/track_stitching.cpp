@@ -436,13 +436,13 @@ TrackStitchSummary stitch_fragments(const TrackFile& file, AssociationRecord& re
     summary.turn_probability = learnt.at(learnt.mean_span);
     summary.manoeuvre_interval_s = learnt.rate > 0.0 ? 1.0 / learnt.rate : 0.0;
     if (learn_sigma) summary.quiet_sigma = fit.sigma;
+    const JoinCostRevision revision(o, fit.sigma);
     parallel_for_range(candidates.size(), 1024, [&](std::size_t lo, std::size_t hi) {
       for (std::size_t i = lo; i < hi; ++i) {
         Candidate& k = candidates[i];
         const double now = std::min(learnt.at(span_of(k)), 1.0 - 1e-16);  // π_c > 0: π > 0
-        k.cost += join_cost_revision(t, groups[static_cast<std::size_t>(k.end)].last,
-                                     groups[static_cast<std::size_t>(k.start)].start, o, fit.sigma, now,
-                                     k.turn_log_ratio);
+        k.cost += revision(t, groups[static_cast<std::size_t>(k.end)].last,
+                           groups[static_cast<std::size_t>(k.start)].start, now, k.turn_log_ratio);
       }
     });
   }

@@ -212,7 +212,7 @@ TEST(TrackStitching, TheQuietSigmaIsLearntFromTheJoinsAndNotBelowTheFirstAssignm
   EXPECT_EQ(stitch_fragments(manoeuvring, fixed, given).quiet_sigma, 0.0);
 }
 
-// The second assignment's revised cost (join_cost_revision) is join_cost at the learnt quiet σ_a
+// The second assignment's revised cost (JoinCostRevision) is join_cost at the learnt quiet σ_a
 // and turn weight, computed afresh: on the turn above and on a straight continuation 500 m off,
 // at σ_a unchanged (the weights alone, from the float ratio), one and two grid steps up, and at
 // several weights; the ratio it leaves is join_cost's at the new σ_a.
@@ -232,7 +232,7 @@ TEST(TrackStitching, TheRevisedCostIsTheJoinCostAtTheLearntModel) {
         const double was = join_cost(f->tracks, 20, 21, first, kGate, &d);
         ASSERT_TRUE(std::isfinite(was));
         float ratio = static_cast<float>(d);
-        const double revised = was + join_cost_revision(f->tracks, 20, 21, first, sigma, weight, ratio);
+        const double revised = was + JoinCostRevision(first, sigma)(f->tracks, 20, 21, weight, ratio);
         TrackStitchOptions now = first;
         now.manoeuvre_sigma = sigma;
         now.turn_probability = weight;
