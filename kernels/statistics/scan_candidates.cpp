@@ -476,9 +476,9 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
   // (a file of 11 common times in blocks of 8 and 3 left one thread idle for most of the index).
   // The blocking does not change the output: each pair's count is summed over the blocks.
   const int32_t threads = std::max(1, tbb::this_task_arena::max_concurrency());
-  const int32_t least_blocks = std::max((K + 7) / 8, std::min(K, threads));
-  const int32_t kBlock = std::max(1, (K + least_blocks - 1) / std::max(1, least_blocks));
-  const std::size_t blocks = (static_cast<std::size_t>(K) + kBlock - 1) / kBlock;
+  const int32_t least_blocks = std::max({1, (K + 7) / 8, std::min(K, threads)});
+  const int32_t block = std::max(1, (K + least_blocks - 1) / least_blocks);  // scans a block
+  const std::size_t blocks = (static_cast<std::size_t>(K) + block - 1) / block;
   std::vector<std::vector<Hit>> per_block(blocks);
   parallel_for_range(blocks, 1, [&](std::size_t lo, std::size_t hi) {
     ScanScratch scratch;
@@ -488,8 +488,8 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     std::vector<Hit> scan, merged;
     for (std::size_t bl = lo; bl < hi; ++bl) {
       std::vector<Hit>& kept = per_block[bl];
-      const auto k0 = static_cast<int32_t>(bl) * kBlock;
-      for (int32_t k = k0; k < std::min(K, k0 + kBlock); ++k) {
+      const auto k0 = static_cast<int32_t>(bl) * block;
+      for (int32_t k = k0; k < std::min(K, k0 + block); ++k) {
         scan.clear();
         scan_all_pairs(sensors, valid, k, c2, scratch, scan, gauge);
         // Each pair once per scan (count 1): a count is a number of scans.
