@@ -131,6 +131,13 @@ std::string AssociationSummary::FullReport() const {
     for (std::size_t i = 0; i < empty_sensors.size(); ++i) os << (i ? ", " : " ") << empty_sensors[i];
     os << " (associated around; their column of the tuples is -1)\n";
   }
+  if (!unfiltered_sensors.empty()) {
+    os << "reports with independent errors (not a filter's output: no manoeuvre-lag widening):";
+    for (std::size_t i = 0; i < unfiltered_sensors.size(); ++i)
+      os << (i ? ", " : " ") << "sensor " << unfiltered_sensors[i].sensor << " (whiteness "
+         << fmt(unfiltered_sensors[i].whiteness, "%.2f") << ")";
+    os << "\n";
+  }
   if (registration) registration_lines(os, *registration);
   os << "unassociated local tracks:";
   for (std::size_t i = 0; i < unassociated.size() && i < sensor_ids.size(); ++i)

@@ -146,14 +146,17 @@ struct AssociationSummary {
   // the file before the associator does, so its caller sets this (split = split_recorded_keys(...)).
   TrackSplitSummary split;
   std::vector<int32_t> empty_sensors;  // sparse S-D: chosen sensors without local tracks (column -1)
-  std::vector<int64_t> unassociated;   // per sensor_ids: local tracks in no tuple of two or more
+  // Sparse S-D: sensors whose reports read as independent errors, aligned without the lag terms.
+  std::vector<UnfilteredSensor> unfiltered_sensors;
+  std::vector<int64_t> unassociated;  // per sensor_ids: local tracks in no tuple of two or more
   int64_t local_tracks = 0, packets = 0, system_tracks = 0;  // fusion centre
   int64_t points = 0, points_outside_domain = 0;             // siamese
 
   // "associated <what> with '<solver>': <result>, <n> tuples (<termination>), <t> ms".
   std::string BriefReport() const;
   // BriefReport(), then a line per stage result: the sparse S-D stages and counts, the empty
-  // sensors, the registration (and a line per sensor), the unassociated local tracks, the split.
+  // sensors, the sensors with independent errors, the registration (and a line per sensor), the
+  // unassociated local tracks, the split.
   // Every line ends in '\n'.
   std::string FullReport() const;
 };

@@ -131,6 +131,7 @@ class SparseSDAssociator final : public TrackAssociator {
     s.components_above_1pct_gap = kept.solve.components_above_1pct_gap;
     s.segments = kept.segments;
     s.empty_sensors = std::move(kept.empty_sensor_ids);
+    s.unfiltered_sensors = std::move(kept.unfiltered);
     return finish(file, o_, std::move(out));
   }
 

@@ -176,4 +176,11 @@ AlignedSensors align_sensors(const TrackFile& file, const PipelineOptions& optio
   return p;
 }
 
+std::vector<UnfilteredSensor> unfiltered_sensors(const AlignedSensors& p) {
+  std::vector<UnfilteredSensor> out;
+  for (const AlignedTracks& a : p.aligned)  // tested (ratio > 0) and left without the lag terms
+    if (!a.lag_terms && a.report_whiteness > 0.0) out.push_back({a.sensor, a.report_whiteness});
+  return out;
+}
+
 }  // namespace trackassoc

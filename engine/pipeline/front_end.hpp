@@ -92,6 +92,15 @@ struct AlignedSensors {
   }
 };
 
+// A sensor whose reports the alignment's whiteness test read as independent errors, not a
+// filter's output, so their manoeuvre-lag terms were left out (kernels/statistics/manoeuvre_lag.hpp),
+// with its ratio (≥ AlignmentOptions::unfiltered_ratio; 1 for independent errors).
+struct UnfilteredSensor {
+  int32_t sensor = 0;
+  double whiteness = 0.0;
+};
+std::vector<UnfilteredSensor> unfiltered_sensors(const AlignedSensors& p);
+
 // The front end: select_sensors(rule), the grid, the alignment and the valid intervals.
 AlignedSensors align_sensors(const TrackFile& file, const PipelineOptions& options, SensorRule rule,
                              EmptySensors empty = EmptySensors::kRefuse);

@@ -55,15 +55,17 @@ void require_some_overlap(const SparseSDProblem& p) {
 }
 
 // The record's options attribute beside the request ("solver", "pipeline"): the solve's counts,
-// and empty_sensors and the segment counts only when there are any (issue 30, track_segments.hpp).
+// and empty_sensors, unfiltered_sensors and the segment counts only when there are any (issue 30,
+// track_segments.hpp).
 nlohmann::json record_info(const SparseSDSolveReport& rep, const std::vector<int32_t>& empty_sensors,
-                           const SegmentSummary* segments) {
+                           const std::vector<UnfilteredSensor>& unfiltered, const SegmentSummary* segments) {
   nlohmann::json info = {{"formulation", "sparse S-D with dummies"},
                          {"components", rep.components},
                          {"fallback_components", rep.fallback_components},
                          {"candidate_pairs", rep.candidate_pairs},
                          {"gated_pairs", rep.gated_pairs}};
   if (!empty_sensors.empty()) info["empty_sensors"] = empty_sensors;
+  for (const UnfilteredSensor& u : unfiltered) info["unfiltered_sensors"].push_back(u.sensor);
   if (rep.listed_components > 0) {  // only when there are any, so that other records are unchanged
     info["listed_components"] = rep.listed_components;
     info["largest_listed_tuples"] = rep.largest_listed_tuples;
@@ -381,8 +383,9 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
   }
   if (report) *report = rep;
 
-  AssociationRecord rec = record_from_summary(solver, p.file_sensors, seed, solver_options, options.to_json(),
-                                              summary, summary.wall_time_s, record_info(rep, {}, nullptr));
+  AssociationRecord rec =
+      record_from_summary(solver, p.file_sensors, seed, solver_options, options.to_json(), summary,
+                          summary.wall_time_s, record_info(rep, {}, {}, nullptr));
   totals.write_to(rec);
   rec.num_sensors = p.file_sensors;
   // Tuples in a deterministic order: by their nodes, sorted (so by their smallest node first).
@@ -420,10 +423,11 @@ AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& 
     rep.segments.emplace();
     rec = join_track_segments(p, file.tracks, rec, options.segments, &*rep.segments);
   }
-  if (!p.empty_sensor_ids.empty() || rep.segments)  // the attribute of the solve, with these added
+  rep.unfiltered = unfiltered_sensors(p);
+  if (!p.empty_sensor_ids.empty() || !rep.unfiltered.empty() || rep.segments)  // the solve's, with these
     rec.options_json = record_options_json(
         solver_options, options.to_json(),
-        record_info(rep.solve, p.empty_sensor_ids, rep.segments ? &*rep.segments : nullptr));
+        record_info(rep.solve, p.empty_sensor_ids, rep.unfiltered, rep.segments ? &*rep.segments : nullptr));
   rep.stages = p.stages;
   rep.stages.push_back({"solve", solve_s, peak_rss_mib(), 0.0});
   if (options.segments.enabled) rep.stages.push_back(stage_since("segments", t1));

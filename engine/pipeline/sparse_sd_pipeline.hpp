@@ -184,16 +184,18 @@ AssociationRecord solve_sparse_sd_association(const SparseSDProblem& p, const st
 // never the record's options attribute).
 struct SparseSDReport {
   SparseSDSolveReport solve;
-  std::vector<int32_t> sensor_ids;         // the problem's sensors (SparseSDProblem::sensor_ids)
-  std::vector<int32_t> empty_sensor_ids;   // chosen sensors without local tracks (tuple column -1)
-  std::optional<SegmentSummary> segments;  // the segment pass, when options.segments.enabled
-  std::vector<StageReport> stages;         // alignment, candidates, statistics, components, solve, segments
+  std::vector<int32_t> sensor_ids;           // the problem's sensors (SparseSDProblem::sensor_ids)
+  std::vector<int32_t> empty_sensor_ids;     // chosen sensors without local tracks (tuple column -1)
+  std::vector<UnfilteredSensor> unfiltered;  // sensors aligned without the lag terms (front_end.hpp)
+  std::optional<SegmentSummary> segments;    // the segment pass, when options.segments.enabled
+  std::vector<StageReport> stages;           // alignment, candidates, statistics, components, solve, segments
 };
 
 // build + solve (+ segments): the default path of the association interface
 // (engine/pipeline/associator.hpp, which `associate` and `experiment recorded` call). The record's
 // options attribute is written here, once, from the typed values: the request, the solve's counts,
-// and (only when present, so other records are unchanged) empty_sensors and the segment counts.
+// and (only when present, so other records are unchanged) empty_sensors, unfiltered_sensors and the
+// segment counts.
 AssociationRecord associate_sparse_sd(const TrackFile& file, const std::string& solver,
                                       const nlohmann::json& solver_options, uint64_t seed,
                                       const SparseSDOptions& options, SparseSDReport* report = nullptr);

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -96,6 +97,35 @@ TEST(AssociationSummary, TheStoredOptionsHoldTheSummarysCounts) {
   ASSERT_TRUE(out.summary.segments.has_value());
   EXPECT_EQ(stored.at("segments_joined").get<int32_t>(), out.summary.segments->joined);
   EXPECT_FALSE(stored.contains("empty_sensors"));  // every sensor has tracks
+}
+
+// Sensor 1's velocities alternate ±5 m/s about the truth on x, as independent errors do and a
+// filter's never would: the whiteness ratio of its second differences (kernels/statistics/
+// manoeuvre_lag.hpp) is |e|² = 20² over tr(P_v,2 + 4 P_v,1 + P_v,0) = 6·25·2 = 300, relative to
+// med(χ²₂)/2 = ln 2: 400/(300 ln 2) = 1.92 ≥ 0.6, so its reports are aligned without the lag terms,
+// and the report and the stored options say so. The other sensors' exact reports give 0.
+TEST(AssociationSummary, ReportsWithIndependentErrorsAreNamed) {
+  TrackFile file = three_targets_and_a_stray();
+  for (std::size_t r = 0; r < file.tracks.size(); ++r)
+    if (file.tracks.sensor[r] == 1)
+      file.tracks.state[2][r] += static_cast<int>(file.tracks.t[r]) % 2 ? 5.0 : -5.0;
+  const AssociationOutcome out = make_associator(AssociatorOptions{})->associate(file);
+  ASSERT_EQ(out.summary.unfiltered_sensors.size(), 1u);
+  EXPECT_EQ(out.summary.unfiltered_sensors[0].sensor, 1);
+  EXPECT_NEAR(out.summary.unfiltered_sensors[0].whiteness, 400.0 / (300.0 * std::log(2.0)), 1e-6);
+  EXPECT_NE(out.summary.FullReport().find("reports with independent errors (not a filter's output: no "
+                                          "manoeuvre-lag widening): sensor 1 (whiteness 1.92)\n"),
+            std::string::npos)
+      << out.summary.FullReport();
+  const nlohmann::json stored = nlohmann::json::parse(out.record.options_json);
+  EXPECT_EQ(stored.at("unfiltered_sensors"), nlohmann::json::array({1}));
+  EXPECT_EQ(out.summary.tuples, 4);  // the positions are exact: the same association
+  // The unmodified file: no sensor named, nothing stored.
+  const AssociationOutcome clean =
+      make_associator(AssociatorOptions{})->associate(three_targets_and_a_stray());
+  EXPECT_TRUE(clean.summary.unfiltered_sensors.empty());
+  EXPECT_EQ(clean.summary.FullReport().find("independent errors"), std::string::npos);
+  EXPECT_FALSE(nlohmann::json::parse(clean.record.options_json).contains("unfiltered_sensors"));
 }
 
 TEST(AssociationSummary, TheDense3DReportCountsTheTracksOfEachSensor) {

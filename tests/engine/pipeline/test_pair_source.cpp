@@ -89,9 +89,10 @@ TEST(PairSource, SparsePathsShareTheDefaultIndexsGatedPairs) {
     found += alone.size();
     kept += alone_kept.size();
   }
-  // The index's radius is conservative here (hundreds of candidates per track); the bound keeps few
-  // (measured: 266 767 found, 24 835 kept, about 300 and 28 per track)
-  EXPECT_GT(found, 5 * kept) << found << " found, " << kept << " kept";
+  // The index's circle holds several times the pairs the position bound keeps (measured: 3 572
+  // found, 903 kept, about 4 and 1 per track; 266 767 and 24 835 while the lag terms widened these
+  // reports, whose errors are independent: kernels/statistics/manoeuvre_lag.hpp)
+  EXPECT_GT(found, 3 * kept) << found << " found, " << kept << " kept";
 }
 
 }  // namespace
