@@ -80,25 +80,26 @@ double whiteness_ratio(const TrackTable& tracks, std::size_t i0, std::size_t i1,
 ReportWhiteness sensor_reports_are_filtered(const TrackTable& tracks, std::span<const std::size_t> rows,
                                             std::span<const std::size_t> begin,
                                             const AlignmentOptions& options) {
-  // Two passes: count the usable triples, then keep every stride-th (a bounded, even sample).
-  auto for_each_ratio = [&](auto&& use) {
-    for (std::size_t a = 0; a + 1 < begin.size(); ++a)
-      for (std::size_t q = begin[a] + 2; q < begin[a + 1]; ++q) {
-        const double rho = whiteness_ratio(tracks, rows[q - 2], rows[q - 1], rows[q]);
-        if (rho >= 0.0) use(rho);
-      }
-  };
-  std::size_t usable = 0;
-  for_each_ratio([&](double) { ++usable; });
-  ReportWhiteness out;
-  if (usable < kLeastTriples) return out;
-  const std::size_t stride = (usable + kMaxTriples - 1) / kMaxTriples;
+  // The triples in one numbering over the tracks (a track of L reports has L − 2); every stride-th
+  // is tested, so at most kMaxTriples, spread evenly over the tracks.
+  std::size_t triples = 0;
+  for (std::size_t a = 0; a + 1 < begin.size(); ++a)
+    triples += std::max<std::size_t>(begin[a + 1] - begin[a], 2) - 2;
+  const std::size_t stride = std::max<std::size_t>(1, (triples + kMaxTriples - 1) / kMaxTriples);
   std::vector<double> sample;
-  sample.reserve(std::min(usable, kMaxTriples));
-  std::size_t seen = 0;
-  for_each_ratio([&](double rho) {
-    if (seen++ % stride == 0) sample.push_back(rho);
-  });
+  sample.reserve(std::min(triples, kMaxTriples));
+  std::size_t first = 0;  // the number of the track's first triple
+  for (std::size_t a = 0; a + 1 < begin.size(); ++a) {
+    const std::size_t n = std::max<std::size_t>(begin[a + 1] - begin[a], 2) - 2;
+    for (std::size_t g = (first + stride - 1) / stride * stride; g < first + n; g += stride) {
+      const std::size_t q = begin[a] + (g - first);  // the triple's reports rows[q], rows[q + 1], rows[q + 2]
+      const double rho = whiteness_ratio(tracks, rows[q], rows[q + 1], rows[q + 2]);
+      if (rho >= 0.0) sample.push_back(rho);
+    }
+    first += n;
+  }
+  ReportWhiteness out;
+  if (sample.size() < kLeastTriples) return out;
   const auto mid = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 2);
   std::nth_element(sample.begin(), mid, sample.end());
   const int m = tracks.dim() / 2;

@@ -46,16 +46,17 @@ ManoeuvreLag manoeuvre_lag(const TrackTable& tracks, std::span<const std::size_t
 
 struct ReportWhiteness {
   double median_ratio = 0.0;  // the median ρ over the triples used, divided by med(χ²_m)/m
-  std::size_t triples = 0;    // the triples used (at most kMaxTriples, evenly spread)
+  std::size_t triples = 0;    // the usable triples tested (every stride-th, at most kMaxTriples)
   bool filtered = true;       // the lag terms apply (also when triples < kLeastTriples)
 };
 inline constexpr std::size_t kLeastTriples = 30;
-inline constexpr std::size_t kMaxTriples = 1 << 16;
+inline constexpr std::size_t kMaxTriples = 4096;  // the median's standard error then ≈ 0.02
 
 // The test above over one sensor's tracks: `rows` its rows ordered by (track, time), `begin` the
-// first of each track's (and rows.size() last). A triple is used when its three times are distinct
-// and ascending, 0.1 ≤ r ≤ 10, and its noise variance is positive and finite. O(rows) time,
-// O(min(rows, kMaxTriples)) memory; the same answer for any thread count.
+// first of each track's (and rows.size() last). The triples are numbered over the tracks and every
+// stride-th is tested, stride = ⌈triples / kMaxTriples⌉; one is used when its three times are
+// ascending, 0.1 ≤ r ≤ 10, and its noise variance is positive and finite. O(tracks + kMaxTriples)
+// time and O(kMaxTriples) memory; the same answer for any thread count.
 ReportWhiteness sensor_reports_are_filtered(const TrackTable& tracks, std::span<const std::size_t> rows,
                                             std::span<const std::size_t> begin,
                                             const AlignmentOptions& options);
