@@ -83,6 +83,12 @@ py::dict summary_of(const PyAssociation& a) {
                  "stitches"_a = s.stitching.stitches, "turn_probability"_a = s.stitching.turn_probability,
                  "manoeuvre_interval_s"_a = s.stitching.manoeuvre_interval_s,
                  "quiet_sigma"_a = s.stitching.quiet_sigma);
+  if (!s.unfiltered_sensors.empty()) {  // reports with independent errors, aligned without the lag terms
+    py::list u;
+    for (const UnfilteredSensor& x : s.unfiltered_sensors)
+      u.append(py::dict("sensor"_a = x.sensor, "whiteness"_a = x.whiteness));
+    d["unfiltered_sensors"] = u;
+  }
   if (s.path == AssociationPath::kFusionCentre) {
     d["local_tracks"] = s.local_tracks;
     d["packets"] = s.packets;

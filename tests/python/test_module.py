@@ -104,6 +104,29 @@ def test_full_report_is_what_the_cli_prints(simulated, tmp_path):
     assert any(line.startswith("split ") for line in untimed(report))  # the split summary is carried
 
 
+def test_reports_with_independent_errors_are_named(simulated):
+    """A sensor whose velocities jump +-3 sigma from report to report (independent errors, not a
+    filter's output) is aligned without the manoeuvre-lag terms, and the summary names it with its
+    whiteness ratio (1 for independent errors; here far above it), as `associate` prints it."""
+    f = trackassoc.read(simulated("recorded_3s"))
+    t = {k: np.array(v, copy=True) for k, v in f.tracks.items()}
+    second = f.sensors["id"][1]
+    rows = np.flatnonzero(t["sensor"] == second)
+    rows = rows[np.lexsort((t["t"][rows], t["track"][rows]))]
+    parity = np.zeros(len(rows))
+    for k in range(1, len(rows)):  # alternates along each track
+        same = t["track"][rows[k]] == t["track"][rows[k - 1]]
+        parity[k] = 1.0 - parity[k - 1] if same else 0.0
+    sigma_vx = np.sqrt(t["cov"][rows, 7])  # P_vxvx, the packed upper triangle's entry (2, 2)
+    t["state"][rows, 2] += np.where(parity > 0, 3.0, -3.0) * sigma_vx
+    noisy = trackassoc.associate(t, sensors=f.sensors)
+    named = noisy.summary["unfiltered_sensors"]
+    assert [u["sensor"] for u in named] == [second]
+    assert named[0]["whiteness"] > 0.6
+    assert "reports with independent errors" in noisy.full_report()
+    assert "unfiltered_sensors" not in trackassoc.associate(f).summary
+
+
 def test_arrays_give_the_files_tuples(simulated):
     """The same track set as a dict of arrays (with the file's /sensors) and as a structured array."""
     f = trackassoc.read(simulated("recorded_3s"))
