@@ -179,15 +179,15 @@ void BM_SparseProblemDefaults(benchmark::State& state) {
                  [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
 }
 
-// The same with the alignment's two lag terms forced on (AlignmentOptions::unfiltered_ratio +inf),
-// as they were before the whiteness test (kernels/statistics/manoeuvre_lag.hpp): these tracks are
+// The same with the alignment's two lag terms forced on (AlignmentOptions::whiteness_threshold +inf),
+// as they were before the whiteness test (kernels/statistics/report_whiteness.hpp): these tracks are
 // reports with independent noise, not a filter's output, so the test leaves the terms out; forced,
 // their velocity jumps read as manoeuvres and widen some reports' covariances by kilometres (lag
 // time τ² = P_pp/P_vv = 225 s² here, τ = 15 s). The counters show what that widening costs the index.
 void BM_SparseProblemDefaultsLagForced(benchmark::State& state) {
   SparsePipelineOptions o;
   o.pipeline.statistic.gate_probability = 0.999;
-  o.pipeline.alignment.unfiltered_ratio = std::numeric_limits<double>::infinity();
+  o.pipeline.alignment.whiteness_threshold = std::numeric_limits<double>::infinity();
   build_problems(state, fixture(static_cast<int32_t>(state.range(0))).file, 0,
                  [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
 }

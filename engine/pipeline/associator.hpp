@@ -146,7 +146,8 @@ struct AssociationSummary {
   // the file before the associator does, so its caller sets this (split = split_recorded_keys(...)).
   TrackSplitSummary split;
   std::vector<int32_t> empty_sensors;  // sparse S-D: chosen sensors without local tracks (column -1)
-  // Sparse S-D: sensors whose reports read as independent errors, aligned without the lag terms.
+  // The tensor paths: sensors whose reports read as independent errors, aligned without the lag
+  // terms (engine/pipeline/front_end.hpp).
   std::vector<UnfilteredSensor> unfiltered_sensors;
   std::vector<int64_t> unassociated;  // per sensor_ids: local tracks in no tuple of two or more
   int64_t local_tracks = 0, packets = 0, system_tracks = 0;  // fusion centre

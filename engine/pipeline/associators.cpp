@@ -157,6 +157,7 @@ class DenseSDAssociator final : public TrackAssociator {
     out.summary.path = path();
     out.summary.sensor_ids = problem.sensor_ids;
     out.summary.track_counts = track_counts(problem.aligned);
+    out.summary.unfiltered_sensors = unfiltered_sensors(problem);
     out.summary.runtime_s = out.record.runtime_s;
     return finish(file, o_, std::move(out));
   }
@@ -195,6 +196,7 @@ class ThreeSensorAssociator final : public TrackAssociator {
       if (!prepared_.sparse) out.record.runtime_s += total_seconds(p->stages);
       s.sensor_ids.assign(p->sensor_ids.begin(), p->sensor_ids.end());
       s.track_counts = track_counts(p->aligned);
+      s.unfiltered_sensors = unfiltered_sensors(*p);
       s.components = p->components.count;
       for (int q = 0; q < 3; ++q) s.candidate_pairs += static_cast<int64_t>(p->candidate_pairs[q]);
       s.gated_pairs = static_cast<int64_t>(p->s12.size() + p->s23.size() + p->s13.size());
@@ -210,6 +212,7 @@ class ThreeSensorAssociator final : public TrackAssociator {
       if (!prepared_.dense) out.record.runtime_s += total_seconds(p->stages);
       s.sensor_ids.assign(p->sensor_ids.begin(), p->sensor_ids.end());
       s.track_counts = {p->tensor.n1, p->tensor.n2, p->tensor.n3};
+      s.unfiltered_sensors = unfiltered_sensors(*p);
     }
     apply_name(o_, out.record);
     s.runtime_s = out.record.runtime_s;

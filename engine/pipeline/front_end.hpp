@@ -93,8 +93,8 @@ struct AlignedSensors {
 };
 
 // A sensor whose reports the alignment's whiteness test read as independent errors, not a
-// filter's output, so their manoeuvre-lag terms were left out (kernels/statistics/manoeuvre_lag.hpp),
-// with its ratio (≥ AlignmentOptions::unfiltered_ratio; 1 for independent errors).
+// filter's output, so their manoeuvre-lag terms were left out (kernels/statistics/report_whiteness.hpp),
+// with its ratio (≥ AlignmentOptions::whiteness_threshold; 1 for independent errors).
 struct UnfilteredSensor {
   int32_t sensor = 0;
   double whiteness = 0.0;

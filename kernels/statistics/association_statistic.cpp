@@ -43,7 +43,7 @@
 #include "kernels/core/error.hpp"
 #include "kernels/core/parallel.hpp"
 #include "kernels/statistics/cross_covariance.hpp"
-#include "kernels/statistics/manoeuvre_lag.hpp"
+#include "kernels/statistics/report_whiteness.hpp"
 
 namespace trackassoc {
 
@@ -56,8 +56,9 @@ void AlignmentOptions::validate() const {
           "AlignmentOptions.lag_inflation", "must be in [0, 100], got " + std::to_string(lag_inflation));
   require(std::isfinite(lag_look_ahead) && lag_look_ahead >= 0.0 && lag_look_ahead <= 100.0,
           "AlignmentOptions.lag_look_ahead", "must be in [0, 100], got " + std::to_string(lag_look_ahead));
-  require(unfiltered_ratio > 0.0, "AlignmentOptions.unfiltered_ratio",
-          "must be > 0 (+inf keeps the lag terms for every sensor), got " + std::to_string(unfiltered_ratio));
+  require(
+      whiteness_threshold > 0.0, "AlignmentOptions.whiteness_threshold",
+      "must be > 0 (+inf keeps the lag terms for every sensor), got " + std::to_string(whiteness_threshold));
   require(std::isfinite(lag_noise_margin) && lag_noise_margin >= 0.0, "AlignmentOptions.lag_noise_margin",
           "must be finite and >= 0, got " + std::to_string(lag_noise_margin));
   require(std::isfinite(max_extrapolation) && max_extrapolation >= 0.0, "AlignmentOptions.max_extrapolation",
@@ -131,6 +132,61 @@ double SequentialGate::excess_cost(double excess, int32_t scans) const {
   return per_scan_ ? excess / scans : excess / f_;
 }
 
+namespace {
+
+// The manoeuvre-lag variance added per axis to the report rows[pos] of a track (rows [b, e) in
+// time order), AlignmentOptions' lag terms (see the header):
+//   τ² = P_pp/P_vv (the report's own position and velocity variances, averaged over the axes);
+//   current: â² = max(0, |Δv|² − m·tr(P_v,0 + P_v,1))/Δt² from the neighbouring reports, adding
+//     k²·â²·τ⁴ to the position and k²·â²·τ² to the velocity variance (k = lag_inflation);
+//   look-ahead: the change the velocity still makes over the next τ, Δv_τ = v(t + τ) − v(t) (the
+//     last report if the track ends first), with the same noise margin, adding h²·|Δv_τ|²·τ² and
+//     h²·|Δv_τ|² (h = lag_look_ahead).
+struct ManoeuvreLag {
+  double position_variance = 0.0, velocity_variance = 0.0;
+};
+
+ManoeuvreLag manoeuvre_lag(const TrackTable& tracks, const std::vector<std::size_t>& rows, std::size_t b,
+                           std::size_t e, std::size_t pos, const AlignmentOptions& options) {
+  const int D = tracks.dim(), m = D / 2;
+  const std::size_t r = rows[pos];
+  // |v_j − v_r|² beyond lag_noise_margin times its noise variance.
+  auto velocity_change2 = [&](std::size_t i, std::size_t j) {
+    double d2 = 0.0, noise = 0.0;
+    for (int c = 0; c < m; ++c) {
+      const double dv = tracks.state[m + c][j] - tracks.state[m + c][i];
+      d2 += dv * dv;
+      noise += tracks.cov[packed_index(D, m + c, m + c)][i] + tracks.cov[packed_index(D, m + c, m + c)][j];
+    }
+    return std::max(0.0, d2 - options.lag_noise_margin * noise);
+  };
+  double tau2 = 0.0;
+  for (int c = 0; c < m; ++c) {
+    const double pvv = tracks.cov[packed_index(D, m + c, m + c)][r];
+    tau2 += pvv > 0.0 ? tracks.cov[packed_index(D, c, c)][r] / pvv / m : 0.0;
+  }
+  ManoeuvreLag lag;
+  const std::size_t r0 = rows[pos > b ? pos - 1 : pos], r1 = rows[pos + 1 < e ? pos + 1 : pos];
+  const double span = tracks.t[r1] - tracks.t[r0];
+  if (options.lag_inflation > 0.0 && span > 0.0) {
+    const double k2a2 =
+        options.lag_inflation * options.lag_inflation * velocity_change2(r0, r1) / (span * span);
+    lag.position_variance += k2a2 * tau2 * tau2;  // (k â τ²)²
+    lag.velocity_variance += k2a2 * tau2;         // (k â τ)²
+  }
+  if (options.lag_look_ahead > 0.0) {
+    const double tau = std::sqrt(tau2);
+    std::size_t j = pos;
+    while (j + 1 < e && tracks.t[rows[j]] < tracks.t[r] + tau) ++j;
+    const double h2d2 = options.lag_look_ahead * options.lag_look_ahead * velocity_change2(r, rows[j]);
+    lag.position_variance += h2d2 * tau2;  // (h |Δv_τ| τ)²
+    lag.velocity_variance += h2d2;         // (h |Δv_τ|)²
+  }
+  return lag;
+}
+
+}  // namespace
+
 AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<const double> common_times,
                            const AlignmentOptions& options) {
   options.validate();
@@ -196,7 +252,7 @@ AlignedTracks align_tracks(const TrackTable& tracks, int32_t sensor, std::span<c
   const bool two_sided = options.method == AlignmentMethod::kTwoSided;
   // The lag terms, unless the sensor's reports have independent errors (no filter, no lag).
   if (two_sided && (options.lag_inflation > 0.0 || options.lag_look_ahead > 0.0)) {
-    const ReportWhiteness w = sensor_reports_are_filtered(tracks, rows, begin, options);
+    const ReportWhiteness w = measure_report_whiteness(tracks, rows, begin, options);
     out.lag_terms = w.filtered;
     out.report_whiteness = w.median_ratio;
   }

@@ -84,7 +84,7 @@ struct AlignedTracks {
   std::vector<double> cov;
   std::vector<uint8_t> valid;
   // align_tracks: whether the manoeuvre-lag terms widened this sensor's reports, and its reports'
-  // whiteness ratio (kernels/statistics/manoeuvre_lag.hpp; 0 when not tested). Two-sided only.
+  // whiteness ratio (kernels/statistics/report_whiteness.hpp; 0 when not tested). Two-sided only.
   bool lag_terms = false;
   double report_whiteness = 0.0;
 
@@ -178,9 +178,9 @@ struct AlignmentOptions {
   double lag_noise_margin = 1.5;
   // Both lag terms apply to a sensor only if its reports are a filter's output: the median of the
   // whiteness ratio of its velocities' second differences, relative to independent errors' (1), is
-  // below this (kernels/statistics/manoeuvre_lag.hpp: simulated CV Kalman filters give 0.01–0.5,
+  // below this (kernels/statistics/report_whiteness.hpp: simulated CV Kalman filters give 0.01–0.5,
   // independent errors 1). +inf keeps them for every sensor.
-  double unfiltered_ratio = 0.6;
+  double whiteness_threshold = 0.6;
   // Reference-point σ_r [m] per position axis (0 = off: point targets, the default). Two sensors
   // tracking an extended target follow different points of it (the centroid of the returns each
   // sees from its own aspect: the near side of a hull for a lidar, the strongest scatterers for a

@@ -105,7 +105,7 @@ def test_full_report_is_what_the_cli_prints(simulated, tmp_path):
 
 
 def test_reports_with_independent_errors_are_named(simulated):
-    """A sensor whose velocities jump +-3 sigma from report to report (independent errors, not a
+    """A sensor whose velocities are offset by +3 and -3 sigma in turn (independent errors, not a
     filter's output) is aligned without the manoeuvre-lag terms, and the summary names it with its
     whiteness ratio (1 for independent errors; here far above it), as `associate` prints it."""
     f = trackassoc.read(simulated("recorded_3s"))

@@ -101,7 +101,7 @@ TEST(AssociationSummary, TheStoredOptionsHoldTheSummarysCounts) {
 
 // Sensor 1's velocities alternate ±5 m/s about the truth on x, as independent errors do and a
 // filter's never would: the whiteness ratio of its second differences (kernels/statistics/
-// manoeuvre_lag.hpp) is |e|² = 20² over tr(P_v,2 + 4 P_v,1 + P_v,0) = 6·25·2 = 300, relative to
+// report_whiteness.hpp) is |e|² = 20² over tr(P_v,2 + 4 P_v,1 + P_v,0) = 6·25·2 = 300, relative to
 // med(χ²₂)/2 = ln 2: 400/(300 ln 2) = 1.92 ≥ 0.6, so its reports are aligned without the lag terms,
 // and the report and the stored options say so. The other sensors' exact reports give 0.
 TEST(AssociationSummary, ReportsWithIndependentErrorsAreNamed) {

@@ -91,7 +91,7 @@ TEST(PairSource, SparsePathsShareTheDefaultIndexsGatedPairs) {
   }
   // The index's circle holds several times the pairs the position bound keeps (measured: 3 572
   // found, 903 kept, about 4 and 1 per track; 266 767 and 24 835 while the lag terms widened these
-  // reports, whose errors are independent: kernels/statistics/manoeuvre_lag.hpp)
+  // reports, whose errors are independent: kernels/statistics/report_whiteness.hpp)
   EXPECT_GT(found, 3 * kept) << found << " found, " << kept << " kept";
 }
 

@@ -1,6 +1,8 @@
 // The manoeuvre-lag terms of the two-sided alignment (kernels/statistics/association_statistic.hpp,
 // AlignmentOptions: lag_inflation, lag_look_ahead, lag_noise_margin), worked out by hand on one
-// track whose velocity steps at 5.5 s.
+// track whose velocity steps at 5.5 s. Its 19 triples of reports are fewer than the whiteness test
+// needs (kLeastTriples, kernels/statistics/report_whiteness.hpp), so the terms apply whatever its
+// velocities.
 #include <gtest/gtest.h>
 
 #include <vector>
