@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <vector>
 
 #include "kernels/statistics/chi_square.hpp"
@@ -49,13 +50,14 @@ ReportWhiteness measure_report_whiteness(const TrackTable& tracks, std::span<con
     prefix[a + 1] = prefix[a] + std::max<std::size_t>(begin[a + 1] - begin[a], 2) - 2;
   const std::size_t triples = prefix.back(), n = std::min(triples, kMaxTriples);
   std::vector<std::size_t> position(n);
-  for (std::size_t j = 0; j < n; ++j) {
-    const double u = std::fmod(static_cast<double>(j) * kGolden, 1.0);
-    position[j] = triples > kMaxTriples
-                      ? std::min(triples - 1, static_cast<std::size_t>(u * static_cast<double>(triples)))
-                      : j;
+  std::iota(position.begin(), position.end(), std::size_t{0});
+  if (triples > kMaxTriples) {
+    for (std::size_t& g : position) {
+      const double u = std::fmod(static_cast<double>(g) * kGolden, 1.0);
+      g = std::min(triples - 1, static_cast<std::size_t>(u * static_cast<double>(triples)));
+    }
+    std::sort(position.begin(), position.end());  // the tracks in order: the table read forwards
   }
-  std::sort(position.begin(), position.end());  // the tracks in order: the table read forwards
   std::vector<double> sample;
   sample.reserve(n);
   std::size_t a = 0;  // the track of the triple g: prefix[a] <= g < prefix[a + 1]
