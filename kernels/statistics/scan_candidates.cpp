@@ -39,9 +39,24 @@ void position_block(const double* packed, int D, int m, double* out) {
     for (int c = r; c < m; ++c) out[k++] = packed[packed_index(D, r, c)];
 }
 
-// The trace of a position block (its diagonal, in the order of the axes).
-double block_trace(const double* block, int m) {
-  return m == 1 ? block[0] : m == 2 ? block[0] + block[2] : block[0] + block[3] + block[5];
+// A bound on the largest eigenvalue of a position block: the smaller of its trace and its largest
+// Gershgorin row sum, P_ii + Σ_{j≠i} |P_ij| (both are bounds for a positive semi-definite block), by a
+// relative 10⁻⁸ more so that the circle below is never inside the ellipse's 10⁻⁹; m = 1: the
+// variance itself. The trace alone is m times the largest eigenvalue for an isotropic covariance:
+// in 3-D the search radius √3 and the searched volume 5.2 times too large (the scale study's
+// tracks, σ = 150 m on every axis, docs/performance.md "Session 33").
+double position_spread(const double* block, int m) {
+  if (m == 1) return block[0];
+  double trace = 0.0, gershgorin = 0.0;
+  if (m == 2) {
+    trace = block[0] + block[2];
+    gershgorin = std::max(block[0], block[2]) + std::abs(block[1]);
+  } else {
+    const double xy = std::abs(block[1]), xz = std::abs(block[2]), yz = std::abs(block[4]);
+    trace = block[0] + block[3] + block[5];
+    gershgorin = std::max({block[0] + xy + xz, block[3] + xy + yz, block[5] + xz + yz});
+  }
+  return std::min(trace, gershgorin) * (1.0 + 1e-8);
 }
 
 // d_pᵀ C_pp⁻¹ d_p ≤ c2 for C_pp = the sum of the position blocks pa, pb, by the adjugate (m = 2
@@ -69,18 +84,18 @@ bool within_ellipse(const double* d, const double* pa, const double* pb, int m, 
   return true;  // (m = 1: the circle is the ellipse)
 }
 
-// The per-scan bound: |d_p|² ≤ (tr P_a,pp + tr P_b,pp)·c for positions xa, xb and position traces
-// tra, trb (the circle, cheap), then d_pᵀ C_pp⁻¹ d_p ≤ c (the ellipse inside it, for the position
-// blocks pa, pb). On elongated radar covariances the ellipse holds a small part of the circle's
-// pairs.
-bool within_points(const double* xa, double tra, const double* pa, const double* xb, double trb,
+// The per-scan bound: |d_p|² ≤ (s_a + s_b)·c for positions xa, xb and position spreads sa, sb
+// (position_spread; the circle, cheap), then d_pᵀ C_pp⁻¹ d_p ≤ c (the ellipse inside it, for the
+// position blocks pa, pb). On elongated radar covariances the ellipse holds a small part of the
+// circle's pairs.
+bool within_points(const double* xa, double sa, const double* pa, const double* xb, double sb,
                    const double* pb, int m, double c2) {
   double d[3] = {}, d2 = 0.0;
   for (int c = 0; c < m; ++c) {
     d[c] = xa[c] - xb[c];
     d2 += d[c] * d[c];
   }
-  if (!(d2 <= (tra + trb) * c2)) return false;
+  if (!(d2 <= (sa + sb) * c2)) return false;
   return within_ellipse(d, pa, pb, m, c2);
 }
 
@@ -89,7 +104,8 @@ bool within(const AlignedTracks& a, int64_t ca, const AlignedTracks& b, int64_t 
   double pa[kPositionBlock], pb[kPositionBlock];
   position_block(a.cov_at(ca), D, m, pa);
   position_block(b.cov_at(cb), D, m, pb);
-  return within_points(a.state_at(ca), block_trace(pa, m), pa, b.state_at(cb), block_trace(pb, m), pb, m, c2);
+  return within_points(a.state_at(ca), position_spread(pa, m), pa, b.state_at(cb), position_spread(pb, m), pb,
+                       m, c2);
 }
 
 // The tracks valid at each common time, ascending: tracks at(k). Built from the spans, O(Σ spans + K).
@@ -140,13 +156,14 @@ namespace {
 
 // One sensor's tracks valid at one common time, gathered once for all its pairs of sensors
 // (contiguous, so the passes below do not chase each track's cells): track, position (m
-// coordinates), position trace and radius √(2·tr·c); their bounding box and largest trace.
+// coordinates), position spread s (position_spread) and radius √(2·s·c); their bounding box and
+// largest spread.
 struct ScanSet {
   std::vector<int32_t> track;
-  std::vector<double> pos, trace, radius;
+  std::vector<double> pos, spread, radius;
   std::vector<double> block;  // kPositionBlock a track: its position block (position_block)
   std::array<double, 3> lo{}, hi{};
-  double max_trace = 0.0;
+  double max_spread = 0.0;
   std::size_t size() const { return track.size(); }
 
   void gather(const AlignedTracks& x, std::span<const int32_t> at, int32_t k, double c2) {
@@ -154,11 +171,11 @@ struct ScanSet {
     track.assign(at.begin(), at.end());
     pos.resize(at.size() * m);
     block.resize(at.size() * kPositionBlock);
-    trace.resize(at.size());
+    spread.resize(at.size());
     radius.resize(at.size());
     lo.fill(std::numeric_limits<double>::infinity());
     hi.fill(-std::numeric_limits<double>::infinity());
-    max_trace = -std::numeric_limits<double>::infinity();
+    max_spread = -std::numeric_limits<double>::infinity();
     for (std::size_t p = 0; p < at.size(); ++p) {
       const int64_t cell = x.cell_base(at[p]) + k;
       const double* xs = x.state_at(cell);
@@ -168,16 +185,19 @@ struct ScanSet {
         hi[c] = std::max(hi[c], xs[c]);
       }
       position_block(x.cov_at(cell), D, m, &block[p * kPositionBlock]);
-      trace[p] = block_trace(&block[p * kPositionBlock], m);
-      radius[p] = std::sqrt(2.0 * trace[p] * c2);
-      max_trace = std::max(max_trace, trace[p]);
+      spread[p] = position_spread(&block[p * kPositionBlock], m);
+      radius[p] = std::sqrt(2.0 * spread[p] * c2);
+      max_spread = std::max(max_spread, spread[p]);
     }
   }
 };
 
 // Scratch of one scan's grid: (grid cell, index into the grid's ScanSet), sorted; and, when the
-// cells of the points' bounding box are few (at most 4 a point), the same as a table: the points
-// of each cell of the box contiguous in `order`, cell q's at [first[q], first[q + 1]).
+// cells of the points' bounding box are few (at most kTableCellsPerPoint a point, and 64), the same
+// as a table: the points of each cell of the box contiguous in `order`, cell q's at
+// [first[q], first[q + 1]). (32: the ball's cells at the median radius, 27 to 125 in 3-D, of about
+// one point each in the scale study's boxes; 4 sent its 3-D boxes to the sorted form.)
+constexpr double kTableCellsPerPoint = 32.0;
 struct GridScratch {
   std::vector<std::pair<Cell, int32_t>> cells;
   std::vector<double> r;
@@ -283,7 +303,7 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
     box_cells *= static_cast<double>(hi_cell[d]) - static_cast<double>(lo_cell[d]) + 1.0;
     extent[d] = hi_cell[d] - lo_cell[d] + 1;
   }
-  const bool table = box_cells <= 4.0 * static_cast<double>(cells.size()) + 64.0;
+  const bool table = box_cells <= kTableCellsPerPoint * static_cast<double>(cells.size()) + 64.0;
   auto table_index = [&](const Cell& c) {
     int64_t index = 0;
     for (int d = 0; d < m; ++d) index = index * extent[d] + (c[d] - lo_cell[d]);
@@ -307,15 +327,15 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
   const double n_g = static_cast<double>(cells.size()), search_cost = std::max(1.0, std::log2(n_g));
   for (const int32_t i : qi) {
     const double* xq = &q.pos[i * m];
-    const double trace_q = q.trace[i], rq = q.radius[i];
+    const double spread_q = q.spread[i], rq = q.radius[i];
     const double span_d = std::ceil(rq / h);
     auto consider = [&](int32_t p) {
       // Each pair once: from the side with the larger radius (ties: from a).
       if (q_is_a ? g.radius[p] > rq : g.radius[p] >= rq) return;
       const double* xg = &g.pos[p * m];
       const double *bq = &q.block[i * kPositionBlock], *bg = &g.block[p * kPositionBlock];
-      if (q_is_a ? within_points(xq, trace_q, bq, xg, g.trace[p], bg, m, c2)
-                 : within_points(xg, g.trace[p], bg, xq, trace_q, bq, m, c2))
+      if (q_is_a ? within_points(xq, spread_q, bq, xg, g.spread[p], bg, m, c2)
+                 : within_points(xg, g.spread[p], bg, xq, spread_q, bq, m, c2))
         gauged_push_back(out,
                          q_is_a ? Hit{q.track[i], g.track[p], static_cast<uint16_t>(slot), 1}
                                 : Hit{g.track[p], q.track[i], static_cast<uint16_t>(slot), 1},
@@ -333,6 +353,57 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
     }
     const int64_t span = static_cast<int64_t>(span_d);
     const Cell c = cell_of(xq, m, h);
+    if (table) {
+      // The cells that meet the query's ball |x − x_q| ≤ r_q, clipped to the box: on the first axes
+      // (rows) those whose gap to the query leaves some of the ball, and on each row (the last axis)
+      // the chord of the ball that is left, one range of `order` (its start at the row's offset in
+      // the table). In cell units u = x/h (the division of cell_of), a cell k holds [k, k + 1); the
+      // radius is widened by a relative 10⁻⁹ and 10⁻⁶ of a cell, so a point on a face is not lost
+      // to round-off. Against the cube of (2·span + 1)^m cells: 5³ → about 3/5 of them at span 2.
+      const double reach = rq / h * (1.0 + 1e-9) + 1e-6;
+      std::array<double, 3> u{};
+      std::array<int64_t, 3> from{0, 0, 0}, to{0, 0, 0};
+      bool empty = false;
+      for (int d = 0; d < m; ++d) {
+        u[d] = xq[d] / h;
+        from[d] = std::max(c[d] - span, lo_cell[d]);
+        to[d] = std::min(c[d] + span, hi_cell[d]);
+        empty = empty || from[d] > to[d] || !std::isfinite(u[d]);  // (a NaN position is never within)
+      }
+      if (empty) continue;
+      auto gap = [&](int d, int64_t k) {  // from u[d] to cell k along axis d, in cell units
+        const auto kd = static_cast<double>(k);
+        return k > c[d] ? kd - u[d] : k < c[d] ? u[d] - (kd + 1.0) : 0.0;
+      };
+      const int last = m - 1;
+      auto read_row = [&](int64_t row, double left) {  // left: the squared reach the row's axis keeps
+        const double chord = std::sqrt(left);
+        const int64_t z0 = std::max(from[last], static_cast<int64_t>(std::floor(u[last] - chord)));
+        const int64_t z1 = std::min(to[last], static_cast<int64_t>(std::floor(u[last] + chord)));
+        if (z0 > z1) return;
+        for (int32_t e = first[row + z0 - lo_cell[last]], stop = first[row + z1 - lo_cell[last] + 1];
+             e < stop; ++e)
+          consider(order[e]);
+      };
+      const double reach2 = reach * reach;
+      if (m == 1) {
+        read_row(0, reach2);
+      } else {
+        for (int64_t x = from[0]; x <= to[0]; ++x) {
+          const double gx = gap(0, x), left_x = reach2 - gx * gx;
+          if (left_x < 0.0) continue;
+          if (m == 2) {
+            read_row((x - lo_cell[0]) * extent[1], left_x);
+            continue;
+          }
+          for (int64_t y = from[1]; y <= to[1]; ++y) {
+            const double gy = gap(1, y), left = left_x - gy * gy;
+            if (left >= 0.0) read_row(((x - lo_cell[0]) * extent[1] + (y - lo_cell[1])) * extent[2], left);
+          }
+        }
+      }
+      continue;
+    }
     const int last = m - 1;  // the axis of a row
     const int64_t sx = m >= 2 ? span : 0, sy = m == 3 ? span : 0;
     for (int64_t dx = -sx; dx <= sx; ++dx)
@@ -340,17 +411,6 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
         Cell key{c[0] + dx, c[1] + dy, c[2]};
         key[last] = c[last] - span;
         const int64_t row_end = c[last] + span;
-        if (table) {  // the row's cells inside the box, one range of `order`
-          bool inside = key[last] <= hi_cell[last] && row_end >= lo_cell[last];
-          for (int d = 0; d < last; ++d) inside = inside && key[d] >= lo_cell[d] && key[d] <= hi_cell[d];
-          if (!inside) continue;
-          Cell from = key, to = key;
-          from[last] = std::max(key[last], lo_cell[last]);
-          to[last] = std::min(row_end, hi_cell[last]);
-          for (int32_t e = first[table_index(from)], stop = first[table_index(to) + 1]; e < stop; ++e)
-            consider(order[e]);
-          continue;
-        }
         auto it = std::lower_bound(cells.begin(), cells.end(), key,
                                    [](const auto& e, const Cell& k) { return cell_less(e.first, k); });
         for (; it != cells.end(); ++it) {
@@ -364,7 +424,7 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
 }
 
 // The points of `x` that can be within the bound of some point of `other` at this scan: inside
-// other's bounding box widened by R = √((max tr_x + max tr_other)·c) on every axis (a pair within
+// other's bounding box widened by R = √((max s_x + max s_other)·c) on every axis (a pair within
 // its bound has |d_c| ≤ |d_p| ≤ R per axis; the factor 1 + 10⁻⁹ covers the round-off of both
 // tests, so nothing within is dropped).
 void points_near(const ScanSet& x, const ScanSet& other, double reach, int m, std::vector<int32_t>& out) {
@@ -396,7 +456,7 @@ void scan_all_pairs(std::span<const AlignedTracks* const> x, std::span<const Val
     for (int32_t t = s + 1; t < S; ++t) {
       const ScanSet &a = scratch.sets[s], &b = scratch.sets[t];
       if (a.size() == 0 || b.size() == 0) continue;
-      const double reach = std::sqrt((a.max_trace + b.max_trace) * c2) * (1.0 + 1e-9);
+      const double reach = std::sqrt((a.max_spread + b.max_spread) * c2) * (1.0 + 1e-9);
       bool apart = false;  // the boxes farther apart than the reach on some axis
       for (int c = 0; c < m; ++c) apart = apart || a.lo[c] > b.hi[c] + reach || b.lo[c] > a.hi[c] + reach;
       if (apart) continue;
@@ -451,7 +511,7 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     for (std::size_t s = lo; s < hi; ++s) valid[s] = valid_by_time(*sensors[s]);
   });
   // Each thread's scratch of one scan (its sensors' valid tracks gathered: track, m coordinates,
-  // trace, radius, position block; the points near the other sensor; the grid's cells and radii),
+  // spread, radius, position block; the points near the other sensor; the grid's cells and radii),
   // at most the largest number of tracks valid at one time, counted before the scans for every
   // thread.
   double scratch_bytes = 0.0;
@@ -463,10 +523,11 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
         static_cast<double>(most) * (4.0 + 8.0 * (sensors[s]->dim / 2) + 16.0 + 8.0 * kPositionBlock);
     widest = std::max(widest, most);
   }
-  // (and the grid's table: at most 4 cells a point and 64, an offset and a cursor each, and its
-  // order of the points)
-  scratch_bytes +=
-      static_cast<double>(widest) * (2 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 36.0) + 520.0;
+  // (and the grid's table: at most kTableCellsPerPoint cells a point and 64, an offset and a cursor
+  // each, and its order of the points)
+  scratch_bytes += static_cast<double>(widest) *
+                       (2 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 8.0 * kTableCellsPerPoint + 4.0) +
+                   520.0;
   scratch_bytes *= static_cast<double>(std::max(1, tbb::this_task_arena::max_concurrency()));
   gauge_add(gauge, scratch_bytes);
   int32_t most_tracks = 1;  // the key of sort_scan_hits: the bits of the largest track index

@@ -3,25 +3,29 @@
 //
 // The calibrated gate accepts a pair only if at least one common scan k has a term
 // dᵀC⁻¹d ≤ c (the per-scan cap). That gives a lossless spatial bound per scan:
-//   dᵀC⁻¹d ≥ d_pᵀ C_pp⁻¹ d_p ≥ |d_p|² / μ_max(C_pp),   μ_max(C_pp) ≤ tr P_a,pp + tr P_b,pp,
+//   dᵀC⁻¹d ≥ d_pᵀ C_pp⁻¹ d_p ≥ |d_p|² / μ_max(C_pp),   μ_max(C_pp) ≤ s_a + s_b,
 // (a marginal Mahalanobis distance is at most the full one; the largest eigenvalue of a sum is at
-// most the sum of the traces), so a pair with |d_p(k)|² > (tr P_a,pp(k) + tr P_b,pp(k))·c at every
-// common scan cannot pass the gate. The bound is per scan, so it holds for any pattern of validity
+// most the sum of the largest eigenvalues), s a bound on the largest eigenvalue of a position
+// block: the smaller of its trace and its largest Gershgorin row sum P_ii + Σ_{j≠i}|P_ij|, by a
+// relative 10⁻⁸ more (the trace alone is m times too large for an isotropic covariance, so in 3-D
+// the search ball was √3 too wide). A pair with |d_p(k)|² > (s_a(k) + s_b(k))·c at every common scan
+// cannot pass the gate. The bound is per scan, so it holds for any pattern of validity
 // (late starts, early ends, asynchronous coverage), unlike a bound on time-averaged positions.
-// A pair inside that circle is within its bound at k when also d_pᵀ C_pp⁻¹ d_p ≤ c (the ellipse
-// inside the circle; the position term the position-bound prune of gate_candidates.hpp sums): radar
+// A pair inside that ball is within its bound at k when also d_pᵀ C_pp⁻¹ d_p ≤ c (the ellipse
+// inside it; the position term the position-bound prune of gate_candidates.hpp sums): radar
 // covariances are long across the line of sight, and the circle around the long axis holds
 // several times the ellipse's pairs (recorded_10k: 983 k pairs within the circle at some scan,
 // 386 k within the ellipse, 31 539 gated either way; the count filter and the prune keep the same
 // pairs, so the association is unchanged).
 //
-// Index: for each common time k, each sensor's valid tracks are gathered once (position, position
-// trace), with their bounding box; a pair of sensors whose boxes, widened by the largest bound
-// √((max tr_a + max tr_b)·c), do not meet is skipped at k (radars far apart), and otherwise only the
+// Index: for each common time k, each sensor's valid tracks are gathered once (position, spread s),
+// with their bounding box; a pair of sensors whose boxes, widened by the largest bound
+// √((max s_a + max s_b)·c), do not meet is skipped at k (radars far apart), and otherwise only the
 // tracks inside the other's widened box are searched: a uniform grid of cell size the median radius
-// √(2·tr·c) over one side's tracks (a table of the cells of their box when it has at most 4 cells a
+// √(2·s·c) over one side's tracks (a table of the cells of their box when it has at most 32 cells a
 // track, each row of cells one range; sorted by cell otherwise, a row found by binary search),
-// each track of the other side looking at the cells its own radius covers, the ellipse tested by
+// each track of the other side looking at the cells its own radius covers (with the table, only the
+// cells its ball meets: the rows within reach, each row's chord of the ball), the ellipse tested by
 // its adjugate (a superset of the prune's Cholesky test by a relative 10⁻⁹). Hits are collected
 // per block of consecutive scans (parallel over blocks, TBB; each scan's radix-sorted by pair),
 // deduplicated, then sorted, so the output does not depend on the thread count.
