@@ -4,7 +4,8 @@
 //   problem     — alignment + candidates + λ + components, end to end;
 //   solve       — components solved in parallel with the registry's "pairwise" solver.
 //   problem, defaults — the same problem with `associate --sparse`'s default options (n ≤ 10³),
-//                       the same without the alignment's lag terms, and the default path's
+//                       the same with only the gate changed to seed 000's (its time-averaged
+//                       index), the same with the alignment's lag terms forced, and the default path's
 //                       problem with those options (the same pair source); then on
 //                       recorded_10k's filtered tracks, the defaults against seed 000's options.
 //   wide-area candidates — the default path's candidate index (engine/pipeline/pair_source.hpp) over
@@ -179,6 +180,17 @@ void BM_SparseProblemDefaults(benchmark::State& state) {
                  [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
 }
 
+// The same options with seed 000's χ²(n·D) gate in place of the calibrated one, nothing else changed
+// (the same alignment and statistic): the time-averaged index of kernels/statistics/
+// sparse_candidates.hpp against the per-scan one (docs/performance.md, "Session 33").
+void BM_SparseProblemDefaultsSeed000Gate(benchmark::State& state) {
+  SparsePipelineOptions o;
+  o.pipeline.statistic.gate_probability = 0.999;
+  o.pipeline.statistic.gate = GateMethod::kChiSquareSum;
+  build_problems(state, fixture(static_cast<int32_t>(state.range(0))).file, 0,
+                 [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
+}
+
 // The same with the alignment's two lag terms forced on (AlignmentOptions::whiteness_threshold +inf),
 // as they were before the whiteness test (kernels/statistics/report_whiteness.hpp): these tracks are
 // reports with independent noise, not a filter's output, so the test leaves the terms out; forced,
@@ -262,6 +274,7 @@ BENCHMARK(BM_SparseStatistic)->Apply([](auto* b) { sizes(b, 10000); });
 BENCHMARK(BM_DenseStatistic)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_SparseProblem)->Apply([](auto* b) { sizes(b, 10000); });
 BENCHMARK(BM_SparseProblemDefaults)->Apply([](auto* b) { sizes(b, 1000); });
+BENCHMARK(BM_SparseProblemDefaultsSeed000Gate)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_SparseProblemDefaultsLagForced)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK(BM_DefaultPathProblem)->Apply([](auto* b) { sizes(b, 1000); });
 BENCHMARK_CAPTURE(BM_RecordedProblem, defaults, false)
