@@ -26,7 +26,10 @@
 // track, each row of cells one range; sorted by cell otherwise, a row found by binary search),
 // each track of the other side looking at the cells its own radius covers (with the table, only the
 // cells its ball meets: the rows within reach, each row's chord of the ball), the ellipse tested by
-// its adjugate (a superset of the prune's Cholesky test by a relative 10⁻⁹). Hits are collected
+// its adjugate (a superset of the prune's Cholesky test by a relative 10⁻⁹). Each pair is searched
+// from the side with the larger radius (two passes, one over each side's grid), or, when one side's
+// spreads are even (its largest at most twice the other side's mean: tracks of one accuracy), in
+// one pass over that side's grid with the ball √((s_q + max s_g)·c), which holds every pair's bound. Hits are collected
 // per block of consecutive scans (parallel over blocks, TBB; each scan's radix-sorted by pair),
 // deduplicated, then sorted, so the output does not depend on the thread count.
 // Each scan indexes only the tracks valid there, listed from their spans (O(Σ spans + K)).

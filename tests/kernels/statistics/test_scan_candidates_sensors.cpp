@@ -274,22 +274,29 @@ TEST(ScanCandidatesSensors, TheBoundIsThePositionEllipse) {
 // (scan_candidates.cpp, position_spread), against the ellipse worked out here by Eigen: every pair
 // whose d_pᵀ(P_a + P_b)⁻¹d_p ≤ c at its one scan is found and no other, in 2-D and 3-D, for
 // isotropic covariances equal on both sides (the trace is m times the largest eigenvalue, and the
-// query's ball is the ellipse) and rotated ones with axes 10:1, on a dense box (the table of cells)
-// and a sparse one (the sorted cells). Half of b's tracks sit just inside a's ellipse (1 − 10⁻⁶ of
+// query's ball is the ellipse), the same σ on every track (one pass) or σ² over three decades (two
+// passes), and rotated ones with axes 10:1, on a dense box (the table of cells) and a sparse one
+// (the sorted cells). Half of b's tracks sit just inside a's ellipse (1 − 10⁻⁶ of
 // the boundary along a random direction, or along an axis) and half just outside (1 + 10⁻⁶). It
 // fails with the spread 0.5 % short, or the table's ball 3 % short (checked by hand).
 TEST(ScanCandidatesSensors, EveryPairInsideTheEllipseIsFoundAtItsBoundary) {
   const double c = 16.27;  // χ²₃(0.999)
+  enum Kind { kEven, kSpread, kRotated };
   for (const int m : {2, 3})
-    for (const bool isotropic : {true, false})
+    for (const Kind kind : {kEven, kSpread, kRotated})
       for (const double half : {3000.0, 300000.0}) {
-        SCOPED_TRACE("m " + std::to_string(m) + (isotropic ? " isotropic" : " rotated") + " box " +
-                     std::to_string(half));
+        const bool isotropic = kind != kRotated;
+        SCOPED_TRACE("m " + std::to_string(m) +
+                     (kind == kEven     ? " even"
+                      : kind == kSpread ? " spread"
+                                        : " rotated") +
+                     " box " + std::to_string(half));
         const int D = 2 * m;
         const int32_t n = 300, K = 1;  // (one scan: a pair missed there is missed)
-        CounterRng rng(static_cast<uint64_t>(m * 10 + isotropic), half > 1e4, 7);
-        auto random_block = [&]() {
-          Eigen::MatrixXd block = Eigen::MatrixXd::Identity(m, m) * rng.uniform(1e3, 1e4);
+        CounterRng rng(static_cast<uint64_t>(m * 10 + kind), half > 1e4, 7);
+        auto random_block = [&]() {  // even: σ² 5·10³ on every track; spread: 10²..10⁵
+          Eigen::MatrixXd block =
+              Eigen::MatrixXd::Identity(m, m) * (kind == kEven ? 5e3 : std::pow(10.0, rng.uniform(2.0, 5.0)));
           if (isotropic) return block;
           Eigen::MatrixXd g(m, m);
           for (int r = 0; r < m; ++r)
