@@ -176,7 +176,17 @@ struct ScanSet {
     lo.fill(std::numeric_limits<double>::infinity());
     hi.fill(-std::numeric_limits<double>::infinity());
     max_spread = -std::numeric_limits<double>::infinity();
+    // Each track's cells lie apart in memory (a track's span, then the next track's): the state and
+    // packed covariance (up to 21 doubles, three cache lines) of the track kAhead on are asked for
+    // before they are read (recorded_10k's candidates stage 298 -> 292 ms, the scale study's 22.5 ->
+    // 21.0 ms, one thread).
+    constexpr std::size_t kAhead = 8;
     for (std::size_t p = 0; p < at.size(); ++p) {
+      if (p + kAhead < at.size()) {
+        const int64_t ahead = x.cell_base(at[p + kAhead]) + k;
+        __builtin_prefetch(x.state_at(ahead));
+        for (int line = 0; line < 3; ++line) __builtin_prefetch(x.cov_at(ahead) + 8 * line);
+      }
       const int64_t cell = x.cell_base(at[p]) + k;
       const double* xs = x.state_at(cell);
       for (int c = 0; c < m; ++c) {
