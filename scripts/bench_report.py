@@ -216,6 +216,12 @@ def kernel_rows(T, folder):
           f"({T.c('BM_SparseProblemDefaults/n:1000/threads:1', 'candidates_12', 0) / 1e3:.0f} k candidate pairs 1–2)",
           T.t("BM_SparseProblemDefaults/n:1000/threads:1"), T.t("BM_SparseProblemDefaults/n:1000/threads:2"),
           "the same problem with the seed 000 gate (row above's options)", T.t("BM_SparseProblem/n:1000/threads:1"))
+    T.row("the same options with seed 000's gate alone (its time-averaged index)",
+          f"n = 1000 ({T.c('BM_SparseProblemDefaultsSeed000Gate/n:1000/threads:1', 'candidates_12', 0) / 1e3:.1f} k "
+          "candidate pairs 1–2)",
+          T.t("BM_SparseProblemDefaultsSeed000Gate/n:1000/threads:1"),
+          T.t("BM_SparseProblemDefaultsSeed000Gate/n:1000/threads:2"),
+          "the defaults (the row above)", T.t("BM_SparseProblemDefaults/n:1000/threads:1"))
     T.row("the same with the lag terms forced on these independent-error reports (before the whiteness test)",
           f"n = 1000 ({T.c('BM_SparseProblemDefaultsLagForced/n:1000/threads:1', 'candidates_12', 0) / 1e3:.0f} k "
           "candidate pairs 1–2)",
