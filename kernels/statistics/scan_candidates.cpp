@@ -39,24 +39,36 @@ void position_block(const double* packed, int D, int m, double* out) {
     for (int c = r; c < m; ++c) out[k++] = packed[packed_index(D, r, c)];
 }
 
-// A bound on the largest eigenvalue of a position block: the smaller of its trace and its largest
-// Gershgorin row sum, P_ii + Σ_{j≠i} |P_ij| (both are bounds for a positive semi-definite block), by a
-// relative 10⁻⁸ more so that the circle below is never inside the ellipse's 10⁻⁹; m = 1: the
-// variance itself. The trace alone is m times the largest eigenvalue for an isotropic covariance:
-// in 3-D the search radius √3 and the searched volume 5.2 times too large (the scale study's
-// tracks, σ = 150 m on every axis, docs/performance.md "Session 33").
+// A bound on the largest eigenvalue of a position block, by a relative 10⁻⁸ more so that the circle
+// below is never inside the ellipse's 10⁻⁹: its largest Gershgorin row sum P_ii + Σ_{j≠i} |P_ij|
+// (a bound for any symmetric block), or its trace when that is smaller and the block is positive
+// semi-definite (every principal minor ≥ 0: only then is the trace a bound; a block that is not,
+// beside a larger one, can still sum to a positive definite C); m = 1: the variance. A NaN entry
+// gives the trace, as before this bound (a NaN on the diagonal, NaN: never within; elsewhere the
+// ellipse test passes the pair to the statistic, which reports it). The trace alone is m times
+// the largest eigenvalue for an isotropic covariance: in 3-D the search radius √3 and the
+// searched volume 5.2 times too large (the scale study's tracks, σ = 150 m on every axis,
+// docs/performance.md "Session 33").
 double position_spread(const double* block, int m) {
-  if (m == 1) return block[0];
-  double trace = 0.0, gershgorin = 0.0;
+  constexpr double kWiden = 1.0 + 1e-8;
+  if (m == 1) return block[0] * kWiden;
   if (m == 2) {
-    trace = block[0] + block[2];
-    gershgorin = std::max(block[0], block[2]) + std::abs(block[1]);
-  } else {
-    const double xy = std::abs(block[1]), xz = std::abs(block[2]), yz = std::abs(block[4]);
-    trace = block[0] + block[3] + block[5];
-    gershgorin = std::max({block[0] + xy + xz, block[3] + xy + yz, block[5] + xz + yz});
+    const double xx = block[0], xy = block[1], yy = block[2], trace = xx + yy;
+    if (std::isnan(trace + xy)) return trace;
+    const double gershgorin = std::max(xx, yy) + std::abs(xy);
+    const bool semi_definite = xx >= 0.0 && yy >= 0.0 && xx * yy >= xy * xy;
+    return (trace < gershgorin && semi_definite ? trace : gershgorin) * kWiden;
   }
-  return std::min(trace, gershgorin) * (1.0 + 1e-8);
+  const double xx = block[0], xy = block[1], xz = block[2], yy = block[3], yz = block[4], zz = block[5];
+  const double trace = xx + yy + zz;
+  if (std::isnan(trace + xy + xz + yz)) return trace;
+  const double gershgorin = std::max(
+      {xx + std::abs(xy) + std::abs(xz), yy + std::abs(xy) + std::abs(yz), zz + std::abs(xz) + std::abs(yz)});
+  if (!(trace < gershgorin)) return gershgorin * kWiden;  // (the usual case; no minors needed)
+  const double det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+  const bool semi_definite = xx >= 0.0 && yy >= 0.0 && zz >= 0.0 && xx * yy >= xy * xy &&
+                             xx * zz >= xz * xz && yy * zz >= yz * yz && det >= 0.0;
+  return (semi_definite ? trace : gershgorin) * kWiden;
 }
 
 // d_pᵀ C_pp⁻¹ d_p ≤ c2 for C_pp = the sum of the position blocks pa, pb, by the adjugate (m = 2
@@ -81,7 +93,7 @@ bool within_ellipse(const double* d, const double* pa, const double* pb, int m, 
                      2.0 * (d[0] * d[1] * B + d[0] * d[2] * Cc + d[1] * d[2] * F);
     return q <= bound * det;
   }
-  return true;  // (m = 1: the circle is the ellipse)
+  return true;  // (m = 1: the circle is the ellipse, widened as the spreads are)
 }
 
 // The per-scan bound: |d_p|² ≤ (s_a + s_b)·c for positions xa, xb and position spreads sa, sb
@@ -176,16 +188,17 @@ struct ScanSet {
     lo.fill(std::numeric_limits<double>::infinity());
     hi.fill(-std::numeric_limits<double>::infinity());
     max_spread = -std::numeric_limits<double>::infinity();
-    // Each track's cells lie apart in memory (a track's span, then the next track's): the state and
-    // packed covariance (up to 21 doubles, three cache lines) of the track kAhead on are asked for
-    // before they are read (recorded_10k's candidates stage 298 -> 292 ms, the scale study's 22.5 ->
-    // 21.0 ms, one thread).
+    // Each track's cells lie apart in memory (a track's span, then the next track's): the state's
+    // positions and the packed covariance's position entries (up to its 12 first doubles, two
+    // cache lines) of the track kAhead on are asked for before they are read (recorded_10k's
+    // candidates stage 298 -> 292 ms, the scale study's 22.5 -> 21.0 ms, one thread).
     constexpr std::size_t kAhead = 8;
+    const int position_entries = packed_index(D, m - 1, m - 1) + 1;
     for (std::size_t p = 0; p < at.size(); ++p) {
       if (p + kAhead < at.size()) {
         const int64_t ahead = x.cell_base(at[p + kAhead]) + k;
         __builtin_prefetch(x.state_at(ahead));
-        for (int line = 0; line < 3; ++line) __builtin_prefetch(x.cov_at(ahead) + 8 * line);
+        for (int e = 0; e < position_entries; e += 8) __builtin_prefetch(x.cov_at(ahead) + e);
       }
       const int64_t cell = x.cell_base(at[p]) + k;
       const double* xs = x.state_at(cell);
@@ -379,21 +392,26 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
       // radius is widened by a relative 10⁻⁹ and 10⁻⁶ of a cell, so a point on a face is not lost
       // to round-off. Against the cube of (2·span + 1)^m cells: 5³ → about 3/5 of them at span 2.
       const double reach = rq / h * (1.0 + 1e-9) + 1e-6;
+      const auto ball_span = static_cast<int64_t>(std::ceil(reach));  // (≤ n_g + 1, checked above)
       std::array<double, 3> u{};
       std::array<int64_t, 3> from{0, 0, 0}, to{0, 0, 0};
       bool empty = false;
       for (int d = 0; d < m; ++d) {
         u[d] = xq[d] / h;
-        from[d] = std::max(c[d] - span, lo_cell[d]);
-        to[d] = std::min(c[d] + span, hi_cell[d]);
+        from[d] = std::max(c[d] - ball_span, lo_cell[d]);
+        to[d] = std::min(c[d] + ball_span, hi_cell[d]);
         empty = empty || from[d] > to[d] || !std::isfinite(u[d]);  // (a NaN position is never within)
       }
       if (empty) continue;
+      const int last = m - 1;
+      if (!(std::abs(u[last]) + reach < 4.0e18)) {  // (a chord's floor would not fit int64: every point)
+        for (const auto& e : cells) consider(e.second);
+        continue;
+      }
       auto gap = [&](int d, int64_t k) {  // from u[d] to cell k along axis d, in cell units
         const auto kd = static_cast<double>(k);
         return k > c[d] ? kd - u[d] : k < c[d] ? u[d] - (kd + 1.0) : 0.0;
       };
-      const int last = m - 1;
       auto read_row = [&](int64_t row, double left)
           __attribute__((always_inline)) {  // left: the squared reach the row's axis keeps
         const double chord = std::sqrt(left);
@@ -495,7 +513,8 @@ void scan_all_pairs(std::span<const AlignedTracks* const> x, std::span<const Val
       points_near(b, a, reach, m, scratch.near_t);
       const int32_t slot = s * S + t;
       // One pass when one side's spreads are even (its largest at most twice the other side's
-      // mean): its ball, √((s_q + max s_g)·c), is then hardly wider than the two passes' √(2·s_q·c),
+      // mean; of two such sides, the grid is the one whose largest spread times its mean is the
+      // smaller): the ball √((s_q + max s_g)·c) is then hardly wider than the two passes' √(2·s_q·c),
       // and each track is a query once instead of twice (the scale study's tracks, the same σ on
       // every track: the largest 1.6 times the median). Otherwise (radars: spreads over decades with
       // range) the two passes.
@@ -536,9 +555,10 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
   if (S < 2) return out;
   const int32_t K = sensors[0]->n_times;
   const double c2 = cap * radius_scale * radius_scale;
-  // Lossless: (tr_a + tr_b)·c ≤ 2·max(tr_a, tr_b)·c, so a pair within its bound is within the
-  // larger of the two radii √(2·tr·c); each pair is searched from the track with the larger one
-  // (two passes: a over b's grid, b over a's grid), so one wide track does not coarsen the grid.
+  // Lossless: (s_a + s_b)·c ≤ 2·max(s_a, s_b)·c, so a pair within its bound is within the larger
+  // of the two radii √(2·s·c); each pair is searched from the track with the larger one (two
+  // passes: a over b's grid, b over a's grid), so one wide track does not coarsen the grid; or,
+  // for tracks of even spreads, in one pass (scan_all_pairs).
   // Each scan's tracks come from the spans (valid_by_time) and are gathered once for all pairs of
   // sensors; a pair of sensors meets only where their boxes do (points_near), so sensors far apart
   // cost one box test per scan. Scans in blocks of consecutive times (a pair found at one is
