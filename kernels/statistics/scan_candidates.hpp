@@ -1,5 +1,8 @@
 // Candidate pairs for the calibrated gate, from a spatial index per common time (docs/design.md §4.3,
-// "Sparse form"; kernels/statistics/association_statistic.hpp, GateMethod::kCalibrated).
+// "Sparse form"; kernels/statistics/association_statistic.hpp, GateMethod::kCalibrated). Three
+// files: this driver (blocks of scans, each pair's scans within its bound counted, the count
+// filter), one scan's search (kernels/statistics/scan_search.hpp) and the bound it tests
+// (kernels/statistics/scan_bound.hpp).
 //
 // The calibrated gate accepts a pair only if at least one common scan k has a term
 // dᵀC⁻¹d ≤ c (the per-scan cap). That gives a lossless spatial bound per scan:

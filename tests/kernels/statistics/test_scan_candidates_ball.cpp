@@ -48,14 +48,13 @@ AlignedTracks one_scan_sensor(int32_t id, int m, const std::vector<Eigen::Vector
 }
 
 // The search ball and the bound on the largest eigenvalue of each position block
-// (scan_candidates.cpp, position_spread), against the ellipse worked out here by Eigen: every pair
-// whose d_pᵀ(P_a + P_b)⁻¹d_p ≤ c at its one scan is found and no other, in 2-D and 3-D, for
-// isotropic covariances equal on both sides (the trace is m times the largest eigenvalue, and the
-// query's ball is the ellipse), the same σ on every track (one pass) or σ² over three decades (two
-// passes), and rotated ones with axes 10:1, on a dense box (the table of cells) and a sparse one
-// (the sorted cells). Half of b's tracks sit just inside a's ellipse (1 − 10⁻⁶ of the boundary along
-// a random direction, or along an axis) and half just outside (1 + 10⁻⁶). It fails with the spread
-// 0.5 % short, or the table's ball 3 % short (checked by hand).
+// (kernels/statistics/scan_bound.hpp, position_spread), against the ellipse worked out here by Eigen: every
+// pair whose d_pᵀ(P_a + P_b)⁻¹d_p ≤ c at its one scan is found and no other, in 2-D and 3-D, for isotropic
+// covariances equal on both sides (the trace is m times the largest eigenvalue, and the query's ball is the
+// ellipse), the same σ on every track (one pass) or σ² over three decades (two passes), and rotated ones with
+// axes 10:1, on a dense box (the table of cells) and a sparse one (the sorted cells). Half of b's tracks sit
+// just inside a's ellipse (1 − 10⁻⁶ of the boundary along a random direction, or along an axis) and half just
+// outside (1 + 10⁻⁶). It fails with the spread 0.5 % short, or the table's ball 3 % short (checked by hand).
 TEST(ScanCandidatesBall, EveryPairInsideTheEllipseIsFoundAtItsBoundary) {
   const double c = 16.27;  // χ²₃(0.999)
   enum Kind { kEven, kSpread, kRotated };
