@@ -5,14 +5,14 @@
 // â·τ, with τ² = P_pp/P_vv its steady-state lag time²; the aligned report's covariance is widened by
 // that bias.
 //
-// The test (measure_report_whiteness). The lag is a property of a recursive estimator: its error carries over
-// from report to report. Reports with independent errors (a measurement-level source, a simulator's noisy
-// truth) have no lag, and for them the terms read each report's velocity noise as an acceleration held for τ:
-// with the margin of 1.5 about one change in five of a steady track passes it, and on the scale study's
-// tracks (P_pp/P_vv = 225 s²) 12 % of the track-scans grew to σ of kilometres (docs/performance.md, "Session
-// 31"). The test is a whiteness test on the velocity's second difference over three consecutive reports at t₀
-// < t₁ < t₂, which cancels any constant acceleration (so a steady turn or a speed change does not read as
-// noise):
+// The test (measure_report_whiteness). The lag is a property of a recursive estimator: its error
+// carries over from report to report. Reports with independent errors (a measurement-level source,
+// a simulator's noisy truth) have no lag, and for them the terms read each report's velocity noise
+// as an acceleration held for τ: with the margin of 1.5 about one change in five of a steady track
+// passes it, and on the scale study's tracks (P_pp/P_vv = 225 s²) 12 % of the track-scans grew to
+// σ of kilometres (docs/performance.md, "Session 31"). The test is a whiteness test on the
+// velocity's second difference over three consecutive reports at t₀ < t₁ < t₂, which cancels any
+// constant acceleration (so a steady turn or a speed change does not read as noise):
 //   e = v₂ − v₁ − r·(v₁ − v₀),   r = (t₂ − t₁)/(t₁ − t₀),
 //   S = P_v,2 + (1 + r)²·P_v,1 + r²·P_v,0   (the covariance of e for independent errors),
 //   ρ = |e|² / tr S.

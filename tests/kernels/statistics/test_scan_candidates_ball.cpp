@@ -14,15 +14,12 @@
 
 #include "kernels/core/random.hpp"
 #include "kernels/statistics/scan_candidates.hpp"
+#include "tests/support/candidate_pairs.hpp"
 
 namespace trackassoc {
 namespace {
 
-std::vector<std::pair<int32_t, int32_t>> pairs_of(const CandidatePairs& c) {
-  std::vector<std::pair<int32_t, int32_t>> out;
-  for (std::size_t q = 0; q < c.size(); ++q) out.emplace_back(c.a[q], c.b[q]);
-  return out;
-}
+using testing_support::pairs_of;
 
 // One scan of n tracks with position blocks `blocks` (m × m each) at `at`; velocity variances 1.
 AlignedTracks one_scan_sensor(int32_t id, int m, const std::vector<Eigen::VectorXd>& at,

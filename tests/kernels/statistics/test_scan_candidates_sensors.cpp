@@ -4,7 +4,6 @@
 // asynchronous spans, gaps of validity and one wide covariance among small ones.
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
 #include <array>
 #include <cmath>
 #include <utility>
@@ -13,9 +12,12 @@
 #include "kernels/core/random.hpp"
 #include "kernels/statistics/chi_square.hpp"
 #include "kernels/statistics/gate_candidates.hpp"
+#include "tests/support/candidate_pairs.hpp"
 
 namespace trackassoc {
 namespace {
+
+using testing_support::pairs_of;
 
 // n tracks of one sensor around (cx, cy) (±half on each axis; the third axis, m = 3, in ±half
 // too), each over a random span of the K common times, valid at ~80 % of them, moving 30 m per step
@@ -173,12 +175,6 @@ AlignedTracks crossing_sensor(int32_t sensor, int32_t n, int32_t K, uint64_t see
     }
   }
   return x;
-}
-
-std::vector<std::pair<int32_t, int32_t>> pairs_of(const CandidatePairs& c) {
-  std::vector<std::pair<int32_t, int32_t>> out;
-  for (std::size_t q = 0; q < c.size(); ++q) out.emplace_back(c.a[q], c.b[q]);
-  return out;
 }
 
 // The count filter of the calibrated gate: its table is the smallest h with (n − h)·c ≤ G(n)
