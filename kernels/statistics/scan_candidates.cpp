@@ -101,6 +101,15 @@ void merge_summing(const std::vector<ScanHit>& x, const std::vector<ScanHit>& y,
 
 }  // namespace
 
+int32_t interior_skip_margin(std::span<const int32_t> least_hits) {
+  const auto most = static_cast<int32_t>(least_hits.size()) - 1;  // the most common scans of a pair
+  int32_t margin = 0;
+  // ⌈w/2⌉ odd scans at most in w consecutive ones: w = n − 2L ≤ 2·(least[n] − 1).
+  for (int32_t n = 1; n <= most; ++n)
+    margin = std::max(margin, (n - 2 * least_hits[n] + 3) / 2);  // ⌈(n − 2·least + 2)/2⌉, ≥ 0 here
+  return 2 * margin < most ? margin : -1;
+}
+
 std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* const> sensors, double cap,
                                                  double radius_scale, AllocationGauge* gauge,
                                                  std::span<const int32_t> least_hits,
@@ -137,6 +146,21 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
   parallel_for_range(static_cast<std::size_t>(S), 1, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t s = lo; s < hi; ++s) valid[s] = valid_by_time(*sensors[s]);
   });
+  // Each track's invalid cells inside its span (the count filter's lower bound of a pair's common
+  // valid scans, and the interior skipping's test of a track without gaps).
+  std::vector<std::vector<int32_t>> gaps(least_hits.empty() ? 0 : S);
+  for (std::size_t s = 0; s < gaps.size(); ++s) {
+    const AlignedTracks& x = *sensors[s];
+    gaps[s].assign(x.n_tracks(), 0);
+    for (int32_t i = 0; i < x.n_tracks(); ++i) {
+      const AlignedTracks::Span sp = x.span(i);
+      for (int32_t k = sp.begin; k < sp.end; ++k) gaps[s][i] += !x.valid[x.cell_base(i) + k];
+    }
+  }
+  // The interior skipping (with the count filter): at odd scans only the pairs with a track at its
+  // edge are searched (scan_candidates.hpp).
+  const int32_t margin = least_hits.empty() ? -1 : interior_skip_margin(least_hits);
+  const PartialScan partial{std::max(margin, 0), gaps};
   // Each thread's scratch of one scan, counted before the scans for every thread.
   const double scratch_bytes = ScanSearch::scratch_bytes(sensors, valid) *
                                static_cast<double>(std::max(1, tbb::this_task_arena::max_concurrency()));
@@ -163,7 +187,7 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
       const auto k0 = static_cast<int32_t>(bl) * block;
       for (int32_t k = k0; k < std::min(K, k0 + block); ++k) {
         scan.clear();
-        search.scan(sensors, valid, k, c2, scan, gauge);
+        search.scan(sensors, valid, k, c2, scan, gauge, margin >= 0 && k % 2 == 1 ? &partial : nullptr);
         // Each pair once per scan (count 1): a count is a number of scans.
         sort_scan_hits(scan, merged, track_bits, gauge);  // (merged is free until the merge)
         scan.erase(std::unique(scan.begin(), scan.end(),
@@ -194,27 +218,41 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
   sort_summing(all);  // by slot, then (a, b): each slot's pairs sorted, with their scans within
   // The count filter (least_hits): a pair within its bound at fewer scans than the least for a
   // lower bound of its common valid scans is dropped; n ≥ |span_a ∩ span_b| − gaps_a − gaps_b, the
-  // gaps being the invalid cells inside each track's span.
-  std::vector<std::vector<int32_t>> gaps(least_hits.empty() ? 0 : S);
-  for (std::size_t s = 0; s < gaps.size(); ++s) {
-    const AlignedTracks& x = *sensors[s];
-    gaps[s].assign(x.n_tracks(), 0);
-    for (int32_t i = 0; i < x.n_tracks(); ++i) {
-      const AlignedTracks::Span sp = x.span(i);
-      for (int32_t k = sp.begin; k < sp.end; ++k) gaps[s][i] += !x.valid[x.cell_base(i) + k];
-    }
-  }
-  auto dropped = [&](const ScanHit& h) {
+  // gaps being the invalid cells inside each track's span. A pair short of it at the scans searched
+  // is tested at those left out (the odd ones inside both tracks' interiors), until it has the least
+  // or cannot reach it: its count is then the full search's.
+  const int m = sensors[0]->dim / 2;
+  auto kept = [&](const ScanHit& h) {
     const int32_t s = h.slot / S, t = h.slot % S;
-    const int64_t n = static_cast<int64_t>(common_span(sensors[s]->span(h.a), sensors[t]->span(h.b)).size()) -
-                      gaps[s][h.a] - gaps[t][h.b];
+    const AlignedTracks &x = *sensors[s], &y = *sensors[t];
+    const AlignedTracks::Span sa = x.span(h.a), sb = y.span(h.b);
+    const int64_t n = static_cast<int64_t>(common_span(sa, sb).size()) - gaps[s][h.a] - gaps[t][h.b];
     const auto at =
         static_cast<std::size_t>(std::clamp<int64_t>(n, 0, static_cast<int64_t>(least_hits.size()) - 1));
-    return int32_t{h.count} < std::min<int32_t>(least_hits[at], std::numeric_limits<uint16_t>::max());
+    const int32_t need = std::min<int32_t>(least_hits[at], std::numeric_limits<uint16_t>::max());
+    int32_t count = h.count;
+    if (count >= need) return true;
+    if (margin < 0 || gaps[s][h.a] > 0 || gaps[t][h.b] > 0) return false;
+    const int32_t lo = std::max(sa.begin, sb.begin) + margin, hi = std::min(sa.end, sb.end) - margin;
+    int32_t left = hi > lo ? hi / 2 - lo / 2 : 0;  // the odd scans in [lo, hi)
+    for (int32_t k = lo | 1; k < hi && count < need && count + left >= need; k += 2, --left)
+      count += within_scan_bound(x, x.cell_base(h.a) + k, y, y.cell_base(h.b) + k, m, c2);
+    return count >= need;
   };
   if (found)
     for (const ScanHit& h : all) ++(*found)[h.slot];
-  if (!least_hits.empty()) std::erase_if(all, dropped);  // in place: no second buffer
+  if (!least_hits.empty()) {  // in place: no second buffer of hits
+    gauge_add(gauge, static_cast<double>(all.size()));
+    std::vector<uint8_t> keep(all.size());
+    parallel_for_range(all.size(), 1024, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t q = lo; q < hi; ++q) keep[q] = kept(all[q]);
+    });
+    std::size_t w = 0;
+    for (std::size_t q = 0; q < all.size(); ++q)
+      if (keep[q]) all[w++] = all[q];
+    all.resize(w);
+    gauge_release(gauge, static_cast<double>(keep.size()));
+  }
   // Each slot's pairs counted, then laid out (exactly their size: 8 bytes a pair) beside the hits.
   std::vector<std::size_t> per_slot(out.size(), 0);
   for (const ScanHit& h : all) ++per_slot[h.slot];

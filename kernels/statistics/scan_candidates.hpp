@@ -75,12 +75,28 @@ CandidatePairs scan_candidate_pairs(const AlignedTracks& a, const AlignedTracks&
 // pair whose lower bound n of common valid scans (|span_a ∩ span_b| less the invalid cells inside
 // either span) has fewer than least_hits[min(n, size − 1)] is dropped (least_scans_within_bound
 // in kernels/statistics/gate_candidates.hpp:
-// lossless for the calibrated gate). `found` (optional) gets, per slot, every pair within its
-// bound at some scan, before the filter. Hits are 12 bytes (slot and count in 16 bits: S ≤ 256).
+// lossless for the calibrated gate). With the filter, not every scan is searched for every pair
+// (interior skipping, by pigeonhole): at odd common times only the pairs with a track at its edge
+// there (within L scans of its span's first or last, or with invalid cells inside its span) are
+// searched. A pair of tracks without gaps has common span [B, E) of n scans, and its scans within L
+// of B or of E are at the edge of the track that starts at B or ends at E, so at most ⌈(n − 2L)/2⌉
+// of its scans go unsearched; L (interior_skip_margin) makes that fewer than least[n], so a pair
+// that passes the filter is found at some scan searched. A pair found short of the least is then
+// tested at its unsearched scans, one by one until it reaches the least or cannot (its count is the
+// full search's, and the filter's output the same). The scans searched are about half of a long
+// track's (the least is 5 of 10 common scans and 70 of 100 at D = 4): the scale study's defaults'
+// candidates 23.1 → 17.4 ms (11 of 16 scans), docs/performance.md "Session 34". `found`
+// (optional) gets, per slot, every pair within its bound at some scan searched, before the filter.
+// Hits are 12 bytes (slot and count in 16 bits: S ≤ 256).
 std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* const> sensors, double cap,
                                                  double radius_scale = 1.0, AllocationGauge* gauge = nullptr,
                                                  std::span<const int32_t> least_hits = {},
                                                  std::vector<std::size_t>* found = nullptr);
+
+// The interior skipping's margin L for the count filter's table `least_hits` (scan_candidate_pairs
+// above): the smallest L with ⌈(n − 2L)/2⌉ < least_hits[n] for every n ≥ 1 the table holds, or −1
+// when none leaves a scan to skip (2L at least the most common scans).
+int32_t interior_skip_margin(std::span<const int32_t> least_hits);
 
 // The same by the O(n_a·n_b·K) scan (the naive peer for tests).
 CandidatePairs scan_candidate_pairs_all_pairs(const AlignedTracks& a, const AlignedTracks& b, double cap,

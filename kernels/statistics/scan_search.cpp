@@ -295,11 +295,42 @@ std::pair<double, double> spread_range(const ScanSet& x, std::span<const int32_t
   return {most, at.empty() ? 0.0 : sum / static_cast<double>(at.size())};
 }
 
+// Every pair of the points ai of a and bi of b within its bound, appended as hits of `slot`. One
+// pass when one side's spreads are even (its largest at most twice the other side's mean; of two
+// such sides, the grid is the one whose largest spread times its mean is the smaller): the ball
+// √((s_q + max s_g)·c) is then hardly wider than the two passes' √(2·s_q·c), and each track is a
+// query once instead of twice (the scale study's tracks, the same σ on every track: the largest 1.6
+// times the median). Otherwise (radars: spreads over decades with range) the two passes.
+void search_pairs(const ScanSet& a, std::span<const int32_t> ai, const ScanSet& b,
+                  std::span<const int32_t> bi, int m, double c2, int32_t slot, GridScratch& grid,
+                  std::vector<ScanHit>& out, AllocationGauge* gauge) {
+  if (ai.empty() || bi.empty()) return;
+  const auto [most_a, mean_a] = spread_range(a, ai);
+  const auto [most_b, mean_b] = spread_range(b, bi);
+  if (most_b <= 2.0 * mean_a && most_b * mean_b <= most_a * mean_a) {
+    scan_pass<true>(a, ai, b, bi, m, c2, true, most_b, slot, grid, out, gauge);
+  } else if (most_a <= 2.0 * mean_b) {
+    scan_pass<true>(b, bi, a, ai, m, c2, false, most_a, slot, grid, out, gauge);
+  } else {
+    scan_pass<false>(a, ai, b, bi, m, c2, true, 0.0, slot, grid, out, gauge);
+    scan_pass<false>(b, bi, a, ai, m, c2, false, 0.0, slot, grid, out, gauge);
+  }
+}
+
+// The points `at` of sensor s's set split into those at their track's edge at k and the others.
+void split_at_edge(const ScanSet& set, std::span<const int32_t> at, const AlignedTracks& x, int32_t s,
+                   int32_t k, const PartialScan& partial, std::vector<int32_t>& edge,
+                   std::vector<int32_t>& inner) {
+  edge.clear();
+  inner.clear();
+  for (const int32_t p : at) (partial.edge(x, s, set.track[p], k) ? edge : inner).push_back(p);
+}
+
 }  // namespace
 
 struct ScanSearch::Scratch {
   std::vector<ScanSet> sets;
-  std::vector<int32_t> near_s, near_t;
+  std::vector<int32_t> near_s, near_t, edge_s, inner_s, edge_t, inner_t;
   GridScratch grid;
 };
 
@@ -307,10 +338,21 @@ ScanSearch::ScanSearch() : scratch_(std::make_unique<Scratch>()) {}
 ScanSearch::~ScanSearch() = default;
 
 void ScanSearch::scan(std::span<const AlignedTracks* const> x, std::span<const ValidByTime> valid, int32_t k,
-                      double c2, std::vector<ScanHit>& out, AllocationGauge* gauge) {
+                      double c2, std::vector<ScanHit>& out, AllocationGauge* gauge,
+                      const PartialScan* partial) {
   Scratch& scratch = *scratch_;
   const auto S = static_cast<int32_t>(x.size());
   const int m = x[0]->dim / 2;
+  if (partial) {  // nothing to search when no track is at its edge
+    bool any = false;
+    for (int32_t s = 0; s < S && !any; ++s)
+      for (const int32_t i : valid[s].at(k))
+        if (partial->edge(*x[s], s, i, k)) {
+          any = true;
+          break;
+        }
+    if (!any) return;
+  }
   scratch.sets.resize(S);
   for (int32_t s = 0; s < S; ++s) scratch.sets[s].gather(*x[s], valid[s].at(k), k, c2);
   for (int32_t s = 0; s < S; ++s)
@@ -324,26 +366,15 @@ void ScanSearch::scan(std::span<const AlignedTracks* const> x, std::span<const V
       points_near(a, b, reach, m, scratch.near_s);
       points_near(b, a, reach, m, scratch.near_t);
       const int32_t slot = s * S + t;
-      // One pass when one side's spreads are even (its largest at most twice the other side's
-      // mean; of two such sides, the grid is the one whose largest spread times its mean is the
-      // smaller): the ball √((s_q + max s_g)·c) is then hardly wider than the two passes' √(2·s_q·c),
-      // and each track is a query once instead of twice (the scale study's tracks, the same σ on
-      // every track: the largest 1.6 times the median). Otherwise (radars: spreads over decades with
-      // range) the two passes.
-      const auto [most_a, mean_a] = spread_range(a, scratch.near_s);
-      const auto [most_b, mean_b] = spread_range(b, scratch.near_t);
-      if (most_b <= 2.0 * mean_a && most_b * mean_b <= most_a * mean_a) {
-        scan_pass<true>(a, scratch.near_s, b, scratch.near_t, m, c2, true, most_b, slot, scratch.grid, out,
-                        gauge);
-      } else if (most_a <= 2.0 * mean_b) {
-        scan_pass<true>(b, scratch.near_t, a, scratch.near_s, m, c2, false, most_a, slot, scratch.grid, out,
-                        gauge);
-      } else {
-        scan_pass<false>(a, scratch.near_s, b, scratch.near_t, m, c2, true, 0.0, slot, scratch.grid, out,
-                         gauge);
-        scan_pass<false>(b, scratch.near_t, a, scratch.near_s, m, c2, false, 0.0, slot, scratch.grid, out,
-                         gauge);
+      if (!partial) {
+        search_pairs(a, scratch.near_s, b, scratch.near_t, m, c2, slot, scratch.grid, out, gauge);
+        continue;
       }
+      // The pairs with an edge track: (edge of s) × (all of t), then (inner of s) × (edge of t).
+      split_at_edge(a, scratch.near_s, *x[s], s, k, *partial, scratch.edge_s, scratch.inner_s);
+      split_at_edge(b, scratch.near_t, *x[t], t, k, *partial, scratch.edge_t, scratch.inner_t);
+      search_pairs(a, scratch.edge_s, b, scratch.near_t, m, c2, slot, scratch.grid, out, gauge);
+      search_pairs(a, scratch.inner_s, b, scratch.edge_t, m, c2, slot, scratch.grid, out, gauge);
     }
 }
 
@@ -352,7 +383,7 @@ double ScanSearch::scratch_bytes(std::span<const AlignedTracks* const> sensors,
   // Each sensor's valid tracks gathered (track, m coordinates, spread, radius, position block) at
   // most the largest number of tracks valid at one time; the points near the other sensor, the
   // grid's cells and radii, and its table (at most kTableCellsPerPoint cells a point and 64, an
-  // offset and a cursor each, and its order of the points).
+  // offset and a cursor each, and its order of the points); a partial scan's edge and inner lists.
   double bytes = 0.0;
   std::size_t widest = 0;
   for (std::size_t s = 0; s < sensors.size(); ++s) {
@@ -363,7 +394,7 @@ double ScanSearch::scratch_bytes(std::span<const AlignedTracks* const> sensors,
   }
   return bytes +
          static_cast<double>(widest) *
-             (2 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 8.0 * kTableCellsPerPoint + 4.0) +
+             (6 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 8.0 * kTableCellsPerPoint + 4.0) +
          520.0;
 }
 

@@ -40,6 +40,18 @@ struct ValidByTime {
 };
 ValidByTime valid_by_time(const AlignedTracks& x);
 
+// A scan searched in part (the count filter's interior skipping, scan_candidates.hpp): only the
+// pairs with a track at its edge there, within `margin` scans of its span's first or last, or with
+// invalid cells inside its span (`gaps`, per sensor and track), the other pairs left untested.
+struct PartialScan {
+  int32_t margin = 0;
+  std::span<const std::vector<int32_t>> gaps;
+  bool edge(const AlignedTracks& x, int32_t sensor, int32_t track, int32_t k) const {
+    const AlignedTracks::Span sp = x.span(track);
+    return gaps[sensor][track] > 0 || k - sp.begin < margin || sp.end - 1 - k < margin;
+  }
+};
+
 // The search of one common time, with one thread's scratch (kept from time to time).
 class ScanSearch {
  public:
@@ -50,9 +62,11 @@ class ScanSearch {
 
   // Appends the hits of common time k (count 1; a pair may appear more than once) of every pair of
   // sensors s < t (slot s·S + t); `valid` per sensor, c2 the per-scan cap times radius_scale².
-  // `gauge` is told the hits as they grow.
+  // `gauge` is told the hits as they grow. `partial` (optional): only the pairs it names (a scan
+  // with no track at its edge costs one look at each valid track).
   void scan(std::span<const AlignedTracks* const> sensors, std::span<const ValidByTime> valid, int32_t k,
-            double c2, std::vector<ScanHit>& out, AllocationGauge* gauge);
+            double c2, std::vector<ScanHit>& out, AllocationGauge* gauge,
+            const PartialScan* partial = nullptr);
 
   // The most one ScanSearch's scratch holds on `sensors` (the tracks valid at one time gathered,
   // the points near the other sensor, the grid and its table), for the memory gauge.

@@ -75,14 +75,16 @@ TEST(PairSource, SparsePathsShareTheDefaultIndexsGatedPairs) {
     ASSERT_GT(want.size(), 200u);
     expect_same(gated(*three_pairs[q]), want);
     expect_same(gated(sd.pairs[slot]), want);
-    EXPECT_EQ(three.candidate_pairs[q], sd.candidate_pairs[slot]);
+    // Found at the scans searched: at most the pairs within at some scan (the two paths search with
+    // different gates here, the default's family-wise one a superset, so skip different scans).
     // The one-pass index's slot against the pair's own search and bound (the kernels alone).
     const CandidatePairs alone =
         candidate_pairs_for_gate(three.aligned[a], three.aligned[b], StatisticOptions{}, 1.0);
     const CandidatePairs alone_kept =
         prune_by_position_bound(three.aligned[a], three.aligned[b], alone, StatisticOptions{});
-    EXPECT_EQ(alone.size(), three.candidate_pairs[q]);
-    EXPECT_EQ(all[slot].found, alone.size());
+    EXPECT_LE(three.candidate_pairs[q], alone.size());
+    EXPECT_LE(sd.candidate_pairs[slot], alone.size());
+    EXPECT_EQ(all[slot].found, three.candidate_pairs[q]);
     EXPECT_EQ(all[slot].pairs.a, alone_kept.a);
     EXPECT_EQ(all[slot].pairs.b, alone_kept.b);
     EXPECT_GE(alone_kept.size(), want.size());  // lossless: every gated pair is a candidate

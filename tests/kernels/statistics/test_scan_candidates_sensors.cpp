@@ -13,10 +13,12 @@
 #include "kernels/statistics/chi_square.hpp"
 #include "kernels/statistics/gate_candidates.hpp"
 #include "tests/support/candidate_pairs.hpp"
+#include "tests/support/crossing_tracks.hpp"
 
 namespace trackassoc {
 namespace {
 
+using testing_support::crossing_sensor;
 using testing_support::pairs_of;
 
 // n tracks of one sensor around (cx, cy) (±half on each axis; the third axis, m = 3, in ±half
@@ -141,40 +143,6 @@ TEST(ScanCandidatesSensors, OneAndThreeAxesWithSpreadRadiiEqualTheNaiveScan) {
     }
     EXPECT_GT(total, 500u) << D;
   }
-}
-
-// n tracks crossing one another: uniform start in a 6 km square, velocity ±150 m per step on each
-// axis, position variance 1e4..5e4 m², valid at ~80 % of a random span of the K common times. Most
-// pairs are within their per-scan bound at a few scans only (as they pass).
-AlignedTracks crossing_sensor(int32_t sensor, int32_t n, int32_t K, uint64_t seed) {
-  AlignedTracks x;
-  x.sensor = sensor;
-  x.dim = 4;
-  x.n_times = K;
-  CounterRng rng(seed, 0, 0);
-  std::vector<int32_t> begin, length;
-  for (int32_t i = 0; i < n; ++i) {
-    x.track.push_back(i);
-    x.truth.push_back(i);
-    const auto b = static_cast<int32_t>(rng.uniform(0.0, K / 2.0));
-    begin.push_back(b);
-    length.push_back(1 + static_cast<int32_t>(rng.uniform(K / 4.0, K - b - 1.0)));
-  }
-  x.allocate(begin, length);
-  for (int32_t i = 0; i < n; ++i) {
-    const double p0[2] = {rng.uniform(-3000.0, 3000.0), rng.uniform(-3000.0, 3000.0)};
-    const double v[2] = {rng.uniform(-150.0, 150.0), rng.uniform(-150.0, 150.0)};
-    const double var = rng.uniform(1e4, 5e4);
-    for (int32_t k = x.span(i).begin; k < x.span(i).end; ++k) {
-      const int64_t c = x.cell(i, k);
-      x.valid[c] = rng.uniform(0.0, 1.0) < 0.8;
-      double* st = x.state_at(c);
-      for (int d = 0; d < 2; ++d) st[d] = p0[d] + v[d] * k, st[2 + d] = v[d];
-      double* p = x.cov_at(c);
-      for (int r = 0; r < 4; ++r) p[packed_index(4, r, r)] = r < 2 ? var : 100.0;
-    }
-  }
-  return x;
 }
 
 // The count filter of the calibrated gate: its table is the smallest h with (n − h)·c ≤ G(n)
