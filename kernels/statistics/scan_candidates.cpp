@@ -101,13 +101,16 @@ void merge_summing(const std::vector<ScanHit>& x, const std::vector<ScanHit>& y,
 
 }  // namespace
 
-int32_t interior_skip_margin(std::span<const int32_t> least_hits) {
+InteriorMargins interior_skip_margins(std::span<const int32_t> least_hits, int32_t n_times) {
   const auto most = static_cast<int32_t>(least_hits.size()) - 1;  // the most common scans of a pair
-  int32_t margin = 0;
-  // ⌈w/2⌉ odd scans at most in w consecutive ones: w = n − 2L ≤ 2·(least[n] − 1).
-  for (int32_t n = 1; n <= most; ++n)
-    margin = std::max(margin, (n - 2 * least_hits[n] + 3) / 2);  // ⌈(n − 2·least + 2)/2⌉, ≥ 0 here
-  return 2 * margin < most ? margin : -1;
+  // ⌈w/2⌉ odd scans at most in w consecutive ones: w = n − (margins) ≤ 2·(least[n] − 1), so a pair of
+  // n common scans needs margins summing to R(n) = n − 2·least[n] + 2, ⌈R(n)/2⌉ at each end.
+  auto own = [&](int32_t n) { return std::max(0, (n - 2 * least_hits[n] + 3) / 2); };
+  InteriorMargins out;
+  out.by_length.assign(std::max<std::size_t>(least_hits.size(), 1), 0);
+  for (int32_t l = 1; l <= most; ++l) out.by_length[l] = std::max(out.by_length[l - 1], own(l));
+  out.whole = n_times <= most && n_times >= 1 ? own(n_times) : 0;  // (else no two whole tracks pair)
+  return out;
 }
 
 std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* const> sensors, double cap,
@@ -158,9 +161,27 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     }
   }
   // The interior skipping (with the count filter): at odd scans only the pairs with a track at its
-  // edge are searched (scan_candidates.hpp).
-  const int32_t margin = least_hits.empty() ? -1 : interior_skip_margin(least_hits);
-  const PartialScan partial{std::max(margin, 0), gaps};
+  // edge are searched (scan_candidates.hpp), each track's margin from its length (a track with gaps:
+  // K, at its edge everywhere).
+  std::vector<std::vector<int32_t>> margins(gaps.size());
+  bool skipping = false;  // some track has an interior
+  if (!least_hits.empty()) {
+    const InteriorMargins by = interior_skip_margins(least_hits, K);
+    const auto most = static_cast<int32_t>(least_hits.size()) - 1;
+    for (std::size_t s = 0; s < margins.size(); ++s) {
+      const AlignedTracks& x = *sensors[s];
+      margins[s].resize(x.n_tracks());
+      for (int32_t i = 0; i < x.n_tracks(); ++i) {
+        const AlignedTracks::Span sp = x.span(i);
+        const int32_t length = sp.end - sp.begin;
+        margins[s][i] = gaps[s][i] > 0                 ? K
+                        : sp.begin == 0 && sp.end == K ? by.whole
+                                                       : by.by_length[std::min(length, most)];
+        skipping = skipping || 2 * margins[s][i] < length;
+      }
+    }
+  }
+  const PartialScan partial{margins};
   // Each thread's scratch of one scan, counted before the scans for every thread.
   const double scratch_bytes = ScanSearch::scratch_bytes(sensors, valid) *
                                static_cast<double>(std::max(1, tbb::this_task_arena::max_concurrency()));
@@ -187,7 +208,7 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
       const auto k0 = static_cast<int32_t>(bl) * block;
       for (int32_t k = k0; k < std::min(K, k0 + block); ++k) {
         scan.clear();
-        search.scan(sensors, valid, k, c2, scan, gauge, margin >= 0 && k % 2 == 1 ? &partial : nullptr);
+        search.scan(sensors, valid, k, c2, scan, gauge, skipping && k % 2 == 1 ? &partial : nullptr);
         // Each pair once per scan (count 1): a count is a number of scans.
         sort_scan_hits(scan, merged, track_bits, gauge);  // (merged is free until the merge)
         scan.erase(std::unique(scan.begin(), scan.end(),
@@ -232,8 +253,9 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     const int32_t need = std::min<int32_t>(least_hits[at], std::numeric_limits<uint16_t>::max());
     int32_t count = h.count;
     if (count >= need) return true;
-    if (margin < 0 || gaps[s][h.a] > 0 || gaps[t][h.b] > 0) return false;
-    const int32_t lo = std::max(sa.begin, sb.begin) + margin, hi = std::min(sa.end, sb.end) - margin;
+    if (!skipping) return false;
+    const int32_t ma = margins[s][h.a], mb = margins[t][h.b];  // (gaps: K, so lo ≥ K ≥ hi)
+    const int32_t lo = std::max(sa.begin + ma, sb.begin + mb), hi = std::min(sa.end - ma, sb.end - mb);
     int32_t left = hi > lo ? hi / 2 - lo / 2 : 0;  // the odd scans in [lo, hi)
     for (int32_t k = lo | 1; k < hi && count < need && count + left >= need; k += 2, --left)
       count += within_scan_bound(x, x.cell_base(h.a) + k, y, y.cell_base(h.b) + k, m, c2);

@@ -77,11 +77,12 @@ CandidatePairs scan_candidate_pairs(const AlignedTracks& a, const AlignedTracks&
 // in kernels/statistics/gate_candidates.hpp:
 // lossless for the calibrated gate). With the filter, not every scan is searched for every pair
 // (interior skipping, by pigeonhole): at odd common times only the pairs with a track at its edge
-// there (within L scans of its span's first or last, or with invalid cells inside its span) are
-// searched. A pair of tracks without gaps has common span [B, E) of n scans, and its scans within L
-// of B or of E are at the edge of the track that starts at B or ends at E, so at most ⌈(n − 2L)/2⌉
-// of its scans go unsearched; L (interior_skip_margin) makes that fewer than least[n], so a pair
-// that passes the filter is found at some scan searched. A pair found short of the least is then
+// there (within its margin of its span's first or last scan, or with invalid cells inside its span) are
+// searched. A pair of tracks without gaps has common span [B, E) of n scans, and its scans within
+// the margin of B or of E are at the edge of the track that starts at B or ends at E, so at most
+// ⌈(n − 2L)/2⌉ of its scans go unsearched; the margins (interior_skip_margins: by a track's length,
+// smaller for a track over every common time) make that fewer than least[n], so a pair that passes
+// the filter is found at some scan searched. A pair found short of the least is then
 // tested at its unsearched scans, one by one until it reaches the least or cannot (its count is the
 // full search's, and the filter's output the same). The scans searched are about half of a long
 // track's (the least is 5 of 10 common scans and 70 of 100 at D = 4): the scale study's defaults'
@@ -93,10 +94,19 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
                                                  std::span<const int32_t> least_hits = {},
                                                  std::vector<std::size_t>* found = nullptr);
 
-// The interior skipping's margin L for the count filter's table `least_hits` (scan_candidate_pairs
-// above): the smallest L with ⌈(n − 2L)/2⌉ < least_hits[n] for every n ≥ 1 the table holds, or −1
-// when none leaves a scan to skip (2L at least the most common scans).
-int32_t interior_skip_margin(std::span<const int32_t> least_hits);
+// The interior skipping's margins for the count filter's table `least_hits` on a grid of n_times
+// common times (scan_candidate_pairs above). A pair of n common scans needs margins summing to
+// R(n) = n − 2·least_hits[n] + 2 at the ends of its common span, so that fewer than least_hits[n]
+// of its odd scans lie between them. by_length[l]: ⌈R(n)/2⌉ at most over n ≤ l, for a track of l
+// scans (l up to the table's last; a track's pairs share at most l scans with it, and each end of
+// the common span is an end of one of the two tracks). whole: ⌈R(n_times)/2⌉, for a track over every
+// common time (its partners are either whole too, n = n_times, or lie inside it and carry their own
+// margins), 0 when the table is shorter than n_times (no two whole tracks then pair).
+struct InteriorMargins {
+  std::vector<int32_t> by_length;
+  int32_t whole = 0;
+};
+InteriorMargins interior_skip_margins(std::span<const int32_t> least_hits, int32_t n_times);
 
 // The same by the O(n_a·n_b·K) scan (the naive peer for tests).
 CandidatePairs scan_candidate_pairs_all_pairs(const AlignedTracks& a, const AlignedTracks& b, double cap,

@@ -41,14 +41,14 @@ struct ValidByTime {
 ValidByTime valid_by_time(const AlignedTracks& x);
 
 // A scan searched in part (the count filter's interior skipping, scan_candidates.hpp): only the
-// pairs with a track at its edge there, within `margin` scans of its span's first or last, or with
-// invalid cells inside its span (`gaps`, per sensor and track), the other pairs left untested.
+// pairs with a track at its edge there, within its margin (per sensor and track) of its span's first
+// or last scan, the other pairs left untested.
 struct PartialScan {
-  int32_t margin = 0;
-  std::span<const std::vector<int32_t>> gaps;
+  std::span<const std::vector<int32_t>> margin;
   bool edge(const AlignedTracks& x, int32_t sensor, int32_t track, int32_t k) const {
     const AlignedTracks::Span sp = x.span(track);
-    return gaps[sensor][track] > 0 || k - sp.begin < margin || sp.end - 1 - k < margin;
+    const int32_t m = margin[sensor][track];
+    return k - sp.begin < m || sp.end - 1 - k < m;
   }
 };
 

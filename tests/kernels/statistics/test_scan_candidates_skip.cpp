@@ -23,47 +23,58 @@ namespace {
 using testing_support::crossing_sensor;
 using testing_support::pairs_of;
 
-// Whether the margin L leaves, in every window of n consecutive common scans (first scan even or
-// odd), fewer odd scans at least L from both of its ends than least[n]: counted one by one.
-bool margin_holds(const std::vector<int32_t>& least, int32_t L) {
-  for (int32_t n = 1; n < static_cast<int32_t>(least.size()); ++n)
-    for (int32_t begin = 0; begin < 2; ++begin) {
-      int32_t skipped = 0;
-      for (int32_t k = begin; k < begin + n; ++k)
-        skipped += k % 2 == 1 && k - begin >= L && begin + n - 1 - k >= L;
-      if (skipped >= least[n]) return false;
-    }
-  return true;
+// A gap-free track's margin as the driver takes it (scan_candidates.cpp).
+int32_t track_margin(const InteriorMargins& by, int32_t begin, int32_t end, int32_t K) {
+  const auto most = static_cast<int32_t>(by.by_length.size()) - 1;
+  return begin == 0 && end == K ? by.whole : by.by_length[std::min(end - begin, most)];
 }
 
-TEST(ScanCandidatesSkip, TheMarginIsTheSmallestThatLeavesFewerSkippedScansThanTheLeast) {
+// Every pair of gap-free spans on K common times, its odd scans inside both tracks' margins (those the
+// index may leave unsearched) counted one by one: fewer than the least for its common scans.
+TEST(ScanCandidatesSkip, TheMarginsLeaveEveryPairOfSpansFewerSkippedScansThanTheLeast) {
   for (const int D : {4, 6})
     for (const double p : {0.99, 0.999})
-      for (const int32_t most : {16, 60, 200}) {
-        SCOPED_TRACE("D " + std::to_string(D) + ", p " + std::to_string(p) + ", " + std::to_string(most));
+      for (const int32_t K : {16, 40}) {
+        SCOPED_TRACE("D " + std::to_string(D) + ", p " + std::to_string(p) + ", K " + std::to_string(K));
         StatisticOptions statistic;
         statistic.gate_probability = p;
-        const std::vector<int32_t> least = least_scans_within_bound(D, statistic, most);
-        const int32_t L = interior_skip_margin(least);
-        ASSERT_GE(L, 0);  // these tables leave scans to skip
-        EXPECT_LT(2 * L, most);
-        EXPECT_TRUE(margin_holds(least, L));
-        if (L > 0) {
-          EXPECT_FALSE(margin_holds(least, L - 1));
-        }
+        const std::vector<int32_t> least = least_scans_within_bound(D, statistic, K);
+        const InteriorMargins by = interior_skip_margins(least, K);
+        int64_t failures = 0, skippable = 0;
+        for (int32_t b1 = 0; b1 < K; ++b1)
+          for (int32_t e1 = b1 + 1; e1 <= K; ++e1)
+            for (int32_t b2 = 0; b2 < K; ++b2)
+              for (int32_t e2 = b2 + 1; e2 <= K; ++e2) {
+                const int32_t B = std::max(b1, b2), E = std::min(e1, e2);
+                if (B >= E) continue;
+                const int32_t m1 = track_margin(by, b1, e1, K), m2 = track_margin(by, b2, e2, K);
+                int32_t skipped = 0;
+                for (int32_t k = B; k < E; ++k)
+                  skipped +=
+                      k % 2 == 1 && k - b1 >= m1 && e1 - 1 - k >= m1 && k - b2 >= m2 && e2 - 1 - k >= m2;
+                failures += skipped >= least[E - B];
+                skippable += skipped;
+              }
+        EXPECT_EQ(failures, 0);
+        EXPECT_GT(skippable, 0);
       }
-  // By hand: D = 6, p = 0.999 (the scale study's tracks). least[6] = 1: a pair of 6 common scans
-  // within at one is kept, so all 6 must be searched (L = 3); least[7] = 2 and least[8] = 2 need no
-  // more (7 − 6 = 1 scan left, odd or not; 8 − 6 = 2, one odd).
+  // By hand: D = 6, p = 0.999 (the scale study's tracks), K = 16. least[6] = 1: all 6 scans of a
+  // 6-scan overlap must be searched, R(6) = 6 − 2 + 2 = 6, so a track of 6 scans or more takes margin 3;
+  // two whole tracks share all 16 scans, least[16] = 7, R(16) = 16 − 14 + 2 = 4: margin 2, and the odd
+  // scans 3, 5, …, 13 (6 of 16) go unsearched, the pigeonhole's most (16 − 7 + 1 = 10 searched).
   StatisticOptions statistic;
   statistic.gate_probability = 0.999;
   const std::vector<int32_t> least = least_scans_within_bound(6, statistic, 16);
   ASSERT_EQ(least[6], 1);
-  ASSERT_EQ(least[7], 2);
-  ASSERT_EQ(least[8], 2);
-  EXPECT_EQ(interior_skip_margin(least), 3);
-  // A table of ones (every pair within once is kept) leaves nothing to skip.
-  EXPECT_EQ(interior_skip_margin(std::vector<int32_t>(12, 1)), -1);
+  ASSERT_EQ(least[16], 7);
+  const InteriorMargins by = interior_skip_margins(least, 16);
+  EXPECT_EQ(by.by_length[5], 3);  // R(5) = 5 − 2 + 2 = 5
+  EXPECT_EQ(by.by_length[16], 3);
+  EXPECT_EQ(by.whole, 2);
+  // A table of ones (a pair within once is kept) leaves no track an interior.
+  const InteriorMargins ones = interior_skip_margins(std::vector<int32_t>(13, 1), 12);
+  for (int32_t l = 1; l <= 12; ++l) EXPECT_GE(2 * ones.by_length[l], l) << l;
+  EXPECT_GE(2 * ones.whole, 12);
 }
 
 int32_t gaps_of(const AlignedTracks& x, int32_t i) {
@@ -104,7 +115,6 @@ TEST(ScanCandidatesSkip, TheFilteredPairsAreThoseOfTheNaiveCount) {
                                      crossing_sensor(2, 180, K, 33, true)};
   const std::vector<const AlignedTracks*> ptr{&x[0], &x[1], &x[2]};
   const std::vector<int32_t> least = least_scans_within_bound(4, statistic, K);
-  ASSERT_GE(interior_skip_margin(least), 0);
   std::vector<std::size_t> found;
   const std::vector<CandidatePairs> got = scan_candidate_pairs(ptr, c, 1.0, nullptr, least, &found);
   std::size_t kept = 0, found_all = 0, within_all = 0;
@@ -123,35 +133,36 @@ TEST(ScanCandidatesSkip, TheFilteredPairsAreThoseOfTheNaiveCount) {
   EXPECT_LT(found_all, within_all);  // and some pairs are within only at scans left out
 }
 
-// For every length n of a common span and both parities of its first scan, a pair of tracks over
-// that span, track i of sensor 1 on track i of sensor 0 at the scans of W and 10 km off at the others
-// (σ = 100 m: far outside the bound; the pairs 100 km apart). W holds least[n] scans: the odd ones
-// inside the margins (those the index may skip; never all of W, if the margin keeps its promise),
-// then others; a second pair of each has one scan fewer. The filter keeps exactly the first ones, as
-// the count says, though most of their scans within are skipped.
+// For every length n of a common span and both parities of its first scan, and for two tracks over
+// every common time, a pair of tracks over that span, track i of sensor 1 on track i of sensor 0 at
+// the scans of W and 10 km off at the others (σ = 100 m: far outside the bound; the pairs 100 km
+// apart). W holds least[n] scans: the odd ones inside the tracks' margin (those the index may skip;
+// never all of W, if the margins keep their promise), then others; a second pair of each has one
+// scan fewer. The filter keeps exactly the first ones, as the count says, though most of their
+// scans within are skipped.
 TEST(ScanCandidatesSkip, PairsWithinAtTheLeastScansMostlySkippedAreKept) {
   const int32_t K = 40;
   const StatisticOptions statistic;
   const double c = chi_square_quantile(statistic.cap_probability, 4);
   const std::vector<int32_t> least = least_scans_within_bound(4, statistic, K);
-  const int32_t L = interior_skip_margin(least);
-  ASSERT_GE(L, 0);
+  const InteriorMargins by = interior_skip_margins(least, K);
   std::vector<int32_t> begin, length;
   std::vector<std::vector<int32_t>> within;
-  for (int32_t n = 1; n + 2 <= K; ++n)
-    for (const int32_t b : {1, 2})
-      for (const int32_t fewer : {0, 1}) {
-        const int32_t h = least[n] - fewer;
-        if (h < 1) continue;
-        std::vector<int32_t> W;
-        for (int32_t k = b + L; k < b + n - L && std::ssize(W) < h; ++k)
-          if (k % 2 == 1) W.push_back(k);
-        for (int32_t k = b; std::ssize(W) < h; ++k)
-          if (std::find(W.begin(), W.end(), k) == W.end()) W.push_back(k);
-        begin.push_back(b);
-        length.push_back(n);
-        within.push_back(W);
-      }
+  std::vector<std::pair<int32_t, int32_t>> spans{{0, K}};
+  for (int32_t n = 1; n + 2 <= K; ++n) spans.emplace_back(1, n), spans.emplace_back(2, n);
+  for (const auto& [b, n] : spans)
+    for (const int32_t fewer : {0, 1}) {
+      const int32_t h = least[n] - fewer, L = track_margin(by, b, b + n, K);
+      if (h < 1) continue;
+      std::vector<int32_t> W;
+      for (int32_t k = b + L; k < b + n - L && std::ssize(W) < h; ++k)
+        if (k % 2 == 1) W.push_back(k);
+      for (int32_t k = b; std::ssize(W) < h; ++k)
+        if (std::find(W.begin(), W.end(), k) == W.end()) W.push_back(k);
+      begin.push_back(b);
+      length.push_back(n);
+      within.push_back(W);
+    }
   const auto N = static_cast<int32_t>(begin.size());
   std::vector<AlignedTracks> x(2);
   for (int32_t s = 0; s < 2; ++s) {
