@@ -77,17 +77,18 @@ CandidatePairs scan_candidate_pairs(const AlignedTracks& a, const AlignedTracks&
 // in kernels/statistics/gate_candidates.hpp:
 // lossless for the calibrated gate). With the filter, not every scan is searched for every pair
 // (interior skipping, by pigeonhole): at odd common times only the pairs with a track at its edge
-// there (within its margin of its span's first or last scan, or with invalid cells inside its span) are
-// searched. A pair of tracks without gaps has common span [B, E) of n scans, and its scans within
-// the margin of B or of E are at the edge of the track that starts at B or ends at E, so at most
-// ⌈(n − 2L)/2⌉ of its scans go unsearched; the margins (interior_skip_margins: by a track's length,
-// smaller for a track over every common time) make that fewer than least[n], so a pair that passes
-// the filter is found at some scan searched. A pair found short of the least is then
-// tested at its unsearched scans, one by one until it reaches the least or cannot (its count is the
-// full search's, and the filter's output the same). The scans searched are about half of a long
-// track's (the least is 5 of 10 common scans and 70 of 100 at D = 4): the scale study's defaults'
-// candidates 23.1 → 17.4 ms (11 of 16 scans), docs/performance.md "Session 34". `found`
-// (optional) gets, per slot, every pair within its bound at some scan searched, before the filter.
+// there (within its margin of its span's first or last scan, or with invalid cells inside its
+// span) are searched. A pair of tracks without gaps has common span [B, E) of n scans, and its
+// scans within the margin m_B of B or m_E of E are at the edge of the track that starts at B or
+// ends at E, so at most ⌈(n − m_B − m_E)/2⌉ of its scans go unsearched; the margins
+// (interior_skip_margins: by a track's length, smaller for a track over every common time) make
+// that fewer than least[n], so a pair that passes the filter is found at some scan searched. A pair
+// found short of the least is then tested at its unsearched scans, one by one until it reaches the
+// least or cannot (its count is the full search's, and the filter's output the same). The scans
+// searched are about half of a long track's (the least is 5 of 10 common scans and 70 of 100 at
+// D = 4): the scale study's defaults' candidates 22.3 → 16.1–16.4 ms (10 of 16 scans),
+// docs/performance.md "Session 34". `found` (optional) gets, per slot, every pair within its bound
+// at some scan searched, before the filter.
 // Hits are 12 bytes (slot and count in 16 bits: S ≤ 256).
 std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* const> sensors, double cap,
                                                  double radius_scale = 1.0, AllocationGauge* gauge = nullptr,
