@@ -150,7 +150,12 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     for (std::size_t s = lo; s < hi; ++s) valid[s] = valid_by_time(*sensors[s]);
   });
   // Each track's invalid cells inside its span (the count filter's lower bound of a pair's common
-  // valid scans, and the interior skipping's test of a track without gaps).
+  // valid scans, and the interior skipping's test of a track without gaps), and its margin: two
+  // int32 a track, counted before they are built.
+  double track_bytes = 0.0;
+  if (!least_hits.empty())
+    for (int32_t s = 0; s < S; ++s) track_bytes += 8.0 * sensors[s]->n_tracks();
+  gauge_add(gauge, track_bytes);
   std::vector<std::vector<int32_t>> gaps(least_hits.empty() ? 0 : S);
   for (std::size_t s = 0; s < gaps.size(); ++s) {
     const AlignedTracks& x = *sensors[s];
@@ -275,6 +280,9 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     all.resize(w);
     gauge_release(gauge, static_cast<double>(keep.size()));
   }
+  std::vector<std::vector<int32_t>>().swap(gaps);
+  std::vector<std::vector<int32_t>>().swap(margins);
+  gauge_release(gauge, track_bytes);
   // Each slot's pairs counted, then laid out (exactly their size: 8 bytes a pair) beside the hits.
   std::vector<std::size_t> per_slot(out.size(), 0);
   for (const ScanHit& h : all) ++per_slot[h.slot];

@@ -67,9 +67,9 @@ CandidatePairs scan_candidate_pairs(const AlignedTracks& a, const AlignedTracks&
 // coverages do not overlap cost one box test per scan.
 // O(Σ_k Σ_s n_s(k) + Σ_k Σ_{s<t meeting at k} (search of the tracks in the overlap) + hits).
 // `gauge` (optional) is told each large buffer before it is allocated (the index by time, each
-// block's hits as they grow, their merge, the output) and throws to refuse; on return it holds the
-// output's bytes (8 a pair), the rest released. The per-thread scratch of one scan (the tracks
-// valid there, O(Σ_s n_s(k))) is not counted.
+// track's gaps and margin, each thread's scratch of one scan, each block's hits as they grow, their
+// merge, the filter's flags, the output) and throws to refuse; on return it holds the output's
+// bytes (8 a pair), the rest released.
 //
 // The count filter (least_hits, optional): each pair's scans within its bound are counted, and a
 // pair whose lower bound n of common valid scans (|span_a ∩ span_b| less the invalid cells inside
