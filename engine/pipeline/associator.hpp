@@ -130,7 +130,8 @@ struct AssociationSummary {
   // tensor, solve.
   std::vector<StageReport> stages;
   // The tensor paths: the partition's components (1: a dense path's whole problem), the pair
-  // source's candidate pairs (the index's, before the gate; a dense path's every pair) and those
+  // source's candidate pairs (the index's, found at the scans it searched, before its count filter
+  // and the gate: kernels/statistics/scan_candidates.hpp; a dense path's every pair) and those
   // in the gate. Sparse S-D: the components solved by LAP merging.
   int32_t components = 0;
   int64_t candidate_pairs = 0, gated_pairs = 0, fallback_components = 0;
