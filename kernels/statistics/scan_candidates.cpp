@@ -150,39 +150,27 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     for (std::size_t s = lo; s < hi; ++s) valid[s] = valid_by_time(*sensors[s]);
   });
   // Each track's invalid cells inside its span (the count filter's lower bound of a pair's common
-  // valid scans, and the interior skipping's test of a track without gaps), and its margin: two
-  // int32 a track, counted before they are built.
+  // valid scans) and its margin for the interior skipping (at odd scans only the pairs with a track
+  // at its edge are searched, scan_candidates.hpp; a track with gaps: K, at its edge everywhere):
+  // two int32 a track, counted before they are built.
   double track_bytes = 0.0;
   if (!least_hits.empty())
     for (int32_t s = 0; s < S; ++s) track_bytes += 8.0 * sensors[s]->n_tracks();
   gauge_add(gauge, track_bytes);
-  std::vector<std::vector<int32_t>> gaps(least_hits.empty() ? 0 : S);
-  for (std::size_t s = 0; s < gaps.size(); ++s) {
-    const AlignedTracks& x = *sensors[s];
-    gaps[s].assign(x.n_tracks(), 0);
-    for (int32_t i = 0; i < x.n_tracks(); ++i) {
-      const AlignedTracks::Span sp = x.span(i);
-      for (int32_t k = sp.begin; k < sp.end; ++k) gaps[s][i] += !x.valid[x.cell_base(i) + k];
-    }
-  }
-  // The interior skipping (with the count filter): at odd scans only the pairs with a track at its
-  // edge are searched (scan_candidates.hpp), each track's margin from its length (a track with gaps:
-  // K, at its edge everywhere).
-  std::vector<std::vector<int32_t>> margins(gaps.size());
+  const std::size_t with_filter = least_hits.empty() ? 0 : S;
+  std::vector<std::vector<int32_t>> gaps(with_filter), margins(with_filter);
   bool skipping = false;  // some track has an interior
   if (!least_hits.empty()) {
     const InteriorMargins by = interior_skip_margins(least_hits, K);
-    const auto most = static_cast<int32_t>(least_hits.size()) - 1;
-    for (std::size_t s = 0; s < margins.size(); ++s) {
+    for (std::size_t s = 0; s < with_filter; ++s) {
       const AlignedTracks& x = *sensors[s];
+      gaps[s].assign(x.n_tracks(), 0);
       margins[s].resize(x.n_tracks());
       for (int32_t i = 0; i < x.n_tracks(); ++i) {
         const AlignedTracks::Span sp = x.span(i);
-        const int32_t length = sp.end - sp.begin;
-        margins[s][i] = gaps[s][i] > 0                 ? K
-                        : sp.begin == 0 && sp.end == K ? by.whole
-                                                       : by.by_length[std::min(length, most)];
-        skipping = skipping || 2 * margins[s][i] < length;
+        for (int32_t k = sp.begin; k < sp.end; ++k) gaps[s][i] += !x.valid[x.cell_base(i) + k];
+        margins[s][i] = gaps[s][i] > 0 ? K : by.of(sp, K);
+        skipping = skipping || 2 * margins[s][i] < sp.end - sp.begin;
       }
     }
   }

@@ -47,6 +47,7 @@
 // tests/kernels/statistics/test_scan_candidates_sensors.cpp checks every slot against the naive scan.)
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -106,6 +107,12 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
 struct InteriorMargins {
   std::vector<int32_t> by_length;
   int32_t whole = 0;
+  // The margin of a track without gaps over `span` of the n_times common times.
+  int32_t of(AlignedTracks::Span span, int32_t n_times) const {
+    if (span.begin == 0 && span.end == n_times) return whole;
+    const auto most = static_cast<int32_t>(by_length.size()) - 1;
+    return by_length[std::min(span.end - span.begin, most)];
+  }
 };
 InteriorMargins interior_skip_margins(std::span<const int32_t> least_hits, int32_t n_times);
 

@@ -317,20 +317,25 @@ void search_pairs(const ScanSet& a, std::span<const int32_t> ai, const ScanSet& 
   }
 }
 
-// The points `at` of sensor s's set split into those at their track's edge at k and the others.
-void split_at_edge(const ScanSet& set, std::span<const int32_t> at, const AlignedTracks& x, int32_t s,
-                   int32_t k, const PartialScan& partial, std::vector<int32_t>& edge,
-                   std::vector<int32_t>& inner) {
+// The points `at` of a sensor's set split into those whose track is at its edge (is_edge, by point)
+// and, when `inner` is given, the others.
+void split_at_edge(std::span<const int32_t> at, const std::vector<uint8_t>& is_edge,
+                   std::vector<int32_t>& edge, std::vector<int32_t>* inner) {
   edge.clear();
-  inner.clear();
-  for (const int32_t p : at) (partial.edge(x, s, set.track[p], k) ? edge : inner).push_back(p);
+  if (inner) inner->clear();
+  for (const int32_t p : at)
+    if (is_edge[p])
+      edge.push_back(p);
+    else if (inner)
+      inner->push_back(p);
 }
 
 }  // namespace
 
 struct ScanSearch::Scratch {
   std::vector<ScanSet> sets;
-  std::vector<int32_t> near_s, near_t, edge_s, inner_s, edge_t, inner_t;
+  std::vector<int32_t> near_s, near_t, edge_s, inner_s, edge_t;
+  std::vector<std::vector<uint8_t>> edge;  // a partial scan: per sensor, per gathered point
   GridScratch grid;
 };
 
@@ -343,14 +348,17 @@ void ScanSearch::scan(std::span<const AlignedTracks* const> x, std::span<const V
   Scratch& scratch = *scratch_;
   const auto S = static_cast<int32_t>(x.size());
   const int m = x[0]->dim / 2;
-  if (partial) {  // nothing to search when no track is at its edge
+  if (partial) {  // each valid track at its edge or not (in the gather's order); none: nothing to search
+    scratch.edge.resize(S);
     bool any = false;
-    for (int32_t s = 0; s < S && !any; ++s)
-      for (const int32_t i : valid[s].at(k))
-        if (partial->edge(*x[s], s, i, k)) {
-          any = true;
-          break;
-        }
+    for (int32_t s = 0; s < S; ++s) {
+      const std::span<const int32_t> at = valid[s].at(k);
+      scratch.edge[s].resize(at.size());
+      for (std::size_t p = 0; p < at.size(); ++p) {
+        scratch.edge[s][p] = partial->edge(*x[s], s, at[p], k);
+        any = any || scratch.edge[s][p];
+      }
+    }
     if (!any) return;
   }
   scratch.sets.resize(S);
@@ -371,8 +379,8 @@ void ScanSearch::scan(std::span<const AlignedTracks* const> x, std::span<const V
         continue;
       }
       // The pairs with an edge track: (edge of s) × (all of t), then (inner of s) × (edge of t).
-      split_at_edge(a, scratch.near_s, *x[s], s, k, *partial, scratch.edge_s, scratch.inner_s);
-      split_at_edge(b, scratch.near_t, *x[t], t, k, *partial, scratch.edge_t, scratch.inner_t);
+      split_at_edge(scratch.near_s, scratch.edge[s], scratch.edge_s, &scratch.inner_s);
+      split_at_edge(scratch.near_t, scratch.edge[t], scratch.edge_t, nullptr);
       search_pairs(a, scratch.edge_s, b, scratch.near_t, m, c2, slot, scratch.grid, out, gauge);
       search_pairs(a, scratch.inner_s, b, scratch.edge_t, m, c2, slot, scratch.grid, out, gauge);
     }
@@ -383,18 +391,19 @@ double ScanSearch::scratch_bytes(std::span<const AlignedTracks* const> sensors,
   // Each sensor's valid tracks gathered (track, m coordinates, spread, radius, position block) at
   // most the largest number of tracks valid at one time; the points near the other sensor, the
   // grid's cells and radii, and its table (at most kTableCellsPerPoint cells a point and 64, an
-  // offset and a cursor each, and its order of the points); a partial scan's edge and inner lists.
+  // offset and a cursor each, and its order of the points); a partial scan's edge flags (a byte a
+  // track) and its edge and inner lists.
   double bytes = 0.0;
   std::size_t widest = 0;
   for (std::size_t s = 0; s < sensors.size(); ++s) {
     std::size_t most = 0;
     for (int32_t k = 0; k < sensors[s]->n_times; ++k) most = std::max(most, valid[s].at(k).size());
-    bytes += static_cast<double>(most) * (4.0 + 8.0 * (sensors[s]->dim / 2) + 16.0 + 8.0 * kPositionBlock);
+    bytes += static_cast<double>(most) * (5.0 + 8.0 * (sensors[s]->dim / 2) + 16.0 + 8.0 * kPositionBlock);
     widest = std::max(widest, most);
   }
   return bytes +
          static_cast<double>(widest) *
-             (6 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 8.0 * kTableCellsPerPoint + 4.0) +
+             (5 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 8.0 * kTableCellsPerPoint + 4.0) +
          520.0;
 }
 

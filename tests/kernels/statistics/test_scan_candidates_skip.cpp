@@ -23,12 +23,6 @@ namespace {
 using testing_support::crossing_sensor;
 using testing_support::pairs_of;
 
-// A gap-free track's margin as the driver takes it (scan_candidates.cpp).
-int32_t track_margin(const InteriorMargins& by, int32_t begin, int32_t end, int32_t K) {
-  const auto most = static_cast<int32_t>(by.by_length.size()) - 1;
-  return begin == 0 && end == K ? by.whole : by.by_length[std::min(end - begin, most)];
-}
-
 // Every pair of gap-free spans on K common times, its odd scans inside both tracks' margins (those the
 // index may leave unsearched) counted one by one: fewer than the least for its common scans.
 TEST(ScanCandidatesSkip, TheMarginsLeaveEveryPairOfSpansFewerSkippedScansThanTheLeast) {
@@ -47,7 +41,7 @@ TEST(ScanCandidatesSkip, TheMarginsLeaveEveryPairOfSpansFewerSkippedScansThanThe
               for (int32_t e2 = b2 + 1; e2 <= K; ++e2) {
                 const int32_t B = std::max(b1, b2), E = std::min(e1, e2);
                 if (B >= E) continue;
-                const int32_t m1 = track_margin(by, b1, e1, K), m2 = track_margin(by, b2, e2, K);
+                const int32_t m1 = by.of({b1, e1}, K), m2 = by.of({b2, e2}, K);
                 int32_t skipped = 0;
                 for (int32_t k = B; k < E; ++k)
                   skipped +=
@@ -152,7 +146,7 @@ TEST(ScanCandidatesSkip, PairsWithinAtTheLeastScansMostlySkippedAreKept) {
   for (int32_t n = 1; n + 2 <= K; ++n) spans.emplace_back(1, n), spans.emplace_back(2, n);
   for (const auto& [b, n] : spans)
     for (const int32_t fewer : {0, 1}) {
-      const int32_t h = least[n] - fewer, L = track_margin(by, b, b + n, K);
+      const int32_t h = least[n] - fewer, L = by.of({b, b + n}, K);
       if (h < 1) continue;
       std::vector<int32_t> W;
       for (int32_t k = b + L; k < b + n - L && std::ssize(W) < h; ++k)
