@@ -171,37 +171,39 @@ void build_problems(benchmark::State& state, const TrackFile& file, std::size_t 
   for (const StageReport& s : stages) state.counters[s.name + "_s"] = s.seconds;
 }
 
-// The same problem with `associate --sparse`'s default options (calibrated gate): shows the
-// candidate count and time those options cost at this density (counter: candidate pairs 1–2).
+// The same problem with `associate --sparse`'s default options (calibrated gate, p = 0.999), each
+// variant below changing one of them (`change`).
+void defaults_problem(benchmark::State& state, void (*change)(SparsePipelineOptions&)) {
+  SparsePipelineOptions o;
+  o.pipeline.statistic.gate_probability = 0.999;
+  change(o);
+  build_problems(state, fixture(static_cast<int32_t>(state.range(0))).file, 0,
+                 [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
+}
+
+// The defaults: the candidate count and time those options cost at this density (counter: candidate
+// pairs 1–2).
 void BM_SparseProblemDefaults(benchmark::State& state) {
-  SparsePipelineOptions o;
-  o.pipeline.statistic.gate_probability = 0.999;
-  build_problems(state, fixture(static_cast<int32_t>(state.range(0))).file, 0,
-                 [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
+  defaults_problem(state, [](SparsePipelineOptions&) {});
 }
 
-// The same options with seed 000's χ²(n·D) gate in place of the calibrated one, nothing else changed
-// (the same alignment and statistic): the time-averaged index of kernels/statistics/
-// sparse_candidates.hpp against the per-scan one (docs/performance.md, "Session 33").
+// Seed 000's χ²(n·D) gate in place of the calibrated one, nothing else changed (the same alignment
+// and statistic): the time-averaged index of kernels/statistics/sparse_candidates.hpp against the
+// per-scan one (docs/performance.md, "Session 33").
 void BM_SparseProblemDefaultsSeed000Gate(benchmark::State& state) {
-  SparsePipelineOptions o;
-  o.pipeline.statistic.gate_probability = 0.999;
-  o.pipeline.statistic.gate = GateMethod::kChiSquareSum;
-  build_problems(state, fixture(static_cast<int32_t>(state.range(0))).file, 0,
-                 [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
+  defaults_problem(state,
+                   [](SparsePipelineOptions& o) { o.pipeline.statistic.gate = GateMethod::kChiSquareSum; });
 }
 
-// The same with the alignment's two lag terms forced on (AlignmentOptions::whiteness_threshold +inf),
-// as they were before the whiteness test (kernels/statistics/report_whiteness.hpp): these tracks are
-// reports with independent noise, not a filter's output, so the test leaves the terms out; forced,
-// their velocity jumps read as manoeuvres and widen some reports' covariances by kilometres (lag
-// time τ² = P_pp/P_vv = 225 s² here, τ = 15 s). The counters show what that widening costs the index.
+// The alignment's two lag terms forced on (AlignmentOptions::whiteness_threshold +inf), as they were
+// before the whiteness test (kernels/statistics/report_whiteness.hpp): these tracks are reports with
+// independent noise, not a filter's output, so the test leaves the terms out; forced, their velocity
+// jumps read as manoeuvres and widen some reports' covariances by kilometres (lag time τ² =
+// P_pp/P_vv = 225 s² here, τ = 15 s). The counters show what that widening costs the index.
 void BM_SparseProblemDefaultsLagForced(benchmark::State& state) {
-  SparsePipelineOptions o;
-  o.pipeline.statistic.gate_probability = 0.999;
-  o.pipeline.alignment.whiteness_threshold = std::numeric_limits<double>::infinity();
-  build_problems(state, fixture(static_cast<int32_t>(state.range(0))).file, 0,
-                 [&](const TrackFile& file) { return build_sparse_association_problem(file, o); });
+  defaults_problem(state, [](SparsePipelineOptions& o) {
+    o.pipeline.alignment.whiteness_threshold = std::numeric_limits<double>::infinity();
+  });
 }
 
 // The default (sparse S-D) path's problem with the same options on the same tracks: the index and
