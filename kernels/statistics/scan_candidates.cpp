@@ -69,19 +69,6 @@ void sort_scan_hits(std::vector<ScanHit>& hits, std::vector<ScanHit>& buffer, in
   });
 }
 
-// Sorted by pair, each pair once; its count the sum of its copies' counts.
-void sort_summing(std::vector<ScanHit>& hits) {
-  std::sort(hits.begin(), hits.end());
-  std::size_t w = 0;
-  for (std::size_t r = 0; r < hits.size(); ++r) {
-    if (w > 0 && hits[w - 1].same_pair(hits[r]))
-      hits[w - 1].count = saturating_sum(hits[w - 1].count, hits[r].count);
-    else
-      hits[w++] = hits[r];
-  }
-  hits.resize(w);
-}
-
 // The union of two sorted, summed lists, counts of a pair in both summed.
 void merge_summing(const std::vector<ScanHit>& x, const std::vector<ScanHit>& y, std::vector<ScanHit>& out) {
   auto i = x.begin(), j = y.begin();
@@ -97,6 +84,36 @@ void merge_summing(const std::vector<ScanHit>& x, const std::vector<ScanHit>& y,
   }
   out.insert(out.end(), i, x.end());
   out.insert(out.end(), j, y.end());
+}
+
+// The union of the blocks' sorted, summed lists into `out` (sorted by pair, each pair once, its
+// count the sum of its blocks'), by a k-way merge over the blocks' heads: O(N log B) for N hits in
+// B blocks, where sorting their concatenation took O(N log N) (the scale study's 11 800 hits in 2
+// blocks: 0.96 ms of the index's 12 ms of scans). Each block is released as it runs out.
+void merge_blocks_summing(std::vector<std::vector<ScanHit>>& blocks, std::vector<ScanHit>& out,
+                          AllocationGauge* gauge) {
+  std::vector<std::size_t> next(blocks.size(), 0), heads;  // heads: a min-heap of blocks by head
+  auto later = [&](std::size_t x, std::size_t y) { return blocks[y][next[y]] < blocks[x][next[x]]; };
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    if (!blocks[b].empty()) heads.push_back(b);
+  std::make_heap(heads.begin(), heads.end(), later);
+  while (!heads.empty()) {
+    std::pop_heap(heads.begin(), heads.end(), later);
+    const std::size_t b = heads.back();
+    const ScanHit& h = blocks[b][next[b]++];
+    if (!out.empty() && out.back().same_pair(h))
+      out.back().count = saturating_sum(out.back().count, h.count);
+    else
+      out.push_back(h);
+    if (next[b] < blocks[b].size()) {
+      std::push_heap(heads.begin(), heads.end(), later);
+    } else {
+      heads.pop_back();
+      const double freed = static_cast<double>(blocks[b].capacity() * sizeof(ScanHit));
+      std::vector<ScanHit>().swap(blocks[b]);
+      gauge_release(gauge, freed);
+    }
+  }
 }
 
 }  // namespace
@@ -216,20 +233,16 @@ std::vector<CandidatePairs> scan_candidate_pairs(std::span<const AlignedTracks* 
     gauge_release(gauge, static_cast<double>((scan.capacity() + merged.capacity()) * sizeof(ScanHit)));
   });
   gauge_release(gauge, scratch_bytes);  // freed with each thread's scratch
+  std::vector<ValidByTime>().swap(valid);
+  gauge_release(gauge, valid_bytes);
+  // By slot, then (a, b): each slot's pairs sorted, with their scans within (at most the blocks'
+  // hits, reserved before the merge).
   std::vector<ScanHit> all;
   std::size_t total = 0;
   for (const auto& v : per_block) total += v.size();
   gauge_add(gauge, static_cast<double>(total * sizeof(ScanHit)));
   all.reserve(total);
-  for (auto& v : per_block) {
-    all.insert(all.end(), v.begin(), v.end());
-    const double freed = static_cast<double>(v.capacity() * sizeof(ScanHit));
-    std::vector<ScanHit>().swap(v);
-    gauge_release(gauge, freed);
-  }
-  std::vector<ValidByTime>().swap(valid);
-  gauge_release(gauge, valid_bytes);
-  sort_summing(all);  // by slot, then (a, b): each slot's pairs sorted, with their scans within
+  merge_blocks_summing(per_block, all, gauge);
   // The count filter (least_hits): a pair within its bound at fewer scans than the least for a
   // lower bound of its common valid scans is dropped; n ≥ |span_a ∩ span_b| − gaps_a − gaps_b, the
   // gaps being the invalid cells inside each track's span. A pair short of it at the scans searched

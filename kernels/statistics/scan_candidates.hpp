@@ -35,7 +35,7 @@
 // one pass over that side's grid with the ball √((s_q + max s_g)·c), which holds every pair's
 // bound (of two such sides, the grid is the one whose largest spread times its mean is smaller).
 // Hits are collected per block of consecutive scans (parallel over blocks, TBB; each scan's
-// radix-sorted by pair), deduplicated, then sorted, so the output does not depend on the thread
+// radix-sorted by pair), deduplicated, then the blocks merged, so the output does not depend on the thread
 // count.
 // Each scan indexes only the tracks valid there, listed from their spans (O(Σ spans + K)).
 // Complexity: O(Σ_k Σ_s n_s(k) + Σ_k Σ_{s<t meeting at k} (n'_s + n'_t)·log n'_t + hits) time, n_s(k) the
