@@ -79,7 +79,8 @@ constexpr int32_t kRowCopy = 4, kFound = 128;
 struct GridScratch {
   std::vector<std::pair<Cell, int32_t>> cells;
   std::vector<double> r;
-  std::vector<int32_t> first, order, cursor;
+  std::vector<int32_t> first, order;
+  std::vector<int64_t> index;  // each point's cell in the table
 };
 
 bool cell_less(const Cell& x, const Cell& y) {
@@ -115,13 +116,18 @@ class ScanGrid {
     search_cost_ = std::max(1.0, std::log2(n_));
     table_ = box_cells <= kTableCellsPerPoint * n_ + 64.0;
     if (table_) {
-      s.first.assign(static_cast<std::size_t>(box_cells) + 1, 0);
-      for (const auto& e : s.cells) ++s.first[table_index(e.first) + 1];
+      // Counted two cells on (first[q + 2]), summed, then each point placed at first[q + 1], which
+      // it advances: first[q] ends as cell q's first point (the counting sort without a cursor).
+      s.first.assign(static_cast<std::size_t>(box_cells) + 2, 0);
+      s.index.clear();
+      for (const auto& e : s.cells) {
+        s.index.push_back(table_index(e.first));
+        ++s.first[s.index.back() + 2];
+      }
       for (std::size_t k = 1; k < s.first.size(); ++k) s.first[k] += s.first[k - 1];
       s.order.resize(s.cells.size() + kRowCopy);  // (padded: a row is copied kRowCopy entries at once)
-      s.cursor.assign(s.first.begin(), s.first.end() - 1);
-      for (const auto& e : s.cells)
-        s.order[s.cursor[table_index(e.first)]++] = e.second;  // gi ascending: p ascending per cell
+      for (std::size_t e = 0; e < s.cells.size(); ++e)
+        s.order[s.first[s.index[e] + 1]++] = s.cells[e].second;  // gi ascending: p ascending per cell
     } else {
       std::sort(s.cells.begin(), s.cells.end(), [](const auto& x, const auto& y) {
         return cell_less(x.first, y.first) || (x.first == y.first && x.second < y.second);
@@ -419,8 +425,8 @@ double ScanSearch::scratch_bytes(std::span<const AlignedTracks* const> sensors,
   // Each sensor's valid tracks gathered (track, m coordinates, spread, radius, position block) at
   // most the largest number of tracks valid at one time; the points near the other sensor, the
   // grid's cells and radii, and its table (at most kTableCellsPerPoint cells a point and 64, an
-  // offset and a cursor each, and its order of the points, padded by kRowCopy); a partial scan's
-  // edge flags (a byte a track) and its edge and inner lists.
+  // offset each; each point's cell in it, and its order of the points, padded by kRowCopy); a
+  // partial scan's edge flags (a byte a track) and its edge and inner lists.
   double bytes = 0.0;
   std::size_t widest = 0;
   for (std::size_t s = 0; s < sensors.size(); ++s) {
@@ -431,7 +437,7 @@ double ScanSearch::scratch_bytes(std::span<const AlignedTracks* const> sensors,
   }
   return bytes +
          static_cast<double>(widest) *
-             (5 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 8.0 * kTableCellsPerPoint + 4.0) +
+             (5 * 4.0 + sizeof(std::pair<Cell, int32_t>) + 8.0 + 4.0 * kTableCellsPerPoint + 8.0 + 4.0) +
          520.0 + 4.0 * kRowCopy;
 }
 
