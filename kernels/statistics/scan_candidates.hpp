@@ -34,9 +34,9 @@
 // spreads are even (its largest at most twice the other side's mean: tracks of one accuracy), in
 // one pass over that side's grid with the ball √((s_q + max s_g)·c), which holds every pair's
 // bound (of two such sides, the grid is the one whose largest spread times its mean is smaller).
-// Hits are collected per block of consecutive scans (parallel over blocks, TBB; each scan's
-// radix-sorted by pair), deduplicated, then the blocks merged, so the output does not depend on the thread
-// count.
+// Hits are collected per block of consecutive scans (parallel over blocks, TBB; up to 65 536 of a
+// block's scans at a time radix-sorted by pair, summed and merged into the block's set), then the
+// blocks' sets merged, so the output does not depend on the thread count.
 // Each scan indexes only the tracks valid there, listed from their spans (O(Σ spans + K)).
 // Complexity: O(Σ_k Σ_s n_s(k) + Σ_k Σ_{s<t meeting at k} (n'_s + n'_t)·log n'_t + hits) time, n_s(k) the
 // tracks of sensor s valid at scan k, n' those in the other's widened box; O(Σ spans + hits) memory.
