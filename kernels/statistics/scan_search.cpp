@@ -287,8 +287,10 @@ void scan_pass(const ScanSet& q, std::span<const int32_t> qi, const ScanSet& g, 
     const double rq = one_pass ? std::sqrt((spread_q + grid_spread) * c2) : q.radius[i];
     grid.visit_ball(
         xq, rq, [&](int32_t p) __attribute__((always_inline)) {
-          if constexpr (!one_pass)  // each pair once: from the side with the larger radius (ties: from a)
-            if (q_is_a ? g.radius[p] > rq : g.radius[p] >= rq) return;
+          // Each pair once: from the side with the larger radius (ties, and a NaN radius: from a; the
+          // two conditions are each other's negation, so a pair is found at most once a scan).
+          if constexpr (!one_pass)
+            if (q_is_a ? g.radius[p] > rq : !(g.radius[p] < rq)) return;
           const double* xg = &g.pos[p * m];
           const double *bq = &q.block[i * kPositionBlock], *bg = &g.block[p * kPositionBlock];
           if (q_is_a ? within_points(xq, spread_q, bq, xg, g.spread[p], bg, m, c2)

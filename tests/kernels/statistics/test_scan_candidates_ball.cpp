@@ -14,6 +14,7 @@
 
 #include "kernels/core/random.hpp"
 #include "kernels/statistics/scan_candidates.hpp"
+#include "kernels/statistics/scan_search.hpp"
 #include "tests/support/candidate_pairs.hpp"
 
 namespace trackassoc {
@@ -185,6 +186,40 @@ TEST(ScanCandidatesBall, ABlockThatIsNotSemiDefiniteBesideALargerOneKeepsItsPair
   const AlignedTracks a = one_scan_sensor(0, 2, {xa}, {block_a}), b = one_scan_sensor(1, 2, {xb}, {block_b});
   const std::vector<std::pair<int32_t, int32_t>> found{{0, 0}};
   EXPECT_EQ(pairs_of(scan_candidate_pairs(a, b, cap)), found);
+}
+
+// Two passes (spreads over four decades on both sides) with a block of negative variances on b
+// (spread < 0, its ball's radius NaN) beside a wider one on a: the pair is within (|d| = 0, C
+// positive definite) and found from a's side only, so each pair is one hit of the scan (the count
+// filter sums a block's hits into numbers of scans; with the side rule r_a ≥ r_b for b's pass the
+// NaN radius passed both and the pair was counted twice).
+TEST(ScanCandidatesBall, APairIsOneHitOfAScanWhenABallIsNaN) {
+  const double cap = 16.27;
+  std::vector<Eigen::VectorXd> at_a, at_b;
+  std::vector<Eigen::MatrixXd> blocks_a, blocks_b;
+  CounterRng rng(7, 0, 0);
+  for (int32_t i = 0; i < 40; ++i) {
+    Eigen::VectorXd x(2);
+    x << rng.uniform(0.0, 2000.0), rng.uniform(0.0, 2000.0);
+    at_a.push_back(x);
+    at_b.push_back(x + Eigen::Vector2d(rng.uniform(-50.0, 50.0), rng.uniform(-50.0, 50.0)));
+    blocks_a.push_back(Eigen::Matrix2d::Identity() * std::pow(10.0, 2.0 + 4.0 * i / 39.0));
+    blocks_b.push_back(Eigen::Matrix2d::Identity() * std::pow(10.0, 6.0 - 4.0 * i / 39.0));
+  }
+  blocks_b[39] = Eigen::Matrix2d::Identity() * -4e5;  // beside a's track 39 (10⁶ m²), same place
+  at_b[39] = at_a[39];
+  const AlignedTracks a = one_scan_sensor(0, 2, at_a, blocks_a), b = one_scan_sensor(1, 2, at_b, blocks_b);
+  const AlignedTracks* both[2] = {&a, &b};
+  const std::vector<ValidByTime> valid{valid_by_time(a), valid_by_time(b)};
+  ScanSearch search;
+  std::vector<ScanHit> hits;
+  search.scan(both, valid, 0, cap, hits, nullptr);
+  std::multiset<std::pair<int32_t, int32_t>> found;
+  for (const ScanHit& h : hits) found.emplace(h.a, h.b);
+  EXPECT_EQ(found.count({39, 39}), 1u);
+  const std::set<std::pair<int32_t, int32_t>> distinct(found.begin(), found.end());
+  EXPECT_EQ(distinct.size(), found.size());
+  EXPECT_GT(found.size(), 20u);  // (the pairs of one target, and some neighbours)
 }
 
 }  // namespace
