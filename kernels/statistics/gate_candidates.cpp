@@ -66,8 +66,8 @@ CandidatePairs prune_by_position_bound(const AlignedTracks& a, const AlignedTrac
       // With a finite cap (kCalibrated), a pair is kept without its remaining terms once its capped
       // sum so far and the cap at each scan left cannot exceed G(n) (with a scan below the cap),
       // its n common valid scans counted first; by a relative 10⁻¹² inside G(n), so that the sum's
-      // round-off cannot make the decision differ from the full sum's. The scale study's pairs:
-      // about half of the terms of those kept (docs/performance.md).
+      // round-off cannot make the decision differ from the full sum's. Terms computed: 54 % of the
+      // pairs' common scans on the scale study's tracks (n = 1000), 75 % on recorded_10k's.
       int32_t n = 0;
       if (early)
         for (int32_t k = both.begin; k < both.end; ++k) n += a.valid[base_a + k] && b.valid[base_b + k];
