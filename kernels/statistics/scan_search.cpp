@@ -75,6 +75,11 @@ constexpr double kTableCellsPerPoint = 32.0;
 // (ScanGrid::visit_table).
 constexpr int32_t kRowCopy = 4, kFound = 128;
 
+// Sparse points get cells wider than the median radius, holding about kOccupancy points each on
+// average over their box, at most kMostWidening times wider (ScanGrid). Measured on the scale
+// study's index (docs/performance.md "Session 36"): 0.3 and 0.5 alike, 0.15 and 0.8 slower.
+constexpr double kOccupancy = 0.3, kMostWidening = 2.0;
+
 // The memory a ScanGrid keeps between scans.
 struct GridScratch {
   std::vector<std::pair<Cell, int32_t>> cells;
@@ -88,7 +93,7 @@ bool cell_less(const Cell& x, const Cell& y) {
 }
 
 // A uniform grid over the points gi of g at one scan, of cell size h the median radius of gi (most
-// balls then meet 3^m cells): a table of the cells of their bounding box (row-major, the last axis
+// balls then meet 3^m cells), wider for sparse points (kOccupancy): a table of the cells of their bounding box (row-major, the last axis
 // fastest, the points of cell q at order[first[q] .. first[q + 1])) when it has at most
 // kTableCellsPerPoint cells a point and 64; else the (cell, point) pairs sorted by cell, a row of
 // cells found by binary search.
@@ -101,6 +106,58 @@ class ScanGrid {
     std::nth_element(s.r.begin(), s.r.begin() + s.r.size() / 2, s.r.end());
     h_ = s.r[s.r.size() / 2];
     if (!(h_ > 0.0) || !std::isfinite(h_)) h_ = 1e-9;
+    // Sparse points (the scale study's: a ball holds ~4 points, and 67 % of the rows it read were
+    // empty): the cells widened to hold kOccupancy points each on average over the points' box (at
+    // most kMostWidening times wider), so that a ball's rows are not mostly empty reads. Kept only
+    // when the points' own cells then share at most 2·kOccupancy others a point on average: points
+    // clustered in a wide box keep the median radius.
+    const double h0 = h_, per_cell = points_per_cell(g, gi);
+    if (per_cell < kOccupancy) h_ *= std::min(kMostWidening, std::pow(kOccupancy / per_cell, 1.0 / m));
+    place(g, gi, s);
+    if (h_ == h0 || !table_) return;
+    double shared = 0.0;  // Σ over the points of the others in its cell
+    for (const int64_t q : s.index) shared += static_cast<double>(s.first[q + 1] - s.first[q] - 1);
+    if (shared <= 2.0 * kOccupancy * n_) return;
+    h_ = h0;
+    place(g, gi, s);
+  }
+
+  // Calls visit(p) for every grid point p that can lie within `radius` of the position x (and
+  // others): with the table, those of the cells the ball meets; sorted, those of the cube of cells
+  // within ⌈radius/h⌉ of x's. Every point, once, when the rows of cells would cost more than
+  // reading them all (one huge covariance among small ones: the cost is bounded by O(points)) or
+  // the ball is not finite (a NaN radius, from a broken covariance).
+  template <class Visit>
+  void visit_ball(const double* x, double radius, Visit&& visit) const {
+    const double span = std::ceil(radius / h_);
+    double rows = 1.0;
+    for (int d = 1; d < m_; ++d) rows *= 2.0 * span + 1.0;
+    if (!(span <= n_) || !(rows * search_cost_ <= n_)) return visit_every_point(visit);
+    const Cell c = cell_of(x, m_, h_);
+    if (table_) return visit_table(x, radius, c, visit);
+    visit_sorted(c, static_cast<int64_t>(span), visit);
+  }
+
+ private:
+  // The points gi of g a cell of size h_ holds on average over their bounding box (+inf when the
+  // box is flat on some axis; NaN coordinates left out).
+  double points_per_cell(const ScanSet& g, std::span<const int32_t> gi) const {
+    std::array<double, 3> lo{}, hi{};
+    lo.fill(std::numeric_limits<double>::infinity());
+    hi.fill(-std::numeric_limits<double>::infinity());
+    for (const int32_t p : gi)
+      for (int d = 0; d < m_; ++d) {
+        lo[d] = std::min(lo[d], g.pos[p * m_ + d]);
+        hi[d] = std::max(hi[d], g.pos[p * m_ + d]);
+      }
+    double per_cell = static_cast<double>(gi.size());
+    for (int d = 0; d < m_; ++d) per_cell *= h_ / (hi[d] - lo[d]);
+    return per_cell;
+  }
+
+  // The cells of the points gi of g at cell size h_: the table or the sorted form.
+  void place(const ScanSet& g, std::span<const int32_t> gi, GridScratch& s) {
+    const int m = m_;
     s.cells.clear();
     for (const int32_t p : gi) s.cells.emplace_back(cell_of(&g.pos[p * m], m, h_), p);
     lo_ = hi_ = s.cells.front().first;
@@ -135,23 +192,6 @@ class ScanGrid {
     }
   }
 
-  // Calls visit(p) for every grid point p that can lie within `radius` of the position x (and
-  // others): with the table, those of the cells the ball meets; sorted, those of the cube of cells
-  // within ⌈radius/h⌉ of x's. Every point, once, when the rows of cells would cost more than
-  // reading them all (one huge covariance among small ones: the cost is bounded by O(points)) or
-  // the ball is not finite (a NaN radius, from a broken covariance).
-  template <class Visit>
-  void visit_ball(const double* x, double radius, Visit&& visit) const {
-    const double span = std::ceil(radius / h_);
-    double rows = 1.0;
-    for (int d = 1; d < m_; ++d) rows *= 2.0 * span + 1.0;
-    if (!(span <= n_) || !(rows * search_cost_ <= n_)) return visit_every_point(visit);
-    const Cell c = cell_of(x, m_, h_);
-    if (table_) return visit_table(x, radius, c, visit);
-    visit_sorted(c, static_cast<int64_t>(span), visit);
-  }
-
- private:
   int64_t table_index(const Cell& c) const {
     int64_t index = 0;
     for (int d = 0; d < m_; ++d) index = index * extent_[d] + (c[d] - lo_[d]);

@@ -145,6 +145,32 @@ TEST(ScanCandidatesSensors, OneAndThreeAxesWithSpreadRadiiEqualTheNaiveScan) {
   }
 }
 
+// Sparse tracks (1 500 over 80 km, in 3-D over 40 km, bounds of ~1 km: the grid's cells widened, in 3-D to
+// twice the median radius) and tracks clustered in a wide box (280 within 1 km, 20 over 80 km: widened, then
+// back to the median radius, the cluster's cells being full), in 2-D and 3-D: the naive scan's pairs.
+TEST(ScanCandidatesSensors, SparseAndClusteredTracksEqualTheNaiveScan) {
+  for (const int D : {4, 6})
+    for (const bool clustered : {false, true}) {
+      const int32_t K = 10;
+      const double half = clustered ? 500.0 : D == 4 ? 40000.0 : 20000.0;
+      const int32_t n = clustered ? 300 : 1500;
+      std::vector<AlignedTracks> x{make_sensor(0, 0.0, 0.0, half, n, K, 31, 0.0, D),
+                                   make_sensor(1, 300.0, 0.0, half, n, K, 32, 0.0, D)};
+      if (clustered)  // the last 20 tracks of each spread over ±40 km
+        for (AlignedTracks& t : x)
+          for (int32_t i = 280; i < 300; ++i)
+            for (int32_t k = t.span(i).begin; k < t.span(i).end; ++k)
+              for (int d = 0; d < D / 2; ++d) t.state_at(t.cell(i, k))[d] += 4000.0 * (i - 290) * (d + 1);
+      const std::vector<const AlignedTracks*> ptr{&x[0], &x[1]};
+      SCOPED_TRACE("D " + std::to_string(D) + (clustered ? " clustered" : " sparse"));
+      const CandidatePairs got = scan_candidate_pairs(ptr, 18.47)[1];
+      const CandidatePairs naive = scan_candidate_pairs_all_pairs(x[0], x[1], 18.47);
+      EXPECT_GT(naive.size(), clustered ? 5000u : 20u);
+      EXPECT_EQ(got.a, naive.a);
+      EXPECT_EQ(got.b, naive.b);
+    }
+}
+
 // The count filter of the calibrated gate: its table is the smallest h with (n − h)·c ≤ G(n)
 // found by counting h up (G(n) = f·χ²_p(n·D/f), f ≤ n), it drops most pairs of crossing tracks, and the
 // position-bound prune keeps exactly the same pairs from what it leaves as from every pair found.
