@@ -8,6 +8,8 @@
 //                       index), the same with the alignment's lag terms forced, and the default path's
 //                       problem with those options (the same pair source); then on
 //                       recorded_10k's filtered tracks, the defaults against seed 000's options.
+//   candidates by density — the candidates stage alone for both gates at the scale study's density
+//                       and at a tenth of it;
 //   wide-area candidates — the default path's candidate index (engine/pipeline/pair_source.hpp) over
 //                       widearea_small's 16 radars (seed 1), every pair of sensors at once (issue 31).
 // Track sets: engine/studies/scale/experiment_scale.hpp's synthetic_recorded_tracks at the experiment's
@@ -263,6 +265,38 @@ void BM_WideAreaCandidates(benchmark::State& state) {
   state.counters["kept"] = static_cast<double>(kept);
 }
 
+// The candidates stage alone (engine/pipeline/pair_source.hpp: the index, then the prune) on the
+// scale study's tracks at n = 1000, at its density and at a tenth of it, for `--sparse`'s calibrated
+// gate (the per-scan index, whose grid cells are widened for sparse tracks,
+// kernels/statistics/scan_search.cpp) and for seed 000's (the time-averaged index). Args: {density
+// in tenths of the study's, gate (0 calibrated, 1 seed 000), threads}. Counter: the pairs kept.
+void BM_CandidatesByDensity(benchmark::State& state) {
+  static std::map<int64_t, std::unique_ptr<TrackFile>> files;
+  auto& file = files[state.range(0)];
+  if (!file) {
+    ScaleExperimentOptions defaults;
+    SyntheticTrackSpec spec = defaults.tracks;
+    spec.targets = 1000;
+    spec.box = std::sqrt(1000.0 / (defaults.density * static_cast<double>(state.range(0)) / 10.0)) * 10000.0;
+    spec.seed = 42;
+    file = std::make_unique<TrackFile>(synthetic_recorded_tracks(spec));
+  }
+  PipelineOptions o;
+  o.statistic.gate_probability = 0.999;
+  if (state.range(1) == 1) o.statistic.gate = GateMethod::kChiSquareSum;
+  const AlignedSensors sensors = align_sensors(*file, o, SensorRule::kThree, EmptySensors::kRefuse);
+  std::unique_ptr<tbb::global_control> gc;
+  set_threads(state, gc, 2);
+  std::size_t kept = 0;
+  for (auto _ : state) {
+    const std::vector<IndexedCandidates> c = indexed_candidates(sensors, o.statistic, 1.0);
+    kept = 0;
+    for (const auto& x : c) kept += x.pairs.size();
+    benchmark::DoNotOptimize(c.data());
+  }
+  state.counters["kept"] = static_cast<double>(kept);
+}
+
 void sizes(benchmark::internal::Benchmark* b, int64_t max_n) {
   for (int64_t n : {100, 1000, 10000})
     if (n <= max_n)
@@ -292,6 +326,11 @@ BENCHMARK_CAPTURE(BM_RecordedProblem, seed000, true)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_SparseSolve)->Apply([](auto* b) { sizes(b, 10000); });
+BENCHMARK(BM_CandidatesByDensity)
+    ->ArgsProduct({{10, 1}, {0, 1}, {1, 2}})
+    ->ArgNames({"density_tenths", "gate", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_WideAreaCandidates)
     ->Arg(1)
     ->Arg(2)

@@ -26,7 +26,7 @@
 // √((max s_a + max s_b)·c), do not meet is skipped at k (radars far apart), and otherwise only the
 // tracks inside the other's widened box are searched: a uniform grid of cell size the median radius
 // √(2·s·c) over one side's tracks, or up to twice that for sparse tracks, so that a cell holds ~0.3
-// of them (the scale study's index 11.9 → 10.7 ms; at a tenth of its density 52 → 8 ms) (a table
+// of them (BM_CandidatesByDensity: 13.4 → 12.0 ms; at a tenth of the density 54 → 8.6 ms) (a table
 // of the cells of their box when it has at most 32 cells a track, each row of cells one range;
 // sorted by cell otherwise, a row found by binary search),
 // each track of the other side looking at the cells its own radius covers (with the table, only the
