@@ -51,17 +51,22 @@ SparsePipelineOptions pipeline_options() {
   return o;
 }
 
+// The scale study's tracks of n targets a sensor (seed 42), at `density_scale` times its density.
+TrackFile scale_study_tracks(int32_t n, double density_scale = 1.0) {
+  ScaleExperimentOptions defaults;
+  SyntheticTrackSpec spec = defaults.tracks;
+  spec.targets = n;
+  spec.box = std::sqrt(n / (defaults.density * density_scale)) * 10000.0;
+  spec.seed = 42;
+  return synthetic_recorded_tracks(spec);
+}
+
 const Fixture& fixture(int32_t n) {
   static std::map<int32_t, std::unique_ptr<Fixture>> cache;
   auto& f = cache[n];
   if (!f) {
     f = std::make_unique<Fixture>();
-    ScaleExperimentOptions defaults;
-    SyntheticTrackSpec spec = defaults.tracks;
-    spec.targets = n;
-    spec.box = std::sqrt(n / defaults.density) * 10000.0;
-    spec.seed = 42;
-    f->file = synthetic_recorded_tracks(spec);
+    f->file = scale_study_tracks(n);
     const auto o = pipeline_options();
     f->problem = std::make_unique<SparseAssociationProblem>(build_sparse_association_problem(f->file, o));
     f->aligned = f->problem->aligned;
@@ -273,14 +278,8 @@ void BM_WideAreaCandidates(benchmark::State& state) {
 void BM_CandidatesByDensity(benchmark::State& state) {
   static std::map<int64_t, std::unique_ptr<TrackFile>> files;
   auto& file = files[state.range(0)];
-  if (!file) {
-    ScaleExperimentOptions defaults;
-    SyntheticTrackSpec spec = defaults.tracks;
-    spec.targets = 1000;
-    spec.box = std::sqrt(1000.0 / (defaults.density * static_cast<double>(state.range(0)) / 10.0)) * 10000.0;
-    spec.seed = 42;
-    file = std::make_unique<TrackFile>(synthetic_recorded_tracks(spec));
-  }
+  if (!file)
+    file = std::make_unique<TrackFile>(scale_study_tracks(1000, static_cast<double>(state.range(0)) / 10.0));
   PipelineOptions o;
   o.statistic.gate_probability = 0.999;
   if (state.range(1) == 1) o.statistic.gate = GateMethod::kChiSquareSum;

@@ -93,10 +93,10 @@ bool cell_less(const Cell& x, const Cell& y) {
 }
 
 // A uniform grid over the points gi of g at one scan, of cell size h the median radius of gi (most
-// balls then meet 3^m cells), wider for sparse points (kOccupancy): a table of the cells of their bounding box (row-major, the last axis
-// fastest, the points of cell q at order[first[q] .. first[q + 1])) when it has at most
-// kTableCellsPerPoint cells a point and 64; else the (cell, point) pairs sorted by cell, a row of
-// cells found by binary search.
+// balls then meet 3^m cells), wider for sparse points (kOccupancy): a table of the cells of their
+// bounding box (row-major, the last axis fastest, the points of cell q at order[first[q] ..
+// first[q + 1])) when it has at most kTableCellsPerPoint cells a point and 64; else the (cell,
+// point) pairs sorted by cell, a row of cells found by binary search.
 class ScanGrid {
  public:
   ScanGrid(const ScanSet& g, std::span<const int32_t> gi, int m, GridScratch& s)
@@ -112,9 +112,10 @@ class ScanGrid {
     // when the points' own cells then share at most 2·kOccupancy others a point on average: points
     // clustered in a wide box keep the median radius.
     const double h0 = h_, per_cell = points_per_cell(g, gi);
-    if (per_cell < kOccupancy) h_ *= std::min(kMostWidening, std::pow(kOccupancy / per_cell, 1.0 / m));
+    const bool widened = per_cell < kOccupancy;
+    if (widened) h_ *= std::min(kMostWidening, std::pow(kOccupancy / per_cell, 1.0 / m));
     place(g, gi, s);
-    if (h_ == h0 || !table_) return;
+    if (!widened || !table_) return;
     double shared = 0.0;  // Σ over the points of the others in its cell
     for (const int64_t q : s.index) shared += static_cast<double>(s.first[q + 1] - s.first[q] - 1);
     if (shared <= 2.0 * kOccupancy * n_) return;
