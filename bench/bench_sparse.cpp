@@ -9,7 +9,7 @@
 //                       problem with those options (the same pair source); then on
 //                       recorded_10k's filtered tracks, the defaults against seed 000's options.
 //   candidates by density — the candidates stage alone for both gates at the scale study's density
-//                       and at a tenth of it;
+//                       (n = 10³ and 10⁴) and at a tenth of it (n = 10³);
 //   wide-area candidates — the default path's candidate index (engine/pipeline/pair_source.hpp) over
 //                       widearea_small's 16 radars (seed 1), every pair of sensors at once (issue 31).
 // Track sets: engine/studies/scale/experiment_scale.hpp's synthetic_recorded_tracks at the experiment's
@@ -271,21 +271,23 @@ void BM_WideAreaCandidates(benchmark::State& state) {
 }
 
 // The candidates stage alone (engine/pipeline/pair_source.hpp: the index, then the prune) on the
-// scale study's tracks at n = 1000, at its density and at a tenth of it, for `--sparse`'s calibrated
-// gate (the per-scan index, whose grid cells are widened for sparse tracks,
-// kernels/statistics/scan_search.cpp) and for seed 000's (the time-averaged index). Args: {density
-// in tenths of the study's, gate (0 calibrated, 1 seed 000), threads}. Counter: the pairs kept.
+// scale study's tracks at n = 1000 and 10 000, at its density (and at a tenth of it for n = 1000),
+// for `--sparse`'s calibrated gate (the per-scan index, whose grid cells are widened for sparse
+// tracks, kernels/statistics/scan_search.cpp) and for seed 000's (the time-averaged index). Args:
+// {n, density in tenths of the study's, gate (0 calibrated, 1 seed 000), threads}. Counter: the
+// pairs kept.
 void BM_CandidatesByDensity(benchmark::State& state) {
-  static std::map<int64_t, std::unique_ptr<TrackFile>> files;
-  auto& file = files[state.range(0)];
+  static std::map<std::pair<int64_t, int64_t>, std::unique_ptr<TrackFile>> files;
+  auto& file = files[{state.range(0), state.range(1)}];
   if (!file)
-    file = std::make_unique<TrackFile>(scale_study_tracks(1000, static_cast<double>(state.range(0)) / 10.0));
+    file = std::make_unique<TrackFile>(
+        scale_study_tracks(static_cast<int32_t>(state.range(0)), static_cast<double>(state.range(1)) / 10.0));
   PipelineOptions o;
   o.statistic.gate_probability = 0.999;
-  if (state.range(1) == 1) o.statistic.gate = GateMethod::kChiSquareSum;
+  if (state.range(2) == 1) o.statistic.gate = GateMethod::kChiSquareSum;
   const AlignedSensors sensors = align_sensors(*file, o, SensorRule::kThree, EmptySensors::kRefuse);
   std::unique_ptr<tbb::global_control> gc;
-  set_threads(state, gc, 2);
+  set_threads(state, gc, 3);
   std::size_t kept = 0;
   for (auto _ : state) {
     const std::vector<IndexedCandidates> c = indexed_candidates(sensors, o.statistic, 1.0);
@@ -301,6 +303,17 @@ void sizes(benchmark::internal::Benchmark* b, int64_t max_n) {
     if (n <= max_n)
       for (int64_t t : {1, 2}) b->Args({n, t});
   b->ArgNames({"n", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+// BM_CandidatesByDensity's cases: {n, density in tenths, gate, threads}, a tenth of the density at
+// n = 1000 only.
+void density_cases(benchmark::internal::Benchmark* b) {
+  for (int64_t n : {1000, 10000})
+    for (int64_t density : {10, 1})
+      if (density == 10 || n == 1000)
+        for (int64_t gate : {0, 1})
+          for (int64_t t : {1, 2}) b->Args({n, density, gate, t});
+  b->ArgNames({"n", "density_tenths", "gate", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 
 BENCHMARK(BM_SparseCandidates)->Apply([](auto* b) { sizes(b, 10000); });
@@ -325,11 +338,7 @@ BENCHMARK_CAPTURE(BM_RecordedProblem, seed000, true)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_SparseSolve)->Apply([](auto* b) { sizes(b, 10000); });
-BENCHMARK(BM_CandidatesByDensity)
-    ->ArgsProduct({{10, 1}, {0, 1}, {1, 2}})
-    ->ArgNames({"density_tenths", "gate", "threads"})
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_CandidatesByDensity)->Apply(density_cases);
 BENCHMARK(BM_WideAreaCandidates)
     ->Arg(1)
     ->Arg(2)
