@@ -108,9 +108,11 @@ class ScanGrid {
     if (!(h_ > 0.0) || !std::isfinite(h_)) h_ = 1e-9;
     // Sparse points (the scale study's: a ball holds ~4 points, and 67 % of the rows it read were
     // empty): the cells widened to hold kOccupancy points each on average over the points' box (at
-    // most kMostWidening times wider), so that a ball's rows are not mostly empty reads. Kept only
-    // when the points' own cells then share at most 2·kOccupancy others a point on average: points
-    // clustered in a wide box keep the median radius.
+    // most kMostWidening times wider), so that a ball's rows are not mostly empty reads. In the
+    // table form, kept only when the points' own cells then share at most 2·kOccupancy others a
+    // point on average: points clustered in a wide box keep the median radius. The sorted form keeps
+    // the widening unchecked (checked too, from its runs of equal cells, widearea_small's candidates
+    // took 1.5 % longer on 1 and 2 threads for its 2 grids rebuilt; docs/performance.md "Session 37").
     const double h0 = h_, per_cell = points_per_cell(g, gi);
     const bool widened = per_cell < kOccupancy;
     if (widened) h_ *= std::min(kMostWidening, std::pow(kOccupancy / per_cell, 1.0 / m));

@@ -146,8 +146,9 @@ TEST(ScanCandidatesSensors, OneAndThreeAxesWithSpreadRadiiEqualTheNaiveScan) {
 }
 
 // Sparse tracks (1 500 over 80 km, in 3-D over 40 km, bounds of ~1 km: the grid's cells widened, in 3-D to
-// twice the median radius) and tracks clustered in a wide box (280 within 1 km, 20 over 80 km: widened, then
-// back to the median radius, the cluster's cells being full), in 2-D and 3-D: the naive scan's pairs.
+// twice the median radius) and tracks clustered in a wide box (280 within 1 km, 20 over 80 km: widened; in
+// 2-D the table form, back to the median radius, the cluster's cells being full; in 3-D the sorted form,
+// kept widened), in 2-D and 3-D: the naive scan's pairs.
 TEST(ScanCandidatesSensors, SparseAndClusteredTracksEqualTheNaiveScan) {
   for (const int D : {4, 6})
     for (const bool clustered : {false, true}) {
