@@ -25,10 +25,10 @@
 // with their bounding box; a pair of sensors whose boxes, widened by the largest bound
 // √((max s_a + max s_b)·c), do not meet is skipped at k (radars far apart), and otherwise only the
 // tracks inside the other's widened box are searched: a uniform grid of cell size the median radius
-// √(2·s·c) over one side's tracks, or up to twice that for sparse tracks, so that a cell holds ~0.3
-// of them (BM_CandidatesByDensity: 13.4 → 12.0 ms; at a tenth of the density 54 → 8.6 ms) (a table
-// of the cells of their box when it has at most 32 cells a track, each row of cells one range;
-// sorted by cell otherwise, a row found by binary search),
+// √(2·s·c) over one side's tracks, or up to twice that for sparse tracks so that a cell holds ~0.3
+// of them (BM_CandidatesByDensity: 13.4 → 12.0 ms; at a tenth of the density 54 → 8.6 ms); a table
+// of the cells of their box when it has at most 32 cells a track, each row of cells one range, and
+// sorted by cell otherwise, a row found by binary search;
 // each track of the other side looking at the cells its own radius covers (with the table, only the
 // cells its ball meets: the rows within reach, each row's chord of the ball), the ellipse tested by
 // its adjugate (a superset of the prune's Cholesky test by a relative 10⁻⁹). Each pair is searched
